@@ -1,0 +1,115 @@
+// bsdf.wgsl — the two-sided normalised modified Phong BRDF and its sampling strategies.
+//
+//   f(wi, wo) = kd / pi + ks (n + 2) / (2 pi) max(0, dot(wi, r))^n,   r = mirror of wo about n_s
+//
+// n_s is the shading normal turned towards wo (surfaces scatter on both sides); directions on
+// the other side get f = 0 (no transmission). The BRDF is symmetric in (wi, wo).
+
+const BSDF_UNIFORM_SPHERE: u32 = 0u;
+const BSDF_UNIFORM_HEMISPHERE: u32 = 1u;
+const BSDF_COSINE: u32 = 2u;
+const BSDF_PHONG: u32 = 3u;
+
+// How directions are sampled at a scattering vertex (set through pipeline constants).
+override BSDF_SAMPLING: u32 = BSDF_PHONG;
+// False when every material has ks = 0: the Phong lobe is compiled out.
+override HAS_SPECULAR: bool = true;
+
+struct Phong {
+    kd: vec3f,
+    ks: vec3f,
+    n: f32,
+    // Probability of sampling the Phong lobe in the one-sample mixture: lum(ks) / (lum(kd) + lum(ks)).
+    p_spec: f32,
+}
+
+struct BsdfSample {
+    wi: vec3f,
+    // Solid-angle density of the strategy at wi (over the whole sphere).
+    pdf: f32,
+    // eval * |cos| / pdf, from path_weight(): zero for samples that do not scatter.
+    weight: vec3f,
+}
+
+// The single place where a sampled contribution becomes a path weight: f |cos| / pdf.
+fn path_weight(f: vec3f, cos_theta: f32, pdf: f32) -> vec3f {
+    if (pdf <= 0.0) {
+        return vec3f(0.0);
+    }
+    return f * (abs(cos_theta) / pdf);
+}
+
+// f(wi, wo) for unit wo, wi and a shading normal n_s with dot(wo, n_s) > 0.
+fn eval_phong(m: Phong, n_s: vec3f, wo: vec3f, wi: vec3f) -> vec3f {
+    if (dot(wi, n_s) <= 0.0 || dot(wo, n_s) <= 0.0) {
+        return vec3f(0.0);
+    }
+    var f = m.kd * INV_PI;
+    if (HAS_SPECULAR) {
+        let r = reflect_about(wo, n_s);
+        let lobe = phong_cos_pow(one_minus_cos_between(wi, r), m.n);
+        f += m.ks * ((m.n + 2.0) * INV_2PI * lobe);
+    }
+    return f;
+}
+
+// Density of the mixture: P_d cos / pi + P_s (n+1)/(2 pi) cos^n(alpha), over the whole sphere
+// (the Phong lobe also reaches below the surface, where f = 0).
+fn pdf_phong_mixture(m: Phong, n_s: vec3f, wo: vec3f, wi: vec3f) -> f32 {
+    var pdf = (1.0 - m.p_spec) * pdf_cosine_hemisphere(dot(wi, n_s));
+    if (HAS_SPECULAR && m.p_spec > 0.0) {
+        let r = reflect_about(wo, n_s);
+        pdf += m.p_spec * pdf_phong_lobe(one_minus_cos_between(wi, r), m.n);
+    }
+    return pdf;
+}
+
+// Solid-angle density of the pipeline's BSDF sampling strategy at wi.
+fn pdf_bsdf(m: Phong, n_s: vec3f, wo: vec3f, wi: vec3f) -> f32 {
+    switch (BSDF_SAMPLING) {
+        case BSDF_UNIFORM_SPHERE: {
+            return pdf_uniform_sphere();
+        }
+        case BSDF_UNIFORM_HEMISPHERE: {
+            return pdf_uniform_hemisphere(dot(wi, n_s));
+        }
+        case BSDF_COSINE: {
+            return pdf_cosine_hemisphere(dot(wi, n_s));
+        }
+        default: {
+            return pdf_phong_mixture(m, n_s, wo, wi);
+        }
+    }
+}
+
+// A direction from the Phong mixture: u_lobe picks the lobe, u_dir places the direction.
+fn sample_phong_mixture_direction(m: Phong, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> vec3f {
+    if (HAS_SPECULAR && u_lobe < m.p_spec) {
+        let r = reflect_about(wo, n_s);
+        return frame_to_world(frame_from_normal(r), square_to_phong_lobe(u_dir, m.n));
+    }
+    return frame_to_world(frame_from_normal(n_s), square_to_cosine_hemisphere(u_dir));
+}
+
+// Samples wi with the pipeline's strategy. Samples below the surface keep their pdf and get
+// weight 0: they count in the estimator but contribute nothing.
+fn sample_bsdf(m: Phong, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> BsdfSample {
+    var wi: vec3f;
+    switch (BSDF_SAMPLING) {
+        case BSDF_UNIFORM_SPHERE: {
+            wi = frame_to_world(frame_from_normal(n_s), square_to_uniform_sphere(u_dir));
+        }
+        case BSDF_UNIFORM_HEMISPHERE: {
+            wi = frame_to_world(frame_from_normal(n_s), square_to_uniform_hemisphere(u_dir));
+        }
+        case BSDF_COSINE: {
+            wi = frame_to_world(frame_from_normal(n_s), square_to_cosine_hemisphere(u_dir));
+        }
+        default: {
+            wi = sample_phong_mixture_direction(m, n_s, wo, u_dir, u_lobe);
+        }
+    }
+    let pdf = pdf_bsdf(m, n_s, wo, wi);
+    let weight = path_weight(eval_phong(m, n_s, wo, wi), dot(wi, n_s), pdf);
+    return BsdfSample(wi, pdf, weight);
+}

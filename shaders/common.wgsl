@@ -1,0 +1,70 @@
+// common.wgsl — constants and small numerically careful helpers shared by every kernel.
+
+const PI: f32 = 3.14159265358979323846;
+const INV_PI: f32 = 0.31830988618379067154;
+const INV_2PI: f32 = 0.15915494309189533577;
+const INV_4PI: f32 = 0.07957747154594766788;
+const TWO_PI: f32 = 6.28318530717958647692;
+// Largest f32 below 1: samples live in [0, ONE_MINUS_EPSILON].
+const ONE_MINUS_EPSILON: f32 = 0.99999994;
+const INFINITY: f32 = 3.4028235e38;
+const INVALID: u32 = 0xffffffffu;
+
+fn safe_sqrt(x: f32) -> f32 {
+    return sqrt(max(x, 0.0));
+}
+
+fn max3(v: vec3f) -> f32 {
+    return max(v.x, max(v.y, v.z));
+}
+
+// Rec. 709 luminance, used to choose between BSDF lobes.
+fn luminance(c: vec3f) -> f32 {
+    return dot(c, vec3f(0.212671, 0.715160, 0.072169));
+}
+
+// exp(x) - 1 without cancellation near 0 (Taylor series to x^5 where |x| < 1e-2).
+fn expm1_stable(x: f32) -> f32 {
+    if (abs(x) < 1e-2) {
+        return x * (1.0 + x * (0.5 + x * (1.0 / 6.0 + x * (1.0 / 24.0 + x * (1.0 / 120.0)))));
+    }
+    return exp(x) - 1.0;
+}
+
+// log(1 - d) for 0 <= d < 1 without cancellation for small d.
+fn log1m_stable(d: f32) -> f32 {
+    if (d < 1e-2) {
+        return -d * (1.0 + d * (0.5 + d * (1.0 / 3.0 + d * (0.25 + d * 0.2))));
+    }
+    return log(1.0 - d);
+}
+
+// Orthonormal basis around a unit vector n (Duff et al. 2017, branchless).
+struct Frame {
+    t: vec3f,
+    b: vec3f,
+    n: vec3f,
+}
+
+fn frame_from_normal(n: vec3f) -> Frame {
+    let s = select(-1.0, 1.0, n.z >= 0.0);
+    let a = -1.0 / (s + n.z);
+    let b = n.x * n.y * a;
+    let t = vec3f(1.0 + s * n.x * n.x * a, s * b, -s * n.x);
+    let bb = vec3f(b, s + n.y * n.y * a, -n.y);
+    return Frame(t, bb, n);
+}
+
+fn frame_to_world(f: Frame, v: vec3f) -> vec3f {
+    return f.t * v.x + f.b * v.y + f.n * v.z;
+}
+
+// Direction with polar angle given by (cos, sin) around +z and azimuth phi.
+fn spherical_direction(cos_theta: f32, sin_theta: f32, phi: f32) -> vec3f {
+    return vec3f(sin_theta * cos(phi), sin_theta * sin(phi), cos_theta);
+}
+
+// Mirror direction of w about the unit normal n.
+fn reflect_about(w: vec3f, n: vec3f) -> vec3f {
+    return 2.0 * dot(w, n) * n - w;
+}

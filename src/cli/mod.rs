@@ -1,0 +1,87 @@
+//! Command-line interface: argument parsing (clap) and the subcommands. Errors are `anyhow`
+//! here, at the edge; the library reports typed errors.
+
+mod render;
+
+use std::path::PathBuf;
+
+use clap::{Parser, Subcommand};
+
+use pathlab::scene::Scene;
+
+/// Exit status of a render stopped by Ctrl-C (after writing what it had).
+pub const EXIT_INTERRUPTED: i32 = 130;
+
+#[derive(Parser)]
+#[command(name = "pathlab", version, about = "A GPU path tracer for studying Monte Carlo rendering")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a scene headless to an EXR file.
+    Render(render::RenderArgs),
+    /// Validate a scene file and print what it contains.
+    Check {
+        /// Scene file (TOML).
+        scene: PathBuf,
+    },
+    /// List the graphics adapters wgpu can see, best first.
+    Adapters,
+}
+
+/// Runs the command line and returns the process exit status.
+pub fn run() -> i32 {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Render(args) => render::run(args),
+        Command::Check { scene } => check(&scene).map(|()| 0),
+        Command::Adapters => {
+            for a in pathlab::gpu::list_adapters() {
+                println!("{}", pathlab::gpu::adapter_summary(&a.get_info()));
+            }
+            Ok(0)
+        }
+    };
+    match result {
+        Ok(code) => code,
+        Err(e) => {
+            // Scene diagnostics already read `file:line:col: error: ...`.
+            match e.downcast_ref::<pathlab::scene::SceneError>() {
+                Some(scene_error @ pathlab::scene::SceneError::Invalid(_)) => eprintln!("{scene_error}"),
+                _ => eprintln!("error: {e:#}"),
+            }
+            1
+        }
+    }
+}
+
+/// Loads a scene, printing its warnings to stderr.
+pub(crate) fn load_scene(path: &std::path::Path) -> anyhow::Result<Scene> {
+    let scene = Scene::load(path)?;
+    for w in &scene.warnings {
+        eprintln!("{w}");
+    }
+    Ok(scene)
+}
+
+fn check(path: &std::path::Path) -> anyhow::Result<()> {
+    let scene = load_scene(path)?;
+    let f = scene.features();
+    println!(
+        "{}: valid; {}x{}, max_depth {}, {} materials, {} spheres ({} lights), {} planes, specular {}, environment {}",
+        path.display(),
+        scene.render.width,
+        scene.render.height,
+        scene.render.max_depth,
+        scene.materials.len(),
+        f.num_spheres,
+        f.num_lights,
+        f.num_planes,
+        if f.has_specular { "yes" } else { "no" },
+        if f.has_environment { "yes" } else { "no" },
+    );
+    Ok(())
+}

@@ -1,0 +1,10 @@
+//! Everything that talks to wgpu: the device (`device`), the path-tracing pipelines and their
+//! specialisation constants (`pipeline`), and the scene's GPU buffers (`scene_buffers`).
+
+mod device;
+mod pipeline;
+mod scene_buffers;
+
+pub use device::{adapter_summary, list_adapters, wait_for_submission, Gpu, GpuError, ADAPTER_ENV};
+pub use pipeline::{pipeline_constants, PathTracerPipelines, PipelineKey, PipelineStats};
+pub use scene_buffers::{AccumPixel, FrameParams, GpuMaterial, GpuPlane, GpuSphere, SceneBuffers};

@@ -1,0 +1,130 @@
+//! Path-tracing pipelines, specialised through WGSL `override` constants to a method and to the
+//! features of a scene, created once per (method, features) and cached.
+
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+use wgpu::util::DeviceExt;
+
+use crate::method::Method;
+use crate::scene::SceneFeatures;
+use crate::shaders;
+
+/// What a pipeline is specialised to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct PipelineKey {
+    pub method: Method,
+    pub features: SceneFeatures,
+}
+
+/// The `override` constants of the path tracer for a method and scene features.
+pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
+    let f = &key.features;
+    vec![
+        ("SAMPLER", key.method.sampler.constant() as f64),
+        ("BSDF_SAMPLING", key.method.bsdf.constant() as f64),
+        ("LIGHT_SAMPLING", key.method.lights.constant() as f64),
+        ("NUM_SPHERES", f.num_spheres as f64),
+        ("NUM_PLANES", f.num_planes as f64),
+        ("NUM_LIGHTS", f.num_lights as f64),
+        ("HAS_SPECULAR", f.has_specular as u32 as f64),
+        ("HAS_ENVIRONMENT", f.has_environment as u32 as f64),
+    ]
+}
+
+/// Time spent creating one pipeline (shader specialisation and driver compilation).
+#[derive(Debug, Clone, Copy)]
+pub struct PipelineStats {
+    pub compile_time: Duration,
+}
+
+/// The path tracer's shader module, bind group layout and a cache of specialised pipelines.
+pub struct PathTracerPipelines {
+    module: wgpu::ShaderModule,
+    /// The Halton bases, bound at `shaders::HALTON_PRIMES_BINDING`.
+    pub halton_primes: wgpu::Buffer,
+    pub bind_group_layout: wgpu::BindGroupLayout,
+    layout: wgpu::PipelineLayout,
+    cache: Mutex<HashMap<PipelineKey, (Arc<wgpu::ComputePipeline>, PipelineStats)>>,
+}
+
+fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+impl PathTracerPipelines {
+    pub fn new(device: &wgpu::Device) -> PathTracerPipelines {
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("path tracer"),
+            source: wgpu::ShaderSource::Wgsl(shaders::path_tracer_source().into()),
+        });
+        let uniform = wgpu::BindGroupLayoutEntry {
+            binding: 0,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        let bind_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("path tracer"),
+            entries: &[
+                uniform,
+                storage_entry(1, true),
+                storage_entry(2, true),
+                storage_entry(3, true),
+                storage_entry(4, true),
+                storage_entry(5, false),
+                storage_entry(shaders::HALTON_PRIMES_BINDING, true),
+            ],
+        });
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("path tracer"),
+            bind_group_layouts: &[Some(&bind_group_layout)],
+            immediate_size: 0,
+        });
+        let halton_primes = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("halton primes"),
+            contents: bytemuck::cast_slice(&shaders::primes(shaders::HALTON_DIMENSIONS)),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        PathTracerPipelines { module, halton_primes, bind_group_layout, layout, cache: Mutex::new(HashMap::new()) }
+    }
+
+    /// The pipeline for `key`, compiled on first use.
+    pub fn get(&self, device: &wgpu::Device, key: PipelineKey) -> (Arc<wgpu::ComputePipeline>, PipelineStats) {
+        let mut cache = self.cache.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some((p, s)) = cache.get(&key) {
+            return (p.clone(), *s);
+        }
+        let constants = pipeline_constants(&key);
+        let start = Instant::now();
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("path tracer"),
+            layout: Some(&self.layout),
+            module: &self.module,
+            entry_point: Some(shaders::PATH_TRACER_ENTRY),
+            compilation_options: wgpu::PipelineCompilationOptions {
+                constants: &constants,
+                zero_initialize_workgroup_memory: false,
+            },
+            cache: None,
+        });
+        let stats = PipelineStats { compile_time: start.elapsed() };
+        let pipeline = Arc::new(pipeline);
+        cache.insert(key, (pipeline.clone(), stats));
+        (pipeline, stats)
+    }
+}

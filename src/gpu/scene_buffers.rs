@@ -1,0 +1,218 @@
+//! The scene packed for the GPU. Layouts mirror the structs in `shaders/scene.wgsl` and
+//! `shaders/accumulate.wgsl` (std430/uniform rules: a vec3 is 16-byte aligned, 12 bytes long).
+
+use bytemuck::{Pod, Zeroable};
+use glam::DVec3;
+use wgpu::util::DeviceExt;
+
+use crate::scene::{Fov, Scene};
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct GpuSphere {
+    pub center: [f32; 3],
+    pub radius: f32,
+    pub material: u32,
+    pub light: u32,
+    pub _pad: [u32; 2],
+}
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct GpuPlane {
+    pub normal: [f32; 3],
+    pub offset: f32,
+    pub material: u32,
+    pub _pad: [u32; 3],
+}
+
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct GpuMaterial {
+    pub diffuse: [f32; 3],
+    pub glossiness: f32,
+    pub specular: [f32; 3],
+    pub p_spec: f32,
+    pub emission: [f32; 3],
+    pub is_emissive: u32,
+}
+
+/// Per-frame uniform (`FrameParams` in scene.wgsl).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable, PartialEq)]
+pub struct FrameParams {
+    pub camera_origin: [f32; 3],
+    pub width: u32,
+    pub camera_forward: [f32; 3],
+    pub height: u32,
+    pub camera_right: [f32; 3],
+    pub sample_start: u32,
+    pub camera_up: [f32; 3],
+    pub sample_count: u32,
+    pub environment: [f32; 3],
+    pub seed: u32,
+    pub max_depth: u32,
+    pub tile_x: u32,
+    pub tile_y: u32,
+    pub tile_width: u32,
+    pub tile_height: u32,
+    /// Always 0: lets the kernel build identities the compiler cannot simplify away.
+    pub opaque_zero: u32,
+    pub _pad: [u32; 2],
+}
+
+/// Per-pixel accumulator (`AccumPixel` in accumulate.wgsl).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable, PartialEq)]
+pub struct AccumPixel {
+    pub sum: [f32; 3],
+    pub count: u32,
+    pub sum_err: [f32; 3],
+    pub _pad0: u32,
+    pub sum_sq: [f32; 3],
+    pub _pad1: u32,
+    pub sum_sq_err: [f32; 3],
+    pub _pad2: u32,
+}
+
+fn f3(v: DVec3) -> [f32; 3] {
+    v.as_vec3().to_array()
+}
+
+/// Rec. 709 luminance (as `luminance` in common.wgsl).
+fn luminance(c: DVec3) -> f64 {
+    c.dot(DVec3::new(0.212671, 0.715160, 0.072169))
+}
+
+impl FrameParams {
+    /// Camera and render settings of `scene`; sample range, seed and tile are set per frame.
+    pub fn for_scene(scene: &Scene) -> FrameParams {
+        let cam = &scene.camera;
+        let (w, h) = (scene.render.width as f64, scene.render.height as f64);
+        let forward = (cam.look_at - cam.position).normalize();
+        let right = forward.cross(cam.up).normalize();
+        let up = right.cross(forward);
+        // Half-extents of the image plane at distance 1 along `forward`.
+        let (half_w, half_h) = match cam.fov {
+            Fov::X(deg) => {
+                let hw = (deg.to_radians() / 2.0).tan();
+                (hw, hw * h / w)
+            }
+            Fov::Y(deg) => {
+                let hh = (deg.to_radians() / 2.0).tan();
+                (hh * w / h, hh)
+            }
+        };
+        FrameParams {
+            camera_origin: f3(cam.position),
+            width: scene.render.width,
+            camera_forward: f3(forward),
+            height: scene.render.height,
+            camera_right: f3(right * half_w),
+            sample_start: 0,
+            camera_up: f3(up * half_h),
+            sample_count: 0,
+            environment: f3(scene.render.environment),
+            seed: 0,
+            max_depth: scene.render.max_depth,
+            tile_x: 0,
+            tile_y: 0,
+            tile_width: scene.render.width,
+            tile_height: scene.render.height,
+            opaque_zero: 0,
+            _pad: [0; 2],
+        }
+    }
+}
+
+/// Read-only scene buffers. Empty lists get one zeroed element (bindings cannot be empty);
+/// the kernel never reads it because its counts are pipeline constants.
+pub struct SceneBuffers {
+    pub spheres: wgpu::Buffer,
+    pub planes: wgpu::Buffer,
+    pub materials: wgpu::Buffer,
+    pub lights: wgpu::Buffer,
+}
+
+fn storage<T: Pod + Zeroable>(device: &wgpu::Device, label: &str, items: &[T]) -> wgpu::Buffer {
+    let padded: Vec<T> = if items.is_empty() { vec![T::zeroed()] } else { items.to_vec() };
+    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(label),
+        contents: bytemuck::cast_slice(&padded),
+        usage: wgpu::BufferUsages::STORAGE,
+    })
+}
+
+impl SceneBuffers {
+    pub fn pack_materials(scene: &Scene) -> Vec<GpuMaterial> {
+        scene
+            .materials
+            .iter()
+            .map(|m| {
+                let (ld, ls) = (luminance(m.diffuse), luminance(m.specular));
+                let p_spec = if ld + ls > 0.0 { ls / (ld + ls) } else { 0.0 };
+                GpuMaterial {
+                    diffuse: f3(m.diffuse),
+                    glossiness: m.glossiness as f32,
+                    specular: f3(m.specular),
+                    p_spec: p_spec as f32,
+                    emission: f3(m.emission),
+                    is_emissive: m.is_emissive() as u32,
+                }
+            })
+            .collect()
+    }
+
+    pub fn pack_spheres(scene: &Scene) -> Vec<GpuSphere> {
+        let lights = scene.light_spheres();
+        scene
+            .spheres
+            .iter()
+            .enumerate()
+            .map(|(i, s)| GpuSphere {
+                center: f3(s.center),
+                radius: s.radius as f32,
+                material: s.material as u32,
+                light: lights.iter().position(|&l| l == i).map_or(u32::MAX, |l| l as u32),
+                _pad: [0; 2],
+            })
+            .collect()
+    }
+
+    pub fn pack_planes(scene: &Scene) -> Vec<GpuPlane> {
+        scene
+            .planes
+            .iter()
+            .map(|p| GpuPlane {
+                normal: f3(p.normal),
+                offset: p.normal.dot(p.point) as f32,
+                material: p.material as u32,
+                _pad: [0; 3],
+            })
+            .collect()
+    }
+
+    pub fn new(device: &wgpu::Device, scene: &Scene) -> SceneBuffers {
+        let lights: Vec<u32> = scene.light_spheres().into_iter().map(|i| i as u32).collect();
+        SceneBuffers {
+            spheres: storage(device, "spheres", &Self::pack_spheres(scene)),
+            planes: storage(device, "planes", &Self::pack_planes(scene)),
+            materials: storage(device, "materials", &Self::pack_materials(scene)),
+            lights: storage(device, "lights", &lights),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn layouts_match_wgsl() {
+        assert_eq!(std::mem::size_of::<GpuSphere>(), 32);
+        assert_eq!(std::mem::size_of::<GpuPlane>(), 32);
+        assert_eq!(std::mem::size_of::<GpuMaterial>(), 48);
+        assert_eq!(std::mem::size_of::<FrameParams>(), 112);
+        assert_eq!(std::mem::size_of::<AccumPixel>(), 64);
+    }
+}

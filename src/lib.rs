@@ -1,0 +1,18 @@
+//! pathlab: a GPU path tracer for studying Monte Carlo rendering.
+//!
+//! - `scene`: the TOML scene format, parsed and validated before any GPU work;
+//! - `method`: samplers, BSDF sampling, light sampling and the study's presets;
+//! - `shaders`: assembly and naga validation of the WGSL kernels in `shaders/`;
+//! - `gpu`: device, specialised pipelines, scene buffers;
+//! - `render`: the frame loop, accumulation and readback;
+//! - `output`: EXR and PNG files, written atomically.
+
+pub mod gpu;
+pub mod method;
+pub mod output;
+pub mod render;
+pub mod scene;
+pub mod shaders;
+
+/// pathlab's version, recorded in every output file.
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");

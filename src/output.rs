@@ -1,0 +1,132 @@
+//! Writing films: OpenEXR (linear float32, with metadata and optional variance channels) and
+//! PNG previews (sRGB). Every file is written to a temporary file beside the target and renamed
+//! over it, so an interrupted or failed write never leaves a truncated file behind.
+
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+use exr::prelude::*;
+// The exr prelude exports its own `Result`; ours is the standard one.
+use std::result::Result;
+
+use crate::render::Film;
+
+#[derive(Debug, thiserror::Error)]
+pub enum OutputError {
+    #[error("cannot write {}: {source}", path.display())]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("cannot encode {}: {message}", path.display())]
+    Encode { path: PathBuf, message: String },
+}
+
+/// Writes through a temporary file in the target's directory, renamed into place on success.
+pub fn write_atomically(
+    path: &Path,
+    write: impl FnOnce(&mut BufWriter<&mut std::fs::File>) -> Result<(), String>,
+) -> Result<(), OutputError> {
+    let io_err = |source| OutputError::Io { path: path.to_path_buf(), source };
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    let mut tmp = tempfile::Builder::new()
+        .prefix(".pathlab-")
+        .suffix(".tmp")
+        .tempfile_in(dir)
+        .map_err(io_err)?;
+    {
+        let mut writer = BufWriter::new(tmp.as_file_mut());
+        write(&mut writer).map_err(|message| OutputError::Encode { path: path.to_path_buf(), message })?;
+        writer.flush().map_err(io_err)?;
+    }
+    tmp.as_file().sync_all().map_err(io_err)?;
+    tmp.persist(path).map_err(|e| io_err(e.error))?;
+    Ok(())
+}
+
+/// Key-value metadata stored in the EXR header (as `pathlab:KEY` text attributes).
+pub type Metadata = Vec<(String, String)>;
+
+/// Linear RGB float32 EXR; with `variance`, also `variance.R/G/B` (variance of the mean).
+pub fn write_exr(path: &Path, film: &Film, metadata: &Metadata, variance: bool) -> Result<(), OutputError> {
+    let size = (film.width as usize, film.height as usize);
+    let channel = |name: &str, data: &[[f32; 3]], c: usize| {
+        AnyChannel::new(name, FlatSamples::F32(data.iter().map(|p| p[c]).collect()))
+    };
+    let mut list = SmallVec::new();
+    for (c, name) in ["R", "G", "B"].iter().enumerate() {
+        list.push(channel(name, &film.mean, c));
+        if variance {
+            list.push(channel(&format!("variance.{name}"), &film.variance, c));
+        }
+    }
+    let layer = Layer::new(size, LayerAttributes::default(), Encoding::FAST_LOSSLESS, AnyChannels::sort(list));
+    let mut image = Image::from_layer(layer);
+    for (key, value) in metadata {
+        image
+            .attributes
+            .other
+            .insert(Text::from(format!("pathlab:{key}").as_str()), AttributeValue::Text(Text::from(value.as_str())));
+    }
+    write_atomically(path, |w| {
+        let mut cursor = std::io::Cursor::new(Vec::new());
+        image.write().to_buffered(&mut cursor).map_err(|e| e.to_string())?;
+        w.write_all(cursor.get_ref()).map_err(|e| e.to_string())
+    })
+}
+
+/// sRGB transfer function of a linear value clipped to [0, 1].
+fn srgb_encode(x: f32) -> u8 {
+    let x = if x.is_finite() { x.clamp(0.0, 1.0) } else { 0.0 };
+    let s = if x <= 0.0031308 { 12.92 * x } else { 1.055 * x.powf(1.0 / 2.4) - 0.055 };
+    (s * 255.0 + 0.5) as u8
+}
+
+/// 8-bit sRGB preview: scaled by 2^exposure, clipped to [0, 1].
+pub fn write_png(path: &Path, film: &Film, exposure: f32) -> Result<(), OutputError> {
+    let scale = exposure.exp2();
+    let bytes: Vec<u8> = film.mean.iter().flat_map(|p| p.map(|c| srgb_encode(c * scale))).collect();
+    let img = image::RgbImage::from_raw(film.width, film.height, bytes).ok_or_else(|| OutputError::Encode {
+        path: path.to_path_buf(),
+        message: "image size does not match its pixels".into(),
+    })?;
+    write_atomically(path, |w| {
+        let mut cursor = std::io::Cursor::new(Vec::new());
+        img.write_to(&mut cursor, image::ImageFormat::Png).map_err(|e| e.to_string())?;
+        w.write_all(cursor.get_ref()).map_err(|e| e.to_string())
+    })
+}
+
+/// Reads the RGB channels and pathlab metadata of an EXR written by `write_exr`.
+pub fn read_exr(path: &Path) -> Result<(Film, Metadata), String> {
+    let image = read_all_flat_layers_from_file(path).map_err(|e| e.to_string())?;
+    let layer = image.layer_data.first().ok_or("no layer")?;
+    let (w, h) = (layer.size.width(), layer.size.height());
+    let find = |name: &str| -> Option<Vec<f32>> {
+        layer
+            .channel_data
+            .list
+            .iter()
+            .find(|c| c.name == Text::from(name))
+            .map(|c| c.sample_data.values_as_f32().collect())
+    };
+    let get = |prefix: &str| -> Option<Vec<[f32; 3]>> {
+        let (r, g, b) = (find(&format!("{prefix}R"))?, find(&format!("{prefix}G"))?, find(&format!("{prefix}B"))?);
+        Some((0..w * h).map(|i| [r[i], g[i], b[i]]).collect())
+    };
+    let mean = get("").ok_or("missing R, G or B channel")?;
+    let variance = get("variance.").unwrap_or_else(|| vec![[0.0; 3]; w * h]);
+    let mut metadata = Metadata::new();
+    for (key, value) in &image.attributes.other {
+        if let (Some(k), AttributeValue::Text(t)) = (key.to_string().strip_prefix("pathlab:"), value) {
+            metadata.push((k.to_string(), t.to_string()));
+        }
+    }
+    metadata.sort();
+    let spp = metadata.iter().find(|(k, _)| k == "spp").and_then(|(_, v)| v.parse().ok()).unwrap_or(0);
+    Ok((Film { width: w as u32, height: h as u32, spp, mean, variance }, metadata))
+}

@@ -1,0 +1,55 @@
+//! The result of a render read back from the GPU: per-pixel mean and variance of the mean.
+
+use crate::gpu::AccumPixel;
+
+/// Linear RGB image estimate, row-major, top row first.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Film {
+    pub width: u32,
+    pub height: u32,
+    /// Samples per pixel that went into every pixel.
+    pub spp: u64,
+    /// Per-pixel mean radiance.
+    pub mean: Vec<[f32; 3]>,
+    /// Per-pixel variance of the mean: sample variance / spp (0 when spp < 2).
+    pub variance: Vec<[f32; 3]>,
+}
+
+impl Film {
+    /// Mean and variance of the mean from compensated sums (computed in f64).
+    pub fn from_accumulators(width: u32, height: u32, spp: u64, pixels: &[AccumPixel]) -> Film {
+        let n = spp as f64;
+        let mut mean = Vec::with_capacity(pixels.len());
+        let mut variance = Vec::with_capacity(pixels.len());
+        for p in pixels {
+            let mut m = [0.0f32; 3];
+            let mut v = [0.0f32; 3];
+            for c in 0..3 {
+                // Kahan's err holds minus the part of the sum not yet in `sum`.
+                let sum = p.sum[c] as f64 - p.sum_err[c] as f64;
+                let sum_sq = p.sum_sq[c] as f64 - p.sum_sq_err[c] as f64;
+                let mu = if n > 0.0 { sum / n } else { 0.0 };
+                m[c] = mu as f32;
+                if n > 1.0 {
+                    // Unbiased sample variance, divided by n for the variance of the mean.
+                    let s2 = ((sum_sq - n * mu * mu) / (n - 1.0)).max(0.0);
+                    v[c] = (s2 / n) as f32;
+                }
+            }
+            mean.push(m);
+            variance.push(v);
+        }
+        Film { width, height, spp, mean, variance }
+    }
+
+    /// Mean over all pixels and channels.
+    pub fn average(&self) -> f64 {
+        let total: f64 = self.mean.iter().flat_map(|p| p.iter()).map(|&x| x as f64).sum();
+        total / (3 * self.mean.len()).max(1) as f64
+    }
+
+    /// True when every mean and variance is finite.
+    pub fn is_finite(&self) -> bool {
+        self.mean.iter().chain(&self.variance).flatten().all(|x| x.is_finite())
+    }
+}

@@ -1,0 +1,298 @@
+//! The frame loop: each frame is one dispatch of the path tracer that adds `k` samples per
+//! pixel into the GPU accumulator. Several frames are in flight; the host only writes the
+//! frame's uniform and submits, and waits on the device only when the queue is full, at the
+//! end, or to read back. `k` is adapted so that one dispatch takes about `TARGET_DISPATCH`.
+
+use std::collections::VecDeque;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+use crate::gpu::{
+    wait_for_submission, AccumPixel, FrameParams, Gpu, GpuError, PathTracerPipelines, PipelineKey, SceneBuffers,
+};
+use crate::method::Method;
+use crate::scene::Scene;
+use crate::shaders;
+
+use super::Film;
+
+/// Aim for dispatches of about this long: far below any driver watchdog, short enough for a
+/// responsive Ctrl-C and progress bar, long enough to amortise submission overhead.
+const TARGET_DISPATCH: Duration = Duration::from_millis(40);
+/// Frames submitted but not yet finished, at most.
+const MAX_IN_FLIGHT: usize = 3;
+/// Largest number of samples per pixel in one dispatch. Lavapipe (Mesa 22.3) runs at most
+/// 65535 iterations of the kernel's per-sample loop; stay well below that. The readback checks
+/// every pixel's sample count, so a driver that drops iterations is caught, not averaged in.
+const MAX_SAMPLES_PER_DISPATCH: u32 = 1 << 14;
+/// Sample indices are u32: a pixel can take at most 2^32 samples.
+pub const MAX_SPP: u64 = 1 << 32;
+const WORKGROUP: u32 = 8;
+
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    #[error(transparent)]
+    Gpu(#[from] GpuError),
+    #[error(
+        "a {width}x{height} image needs a {bytes} byte accumulator, more than this adapter's largest \
+         storage binding ({limit} bytes); render a smaller image"
+    )]
+    TooLarge { width: u32, height: u32, bytes: u64, limit: u64 },
+    #[error("reading the image back from the GPU failed: {0}")]
+    Readback(String),
+    #[error("at most 2^32 samples per pixel are supported (asked for {0})")]
+    TooManySamples(u64),
+}
+
+/// When to stop a render.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Budget {
+    /// Stop after this many samples per pixel in total.
+    Samples(u64),
+    /// Stop submitting frames after this much wall time.
+    Time(Duration),
+}
+
+/// Reported after every frame.
+#[derive(Debug, Clone, Copy)]
+pub struct Progress {
+    /// Samples per pixel finished on the device.
+    pub spp_done: u64,
+    pub elapsed: Duration,
+}
+
+/// What a call to `Renderer::render` did.
+#[derive(Debug, Clone, Copy)]
+pub struct RenderStats {
+    /// Samples per pixel accumulated so far (over all calls).
+    pub spp: u64,
+    /// Wall time of this call.
+    pub seconds: f64,
+    /// Dispatches of this call.
+    pub frames: u64,
+    /// True when stopped early by the cancel flag.
+    pub interrupted: bool,
+    /// Time spent creating the pipeline (0 when it came from the cache).
+    pub compile_time: Duration,
+}
+
+/// Renders one scene with one method into a GPU accumulator.
+pub struct Renderer<'g> {
+    gpu: &'g Gpu,
+    pipeline: Arc<wgpu::ComputePipeline>,
+    bind_group: wgpu::BindGroup,
+    params_buffer: wgpu::Buffer,
+    accum: wgpu::Buffer,
+    params: FrameParams,
+    spp_done: u64,
+    samples_per_dispatch: u32,
+    compile_time: Duration,
+    _scene_buffers: SceneBuffers,
+}
+
+fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+    wgpu::BindGroupEntry { binding, resource: buffer.as_entire_binding() }
+}
+
+impl<'g> Renderer<'g> {
+    pub fn new(
+        gpu: &'g Gpu,
+        pipelines: &PathTracerPipelines,
+        scene: &Scene,
+        method: Method,
+        seed: u32,
+    ) -> Result<Renderer<'g>, RenderError> {
+        let device = &gpu.device;
+        let (width, height) = (scene.render.width, scene.render.height);
+        let bytes = width as u64 * height as u64 * std::mem::size_of::<AccumPixel>() as u64;
+        let limit = gpu.limits.max_storage_buffer_binding_size.min(gpu.limits.max_buffer_size);
+        if bytes > limit {
+            return Err(RenderError::TooLarge { width, height, bytes, limit });
+        }
+        let key = PipelineKey { method, features: scene.features() };
+        let (pipeline, stats) = pipelines.get(device, key);
+        let scene_buffers = SceneBuffers::new(device, scene);
+        let mut params = FrameParams::for_scene(scene);
+        params.seed = seed;
+        let params_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("frame params"),
+            size: std::mem::size_of::<FrameParams>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        // Zero-initialised by wgpu: an empty accumulator.
+        let accum = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("accumulator"),
+            size: bytes,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("path tracer"),
+            layout: &pipelines.bind_group_layout,
+            entries: &[
+                entry(0, &params_buffer),
+                entry(1, &scene_buffers.spheres),
+                entry(2, &scene_buffers.planes),
+                entry(3, &scene_buffers.materials),
+                entry(4, &scene_buffers.lights),
+                entry(5, &accum),
+                entry(shaders::HALTON_PRIMES_BINDING, &pipelines.halton_primes),
+            ],
+        });
+        Ok(Renderer {
+            gpu,
+            pipeline,
+            bind_group,
+            params_buffer,
+            accum,
+            params,
+            spp_done: 0,
+            samples_per_dispatch: 1,
+            compile_time: stats.compile_time,
+            _scene_buffers: scene_buffers,
+        })
+    }
+
+    /// Samples per pixel accumulated so far.
+    pub fn spp(&self) -> u64 {
+        self.spp_done
+    }
+
+    /// Adds samples until `budget` is met or `cancel` is set, then waits for the device.
+    pub fn render(
+        &mut self,
+        budget: Budget,
+        cancel: &AtomicBool,
+        mut progress: impl FnMut(Progress),
+    ) -> Result<RenderStats, RenderError> {
+        if let Budget::Samples(n) = budget {
+            if self.spp_done + n > MAX_SPP {
+                return Err(RenderError::TooManySamples(self.spp_done + n));
+            }
+        }
+        let start = Instant::now();
+        let target_spp = match budget {
+            Budget::Samples(n) => self.spp_done + n,
+            Budget::Time(_) => MAX_SPP,
+        };
+        let device = &self.gpu.device;
+        let queue = &self.gpu.queue;
+        let completed = Arc::new(AtomicU64::new(self.spp_done));
+        // Seconds per sample per pixel, measured between consecutive frame completions.
+        let timing: Arc<Mutex<(Option<Instant>, Option<f64>)>> = Arc::new(Mutex::new((None, None)));
+        let mut in_flight: VecDeque<wgpu::SubmissionIndex> = VecDeque::new();
+        let mut submitted = self.spp_done;
+        let mut frames = 0;
+        let mut interrupted = false;
+        let groups = (self.params.tile_width.div_ceil(WORKGROUP), self.params.tile_height.div_ceil(WORKGROUP));
+
+        loop {
+            if cancel.load(Ordering::Relaxed) {
+                interrupted = true;
+                break;
+            }
+            if submitted >= target_spp {
+                break;
+            }
+            if let Budget::Time(limit) = budget {
+                if start.elapsed() >= limit {
+                    break;
+                }
+            }
+            let count = (self.samples_per_dispatch as u64).min(target_spp - submitted) as u32;
+            self.params.sample_start = submitted as u32;
+            self.params.sample_count = count;
+            queue.write_buffer(&self.params_buffer, 0, bytemuck::bytes_of(&self.params));
+            let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
+            {
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("path trace"),
+                    timestamp_writes: None,
+                });
+                pass.set_pipeline(&self.pipeline);
+                pass.set_bind_group(0, &self.bind_group, &[]);
+                pass.dispatch_workgroups(groups.0, groups.1, 1);
+            }
+            let index = queue.submit([encoder.finish()]);
+            let (done, clock) = (completed.clone(), timing.clone());
+            queue.on_submitted_work_done(move || {
+                done.fetch_add(count as u64, Ordering::Relaxed);
+                let now = Instant::now();
+                let mut t = clock.lock().unwrap_or_else(|e| e.into_inner());
+                if let Some(prev) = t.0 {
+                    t.1 = Some((now - prev).as_secs_f64() / count as f64);
+                }
+                t.0 = Some(now);
+            });
+            in_flight.push_back(index);
+            submitted += count as u64;
+            frames += 1;
+
+            if in_flight.len() >= MAX_IN_FLIGHT {
+                let oldest = in_flight.pop_front();
+                wait_for_submission(device, oldest)?;
+            } else {
+                let _ = device.poll(wgpu::PollType::Poll);
+            }
+            progress(Progress { spp_done: completed.load(Ordering::Relaxed), elapsed: start.elapsed() });
+
+            // Next dispatch size from the measured time per sample: at most doubling per frame.
+            let per_sample = timing.lock().unwrap_or_else(|e| e.into_inner()).1;
+            if let Some(per_sample) = per_sample.filter(|s| *s > 0.0) {
+                let ideal = (TARGET_DISPATCH.as_secs_f64() / per_sample).clamp(1.0, MAX_SAMPLES_PER_DISPATCH as f64);
+                let k = self.samples_per_dispatch as f64;
+                self.samples_per_dispatch = ideal.clamp(k / 2.0, k * 2.0).max(1.0) as u32;
+            } else if frames >= 2 {
+                self.samples_per_dispatch = (self.samples_per_dispatch * 2).min(MAX_SAMPLES_PER_DISPATCH);
+            }
+        }
+        wait_for_submission(device, None)?;
+        self.spp_done = submitted;
+        progress(Progress { spp_done: submitted, elapsed: start.elapsed() });
+        let compile_time = std::mem::take(&mut self.compile_time);
+        Ok(RenderStats {
+            spp: self.spp_done,
+            seconds: start.elapsed().as_secs_f64(),
+            frames,
+            interrupted,
+            compile_time,
+        })
+    }
+
+    /// Copies the accumulator back and turns it into mean and variance.
+    pub fn film(&self) -> Result<Film, RenderError> {
+        let device = &self.gpu.device;
+        let size = self.accum.size();
+        let staging = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("readback"),
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("readback") });
+        encoder.copy_buffer_to_buffer(&self.accum, 0, &staging, 0, size);
+        let index = self.gpu.queue.submit([encoder.finish()]);
+        let (tx, rx) = std::sync::mpsc::channel();
+        staging.map_async(wgpu::MapMode::Read, .., move |r| {
+            let _ = tx.send(r);
+        });
+        wait_for_submission(device, Some(index))?;
+        rx.recv_timeout(Duration::from_secs(60))
+            .map_err(|e| RenderError::Readback(e.to_string()))?
+            .map_err(|e| RenderError::Readback(e.to_string()))?;
+        let pixels: Vec<AccumPixel> = {
+            let view = staging.get_mapped_range(..).map_err(|e| RenderError::Readback(e.to_string()))?;
+            bytemuck::pod_collect_to_vec(&view)
+        };
+        staging.unmap();
+        if let Some((i, p)) = pixels.iter().enumerate().find(|(_, p)| p.count as u64 != self.spp_done % (1 << 32)) {
+            return Err(RenderError::Readback(format!(
+                "pixel {i} accumulated {} samples, expected {}: the device dropped work",
+                p.count, self.spp_done
+            )));
+        }
+        Ok(Film::from_accumulators(self.params.width, self.params.height, self.spp_done, &pixels))
+    }
+}

@@ -1,0 +1,102 @@
+//! The scene file as written: TOML deserialised with the span of every field, before validation.
+
+use std::collections::BTreeMap;
+use std::fmt;
+
+use serde::de::{self, Deserializer, SeqAccess, Visitor};
+use serde::Deserialize;
+use toml::Spanned;
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawScene {
+    pub camera: Spanned<RawCamera>,
+    pub render: Spanned<RawRender>,
+    #[serde(default)]
+    pub materials: BTreeMap<String, Spanned<RawMaterial>>,
+    #[serde(default)]
+    pub spheres: Vec<Spanned<RawSphere>>,
+    #[serde(default)]
+    pub planes: Vec<Spanned<RawPlane>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawCamera {
+    pub position: Spanned<[f64; 3]>,
+    pub look_at: Spanned<[f64; 3]>,
+    pub up: Spanned<[f64; 3]>,
+    pub fov_x: Option<Spanned<f64>>,
+    pub fov_y: Option<Spanned<f64>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawRender {
+    pub width: Spanned<i64>,
+    pub height: Spanned<i64>,
+    pub max_depth: Spanned<i64>,
+    pub environment: Option<Spanned<RawColor>>,
+    pub spp: Option<Spanned<i64>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawMaterial {
+    pub diffuse: Option<Spanned<RawColor>>,
+    pub specular: Option<Spanned<RawColor>>,
+    pub glossiness: Option<Spanned<f64>>,
+    pub emission: Option<Spanned<RawColor>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawSphere {
+    pub center: Spanned<[f64; 3]>,
+    pub radius: Spanned<f64>,
+    pub material: Spanned<String>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawPlane {
+    pub point: Spanned<[f64; 3]>,
+    pub normal: Spanned<[f64; 3]>,
+    pub material: Spanned<String>,
+}
+
+/// An RGB colour written either as `[r, g, b]` or as one number for all three channels.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct RawColor(pub [f64; 3]);
+
+impl<'de> Deserialize<'de> for RawColor {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct ColorVisitor;
+        impl<'de> Visitor<'de> for ColorVisitor {
+            type Value = RawColor;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a number or an array of 3 numbers [r, g, b]")
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<RawColor, E> {
+                Ok(RawColor([v; 3]))
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<RawColor, E> {
+                Ok(RawColor([v as f64; 3]))
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<RawColor, E> {
+                Ok(RawColor([v as f64; 3]))
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<RawColor, A::Error> {
+                let mut rgb = [0.0; 3];
+                for (i, c) in rgb.iter_mut().enumerate() {
+                    *c = seq.next_element()?.ok_or_else(|| de::Error::invalid_length(i, &self))?;
+                }
+                if seq.next_element::<f64>()?.is_some() {
+                    return Err(de::Error::invalid_length(4, &self));
+                }
+                Ok(RawColor(rgb))
+            }
+        }
+        deserializer.deserialize_any(ColorVisitor)
+    }
+}

@@ -1,0 +1,318 @@
+//! From TOML text to a validated `Scene`: every error names the file, the line and the field,
+//! and all errors of a file are reported together.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::ops::Range;
+use std::path::Path;
+
+use glam::DVec3;
+use toml::Spanned;
+
+use super::diagnostic::LineIndex;
+use super::raw::{RawColor, RawMaterial, RawScene};
+use super::{Camera, Diagnostic, Fov, Material, Plane, RenderSettings, Scene, SceneError, Severity, Sphere};
+
+/// Largest accepted width, height or max_depth: beyond this the GPU buffers cannot be sized.
+const MAX_IMAGE_SIDE: i64 = 65_536;
+const MAX_DEPTH_LIMIT: i64 = 1024;
+
+struct Checker<'a> {
+    file: &'a Path,
+    text: &'a str,
+    lines: LineIndex,
+    diagnostics: Vec<Diagnostic>,
+}
+
+impl<'a> Checker<'a> {
+    fn report(&mut self, severity: Severity, span: Range<usize>, field: impl Into<String>, message: impl Into<String>) {
+        let (line, column) = self.lines.line_column(span.start.min(self.text.len()));
+        self.diagnostics.push(Diagnostic {
+            severity,
+            file: self.file.to_path_buf(),
+            line,
+            column,
+            field: field.into(),
+            message: message.into(),
+        });
+    }
+
+    fn error(&mut self, span: Range<usize>, field: impl Into<String>, message: impl Into<String>) {
+        self.report(Severity::Error, span, field, message);
+    }
+
+    fn warn(&mut self, span: Range<usize>, field: impl Into<String>, message: impl Into<String>) {
+        self.report(Severity::Warning, span, field, message);
+    }
+
+    /// A finite number that also fits in f32 (the GPU's precision).
+    fn number(&mut self, value: &Spanned<f64>, field: &str) -> f64 {
+        let v = *value.get_ref();
+        if !v.is_finite() {
+            self.error(value.span(), field, format!("must be a finite number (got {v})"));
+            return 0.0;
+        }
+        if v.abs() > f32::MAX as f64 {
+            self.error(value.span(), field, format!("{v} is too large for 32-bit floats"));
+            return 0.0;
+        }
+        v
+    }
+
+    fn vector(&mut self, value: &Spanned<[f64; 3]>, field: &str) -> DVec3 {
+        let span = value.span();
+        let mut out = [0.0; 3];
+        for (o, &v) in out.iter_mut().zip(value.get_ref()) {
+            *o = self.number(&Spanned::new(span.clone(), v), field);
+        }
+        DVec3::from_array(out)
+    }
+
+    /// A colour: finite and non-negative in every channel.
+    fn color(&mut self, value: Option<&Spanned<RawColor>>, field: &str) -> DVec3 {
+        let Some(value) = value else { return DVec3::ZERO };
+        let c = self.vector(&Spanned::new(value.span(), value.get_ref().0), field);
+        if c.min_element() < 0.0 {
+            self.error(value.span(), field, format!("colour channels must be >= 0 (got {:?})", c.to_array()));
+            return DVec3::ZERO;
+        }
+        c
+    }
+
+    fn integer(&mut self, value: &Spanned<i64>, field: &str, min: i64, max: i64) -> u64 {
+        let v = *value.get_ref();
+        if v < min || v > max {
+            self.error(value.span(), field, format!("must be between {min} and {max} (got {v})"));
+            return min.max(1) as u64;
+        }
+        v as u64
+    }
+}
+
+pub(super) fn parse_and_validate(text: &str, file: &Path) -> Result<Scene, SceneError> {
+    let mut ck = Checker { file, text, lines: LineIndex::new(text), diagnostics: Vec::new() };
+    let raw: RawScene = match toml::from_str(text) {
+        Ok(raw) => raw,
+        Err(e) => {
+            let span = e.span().unwrap_or(0..0);
+            let field = field_path_at(text, span.start);
+            ck.error(span, field, e.message().trim().to_string());
+            return Err(SceneError::Invalid(ck.diagnostics));
+        }
+    };
+
+    let camera = check_camera(&mut ck, &raw);
+    let render = check_render(&mut ck, &raw);
+    let (materials, names) = check_materials(&mut ck, &raw);
+
+    let mut used = BTreeSet::new();
+    let mut resolve = |ck: &mut Checker, name: &Spanned<String>, field: &str| -> usize {
+        match names.get(name.get_ref()) {
+            Some(&i) => {
+                used.insert(i);
+                i
+            }
+            None => {
+                let known: Vec<&str> = names.keys().map(String::as_str).collect();
+                ck.error(
+                    name.span(),
+                    field,
+                    format!("unknown material \"{}\" (defined: {})", name.get_ref(), known.join(", ")),
+                );
+                0
+            }
+        }
+    };
+
+    let mut spheres = Vec::new();
+    for (i, s) in raw.spheres.iter().enumerate() {
+        let s = s.get_ref();
+        let center = ck.vector(&s.center, &format!("spheres[{i}].center"));
+        let field = format!("spheres[{i}].radius");
+        let radius = ck.number(&s.radius, &field);
+        if radius <= 0.0 && s.radius.get_ref().is_finite() {
+            ck.error(s.radius.span(), &field, format!("radius must be > 0 (got {radius})"));
+        }
+        let material = resolve(&mut ck, &s.material, &format!("spheres[{i}].material"));
+        spheres.push(Sphere { center, radius, material });
+    }
+
+    let mut planes = Vec::new();
+    for (i, p) in raw.planes.iter().enumerate() {
+        let p = p.get_ref();
+        let point = ck.vector(&p.point, &format!("planes[{i}].point"));
+        let field = format!("planes[{i}].normal");
+        let normal = ck.vector(&p.normal, &field);
+        let length = normal.length();
+        if length == 0.0 || !length.is_finite() {
+            ck.error(p.normal.span(), &field, "normal must be a non-zero vector");
+        }
+        let field = format!("planes[{i}].material");
+        let material = resolve(&mut ck, &p.material, &field);
+        if materials.get(material).is_some_and(Material::is_emissive) {
+            ck.error(
+                p.material.span(),
+                &field,
+                format!(
+                    "material \"{}\" emits light, but planes are infinite and cannot be sampled as lights; \
+                     use a sphere for an emitter",
+                    p.material.get_ref()
+                ),
+            );
+        }
+        planes.push(Plane { point, normal: if length > 0.0 { normal / length } else { DVec3::Z }, material });
+    }
+
+    for (name, &i) in &names {
+        if !used.contains(&i) {
+            ck.warn(raw.materials[name].span(), format!("materials.{name}"), "material is defined but never used");
+        }
+    }
+    let any_emitter = spheres.iter().any(|s| materials.get(s.material).is_some_and(Material::is_emissive));
+    if !any_emitter && render.environment.max_element() <= 0.0 {
+        ck.warn(raw.render.span(), "render.environment", "the scene has no emitter and a black environment: the image will be black");
+    }
+
+    if ck.diagnostics.iter().any(|d| d.severity == Severity::Error) {
+        let mut diagnostics = ck.diagnostics;
+        diagnostics.sort_by_key(|d| (d.severity != Severity::Error, d.line, d.column));
+        return Err(SceneError::Invalid(diagnostics));
+    }
+    Ok(Scene {
+        path: file.to_path_buf(),
+        camera,
+        render,
+        materials,
+        spheres,
+        planes,
+        warnings: ck.diagnostics,
+    })
+}
+
+fn check_camera(ck: &mut Checker, raw: &RawScene) -> Camera {
+    let c = raw.camera.get_ref();
+    let position = ck.vector(&c.position, "camera.position");
+    let look_at = ck.vector(&c.look_at, "camera.look_at");
+    let up = ck.vector(&c.up, "camera.up");
+    let forward = look_at - position;
+    if forward.length() == 0.0 {
+        ck.error(c.look_at.span(), "camera.look_at", "look_at must differ from position");
+    } else if forward.normalize().cross(up).length() < 1e-9 {
+        ck.error(c.up.span(), "camera.up", "up must be non-zero and not parallel to the view direction");
+    }
+    let check_fov = |ck: &mut Checker, fov: &Spanned<f64>, field: &str| {
+        let v = ck.number(fov, field);
+        if !(v > 0.0 && v < 180.0) && fov.get_ref().is_finite() {
+            ck.error(fov.span(), field, format!("field of view must be strictly between 0 and 180 degrees (got {v})"));
+        }
+        v
+    };
+    let fov = match (&c.fov_x, &c.fov_y) {
+        (Some(x), None) => Fov::X(check_fov(ck, x, "camera.fov_x")),
+        (None, Some(y)) => Fov::Y(check_fov(ck, y, "camera.fov_y")),
+        (Some(_), Some(y)) => {
+            ck.error(y.span(), "camera.fov_y", "give exactly one of fov_x and fov_y, not both");
+            Fov::Y(90.0)
+        }
+        (None, None) => {
+            ck.error(raw.camera.span(), "camera", "missing field of view: give exactly one of fov_x and fov_y");
+            Fov::X(90.0)
+        }
+    };
+    Camera { position, look_at, up, fov }
+}
+
+fn check_render(ck: &mut Checker, raw: &RawScene) -> RenderSettings {
+    let r = raw.render.get_ref();
+    RenderSettings {
+        width: ck.integer(&r.width, "render.width", 1, MAX_IMAGE_SIDE) as u32,
+        height: ck.integer(&r.height, "render.height", 1, MAX_IMAGE_SIDE) as u32,
+        max_depth: ck.integer(&r.max_depth, "render.max_depth", 1, MAX_DEPTH_LIMIT) as u32,
+        environment: ck.color(r.environment.as_ref(), "render.environment"),
+        spp: r.spp.as_ref().map(|spp| ck.integer(spp, "render.spp", 1, u32::MAX as i64)),
+    }
+}
+
+fn check_materials(ck: &mut Checker, raw: &RawScene) -> (Vec<Material>, BTreeMap<String, usize>) {
+    let mut materials = Vec::new();
+    let mut names = BTreeMap::new();
+    for (name, m) in &raw.materials {
+        let span = m.span();
+        let m: &RawMaterial = m.get_ref();
+        let field = |f: &str| format!("materials.{name}.{f}");
+        let diffuse = ck.color(m.diffuse.as_ref(), &field("diffuse"));
+        let specular = ck.color(m.specular.as_ref(), &field("specular"));
+        let emission = ck.color(m.emission.as_ref(), &field("emission"));
+        let glossiness = match &m.glossiness {
+            Some(n) => {
+                let v = ck.number(n, &field("glossiness"));
+                if v < 0.0 {
+                    ck.error(n.span(), field("glossiness"), format!("glossiness must be >= 0 (got {v})"));
+                }
+                v
+            }
+            None => {
+                if specular.max_element() > 0.0 {
+                    ck.error(span.clone(), field("glossiness"), "glossiness is required when specular is non-zero");
+                }
+                0.0
+            }
+        };
+        let total = diffuse + specular;
+        if total.max_element() > 1.0 {
+            ck.warn(
+                span.clone(),
+                format!("materials.{name}"),
+                format!("diffuse + specular = {:?} exceeds 1: the material is not energy conserving", total.to_array()),
+            );
+        }
+        names.insert(name.clone(), materials.len());
+        materials.push(Material { name: name.clone(), diffuse, specular, glossiness, emission });
+    }
+    (materials, names)
+}
+
+/// Dotted path of the TOML field at byte `offset` (e.g. `spheres[1].radius`), recovered from the
+/// table headers above it: used for errors reported by the TOML parser itself.
+fn field_path_at(text: &str, offset: usize) -> String {
+    let mut table = String::new();
+    let mut counts: BTreeMap<String, usize> = BTreeMap::new();
+    let mut pos = 0;
+    for line in text.split_inclusive('\n') {
+        let trimmed = line.trim();
+        let line_end = pos + line.len();
+        if let Some(name) = trimmed.strip_prefix("[[").and_then(|s| s.split("]]").next()) {
+            let name = name.trim().to_string();
+            let n = counts.entry(name.clone()).or_insert(0);
+            table = format!("{name}[{n}]");
+            *n += 1;
+        } else if let Some(name) = trimmed.strip_prefix('[').and_then(|s| s.split(']').next()) {
+            table = name.trim().to_string();
+        }
+        if offset < line_end || line_end == text.len() {
+            let key = trimmed
+                .split_once('=')
+                .map(|(k, _)| k.trim())
+                .filter(|k| !k.is_empty() && !k.starts_with('[') && !k.starts_with('#'));
+            return match (key, table.is_empty()) {
+                (Some(k), false) => format!("{table}.{k}"),
+                (Some(k), true) => k.to_string(),
+                (None, _) => table,
+            };
+        }
+        pos = line_end;
+    }
+    table
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn field_path_of_array_of_tables() {
+        let text = "[camera]\nfov_x = 1\n[[spheres]]\nradius = 1\n[[spheres]]\nradius = -1\n";
+        let offset = text.rfind("-1").unwrap();
+        assert_eq!(field_path_at(text, offset), "spheres[1].radius");
+        assert_eq!(field_path_at(text, text.find("fov_x").unwrap()), "camera.fov_x");
+    }
+}
