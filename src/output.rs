@@ -121,7 +121,8 @@ pub fn read_exr(path: &Path) -> Result<(Film, Metadata), String> {
     let mean = get("").ok_or("missing R, G or B channel")?;
     let variance = get("variance.").unwrap_or_else(|| vec![[0.0; 3]; w * h]);
     let mut metadata = Metadata::new();
-    for (key, value) in &image.attributes.other {
+    // Custom attributes may come back as image or as layer attributes.
+    for (key, value) in image.attributes.other.iter().chain(&layer.attributes.other) {
         if let (Some(k), AttributeValue::Text(t)) = (key.to_string().strip_prefix("pathlab:"), value) {
             metadata.push((k.to_string(), t.to_string()));
         }

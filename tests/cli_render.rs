@@ -1,0 +1,124 @@
+//! `pathlab render` end to end: default output name, EXR metadata, PNG preview, variance
+//! channels, and Ctrl-C writing what it has with its true sample count.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use pathlab::output::read_exr;
+
+fn pathlab() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_pathlab"))
+}
+
+fn study() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/study.toml")
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("pathlab-render-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn meta<'a>(metadata: &'a [(String, String)], key: &str) -> &'a str {
+    metadata.iter().find(|(k, _)| k == key).map(|(_, v)| v.as_str()).unwrap_or_else(|| panic!("no {key}"))
+}
+
+#[test]
+fn default_output_metadata_png_and_variance() {
+    let dir = temp_dir("default");
+    let out = pathlab()
+        .current_dir(&dir)
+        .arg("render")
+        .arg(study())
+        .args(["--width", "32", "--height", "16", "--spp", "8", "--method", "nee", "--seed", "5"])
+        .args(["--png", "preview.png", "--variance", "--quiet"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(stderr.contains("wrote study.exr"), "{stderr}");
+    assert!(stderr.contains("adapter: "), "the chosen adapter is printed: {stderr}");
+    let (film, metadata) = read_exr(&dir.join("study.exr")).unwrap();
+    assert_eq!((film.width, film.height, film.spp), (32, 16, 8));
+    assert_eq!(meta(&metadata, "method"), "nee");
+    assert_eq!(meta(&metadata, "sampler"), "independent");
+    assert_eq!(meta(&metadata, "bsdf"), "uniform-sphere");
+    assert_eq!(meta(&metadata, "lights"), "nee");
+    assert_eq!(meta(&metadata, "seed"), "5");
+    assert_eq!(meta(&metadata, "version"), pathlab::VERSION);
+    assert!(meta(&metadata, "render_seconds").parse::<f64>().unwrap() > 0.0);
+    assert!(film.variance.iter().flatten().any(|&v| v > 0.0), "variance channels present");
+    let png = image::open(dir.join("preview.png")).unwrap();
+    assert_eq!((png.width(), png.height()), (32, 16));
+}
+
+#[test]
+fn same_seed_gives_identical_exr_pixels() {
+    let dir = temp_dir("seed");
+    let run = |name: &str, seed: &str| {
+        let out = pathlab()
+            .current_dir(&dir)
+            .arg("render")
+            .arg(study())
+            .args(["--width", "24", "--height", "12", "--spp", "4", "--seed", seed, "-o", name, "--quiet"])
+            .output()
+            .unwrap();
+        assert!(out.status.success());
+        read_exr(&dir.join(name)).unwrap().0
+    };
+    let (a, b, c) = (run("a.exr", "1"), run("b.exr", "1"), run("c.exr", "2"));
+    let bits = |f: &pathlab::render::Film| f.mean.iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>();
+    assert_eq!(bits(&a), bits(&b));
+    assert_ne!(bits(&a), bits(&c));
+}
+
+/// SIGINT during a long render: the image so far is written, with its true spp, exit 130.
+#[cfg(unix)]
+#[test]
+fn ctrl_c_writes_the_partial_image() {
+    let dir = temp_dir("sigint");
+    let target = dir.join("partial.exr");
+    std::fs::write(&target, b"old").unwrap();
+    let mut child = pathlab()
+        .arg("render")
+        .arg(study())
+        .args(["--width", "64", "--height", "32", "--time", "120", "--quiet", "-o"])
+        .arg(&target)
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Wait until the render is under way (the adapter line is printed before it starts).
+    std::thread::sleep(Duration::from_secs(3));
+    let start = Instant::now();
+    let status = Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap();
+    assert!(status.success());
+    let exit = child.wait().unwrap();
+    assert!(start.elapsed() < Duration::from_secs(60), "Ctrl-C took too long to act");
+    assert_eq!(exit.code(), Some(130));
+    let (film, metadata) = read_exr(&target).expect("a complete EXR replaced the old file");
+    assert!(film.spp > 0);
+    assert_eq!(meta(&metadata, "spp"), film.spp.to_string());
+    assert!(film.is_finite());
+}
+
+/// With no Vulkan driver at all, the error says how to install lavapipe, and nothing is written.
+#[test]
+fn no_adapter_explains_how_to_install_lavapipe() {
+    let dir = temp_dir("noadapter");
+    let out = pathlab()
+        .current_dir(&dir)
+        .env("VK_ICD_FILENAMES", dir.join("none.json"))
+        .env("VK_DRIVER_FILES", dir.join("none.json"))
+        .arg("render")
+        .arg(study())
+        .args(["--width", "8", "--height", "4", "--spp", "1", "--quiet"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("apt-get install -y mesa-vulkan-drivers"), "{stderr}");
+    assert!(!dir.join("study.exr").exists());
+}
