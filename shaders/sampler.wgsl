@@ -94,51 +94,47 @@ fn permutation_element(i_in: u32, l: u32, p: u32) -> u32 {
     return (i + p) % l;
 }
 
-// Radical inverse of `a` in `base`, optionally Owen-scrambled (pbrt-v4's
-// OwenScrambledRadicalInverse). Digits are reversed into integers in two chunks whose
-// place values base^k stay below 2^32: result = (hi + lo / base^k_lo) / base^k_hi.
-// Without scrambling the loops stop when the digits of `a` run out; with it, the (permuted)
-// leading zeros are expanded until the expansion resolves 2^-24, as the float needs.
-fn radical_inverse_impl(base: u32, a_in: u32, scrambled: bool, seed: u32) -> f32 {
-    var a = a_in;
+// Digit-reversal state: the digits of `a` not yet used, and the permuted digits so far
+// (wrapping), whose hash seeds the next digit's permutation (the Owen tree node).
+struct DigitState {
+    a: u32,
+    prefix: u32,
+}
+
+// Reverses digits of state.a (least significant first) into an integer `value` with place
+// value `place` = base^k, stopping before `place` would pass 2^32, or when the digits run out
+// and (when scrambling) the expansion so far, `place_before` * place, resolves 2^-24.
+fn reverse_digit_chunk(base: u32, scrambled: bool, seed: u32, state: ptr<function, DigitState>,
+                       place_before: f32) -> vec2u {
     let limit = 0xffffffffu / base;
-    // `prefix` holds the permuted digits so far (wrapping): the Owen hash of the digit prefix.
-    var prefix = 0u;
-    var hi = 0u;
-    var pow_hi = 1u;
+    var value = 0u;
+    var place = 1u;
     loop {
-        // Stop at the chunk's capacity, or when the digits of `a` are used up and (when
-        // scrambling) the expansion already resolves 2^-24.
-        if (pow_hi > limit || (a == 0u && (!scrambled || pow_hi >= 0x1000000u))) {
+        if (place > limit || ((*state).a == 0u && (!scrambled || place_before * f32(place) >= 16777216.0))) {
             break;
         }
-        let next = a / base;
-        var digit = a - next * base;
+        let next = (*state).a / base;
+        var digit = (*state).a - next * base;
         if (scrambled) {
-            digit = permutation_element(digit, base, mix_bits(seed ^ prefix));
+            digit = permutation_element(digit, base, mix_bits(seed ^ (*state).prefix));
         }
-        prefix = prefix * base + digit;
-        hi = hi * base + digit;
-        pow_hi *= base;
-        a = next;
+        (*state).prefix = (*state).prefix * base + digit;
+        value = value * base + digit;
+        place *= base;
+        (*state).a = next;
     }
-    var lo = 0u;
-    var pow_lo = 1u;
-    loop {
-        if (pow_lo > limit || (a == 0u && (!scrambled || f32(pow_hi) * f32(pow_lo) >= 16777216.0))) {
-            break;
-        }
-        let next = a / base;
-        var digit = a - next * base;
-        if (scrambled) {
-            digit = permutation_element(digit, base, mix_bits(seed ^ prefix));
-        }
-        prefix = prefix * base + digit;
-        lo = lo * base + digit;
-        pow_lo *= base;
-        a = next;
-    }
-    let value = (f32(hi) + f32(lo) / f32(pow_lo)) / f32(pow_hi);
+    return vec2u(value, place);
+}
+
+// Radical inverse of `a` in `base`, optionally Owen-scrambled (pbrt-v4's
+// OwenScrambledRadicalInverse), by integer digit reversal in two chunks whose place values stay
+// below 2^32: result = (hi + lo / base^k_lo) / base^k_hi. Two chunks hold every digit of a u32
+// index; with scrambling, the (permuted) leading zeros are expanded until 2^-24 is resolved.
+fn radical_inverse_impl(base: u32, a: u32, scrambled: bool, seed: u32) -> f32 {
+    var state = DigitState(a, 0u);
+    let hi = reverse_digit_chunk(base, scrambled, seed, &state, 1.0);
+    let lo = reverse_digit_chunk(base, scrambled, seed, &state, f32(hi.y));
+    let value = (f32(hi.x) + f32(lo.x) / f32(lo.y)) / f32(hi.y);
     return min(value, ONE_MINUS_EPSILON);
 }
 

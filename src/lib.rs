@@ -5,13 +5,15 @@
 //! - `shaders`: assembly and naga validation of the WGSL kernels in `shaders/`;
 //! - `gpu`: device, specialised pipelines, scene buffers;
 //! - `render`: the frame loop, accumulation and readback;
-//! - `output`: EXR and PNG files, written atomically.
+//! - `output`: EXR and PNG files, written atomically;
+//! - `sequences`: the CPU twin of the WGSL samplers.
 
 pub mod gpu;
 pub mod method;
 pub mod output;
 pub mod render;
 pub mod scene;
+pub mod sequences;
 pub mod shaders;
 
 /// pathlab's version, recorded in every output file.

@@ -1,10 +1,13 @@
 //! Everything that talks to wgpu: the device (`device`), the path-tracing pipelines and their
-//! specialisation constants (`pipeline`), and the scene's GPU buffers (`scene_buffers`).
+//! specialisation constants (`pipeline`), the scene's GPU buffers (`scene_buffers`), and a
+//! harness for small single-dispatch kernels (`kernel`).
 
 mod device;
+mod kernel;
 mod pipeline;
 mod scene_buffers;
 
 pub use device::{adapter_summary, list_adapters, wait_for_submission, Gpu, GpuError, ADAPTER_ENV};
+pub use kernel::KernelRun;
 pub use pipeline::{pipeline_constants, PathTracerPipelines, PipelineKey, PipelineStats};
 pub use scene_buffers::{AccumPixel, FrameParams, GpuMaterial, GpuPlane, GpuSphere, SceneBuffers};

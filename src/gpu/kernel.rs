@@ -1,0 +1,114 @@
+//! A minimal harness that runs one WGSL compute entry point over host-provided buffers and
+//! reads one buffer back: used by tests to run the library's own WGSL functions (samplers,
+//! warps, BSDFs) in small kernels, and by tools that need a single GPU computation.
+
+use wgpu::util::DeviceExt;
+
+use super::{wait_for_submission, Gpu, GpuError};
+
+/// One dispatch of `entry` in `source`.
+pub struct KernelRun<'a> {
+    pub source: &'a str,
+    pub entry: &'a str,
+    /// `override` constants.
+    pub constants: &'a [(&'a str, f64)],
+    /// Read-only storage buffers: (binding, bytes).
+    pub inputs: Vec<(u32, Vec<u8>)>,
+    /// The read-write storage buffer that comes back: (binding, size in bytes).
+    pub output: (u32, u64),
+    /// Workgroups along x.
+    pub workgroups: u32,
+}
+
+fn entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+impl KernelRun<'_> {
+    /// Compiles, dispatches and returns the output buffer's bytes.
+    pub fn run(&self, gpu: &Gpu) -> Result<Vec<u8>, GpuError> {
+        let device = &gpu.device;
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(self.entry),
+            source: wgpu::ShaderSource::Wgsl(self.source.into()),
+        });
+        let mut layout_entries: Vec<_> = self.inputs.iter().map(|(b, _)| entry(*b, true)).collect();
+        layout_entries.push(entry(self.output.0, false));
+        let bgl = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: None, entries: &layout_entries });
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: None,
+            bind_group_layouts: &[Some(&bgl)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(self.entry),
+            layout: Some(&layout),
+            module: &module,
+            entry_point: Some(self.entry),
+            compilation_options: wgpu::PipelineCompilationOptions {
+                constants: self.constants,
+                zero_initialize_workgroup_memory: false,
+            },
+            cache: None,
+        });
+        let buffers: Vec<wgpu::Buffer> = self
+            .inputs
+            .iter()
+            .map(|(_, bytes)| {
+                device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: None,
+                    contents: bytes,
+                    usage: wgpu::BufferUsages::STORAGE,
+                })
+            })
+            .collect();
+        let output = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("kernel output"),
+            size: self.output.1,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let staging = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("kernel readback"),
+            size: self.output.1,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut entries: Vec<wgpu::BindGroupEntry> = self
+            .inputs
+            .iter()
+            .zip(&buffers)
+            .map(|((b, _), buf)| wgpu::BindGroupEntry { binding: *b, resource: buf.as_entire_binding() })
+            .collect();
+        entries.push(wgpu::BindGroupEntry { binding: self.output.0, resource: output.as_entire_binding() });
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor { label: None, layout: &bgl, entries: &entries });
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+            pass.set_pipeline(&pipeline);
+            pass.set_bind_group(0, &bind_group, &[]);
+            pass.dispatch_workgroups(self.workgroups, 1, 1);
+        }
+        encoder.copy_buffer_to_buffer(&output, 0, &staging, 0, self.output.1);
+        let index = gpu.queue.submit([encoder.finish()]);
+        if let Some(err) = pollster::block_on(scope.pop()) {
+            return Err(GpuError::Device(err.to_string()));
+        }
+        staging.map_async(wgpu::MapMode::Read, .., |_| {});
+        wait_for_submission(device, Some(index))?;
+        wait_for_submission(device, None)?;
+        let bytes = staging.get_mapped_range(..).map_err(|e| GpuError::Device(e.to_string()))?.to_vec();
+        staging.unmap();
+        Ok(bytes)
+    }
+}
