@@ -9,6 +9,9 @@ const BSDF_UNIFORM_SPHERE: u32 = 0u;
 const BSDF_UNIFORM_HEMISPHERE: u32 = 1u;
 const BSDF_COSINE: u32 = 2u;
 const BSDF_PHONG: u32 = 3u;
+// Biased, for demonstration (the study's darker specular): samples only the Phong lobe while the
+// full BRDF (diffuse + specular) is evaluated, so directions outside the lobe are never taken.
+const BSDF_PHONG_LOBE_ONLY: u32 = 4u;
 
 // How directions are sampled at a scattering vertex (set through pipeline constants).
 override BSDF_SAMPLING: u32 = BSDF_PHONG;
@@ -76,6 +79,9 @@ fn pdf_bsdf(m: Phong, n_s: vec3f, wo: vec3f, wi: vec3f) -> f32 {
         case BSDF_COSINE: {
             return pdf_cosine_hemisphere(dot(wi, n_s));
         }
+        case BSDF_PHONG_LOBE_ONLY: {
+            return pdf_phong_lobe(one_minus_cos_between(wi, reflect_about(wo, n_s)), m.n);
+        }
         default: {
             return pdf_phong_mixture(m, n_s, wo, wi);
         }
@@ -104,6 +110,9 @@ fn sample_bsdf(m: Phong, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> Bs
         }
         case BSDF_COSINE: {
             wi = frame_to_world(frame_from_normal(n_s), square_to_cosine_hemisphere(u_dir));
+        }
+        case BSDF_PHONG_LOBE_ONLY: {
+            wi = frame_to_world(frame_from_normal(reflect_about(wo, n_s)), square_to_phong_lobe(u_dir, m.n));
         }
         default: {
             wi = sample_phong_mixture_direction(m, n_s, wo, u_dir, u_lobe);

@@ -16,6 +16,9 @@
 const LIGHTS_NONE: u32 = 0u;
 const LIGHTS_NEE: u32 = 1u;
 const LIGHTS_MIS: u32 = 2u;
+// Biased, for demonstration (the study's extra reflections): NEE, and also the full emission of
+// lights found by BSDF-sampled rays, so direct light is counted twice.
+const LIGHTS_NEE_DOUBLE_COUNT: u32 = 3u;
 
 // Light sampling strategy (set through pipeline constants).
 override LIGHT_SAMPLING: u32 = LIGHTS_MIS;
@@ -100,7 +103,7 @@ struct PrevVertex {
 // Weight of emission found by a BSDF-sampled ray. With NEE, lights were already sampled
 // from the previous vertex, so their emission counts 0; with MIS it gets the power heuristic.
 fn emitter_hit_weight(hit: Hit, ray_dir: vec3f, prev: PrevVertex) -> f32 {
-    if (LIGHT_SAMPLING == LIGHTS_NONE || hit.object >= NUM_SPHERES) {
+    if (LIGHT_SAMPLING == LIGHTS_NONE || LIGHT_SAMPLING == LIGHTS_NEE_DOUBLE_COUNT || hit.object >= NUM_SPHERES) {
         return 1.0;
     }
     let sphere = spheres[hit.object];

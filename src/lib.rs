@@ -6,7 +6,8 @@
 //! - `gpu`: device, specialised pipelines, scene buffers;
 //! - `render`: the frame loop, accumulation and readback;
 //! - `output`: EXR and PNG files, written atomically;
-//! - `sequences`: the CPU twin of the WGSL samplers.
+//! - `sequences`: the CPU twin of the WGSL samplers;
+//! - `stats`: quantiles, Šidák correction, per-pixel z-tests.
 
 pub mod gpu;
 pub mod method;
@@ -15,6 +16,7 @@ pub mod render;
 pub mod scene;
 pub mod sequences;
 pub mod shaders;
+pub mod stats;
 
 /// pathlab's version, recorded in every output file.
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");

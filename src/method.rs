@@ -31,6 +31,9 @@ pub enum BsdfSampling {
     Cosine,
     /// One-sample mixture of the cosine lobe and the Phong lobe, picked by luminance.
     Phong,
+    /// BIASED, for demonstration: only the Phong lobe is sampled while diffuse + specular is
+    /// evaluated (the study's darker specular result).
+    PhongLobeOnly,
 }
 
 /// How light sources are sampled (`shaders/integrator.wgsl`).
@@ -42,6 +45,9 @@ pub enum LightSampling {
     Nee,
     /// NEE and BSDF sampling combined with the power heuristic.
     Mis,
+    /// BIASED, for demonstration: NEE plus the full emission of lights hit by BSDF-sampled
+    /// rays, counting direct light twice (the study's extra reflections).
+    NeeDoubleCount,
 }
 
 /// The named methods of the study.
@@ -115,14 +121,25 @@ impl Sampler {
 }
 
 impl BsdfSampling {
-    pub const ALL: [BsdfSampling; 4] =
-        [BsdfSampling::UniformSphere, BsdfSampling::UniformHemisphere, BsdfSampling::Cosine, BsdfSampling::Phong];
+    /// Every strategy, the biased demonstration included.
+    pub const ALL: [BsdfSampling; 5] = [
+        BsdfSampling::UniformSphere,
+        BsdfSampling::UniformHemisphere,
+        BsdfSampling::Cosine,
+        BsdfSampling::Phong,
+        BsdfSampling::PhongLobeOnly,
+    ];
+    /// True for the deliberately biased demonstration strategy.
+    pub fn is_biased(self) -> bool {
+        self == BsdfSampling::PhongLobeOnly
+    }
     pub fn name(self) -> &'static str {
         match self {
             BsdfSampling::UniformSphere => "uniform-sphere",
             BsdfSampling::UniformHemisphere => "uniform-hemisphere",
             BsdfSampling::Cosine => "cosine",
             BsdfSampling::Phong => "phong",
+            BsdfSampling::PhongLobeOnly => "phong-lobe-only",
         }
     }
     /// Value of the WGSL constant `BSDF_SAMPLING`.
@@ -132,12 +149,19 @@ impl BsdfSampling {
 }
 
 impl LightSampling {
-    pub const ALL: [LightSampling; 3] = [LightSampling::None, LightSampling::Nee, LightSampling::Mis];
+    /// Every strategy, the biased demonstration included.
+    pub const ALL: [LightSampling; 4] =
+        [LightSampling::None, LightSampling::Nee, LightSampling::Mis, LightSampling::NeeDoubleCount];
+    /// True for the deliberately biased demonstration strategy.
+    pub fn is_biased(self) -> bool {
+        self == LightSampling::NeeDoubleCount
+    }
     pub fn name(self) -> &'static str {
         match self {
             LightSampling::None => "none",
             LightSampling::Nee => "nee",
             LightSampling::Mis => "mis",
+            LightSampling::NeeDoubleCount => "nee-double-count",
         }
     }
     /// Value of the WGSL constant `LIGHT_SAMPLING`.
@@ -159,6 +183,11 @@ impl fmt::Display for Method {
 }
 
 impl Method {
+    /// True when a deliberately biased demonstration strategy is part of the method.
+    pub fn is_biased(&self) -> bool {
+        self.bsdf.is_biased() || self.lights.is_biased()
+    }
+
     /// The preset with exactly these settings, if any.
     pub fn preset(&self) -> Option<Preset> {
         Preset::ALL.into_iter().find(|p| p.method() == *self)

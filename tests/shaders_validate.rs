@@ -37,7 +37,7 @@ fn every_override_permutation_validates() {
             }
         }
     }
-    assert_eq!(checked, 4 * 4 * 3 * 3 * 2 * 2);
+    assert_eq!(checked, 4 * 5 * 4 * 3 * 2 * 2);
 }
 
 #[test]

@@ -9,5 +9,5 @@ mod scene_buffers;
 
 pub use device::{adapter_summary, list_adapters, wait_for_submission, Gpu, GpuError, ADAPTER_ENV};
 pub use kernel::KernelRun;
-pub use pipeline::{pipeline_constants, PathTracerPipelines, PipelineKey, PipelineStats};
+pub use pipeline::{loop_iterations_per_sample, pipeline_constants, PathTracerPipelines, PipelineKey, PipelineStats};
 pub use scene_buffers::{AccumPixel, FrameParams, GpuMaterial, GpuPlane, GpuSphere, SceneBuffers};

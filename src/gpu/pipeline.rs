@@ -33,6 +33,27 @@ pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
     ]
 }
 
+/// Upper bound on the loop back-edges one sample of the path tracer executes in one invocation
+/// (path vertices x (intersection, light and sampler loops)). Needed because llvmpipe/lavapipe
+/// ends every loop of an invocation once 65535 back-edges have run in total
+/// (`LP_MAX_TGSI_LOOP_ITERATIONS`), which silently cut frames short.
+pub fn loop_iterations_per_sample(key: &PipelineKey, max_depth: u32) -> u64 {
+    use crate::method::Sampler;
+    let f = &key.features;
+    let (s, p, l) = (f.num_spheres as u64, f.num_planes as u64, f.num_lights as u64);
+    // Iterations of one sample_1d call: Sobol' dimension 1 loops over the index bits; Halton
+    // reverses at most 21 + 1 digits (base 3); Owen-scrambled Halton expands ~24 bits of digits,
+    // each with a few rejection rounds of the hashed permutation.
+    let per_dim: u64 = match key.method.sampler {
+        Sampler::Independent => 0,
+        Sampler::Sobol => 32,
+        Sampler::Halton => 44,
+        Sampler::HaltonScrambled => 160,
+    };
+    let per_vertex = 1 + s + p + l * (1 + s + p) + (3 + 2 * l) * per_dim;
+    1 + 2 * per_dim + max_depth as u64 * per_vertex
+}
+
 /// Time spent creating one pipeline (shader specialisation and driver compilation).
 #[derive(Debug, Clone, Copy)]
 pub struct PipelineStats {

@@ -9,7 +9,7 @@ use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use crate::gpu::{
-    wait_for_submission, AccumPixel, FrameParams, Gpu, GpuError, PathTracerPipelines, PipelineKey, SceneBuffers,
+    loop_iterations_per_sample, wait_for_submission, AccumPixel, FrameParams, Gpu, GpuError, PathTracerPipelines, PipelineKey, SceneBuffers,
 };
 use crate::method::Method;
 use crate::scene::Scene;
@@ -22,10 +22,12 @@ use super::Film;
 const TARGET_DISPATCH: Duration = Duration::from_millis(40);
 /// Frames submitted but not yet finished, at most.
 const MAX_IN_FLIGHT: usize = 3;
-/// Largest number of samples per pixel in one dispatch. Lavapipe (Mesa 22.3) runs at most
-/// 65535 iterations of the kernel's per-sample loop; stay well below that. The readback checks
-/// every pixel's sample count, so a driver that drops iterations is caught, not averaged in.
+/// Largest number of samples per pixel in one dispatch.
 const MAX_SAMPLES_PER_DISPATCH: u32 = 1 << 14;
+/// llvmpipe (lavapipe) stops all loops of an invocation after 65535 back-edges in total; on CPU
+/// adapters a dispatch is kept below this many. The readback checks every pixel's sample
+/// count, so a driver that drops work is reported, never averaged in.
+const CPU_LOOP_BUDGET: u64 = 60_000;
 /// Sample indices are u32: a pixel can take at most 2^32 samples.
 pub const MAX_SPP: u64 = 1 << 32;
 const WORKGROUP: u32 = 8;
@@ -43,6 +45,12 @@ pub enum RenderError {
     Readback(String),
     #[error("at most 2^32 samples per pixel are supported (asked for {0})")]
     TooManySamples(u64),
+    #[error(
+        "one sample of this scene may run ~{0} shader loop iterations, more than the 65535 llvmpipe \
+         (software Vulkan) allows per invocation; reduce max_depth or the number of objects and \
+         lights, or use a hardware GPU"
+    )]
+    LoopLimit(u64),
 }
 
 /// When to stop a render.
@@ -87,6 +95,8 @@ pub struct Renderer<'g> {
     params: FrameParams,
     spp_done: u64,
     samples_per_dispatch: u32,
+    /// Cap on samples per dispatch for this device and pipeline.
+    max_samples_per_dispatch: u32,
     compile_time: Duration,
     _scene_buffers: SceneBuffers,
 }
@@ -111,6 +121,15 @@ impl<'g> Renderer<'g> {
             return Err(RenderError::TooLarge { width, height, bytes, limit });
         }
         let key = PipelineKey { method, features: scene.features() };
+        let max_samples_per_dispatch = if gpu.info.device_type == wgpu::DeviceType::Cpu {
+            let per_sample = loop_iterations_per_sample(&key, scene.render.max_depth);
+            if per_sample > CPU_LOOP_BUDGET {
+                return Err(RenderError::LoopLimit(per_sample));
+            }
+            (CPU_LOOP_BUDGET / per_sample).clamp(1, MAX_SAMPLES_PER_DISPATCH as u64) as u32
+        } else {
+            MAX_SAMPLES_PER_DISPATCH
+        };
         let (pipeline, stats) = pipelines.get(device, key);
         let scene_buffers = SceneBuffers::new(device, scene);
         let mut params = FrameParams::for_scene(scene);
@@ -121,13 +140,17 @@ impl<'g> Renderer<'g> {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        // Zero-initialised by wgpu: an empty accumulator.
+        // An empty accumulator: zeroed explicitly through a mapping at creation rather than left
+        // to wgpu's lazy initialisation.
         let accum = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("accumulator"),
             size: bytes,
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
+            mapped_at_creation: true,
         });
+        // A buffer mapped at creation reads as zeros (WebGPU spec); unmapping hands wgpu that
+        // initialised content.
+        accum.unmap();
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("path tracer"),
             layout: &pipelines.bind_group_layout,
@@ -150,6 +173,7 @@ impl<'g> Renderer<'g> {
             params,
             spp_done: 0,
             samples_per_dispatch: 1,
+            max_samples_per_dispatch,
             compile_time: stats.compile_time,
             _scene_buffers: scene_buffers,
         })
@@ -204,7 +228,6 @@ impl<'g> Renderer<'g> {
             let count = (self.samples_per_dispatch as u64).min(target_spp - submitted) as u32;
             self.params.sample_start = submitted as u32;
             self.params.sample_count = count;
-            queue.write_buffer(&self.params_buffer, 0, bytemuck::bytes_of(&self.params));
             let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
             {
                 let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -215,6 +238,7 @@ impl<'g> Renderer<'g> {
                 pass.set_bind_group(0, &self.bind_group, &[]);
                 pass.dispatch_workgroups(groups.0, groups.1, 1);
             }
+            queue.write_buffer(&self.params_buffer, 0, bytemuck::bytes_of(&self.params));
             let index = queue.submit([encoder.finish()]);
             let (done, clock) = (completed.clone(), timing.clone());
             queue.on_submitted_work_done(move || {
@@ -241,11 +265,11 @@ impl<'g> Renderer<'g> {
             // Next dispatch size from the measured time per sample: at most doubling per frame.
             let per_sample = timing.lock().unwrap_or_else(|e| e.into_inner()).1;
             if let Some(per_sample) = per_sample.filter(|s| *s > 0.0) {
-                let ideal = (TARGET_DISPATCH.as_secs_f64() / per_sample).clamp(1.0, MAX_SAMPLES_PER_DISPATCH as f64);
+                let ideal = (TARGET_DISPATCH.as_secs_f64() / per_sample).clamp(1.0, self.max_samples_per_dispatch as f64);
                 let k = self.samples_per_dispatch as f64;
                 self.samples_per_dispatch = ideal.clamp(k / 2.0, k * 2.0).max(1.0) as u32;
             } else if frames >= 2 {
-                self.samples_per_dispatch = (self.samples_per_dispatch * 2).min(MAX_SAMPLES_PER_DISPATCH);
+                self.samples_per_dispatch = (self.samples_per_dispatch * 2).min(self.max_samples_per_dispatch);
             }
         }
         wait_for_submission(device, None)?;

@@ -38,3 +38,32 @@ pub fn render(scene: &Scene, method: Method, spp: u64, seed: u32) -> Film {
 pub fn bits(film: &Film) -> Vec<u32> {
     film.mean.iter().chain(&film.variance).flatten().map(|x| x.to_bits()).collect()
 }
+
+use pathlab::method::{LightSampling, Preset, Sampler};
+
+/// Every unbiased method the suite holds to the contract: the presets, and `mis` with each
+/// sampler.
+pub fn unbiased_methods() -> Vec<(String, Method)> {
+    let mut methods: Vec<(String, Method)> = Preset::ALL.iter().map(|p| (p.name().to_string(), p.method())).collect();
+    for sampler in Sampler::ALL {
+        let m = Method { sampler, ..Preset::Mis.method() };
+        if !methods.iter().any(|(_, x)| *x == m) {
+            methods.push((format!("mis+{}", sampler.name()), m));
+        }
+    }
+    methods
+}
+
+/// The two deliberately biased demonstration methods.
+pub fn biased_methods() -> Vec<(String, Method)> {
+    vec![
+        ("phong-lobe-only".into(), Method { bsdf: pathlab::method::BsdfSampling::PhongLobeOnly, ..Preset::Mis.method() }),
+        ("nee-double-count".into(), Method { lights: LightSampling::NeeDoubleCount, ..Preset::Nee.method() }),
+    ]
+}
+
+/// A film of the constant `value` with zero variance, as a reference for z-tests.
+pub fn constant_film(width: u32, height: u32, value: f32) -> Film {
+    let n = (width * height) as usize;
+    Film { width, height, spp: u64::MAX, mean: vec![[value; 3]; n], variance: vec![[0.0; 3]; n] }
+}
