@@ -42,6 +42,34 @@ impl Film {
         Film { width, height, spp, mean, variance }
     }
 
+    /// Averages `factor` x `factor` blocks of pixels (width and height must be multiples):
+    /// block means, and variances of the block means (sum of variances / factor^4).
+    pub fn downsample(&self, factor: u32) -> Film {
+        assert!(factor > 0 && self.width % factor == 0 && self.height % factor == 0, "downsample: size not a multiple of {factor}");
+        let (w, h) = (self.width / factor, self.height / factor);
+        let n = (factor * factor) as f64;
+        let mut mean = vec![[0.0f32; 3]; (w * h) as usize];
+        let mut variance = vec![[0.0f32; 3]; (w * h) as usize];
+        for by in 0..h {
+            for bx in 0..w {
+                let (mut m, mut v) = ([0.0f64; 3], [0.0f64; 3]);
+                for y in by * factor..(by + 1) * factor {
+                    for x in bx * factor..(bx + 1) * factor {
+                        let i = (y * self.width + x) as usize;
+                        for c in 0..3 {
+                            m[c] += self.mean[i][c] as f64;
+                            v[c] += self.variance[i][c] as f64;
+                        }
+                    }
+                }
+                let o = (by * w + bx) as usize;
+                mean[o] = m.map(|x| (x / n) as f32);
+                variance[o] = v.map(|x| (x / (n * n)) as f32);
+            }
+        }
+        Film { width: w, height: h, spp: self.spp, mean, variance }
+    }
+
     /// Mean over all pixels and channels.
     pub fn average(&self) -> f64 {
         let total: f64 = self.mean.iter().flat_map(|p| p.iter()).map(|&x| x as f64).sum();

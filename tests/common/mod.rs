@@ -57,7 +57,9 @@ pub fn unbiased_methods() -> Vec<(String, Method)> {
 /// The two deliberately biased demonstration methods.
 pub fn biased_methods() -> Vec<(String, Method)> {
     vec![
-        ("phong-lobe-only".into(), Method { bsdf: pathlab::method::BsdfSampling::PhongLobeOnly, ..Preset::Mis.method() }),
+        // Without light sampling, as in the study: combined with MIS it would be unbiased,
+        // since NEE takes full weight wherever the lobe cannot sample.
+        ("phong-lobe-only".into(), Method { bsdf: pathlab::method::BsdfSampling::PhongLobeOnly, ..Preset::Phong.method() }),
         ("nee-double-count".into(), Method { lights: LightSampling::NeeDoubleCount, ..Preset::Nee.method() }),
     ]
 }
