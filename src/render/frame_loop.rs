@@ -93,6 +93,8 @@ pub struct Renderer<'g> {
     params_buffer: wgpu::Buffer,
     accum: wgpu::Buffer,
     params: FrameParams,
+    /// Sample index of the first sample (0 unless set by `start_at_sample`).
+    first_sample: u64,
     spp_done: u64,
     samples_per_dispatch: u32,
     /// Cap on samples per dispatch for this device and pipeline.
@@ -171,6 +173,7 @@ impl<'g> Renderer<'g> {
             params_buffer,
             accum,
             params,
+            first_sample: 0,
             spp_done: 0,
             samples_per_dispatch: 1,
             max_samples_per_dispatch,
@@ -184,6 +187,16 @@ impl<'g> Renderer<'g> {
         self.spp_done
     }
 
+    /// Draws sample indices from `index` on instead of 0 (before any sample is rendered): to
+    /// continue a render in another process, or to test sample indices near 2^32.
+    pub fn start_at_sample(&mut self, index: u64) -> Result<(), RenderError> {
+        if self.spp_done > 0 || index >= MAX_SPP {
+            return Err(RenderError::TooManySamples(index));
+        }
+        self.first_sample = index;
+        Ok(())
+    }
+
     /// Adds samples until `budget` is met or `cancel` is set, then waits for the device.
     pub fn render(
         &mut self,
@@ -192,14 +205,14 @@ impl<'g> Renderer<'g> {
         mut progress: impl FnMut(Progress),
     ) -> Result<RenderStats, RenderError> {
         if let Budget::Samples(n) = budget {
-            if self.spp_done + n > MAX_SPP {
-                return Err(RenderError::TooManySamples(self.spp_done + n));
+            if self.first_sample + self.spp_done + n > MAX_SPP {
+                return Err(RenderError::TooManySamples(self.first_sample + self.spp_done + n));
             }
         }
         let start = Instant::now();
         let target_spp = match budget {
             Budget::Samples(n) => self.spp_done + n,
-            Budget::Time(_) => MAX_SPP,
+            Budget::Time(_) => MAX_SPP - self.first_sample,
         };
         let device = &self.gpu.device;
         let queue = &self.gpu.queue;
@@ -226,7 +239,7 @@ impl<'g> Renderer<'g> {
                 }
             }
             let count = (self.samples_per_dispatch as u64).min(target_spp - submitted) as u32;
-            self.params.sample_start = submitted as u32;
+            self.params.sample_start = (self.first_sample + submitted) as u32;
             self.params.sample_count = count;
             let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
             {
