@@ -86,25 +86,7 @@ fn camera_inside_emissive_sphere_rejects_double_counting() {
 /// per method), so one method's false-failure probability is below 1e-4.
 #[test]
 fn white_furnace_every_pixel_is_one() {
-    let text = r#"
-[camera]
-position = [0, 0, 4]
-look_at = [0, 0, 0]
-up = [0, 1, 0]
-fov_x = 35
-[render]
-width = 24
-height = 24
-max_depth = 8
-environment = 1
-[materials.white]
-diffuse = 1
-[[spheres]]
-center = [0, 0, 0]
-radius = 1
-material = "white"
-"#;
-    let scene = scene(text);
+    let scene = scene(&furnace_sphere("diffuse = 1"));
     let one = constant_film(24, 24, 1.0);
     let mut failures = Vec::new();
     for (name, method) in unbiased_methods() {
@@ -120,7 +102,8 @@ material = "white"
     assert!(z_test(&one, &film, ALPHA).pass_fraction < 0.9975, "phong-lobe-only not rejected");
 }
 
-fn glossy_furnace(glossiness: f64) -> String {
+/// A sphere of the given material under a constant environment of 1, filling most of the view.
+fn furnace_sphere(material: &str) -> String {
     format!(
         r#"
 [camera]
@@ -133,16 +116,18 @@ width = 24
 height = 24
 max_depth = 8
 environment = 1
-[materials.glossy]
-diffuse = 0.5
-specular = 0.5
-glossiness = {glossiness}
+[materials.surface]
+{material}
 [[spheres]]
 center = [0, 0, 0]
 radius = 1
-material = "glossy"
+material = "surface"
 "#
     )
+}
+
+fn glossy_furnace(glossiness: f64) -> String {
+    furnace_sphere(&format!("diffuse = 0.5\nspecular = 0.5\nglossiness = {glossiness}"))
 }
 
 /// Glossy furnace (kd + ks = 1): methods agree with a high-sample reference, and no pixel

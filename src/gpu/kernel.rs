@@ -4,6 +4,7 @@
 
 use wgpu::util::DeviceExt;
 
+use super::pipeline::storage_entry;
 use super::{wait_for_submission, Gpu, GpuError};
 
 /// One dispatch of `entry` in `source`.
@@ -20,19 +21,6 @@ pub struct KernelRun<'a> {
     pub workgroups: u32,
 }
 
-fn entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
-}
-
 impl KernelRun<'_> {
     /// Compiles, dispatches and returns the output buffer's bytes.
     pub fn run(&self, gpu: &Gpu) -> Result<Vec<u8>, GpuError> {
@@ -42,8 +30,8 @@ impl KernelRun<'_> {
             label: Some(self.entry),
             source: wgpu::ShaderSource::Wgsl(self.source.into()),
         });
-        let mut layout_entries: Vec<_> = self.inputs.iter().map(|(b, _)| entry(*b, true)).collect();
-        layout_entries.push(entry(self.output.0, false));
+        let mut layout_entries: Vec<_> = self.inputs.iter().map(|(b, _)| storage_entry(*b, true)).collect();
+        layout_entries.push(storage_entry(self.output.0, false));
         let bgl = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: None, entries: &layout_entries });
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: None,

@@ -70,7 +70,8 @@ pub struct PathTracerPipelines {
     cache: Mutex<HashMap<PipelineKey, (Arc<wgpu::ComputePipeline>, PipelineStats)>>,
 }
 
-fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
+/// A compute-stage storage buffer binding.
+pub(crate) fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: wgpu::ShaderStages::COMPUTE,
