@@ -45,10 +45,15 @@ fn exact_inside_sphere(max_depth: u32) -> f64 {
 
 /// Image mean against the exact value within a Šidák-corrected z-threshold of its standard
 /// error; with zero variance (max_depth 1) it must match to float precision.
-fn mean_matches(film: &Film, exact: f64, threshold: f64) -> Result<(), String> {
+fn mean_matches(film: &Film, exact: f64, threshold: f64) -> Result<String, String> {
     let (mean, err) = image_mean_and_error(film, 0);
     let ok = if err > 0.0 { (mean - exact).abs() <= threshold * err } else { (mean - exact).abs() <= 1e-6 * exact };
-    if ok { Ok(()) } else { Err(format!("mean {mean:.6} vs exact {exact:.6}: z = {:.2} (threshold {threshold:.2})", (mean - exact) / err)) }
+    let text = if err > 0.0 {
+        format!("mean {mean:.6} vs exact {exact:.6}: z = {:.2} (threshold {threshold:.2})", (mean - exact) / err)
+    } else {
+        format!("mean {mean:.7} vs exact {exact:.7}, zero variance")
+    };
+    if ok { Ok(text) } else { Err(text) }
 }
 
 /// False-failure probability: ALPHA over all (method, depth) pairs, Šidák-corrected.
@@ -62,8 +67,9 @@ fn camera_inside_emissive_sphere_every_method_and_depth() {
         for (name, method) in &methods {
             let film = render(&scene, *method, 256, 11);
             assert!(film.is_finite(), "{name} depth {depth}: non-finite");
-            if let Err(e) = mean_matches(&film, exact_inside_sphere(depth), threshold) {
-                failures.push(format!("{name} max_depth {depth}: {e}"));
+            match mean_matches(&film, exact_inside_sphere(depth), threshold) {
+                Ok(m) => println!("inside sphere {name} max_depth {depth}: {m}"),
+                Err(e) => failures.push(format!("{name} max_depth {depth}: {e}")),
             }
         }
     }
@@ -92,6 +98,7 @@ fn white_furnace_every_pixel_is_one() {
     for (name, method) in unbiased_methods() {
         let film = render(&scene, method, 256, 5);
         let z = z_test(&one, &film, ALPHA);
+        println!("white furnace {name}: {:.4} pass, max |z| {:.2}", z.pass_fraction, z.max_abs_z);
         if z.pass_fraction < 0.9975 {
             failures.push(format!("{name}: {:.4} of channels pass (max |z| {:.2}, mean z {:+.3})", z.pass_fraction, z.max_abs_z, z.mean_z));
         }
@@ -155,12 +162,14 @@ fn glossy_furnace_methods_agree_and_conserve_energy() {
             let film = render(&scene, method, 512, 2);
             if method.bsdf == BsdfSampling::Phong {
                 let z = z_test(&reference, &film, ALPHA);
+                println!("glossy furnace n {n} {name}: {:.4} pass, max |z| {:.2}", z.pass_fraction, z.max_abs_z);
                 if z.pass_fraction < 0.9975 {
                     failures.push(format!("n {n} {name}: {:.4} pass (max |z| {:.2})", z.pass_fraction, z.max_abs_z));
                 }
             } else {
                 let (m, e) = image_mean_and_error(&film, 0);
                 let z = (m - ref_mean) / (e * e + ref_err * ref_err).sqrt();
+                println!("glossy furnace n {n} {name}: image mean z {z:.2}");
                 if z.abs() > mean_threshold {
                     failures.push(format!("n {n} {name}: image mean {m:.5} vs {ref_mean:.5}, z = {z:.2}"));
                 }
@@ -170,6 +179,7 @@ fn glossy_furnace_methods_agree_and_conserve_energy() {
         // The study's darker specular: lobe-only sampling is rejected.
         let biased = render(&scene, biased_methods()[0].1, 512, 2);
         let z = z_test(&reference, &biased, ALPHA);
+        println!("glossy furnace n {n} phong-lobe-only (biased): {:.4} pass", z.pass_fraction);
         assert!(z.pass_fraction < 0.9975, "n = {n}: phong-lobe-only not rejected ({:.4} pass)", z.pass_fraction);
     }
 }
@@ -211,6 +221,7 @@ material = "floor"
     for method in [Preset::Nee.method(), Preset::Mis.method(), Method { sampler: pathlab::method::Sampler::Sobol, ..Preset::Nee.method() }] {
         let film = render(&scene, method, 64, 3);
         assert!(film.is_finite(), "{method}: NaN or inf");
+        let mut worst = 0.0f64;
         for py in 0..16 {
             for px in 0..16 {
                 // Pixel centre on the floor: camera looks down -y with up = -z, right = +x.
@@ -220,8 +231,10 @@ material = "floor"
                 let cos_phi = height / d2.sqrt();
                 let exact = kd / std::f64::consts::PI * std::f64::consts::PI * emission * radius * radius * cos_phi / d2;
                 let got = film.mean[py * 16 + px][0] as f64;
+                worst = worst.max((got / exact - 1.0).abs());
                 assert!((got / exact - 1.0).abs() < 1e-3, "{method} pixel ({px},{py}): {got} vs {exact}");
             }
         }
+        println!("tiny light {method}: worst relative error {worst:.2e}");
     }
 }
