@@ -49,16 +49,20 @@ fn sample_sphere_light_area(center: vec3f, radius: f32, x: vec3f, u: vec2f) -> L
     return LightSample(wi, dist, select(0.0, pdf, cos_light > 0.0 && dist > 0.0));
 }
 
-// Solid-angle density with which sample_sphere_light_* produces direction wi from x, given that
-// the ray (x, wi) first meets the sphere at distance t_hit. `inside` picks the strategy.
-fn pdf_sphere_light(center: vec3f, radius: f32, x: vec3f, inside: bool, wi: vec3f, t_hit: f32) -> f32 {
+// Solid-angle density with which sample_sphere_light_* produces direction wi from x, given the
+// point where that direction meets the sphere. `inside` picks the strategy. The hit point is
+// passed, not a distance, so that a ray traced from an offset origin still gives the density
+// of the geometry that next event estimation sampled (x to a point on the sphere).
+fn pdf_sphere_light(center: vec3f, radius: f32, x: vec3f, inside: bool, wi: vec3f, hit_point: vec3f) -> f32 {
     if (inside) {
-        let n_light = (x + wi * t_hit - center) / radius;
+        let n_light = (hit_point - center) / radius;
         let cos_light = abs(dot(n_light, wi));
-        if (cos_light <= 0.0) {
+        let to_hit = hit_point - x;
+        let dist2 = dot(to_hit, to_hit);
+        if (cos_light <= 0.0 || dist2 <= 0.0) {
             return 0.0;
         }
-        return t_hit * t_hit / (4.0 * PI * radius * radius * cos_light);
+        return dist2 / (4.0 * PI * radius * radius * cos_light);
     }
     return pdf_uniform_cone(sphere_cone_one_minus_cos_max(length(center - x), radius));
 }
