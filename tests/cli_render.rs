@@ -122,3 +122,26 @@ fn no_adapter_explains_how_to_install_lavapipe() {
     assert!(stderr.contains("apt-get install -y mesa-vulkan-drivers"), "{stderr}");
     assert!(!dir.join("study.exr").exists());
 }
+
+/// `pathlab bench --json` produces one well-formed record per (method, size). Structure only:
+/// no assertion on speed.
+#[test]
+fn bench_json_records() {
+    let out = pathlab()
+        .arg("bench")
+        .arg(study())
+        .args(["--methods", "plain,mis", "--size", "16x8", "--size", "8x8", "--seconds", "0.2", "--json"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let records: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON on stdout");
+    let records = records.as_array().expect("an array");
+    assert_eq!(records.len(), 4);
+    for r in records {
+        for key in ["method", "width", "height", "max_depth", "spp", "pixel_samples_per_second", "wall_seconds", "first_frame_seconds"] {
+            assert!(r.get(key).is_some(), "missing {key} in {r}");
+        }
+        assert!(r["spp"].as_u64().unwrap() > 0);
+        assert!(r["pixel_samples_per_second"].as_f64().unwrap() > 0.0);
+    }
+}

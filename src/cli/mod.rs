@@ -1,6 +1,7 @@
 //! Command-line interface: argument parsing (clap) and the subcommands. Errors are `anyhow`
 //! here, at the edge; the library reports typed errors.
 
+mod bench;
 mod render;
 
 use std::path::PathBuf;
@@ -28,6 +29,8 @@ enum Command {
         /// Scene file (TOML).
         scene: PathBuf,
     },
+    /// Measure samples per second of every method (device time, host overhead, compile time).
+    Bench(bench::BenchArgs),
     /// List the graphics adapters wgpu can see, best first.
     Adapters,
 }
@@ -37,6 +40,7 @@ pub fn run() -> i32 {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Render(args) => render::run(args),
+        Command::Bench(args) => bench::run(args),
         Command::Check { scene } => check(&scene).map(|()| 0),
         Command::Adapters => {
             for a in pathlab::gpu::list_adapters() {

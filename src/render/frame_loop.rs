@@ -85,6 +85,19 @@ pub struct RenderStats {
     pub compile_time: Duration,
 }
 
+/// Frames whose device time can be recorded between two `device_time` calls (two timestamp
+/// queries each; wgpu allows 4096 queries per set).
+const MAX_TIMED_FRAMES: u32 = 2048;
+
+/// GPU timestamps at the start and end of every frame's compute pass.
+struct Timestamps {
+    set: wgpu::QuerySet,
+    resolve: wgpu::Buffer,
+    readback: wgpu::Buffer,
+    /// Frames recorded since the last `device_time`.
+    frames: u32,
+}
+
 /// Renders one scene with one method into a GPU accumulator.
 pub struct Renderer<'g> {
     gpu: &'g Gpu,
@@ -100,6 +113,7 @@ pub struct Renderer<'g> {
     /// Cap on samples per dispatch for this device and pipeline.
     max_samples_per_dispatch: u32,
     compile_time: Duration,
+    timestamps: Option<Timestamps>,
     _scene_buffers: SceneBuffers,
 }
 
@@ -178,6 +192,7 @@ impl<'g> Renderer<'g> {
             samples_per_dispatch: 1,
             max_samples_per_dispatch,
             compile_time: stats.compile_time,
+            timestamps: None,
             _scene_buffers: scene_buffers,
         })
     }
@@ -185,6 +200,66 @@ impl<'g> Renderer<'g> {
     /// Samples per pixel accumulated so far.
     pub fn spp(&self) -> u64 {
         self.spp_done
+    }
+
+    /// Records GPU timestamps around every frame from now on, for `device_time`. Returns false
+    /// when the adapter has no timestamp queries.
+    pub fn enable_timestamps(&mut self) -> bool {
+        if !self.gpu.features.contains(wgpu::Features::TIMESTAMP_QUERY) {
+            return false;
+        }
+        let device = &self.gpu.device;
+        let bytes = 2 * MAX_TIMED_FRAMES as u64 * 8;
+        self.timestamps = Some(Timestamps {
+            set: device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("frame timestamps"),
+                ty: wgpu::QueryType::Timestamp,
+                count: 2 * MAX_TIMED_FRAMES,
+            }),
+            resolve: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("timestamp resolve"),
+                size: bytes,
+                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            }),
+            readback: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("timestamp readback"),
+                size: bytes,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            frames: 0,
+        });
+        true
+    }
+
+    /// Device time of the frames rendered since timestamps were enabled or last read (at most
+    /// the first MAX_TIMED_FRAMES of them), and how many frames that covers. Reads back: call
+    /// it outside the frame loop.
+    pub fn device_time(&mut self) -> Result<Option<(Duration, u32)>, RenderError> {
+        let Some(ts) = self.timestamps.as_mut() else { return Ok(None) };
+        let frames = ts.frames.min(MAX_TIMED_FRAMES);
+        ts.frames = 0;
+        if frames == 0 {
+            return Ok(Some((Duration::ZERO, 0)));
+        }
+        let device = &self.gpu.device;
+        let bytes = 2 * frames as u64 * 8;
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("timestamps") });
+        encoder.resolve_query_set(&ts.set, 0..2 * frames, &ts.resolve, 0);
+        encoder.copy_buffer_to_buffer(&ts.resolve, 0, &ts.readback, 0, bytes);
+        let index = self.gpu.queue.submit([encoder.finish()]);
+        ts.readback.map_async(wgpu::MapMode::Read, ..bytes, |_| {});
+        wait_for_submission(device, Some(index))?;
+        wait_for_submission(device, None)?;
+        let ticks: Vec<u64> = {
+            let view = ts.readback.get_mapped_range(..bytes).map_err(|e| RenderError::Readback(e.to_string()))?;
+            bytemuck::pod_collect_to_vec(&view)
+        };
+        ts.readback.unmap();
+        let period_ns = self.gpu.queue.get_timestamp_period() as f64;
+        let total_ns: f64 = ticks.chunks(2).map(|t| t[1].saturating_sub(t[0]) as f64 * period_ns).sum();
+        Ok(Some((Duration::from_secs_f64(total_ns * 1e-9), frames)))
     }
 
     /// Draws sample indices from `index` on instead of 0 (before any sample is rendered): to
@@ -217,8 +292,10 @@ impl<'g> Renderer<'g> {
         let device = &self.gpu.device;
         let queue = &self.gpu.queue;
         let completed = Arc::new(AtomicU64::new(self.spp_done));
-        // Seconds per sample per pixel, measured between consecutive frame completions.
-        let timing: Arc<Mutex<(Option<Instant>, Option<f64>)>> = Arc::new(Mutex::new((None, None)));
+        // Throughput since the first completion: (time of the first completion, samples done by
+        // then), and the latest (time, samples). Completion callbacks fire in batches during
+        // polls, so intervals between single callbacks mean nothing; the long-run rate does.
+        let timing: Arc<Mutex<Option<((Instant, u64), (Instant, u64))>>> = Arc::new(Mutex::new(None));
         let mut in_flight: VecDeque<wgpu::SubmissionIndex> = VecDeque::new();
         let mut submitted = self.spp_done;
         let mut frames = 0;
@@ -243,9 +320,17 @@ impl<'g> Renderer<'g> {
             self.params.sample_count = count;
             let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
             {
+                let timestamp_writes = self.timestamps.as_mut().filter(|t| t.frames < MAX_TIMED_FRAMES).map(|t| {
+                    t.frames += 1;
+                    wgpu::ComputePassTimestampWrites {
+                        query_set: &t.set,
+                        beginning_of_pass_write_index: Some(2 * (t.frames - 1)),
+                        end_of_pass_write_index: Some(2 * (t.frames - 1) + 1),
+                    }
+                });
                 let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                     label: Some("path trace"),
-                    timestamp_writes: None,
+                    timestamp_writes,
                 });
                 pass.set_pipeline(&self.pipeline);
                 pass.set_bind_group(0, &self.bind_group, &[]);
@@ -255,13 +340,11 @@ impl<'g> Renderer<'g> {
             let index = queue.submit([encoder.finish()]);
             let (done, clock) = (completed.clone(), timing.clone());
             queue.on_submitted_work_done(move || {
-                done.fetch_add(count as u64, Ordering::Relaxed);
+                let done_now = done.fetch_add(count as u64, Ordering::Relaxed) + count as u64;
                 let now = Instant::now();
                 let mut t = clock.lock().unwrap_or_else(|e| e.into_inner());
-                if let Some(prev) = t.0 {
-                    t.1 = Some((now - prev).as_secs_f64() / count as f64);
-                }
-                t.0 = Some(now);
+                let first = t.map_or((now, done_now), |(first, _)| first);
+                *t = Some((first, (now, done_now)));
             });
             in_flight.push_back(index);
             submitted += count as u64;
@@ -276,14 +359,17 @@ impl<'g> Renderer<'g> {
             progress(Progress { spp_done: completed.load(Ordering::Relaxed), elapsed: start.elapsed() });
 
             // Next dispatch size from the measured time per sample: at most doubling per frame.
-            let per_sample = timing.lock().unwrap_or_else(|e| e.into_inner()).1;
-            if let Some(per_sample) = per_sample.filter(|s| *s > 0.0) {
-                let ideal = (TARGET_DISPATCH.as_secs_f64() / per_sample).clamp(1.0, self.max_samples_per_dispatch as f64);
-                let k = self.samples_per_dispatch as f64;
-                self.samples_per_dispatch = ideal.clamp(k / 2.0, k * 2.0).max(1.0) as u32;
-            } else if frames >= 2 {
-                self.samples_per_dispatch = (self.samples_per_dispatch * 2).min(self.max_samples_per_dispatch);
-            }
+            let rate = *timing.lock().unwrap_or_else(|e| e.into_inner());
+            let per_sample = rate.and_then(|((t0, n0), (t1, n1))| {
+                (n1 > n0 && t1 > t0).then(|| (t1 - t0).as_secs_f64() / (n1 - n0) as f64)
+            });
+            let k = self.samples_per_dispatch as f64;
+            let next = match per_sample {
+                Some(per_sample) => TARGET_DISPATCH.as_secs_f64() / per_sample,
+                None if frames >= 2 => k * 2.0,
+                None => k,
+            };
+            self.samples_per_dispatch = next.clamp(k / 2.0, k * 2.0).clamp(1.0, self.max_samples_per_dispatch as f64) as u32;
         }
         wait_for_submission(device, None)?;
         self.spp_done = submitted;

@@ -1,0 +1,166 @@
+//! `pathlab bench`: samples per second of every method at several image sizes, with device time
+//! from GPU timestamps, host overhead and pipeline compile time. `--json` for machines: one
+//! record per (method, size), keyed so it joins with error measurements on
+//! (scene, method, width, height, max_depth).
+
+use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
+use std::time::{Duration, Instant};
+
+use anyhow::{bail, Context};
+use clap::Args;
+use serde::Serialize;
+
+use pathlab::gpu::{adapter_summary, Gpu, PathTracerPipelines, PipelineKey};
+use pathlab::method::Preset;
+use pathlab::render::{Budget, Renderer};
+
+use super::load_scene;
+
+#[derive(Args)]
+pub struct BenchArgs {
+    /// Scene file (default: the study scene).
+    #[arg(default_value = "assets/scenes/study.toml")]
+    scene: PathBuf,
+    /// Presets to measure (default: all).
+    #[arg(long, value_enum, value_delimiter = ',')]
+    methods: Vec<Preset>,
+    /// Image sizes, WxH (default: 256x128 and 1024x512).
+    #[arg(long = "size", value_parser = parse_size)]
+    sizes: Vec<(u32, u32)>,
+    /// Measured seconds per (method, size), after a warm-up.
+    #[arg(long, default_value_t = 3.0)]
+    seconds: f64,
+    /// Path segments (default: the scene's).
+    #[arg(long)]
+    max_depth: Option<u32>,
+    /// Print JSON records instead of a table.
+    #[arg(long)]
+    json: bool,
+    /// Use the first adapter whose name contains this (also: PATHLAB_ADAPTER).
+    #[arg(long)]
+    adapter: Option<String>,
+}
+
+fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("expected WxH, got {s}"))?;
+    let parse = |v: &str| v.trim().parse::<u32>().ok().filter(|&n| n > 0).ok_or_else(|| format!("bad size {s}"));
+    Ok((parse(w)?, parse(h)?))
+}
+
+/// One measurement.
+#[derive(Serialize)]
+pub struct Record {
+    scene: String,
+    method: String,
+    sampler: String,
+    bsdf: String,
+    lights: String,
+    width: u32,
+    height: u32,
+    max_depth: u32,
+    /// Samples per pixel rendered in the measured interval.
+    spp: u64,
+    frames: u64,
+    wall_seconds: f64,
+    pixel_samples_per_second: f64,
+    /// Device time of the measured frames, from timestamp queries (null if unsupported).
+    device_seconds: Option<f64>,
+    /// Share of wall time not covered by device work: (wall - device) / wall.
+    host_overhead: Option<f64>,
+    /// `create_compute_pipeline` time. Drivers may defer compilation to the first dispatch
+    /// (lavapipe does), so see also `first_frame_seconds`.
+    pipeline_create_seconds: f64,
+    /// Wall time of the first 1-spp frame after creation (includes any deferred compile).
+    first_frame_seconds: f64,
+    adapter: String,
+}
+
+pub fn run(args: BenchArgs) -> anyhow::Result<i32> {
+    let base = load_scene(&args.scene)?;
+    if !(args.seconds.is_finite() && args.seconds > 0.0) {
+        bail!("--seconds must be positive");
+    }
+    let methods = if args.methods.is_empty() { Preset::ALL.to_vec() } else { args.methods.clone() };
+    let sizes = if args.sizes.is_empty() { vec![(256, 128), (1024, 512)] } else { args.sizes.clone() };
+    let gpu = Gpu::new(args.adapter.as_deref())?;
+    eprintln!("adapter: {}", adapter_summary(&gpu.info));
+    let never = AtomicBool::new(false);
+    let mut records = Vec::new();
+    for &(width, height) in &sizes {
+        for &preset in &methods {
+            let mut scene = base.clone();
+            scene.render.width = width;
+            scene.render.height = height;
+            scene.render.max_depth = args.max_depth.unwrap_or(scene.render.max_depth);
+            let method = preset.method();
+            // A fresh pipeline cache, so every record carries its own compile time.
+            let pipelines = PathTracerPipelines::new(&gpu.device);
+            let compile_start = Instant::now();
+            pipelines.get(&gpu.device, PipelineKey { method, features: scene.features() });
+            let compile = compile_start.elapsed();
+            let mut renderer = Renderer::new(&gpu, &pipelines, &scene, method, 0)?;
+            let first = renderer.render(Budget::Samples(1), &never, |_| {})?;
+            // Warm-up: first dispatches, and the frame size settles.
+            renderer.render(Budget::Time(Duration::from_secs_f64(0.5)), &never, |_| {})?;
+            let timed = renderer.enable_timestamps();
+            let spp_before = renderer.spp();
+            let stats = renderer
+                .render(Budget::Time(Duration::from_secs_f64(args.seconds)), &never, |_| {})
+                .with_context(|| format!("{} at {width}x{height}", preset.name()))?;
+            let spp = renderer.spp() - spp_before;
+            let device = if timed { renderer.device_time()? } else { None };
+            // Device time covers at most the first frames: scale to all when it does not.
+            let device_seconds = device.filter(|(_, n)| *n > 0).map(|(d, n)| d.as_secs_f64() * stats.frames as f64 / n as f64);
+            let pixels = width as f64 * height as f64;
+            records.push(Record {
+                scene: args.scene.display().to_string(),
+                method: preset.name().into(),
+                sampler: method.sampler.name().into(),
+                bsdf: method.bsdf.name().into(),
+                lights: method.lights.name().into(),
+                width,
+                height,
+                max_depth: scene.render.max_depth,
+                spp,
+                frames: stats.frames,
+                wall_seconds: stats.seconds,
+                pixel_samples_per_second: pixels * spp as f64 / stats.seconds,
+                device_seconds,
+                host_overhead: device_seconds.map(|d| ((stats.seconds - d) / stats.seconds).max(0.0)),
+                pipeline_create_seconds: compile.as_secs_f64(),
+                first_frame_seconds: first.seconds,
+                adapter: gpu.info.name.clone(),
+            });
+            if !args.json {
+                print_row(records.last().unwrap_or_else(|| unreachable!()), records.len() == 1);
+            }
+        }
+    }
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&records)?);
+    }
+    Ok(0)
+}
+
+fn print_row(r: &Record, header: bool) {
+    if header {
+        println!(
+            "{:<8} {:>10} {:>6} {:>12} {:>8} {:>9} {:>7} {:>9} {:>9}",
+            "method", "size", "spp", "M samples/s", "wall s", "device s", "host %", "create s", "1st frame"
+        );
+    }
+    let opt = |v: Option<f64>, scale: f64| v.map_or("-".to_string(), |x| format!("{:.3}", x * scale));
+    println!(
+        "{:<8} {:>10} {:>6} {:>12.3} {:>8.3} {:>9} {:>7} {:>9.3} {:>9.3}",
+        r.method,
+        format!("{}x{}", r.width, r.height),
+        r.spp,
+        r.pixel_samples_per_second / 1e6,
+        r.wall_seconds,
+        opt(r.device_seconds, 1.0),
+        opt(r.host_overhead, 100.0),
+        r.pipeline_create_seconds,
+        r.first_frame_seconds
+    );
+}
