@@ -154,25 +154,22 @@ fn nested_uniform_scramble(x: u32, seed: u32) -> u32 {
     return reverseBits(laine_karras_permutation(reverseBits(x), seed));
 }
 
-// Sobol' dimension 0 (van der Corput) or 1 (direction numbers v_k = v_{k-1} ^ (v_{k-1} >> 1)).
+// Sobol' dimension 0 (van der Corput) or 1. Dimension 1's direction numbers
+// v_k = v_{k-1} ^ (v_{k-1} >> 1) form the Pascal matrix mod 2; by Lucas' theorem, output bit
+// 31 - j is the XOR of the index bits m with j a bit-subset of m. That superset-XOR (zeta)
+// transform takes five mask-and-shift steps instead of a loop over the 32 index bits. The CPU
+// twin (src/sequences.rs) keeps the loop as the reference; tests/sampler_twin.rs compares.
 fn sobol_component(index: u32, component: u32) -> u32 {
     if (component == 0u) {
         return reverseBits(index);
     }
-    var x = 0u;
-    var v = 0x80000000u;
-    var bits = index;
-    loop {
-        if (bits == 0u) {
-            break;
-        }
-        if ((bits & 1u) != 0u) {
-            x ^= v;
-        }
-        bits >>= 1u;
-        v ^= v >> 1u;
-    }
-    return x;
+    var y = index;
+    y ^= (y >> 1u) & 0x55555555u;
+    y ^= (y >> 2u) & 0x33333333u;
+    y ^= (y >> 4u) & 0x0f0f0f0fu;
+    y ^= (y >> 8u) & 0x00ff00ffu;
+    y ^= (y >> 16u) & 0x0000ffffu;
+    return reverseBits(y);
 }
 
 // Dimensions are taken in pairs (2m, 2m+1); each pair is a 2-D Owen-scrambled Sobol' point

@@ -41,12 +41,11 @@ pub fn loop_iterations_per_sample(key: &PipelineKey, max_depth: u32) -> u64 {
     use crate::method::Sampler;
     let f = &key.features;
     let (s, p, l) = (f.num_spheres as u64, f.num_planes as u64, f.num_lights as u64);
-    // Iterations of one sample_1d call: Sobol' dimension 1 loops over the index bits; Halton
-    // reverses at most 21 + 1 digits (base 3); Owen-scrambled Halton expands ~24 bits of digits,
-    // each with a few rejection rounds of the hashed permutation.
+    // Iterations of one sample_1d call: Sobol' has no loop; Halton reverses at most 21 + 1
+    // digits (base 3); Owen-scrambled Halton expands ~24 bits of digits, each with a few
+    // rejection rounds of the hashed permutation.
     let per_dim: u64 = match key.method.sampler {
-        Sampler::Independent => 0,
-        Sampler::Sobol => 32,
+        Sampler::Independent | Sampler::Sobol => 0,
         Sampler::Halton => 44,
         Sampler::HaltonScrambled => 160,
     };
