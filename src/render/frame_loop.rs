@@ -1,5 +1,5 @@
-//! The frame loop: each frame is one dispatch of the path tracer that adds `k` samples per
-//! pixel into the GPU accumulator. Several frames are in flight; the host only writes the
+//! The frame loop: each frame is one compute pass of the path tracer that adds `k` samples per
+//! pixel into the GPU accumulator (one dispatch per band of rows, see `Band`). Several frames are in flight; the host only writes the
 //! frame's uniform and submits, and waits on the device only when the queue is full, at the
 //! end, or to read back. `k` is adapted so that one dispatch takes about `TARGET_DISPATCH`.
 
@@ -37,10 +37,10 @@ pub enum RenderError {
     #[error(transparent)]
     Gpu(#[from] GpuError),
     #[error(
-        "a {width}x{height} image needs a {bytes} byte accumulator, more than this adapter's largest \
-         storage binding ({limit} bytes); render a smaller image"
+        "one row of a {width}-pixel-wide image needs a {bytes} byte accumulator, more than this \
+         adapter's largest storage binding ({limit} bytes); render a narrower image"
     )]
-    TooLarge { width: u32, height: u32, bytes: u64, limit: u64 },
+    TooLarge { width: u32, bytes: u64, limit: u64 },
     #[error("reading the image back from the GPU failed: {0}")]
     Readback(String),
     #[error("at most 2^32 samples per pixel are supported (asked for {0})")]
@@ -98,13 +98,22 @@ struct Timestamps {
     frames: u32,
 }
 
+/// Rows `y0 .. y0 + rows` of the image: their accumulator, frame uniform and bind group.
+struct Band {
+    y0: u32,
+    rows: u32,
+    params_buffer: wgpu::Buffer,
+    accum: wgpu::Buffer,
+    bind_group: wgpu::BindGroup,
+}
+
 /// Renders one scene with one method into a GPU accumulator.
 pub struct Renderer<'g> {
     gpu: &'g Gpu,
     pipeline: Arc<wgpu::ComputePipeline>,
-    bind_group: wgpu::BindGroup,
-    params_buffer: wgpu::Buffer,
-    accum: wgpu::Buffer,
+    /// The image in bands of rows, each with its own accumulator (one storage binding holds
+    /// at most `max_storage_buffer_binding_size` bytes: 128 MiB on lavapipe, ~2 Mpixel).
+    bands: Vec<Band>,
     params: FrameParams,
     /// Sample index of the first sample (0 unless set by `start_at_sample`).
     first_sample: u64,
@@ -129,13 +138,28 @@ impl<'g> Renderer<'g> {
         method: Method,
         seed: u32,
     ) -> Result<Renderer<'g>, RenderError> {
+        let limit = gpu.limits.max_storage_buffer_binding_size.min(gpu.limits.max_buffer_size);
+        Renderer::with_band_bytes(gpu, pipelines, scene, method, seed, limit)
+    }
+
+    /// Like `new`, with accumulator bands of at most `band_bytes` bytes (whole rows; at least
+    /// one row). `new` uses the adapter's largest storage binding.
+    pub fn with_band_bytes(
+        gpu: &'g Gpu,
+        pipelines: &PathTracerPipelines,
+        scene: &Scene,
+        method: Method,
+        seed: u32,
+        band_bytes: u64,
+    ) -> Result<Renderer<'g>, RenderError> {
         let device = &gpu.device;
         let (width, height) = (scene.render.width, scene.render.height);
-        let bytes = width as u64 * height as u64 * std::mem::size_of::<AccumPixel>() as u64;
         let limit = gpu.limits.max_storage_buffer_binding_size.min(gpu.limits.max_buffer_size);
-        if bytes > limit {
-            return Err(RenderError::TooLarge { width, height, bytes, limit });
+        let row_bytes = width as u64 * std::mem::size_of::<AccumPixel>() as u64;
+        if row_bytes > limit.min(band_bytes.max(row_bytes)) {
+            return Err(RenderError::TooLarge { width, bytes: row_bytes, limit });
         }
+        let rows_per_band = (band_bytes.min(limit) / row_bytes).clamp(1, height as u64) as u32;
         let key = PipelineKey { method, features: scene.features() };
         let max_samples_per_dispatch = if gpu.info.device_type == wgpu::DeviceType::Cpu {
             let per_sample = loop_iterations_per_sample(&key, scene.render.max_depth);
@@ -150,42 +174,43 @@ impl<'g> Renderer<'g> {
         let scene_buffers = SceneBuffers::new(device, scene);
         let mut params = FrameParams::for_scene(scene);
         params.seed = seed;
-        let params_buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("frame params"),
-            size: std::mem::size_of::<FrameParams>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        // An empty accumulator: zeroed explicitly through a mapping at creation rather than left
-        // to wgpu's lazy initialisation.
-        let accum = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("accumulator"),
-            size: bytes,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: true,
-        });
-        // A buffer mapped at creation reads as zeros (WebGPU spec); unmapping hands wgpu that
-        // initialised content.
-        accum.unmap();
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("path tracer"),
-            layout: &pipelines.bind_group_layout,
-            entries: &[
-                entry(0, &params_buffer),
-                entry(1, &scene_buffers.spheres),
-                entry(2, &scene_buffers.planes),
-                entry(3, &scene_buffers.materials),
-                entry(4, &scene_buffers.lights),
-                entry(5, &accum),
-                entry(shaders::HALTON_PRIMES_BINDING, &pipelines.halton_primes),
-            ],
-        });
+        let mut bands = Vec::new();
+        for y0 in (0..height).step_by(rows_per_band as usize) {
+            let rows = rows_per_band.min(height - y0);
+            let params_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("frame params"),
+                size: std::mem::size_of::<FrameParams>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            // An empty accumulator: a buffer mapped at creation reads as zeros (WebGPU spec), and
+            // unmapping hands wgpu that initialised content (no lazy clear).
+            let accum = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("accumulator"),
+                size: rows as u64 * row_bytes,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: true,
+            });
+            accum.unmap();
+            let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("path tracer"),
+                layout: &pipelines.bind_group_layout,
+                entries: &[
+                    entry(0, &params_buffer),
+                    entry(1, &scene_buffers.spheres),
+                    entry(2, &scene_buffers.planes),
+                    entry(3, &scene_buffers.materials),
+                    entry(4, &scene_buffers.lights),
+                    entry(5, &accum),
+                    entry(shaders::HALTON_PRIMES_BINDING, &pipelines.halton_primes),
+                ],
+            });
+            bands.push(Band { y0, rows, params_buffer, accum, bind_group });
+        }
         Ok(Renderer {
             gpu,
             pipeline,
-            bind_group,
-            params_buffer,
-            accum,
+            bands,
             params,
             first_sample: 0,
             spp_done: 0,
@@ -195,6 +220,11 @@ impl<'g> Renderer<'g> {
             timestamps: None,
             _scene_buffers: scene_buffers,
         })
+    }
+
+    /// Number of accumulator bands the image is split into.
+    pub fn bands(&self) -> usize {
+        self.bands.len()
     }
 
     /// Samples per pixel accumulated so far.
@@ -300,7 +330,7 @@ impl<'g> Renderer<'g> {
         let mut submitted = self.spp_done;
         let mut frames = 0;
         let mut interrupted = false;
-        let groups = (self.params.tile_width.div_ceil(WORKGROUP), self.params.tile_height.div_ceil(WORKGROUP));
+        let groups_x = self.params.width.div_ceil(WORKGROUP);
 
         loop {
             if cancel.load(Ordering::Relaxed) {
@@ -333,10 +363,15 @@ impl<'g> Renderer<'g> {
                     timestamp_writes,
                 });
                 pass.set_pipeline(&self.pipeline);
-                pass.set_bind_group(0, &self.bind_group, &[]);
-                pass.dispatch_workgroups(groups.0, groups.1, 1);
+                for band in &self.bands {
+                    pass.set_bind_group(0, &band.bind_group, &[]);
+                    pass.dispatch_workgroups(groups_x, band.rows.div_ceil(WORKGROUP), 1);
+                }
             }
-            queue.write_buffer(&self.params_buffer, 0, bytemuck::bytes_of(&self.params));
+            for band in &self.bands {
+                let params = FrameParams { tile_y: band.y0, tile_height: band.rows, ..self.params };
+                queue.write_buffer(&band.params_buffer, 0, bytemuck::bytes_of(&params));
+            }
             let index = queue.submit([encoder.finish()]);
             let (done, clock) = (completed.clone(), timing.clone());
             queue.on_submitted_work_done(move || {
@@ -384,10 +419,24 @@ impl<'g> Renderer<'g> {
         })
     }
 
-    /// Copies the accumulator back and turns it into mean and variance.
+    /// Copies the accumulators back and turns them into mean and variance.
     pub fn film(&self) -> Result<Film, RenderError> {
+        let mut pixels: Vec<AccumPixel> = Vec::with_capacity(self.params.width as usize * self.params.height as usize);
+        for band in &self.bands {
+            pixels.extend(self.read_band(band)?);
+        }
+        if let Some((i, p)) = pixels.iter().enumerate().find(|(_, p)| p.count as u64 != self.spp_done % (1 << 32)) {
+            return Err(RenderError::Readback(format!(
+                "pixel {i} accumulated {} samples, expected {}: the device dropped work",
+                p.count, self.spp_done
+            )));
+        }
+        Ok(Film::from_accumulators(self.params.width, self.params.height, self.spp_done, &pixels))
+    }
+
+    fn read_band(&self, band: &Band) -> Result<Vec<AccumPixel>, RenderError> {
         let device = &self.gpu.device;
-        let size = self.accum.size();
+        let size = band.accum.size();
         let staging = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("readback"),
             size,
@@ -395,7 +444,7 @@ impl<'g> Renderer<'g> {
             mapped_at_creation: false,
         });
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("readback") });
-        encoder.copy_buffer_to_buffer(&self.accum, 0, &staging, 0, size);
+        encoder.copy_buffer_to_buffer(&band.accum, 0, &staging, 0, size);
         let index = self.gpu.queue.submit([encoder.finish()]);
         let (tx, rx) = std::sync::mpsc::channel();
         staging.map_async(wgpu::MapMode::Read, .., move |r| {
@@ -410,12 +459,6 @@ impl<'g> Renderer<'g> {
             bytemuck::pod_collect_to_vec(&view)
         };
         staging.unmap();
-        if let Some((i, p)) = pixels.iter().enumerate().find(|(_, p)| p.count as u64 != self.spp_done % (1 << 32)) {
-            return Err(RenderError::Readback(format!(
-                "pixel {i} accumulated {} samples, expected {}: the device dropped work",
-                p.count, self.spp_done
-            )));
-        }
-        Ok(Film::from_accumulators(self.params.width, self.params.height, self.spp_done, &pixels))
+        Ok(pixels)
     }
 }
