@@ -102,7 +102,7 @@ struct PrevVertex {
 
 // Weight of emission found by a BSDF-sampled ray. With NEE, lights were already sampled
 // from the previous vertex, so their emission counts 0; with MIS it gets the power heuristic.
-fn emitter_hit_weight(hit: Hit, ray_origin: vec3f, ray_dir: vec3f, prev: PrevVertex) -> f32 {
+fn emitter_hit_weight(hit: Hit, ray_dir: vec3f, prev: PrevVertex) -> f32 {
     if (LIGHT_SAMPLING == LIGHTS_NONE || LIGHT_SAMPLING == LIGHTS_NEE_DOUBLE_COUNT || hit.object >= NUM_SPHERES) {
         return 1.0;
     }
@@ -114,8 +114,7 @@ fn emitter_hit_weight(hit: Hit, ray_origin: vec3f, ray_dir: vec3f, prev: PrevVer
         return 0.0;
     }
     let inside = inside_light(hit.object, sphere, prev.position, prev.object, prev.from_inside);
-    let hit_point = ray_origin + ray_dir * hit.t;
-    let light_pdf = pdf_sphere_light(sphere.center, sphere.radius, prev.position, inside, ray_dir, hit_point);
+    let light_pdf = pdf_sphere_light(sphere.center, sphere.radius, prev.position, inside, ray_dir);
     return power_heuristic(prev.bsdf_pdf, light_pdf);
 }
 
@@ -139,7 +138,7 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
         if (mat.is_emissive != 0u) {
             var w = 1.0;
             if (depth > 1u) {
-                w = emitter_hit_weight(hit, ray_o, ray_d, prev);
+                w = emitter_hit_weight(hit, ray_d, prev);
             }
             radiance += throughput * mat.emission * w;
         }

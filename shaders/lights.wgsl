@@ -49,20 +49,23 @@ fn sample_sphere_light_area(center: vec3f, radius: f32, x: vec3f, u: vec2f) -> L
     return LightSample(wi, dist, select(0.0, pdf, cos_light > 0.0 && dist > 0.0));
 }
 
-// Solid-angle density with which sample_sphere_light_* produces direction wi from x, given the
-// point where that direction meets the sphere. `inside` picks the strategy. The hit point is
-// passed, not a distance, so that a ray traced from an offset origin still gives the density
-// of the geometry that next event estimation sampled (x to a point on the sphere).
-fn pdf_sphere_light(center: vec3f, radius: f32, x: vec3f, inside: bool, wi: vec3f, hit_point: vec3f) -> f32 {
+// Solid-angle density with which sample_sphere_light_* produces direction wi from x (for a
+// direction that meets the sphere). `inside` picks the strategy. From inside, the sampled point
+// is where the ray (x, wi) leaves the sphere: the far root -b + sqrt(b^2 - c), recomputed here
+// from x itself (not from a traced hit, whose ray started at an offset origin), so the density
+// is exactly a function of (x, wi), as next event estimation sampled it.
+fn pdf_sphere_light(center: vec3f, radius: f32, x: vec3f, inside: bool, wi: vec3f) -> f32 {
     if (inside) {
-        let n_light = (hit_point - center) / radius;
+        let f = x - center;
+        let b = dot(f, wi);
+        let c = dot(f, f) - radius * radius;
+        let t = -b + safe_sqrt(b * b - c);
+        let n_light = (f + wi * t) / radius;
         let cos_light = abs(dot(n_light, wi));
-        let to_hit = hit_point - x;
-        let dist2 = dot(to_hit, to_hit);
-        if (cos_light <= 0.0 || dist2 <= 0.0) {
+        if (cos_light <= 0.0 || t <= 0.0) {
             return 0.0;
         }
-        return dist2 / (4.0 * PI * radius * radius * cos_light);
+        return t * t / (4.0 * PI * radius * radius * cos_light);
     }
     return pdf_uniform_cone(sphere_cone_one_minus_cos_max(length(center - x), radius));
 }

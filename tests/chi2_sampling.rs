@@ -270,7 +270,7 @@ fn cone(ratio: f64) -> Routine {
              fn routine_pdf(d: vec3f) -> f32 {{\n\
                  let omc = sphere_cone_one_minus_cos_max(length(C), 1.0);\n\
                  // Density of the cone inside it (the sphere is hit), 0 outside.\n\
-                 return select(0.0, pdf_sphere_light(C, 1.0, vec3f(0.0), false, d, vec3f(0.0)), one_minus_cos_between(d, vec3f(0.0, 0.0, 1.0)) <= omc);\n\
+                 return select(0.0, pdf_sphere_light(C, 1.0, vec3f(0.0), false, d), one_minus_cos_between(d, vec3f(0.0, 0.0, 1.0)) <= omc);\n\
              }}\n"
         ),
         constants: vec![],
@@ -286,12 +286,11 @@ fn inside(x: [f64; 3]) -> Routine {
         name: format!("sphere light from inside at {x:?}"),
         wgsl: format!(
             "const X: vec3f = vec3f({:.6}, {:.6}, {:.6});\n\
-             fn exit_distance(d: vec3f) -> f32 {{ let b = dot(X, d); return -b + sqrt(b * b - (dot(X, X) - 1.0)); }}\n\
              fn routine_sample(u: vec2f, u_lobe: f32) -> Drawn {{\n\
                  let ls = sample_sphere_light_area(vec3f(0.0), 1.0, X, u);\n\
                  return Drawn(vec4f(ls.wi, ls.pdf), vec4f(0.0));\n\
              }}\n\
-             fn routine_pdf(d: vec3f) -> f32 {{ return pdf_sphere_light(vec3f(0.0), 1.0, X, true, d, X + d * exit_distance(d)); }}\n",
+             fn routine_pdf(d: vec3f) -> f32 {{ return pdf_sphere_light(vec3f(0.0), 1.0, X, true, d); }}\n",
             x[0], x[1], x[2]
         ),
         constants: vec![],
