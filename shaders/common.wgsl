@@ -18,11 +18,6 @@ fn max3(v: vec3f) -> f32 {
     return max(v.x, max(v.y, v.z));
 }
 
-// Rec. 709 luminance, used to choose between BSDF lobes.
-fn luminance(c: vec3f) -> f32 {
-    return dot(c, vec3f(0.212671, 0.715160, 0.072169));
-}
-
 // exp(x) - 1 without cancellation near 0 (Taylor series to x^5 where |x| < 1e-2).
 fn expm1_stable(x: f32) -> f32 {
     if (abs(x) < 1e-2) {

@@ -43,10 +43,6 @@ fn hash2(a: u32, b: u32) -> u32 {
     return hash_pcg(b + hash_pcg(a));
 }
 
-fn hash3(a: u32, b: u32, c: u32) -> u32 {
-    return hash_pcg(c + hash_pcg(b + hash_pcg(a)));
-}
-
 fn hash4(a: u32, b: u32, c: u32, d: u32) -> u32 {
     return hash_pcg(d + hash_pcg(c + hash_pcg(b + hash_pcg(a))));
 }

@@ -5,7 +5,7 @@
 
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use anyhow::{bail, Context};
 use clap::Args;
@@ -96,9 +96,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<i32> {
             let method = preset.method();
             // A fresh pipeline cache, so every record carries its own compile time.
             let pipelines = PathTracerPipelines::new(&gpu.device);
-            let compile_start = Instant::now();
-            pipelines.get(&gpu.device, PipelineKey { method, features: scene.features() });
-            let compile = compile_start.elapsed();
+            let (_, created) = pipelines.get(&gpu.device, PipelineKey { method, features: scene.features() });
             let mut renderer = Renderer::new(&gpu, &pipelines, &scene, method, 0)?;
             let first = renderer.render(Budget::Samples(1), &never, |_| {})?;
             // Warm-up: first dispatches, and the frame size settles.
@@ -128,7 +126,7 @@ pub fn run(args: BenchArgs) -> anyhow::Result<i32> {
                 pixel_samples_per_second: pixels * spp as f64 / stats.seconds,
                 device_seconds,
                 host_overhead: device_seconds.map(|d| ((stats.seconds - d) / stats.seconds).max(0.0)),
-                pipeline_create_seconds: compile.as_secs_f64(),
+                pipeline_create_seconds: created.compile_time.as_secs_f64(),
                 first_frame_seconds: first.seconds,
                 adapter: gpu.info.name.clone(),
             });

@@ -79,7 +79,7 @@ fn f3(v: DVec3) -> [f32; 3] {
     v.as_vec3().to_array()
 }
 
-/// Rec. 709 luminance (as `luminance` in common.wgsl).
+/// Rec. 709 luminance, to choose between the BSDF lobes (`p_spec`).
 fn luminance(c: DVec3) -> f64 {
     c.dot(DVec3::new(0.212671, 0.715160, 0.072169))
 }

@@ -1,7 +1,7 @@
 //! The frame loop: each frame is one compute pass of the path tracer that adds `k` samples per
-//! pixel into the GPU accumulator (one dispatch per band of rows, see `Band`). Several frames are in flight; the host only writes the
-//! frame's uniform and submits, and waits on the device only when the queue is full, at the
-//! end, or to read back. `k` is adapted so that one dispatch takes about `TARGET_DISPATCH`.
+//! pixel into the GPU accumulator (one dispatch per band of rows, see `Band`). Several frames
+//! are in flight; the host only writes the frames' uniforms and submits, and waits on the
+//! device only when the queue is full, at the end, or to read back. `k` is adapted so that one dispatch takes about `TARGET_DISPATCH`.
 
 use std::collections::VecDeque;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -81,8 +81,6 @@ pub struct RenderStats {
     pub frames: u64,
     /// True when stopped early by the cancel flag.
     pub interrupted: bool,
-    /// Time spent creating the pipeline (0 when it came from the cache).
-    pub compile_time: Duration,
 }
 
 /// Frames whose device time can be recorded between two `device_time` calls (two timestamp
@@ -121,7 +119,6 @@ pub struct Renderer<'g> {
     samples_per_dispatch: u32,
     /// Cap on samples per dispatch for this device and pipeline.
     max_samples_per_dispatch: u32,
-    compile_time: Duration,
     timestamps: Option<Timestamps>,
     _scene_buffers: SceneBuffers,
 }
@@ -138,8 +135,7 @@ impl<'g> Renderer<'g> {
         method: Method,
         seed: u32,
     ) -> Result<Renderer<'g>, RenderError> {
-        let limit = gpu.limits.max_storage_buffer_binding_size.min(gpu.limits.max_buffer_size);
-        Renderer::with_band_bytes(gpu, pipelines, scene, method, seed, limit)
+        Renderer::with_band_bytes(gpu, pipelines, scene, method, seed, u64::MAX)
     }
 
     /// Like `new`, with accumulator bands of at most `band_bytes` bytes (whole rows; at least
@@ -156,7 +152,7 @@ impl<'g> Renderer<'g> {
         let (width, height) = (scene.render.width, scene.render.height);
         let limit = gpu.limits.max_storage_buffer_binding_size.min(gpu.limits.max_buffer_size);
         let row_bytes = width as u64 * std::mem::size_of::<AccumPixel>() as u64;
-        if row_bytes > limit.min(band_bytes.max(row_bytes)) {
+        if row_bytes > limit {
             return Err(RenderError::TooLarge { width, bytes: row_bytes, limit });
         }
         let rows_per_band = (band_bytes.min(limit) / row_bytes).clamp(1, height as u64) as u32;
@@ -170,7 +166,7 @@ impl<'g> Renderer<'g> {
         } else {
             MAX_SAMPLES_PER_DISPATCH
         };
-        let (pipeline, stats) = pipelines.get(device, key);
+        let (pipeline, _) = pipelines.get(device, key);
         let scene_buffers = SceneBuffers::new(device, scene);
         let mut params = FrameParams::for_scene(scene);
         params.seed = seed;
@@ -216,7 +212,6 @@ impl<'g> Renderer<'g> {
             spp_done: 0,
             samples_per_dispatch: 1,
             max_samples_per_dispatch,
-            compile_time: stats.compile_time,
             timestamps: None,
             _scene_buffers: scene_buffers,
         })
@@ -409,14 +404,7 @@ impl<'g> Renderer<'g> {
         wait_for_submission(device, None)?;
         self.spp_done = submitted;
         progress(Progress { spp_done: submitted, elapsed: start.elapsed() });
-        let compile_time = std::mem::take(&mut self.compile_time);
-        Ok(RenderStats {
-            spp: self.spp_done,
-            seconds: start.elapsed().as_secs_f64(),
-            frames,
-            interrupted,
-            compile_time,
-        })
+        Ok(RenderStats { spp: self.spp_done, seconds: start.elapsed().as_secs_f64(), frames, interrupted })
     }
 
     /// Copies the accumulators back and turns them into mean and variance.

@@ -133,10 +133,3 @@ pub struct SceneFeatures {
     pub has_specular: bool,
     pub has_environment: bool,
 }
-
-impl SceneFeatures {
-    /// Every feature on: the unspecialised kernel, for comparisons.
-    pub fn all_on(self) -> SceneFeatures {
-        SceneFeatures { has_specular: true, has_environment: true, ..self }
-    }
-}
