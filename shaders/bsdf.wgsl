@@ -42,59 +42,75 @@ fn path_weight(f: vec3f, cos_theta: f32, pdf: f32) -> vec3f {
     return f * (abs(cos_theta) / pdf);
 }
 
-// f(wi, wo) for unit wo, wi and a shading normal n_s with dot(wo, n_s) > 0.
-fn eval_phong(m: Phong, n_s: vec3f, wo: vec3f, wi: vec3f) -> vec3f {
-    if (dot(wi, n_s) <= 0.0 || dot(wo, n_s) <= 0.0) {
-        return vec3f(0.0);
+struct BsdfEval {
+    // f(wi, wo).
+    f: vec3f,
+    // Solid-angle density of the pipeline's BSDF sampling strategy at wi.
+    pdf: f32,
+}
+
+// f(wi, wo) and the sampling density at wi together, for unit wo, wi and a shading normal n_s
+// with dot(wo, n_s) > 0: the Phong lobe cos^n(alpha) serves both, so it is computed once.
+fn eval_pdf_bsdf(m: Phong, n_s: vec3f, wo: vec3f, wi: vec3f) -> BsdfEval {
+    let cos_i = dot(wi, n_s);
+    // cos^n of the angle between wi and the mirror direction of wo (zero outside the lobe).
+    var lobe = 0.0;
+    if (HAS_SPECULAR || BSDF_SAMPLING == BSDF_PHONG_LOBE_ONLY) {
+        lobe = phong_cos_pow(one_minus_cos_between(wi, reflect_about(wo, n_s)), m.n);
     }
+
+    // Normalised modified Phong: kd / pi + ks (n + 2) / (2 pi) cos^n(alpha), none below the surface.
     var f = m.kd * INV_PI;
     if (HAS_SPECULAR) {
-        let r = reflect_about(wo, n_s);
-        let lobe = phong_cos_pow(one_minus_cos_between(wi, r), m.n);
         f += m.ks * ((m.n + 2.0) * INV_2PI * lobe);
     }
-    return f;
-}
+    f = select(vec3f(0.0), f, cos_i > 0.0 && dot(wo, n_s) > 0.0);
 
-// Density of the mixture: P_d cos / pi + P_s (n+1)/(2 pi) cos^n(alpha), over the whole sphere
-// (the Phong lobe also reaches below the surface, where f = 0).
-fn pdf_phong_mixture(m: Phong, n_s: vec3f, wo: vec3f, wi: vec3f) -> f32 {
-    var pdf = (1.0 - m.p_spec) * pdf_cosine_hemisphere(dot(wi, n_s));
-    if (HAS_SPECULAR && m.p_spec > 0.0) {
-        let r = reflect_about(wo, n_s);
-        pdf += m.p_spec * pdf_phong_lobe(one_minus_cos_between(wi, r), m.n);
-    }
-    return pdf;
-}
-
-// Solid-angle density of the pipeline's BSDF sampling strategy at wi.
-fn pdf_bsdf(m: Phong, n_s: vec3f, wo: vec3f, wi: vec3f) -> f32 {
+    var pdf: f32;
     switch (BSDF_SAMPLING) {
         case BSDF_UNIFORM_SPHERE: {
-            return pdf_uniform_sphere();
+            pdf = pdf_uniform_sphere();
         }
         case BSDF_UNIFORM_HEMISPHERE: {
-            return pdf_uniform_hemisphere(dot(wi, n_s));
+            pdf = pdf_uniform_hemisphere(cos_i);
         }
         case BSDF_COSINE: {
-            return pdf_cosine_hemisphere(dot(wi, n_s));
+            pdf = pdf_cosine_hemisphere(cos_i);
         }
         case BSDF_PHONG_LOBE_ONLY: {
-            return pdf_phong_lobe(one_minus_cos_between(wi, reflect_about(wo, n_s)), m.n);
+            // Solid-angle pdf of the Phong lobe: (n + 1) / (2 pi) cos^n(alpha).
+            pdf = (m.n + 1.0) * INV_2PI * lobe;
         }
         default: {
-            return pdf_phong_mixture(m, n_s, wo, wi);
+            // One-sample mixture: P_d cos / pi + P_s (n + 1) / (2 pi) cos^n(alpha), over the
+            // whole sphere (the Phong lobe also reaches below the surface, where f = 0).
+            pdf = (1.0 - m.p_spec) * pdf_cosine_hemisphere(cos_i);
+            if (HAS_SPECULAR) {
+                pdf += m.p_spec * ((m.n + 1.0) * INV_2PI * lobe);
+            }
         }
     }
+    return BsdfEval(f, pdf);
 }
 
-// A direction from the Phong mixture: u_lobe picks the lobe, u_dir places the direction.
+// f(wi, wo) alone.
+fn eval_phong(m: Phong, n_s: vec3f, wo: vec3f, wi: vec3f) -> vec3f {
+    return eval_pdf_bsdf(m, n_s, wo, wi).f;
+}
+
+// Solid-angle density of the pipeline's BSDF sampling strategy at wi alone.
+fn pdf_bsdf(m: Phong, n_s: vec3f, wo: vec3f, wi: vec3f) -> f32 {
+    return eval_pdf_bsdf(m, n_s, wo, wi).pdf;
+}
+
+// A direction from the Phong mixture: u_lobe picks the lobe, u_dir places the direction. The
+// cosine lobe is the Phong lobe of exponent 1 around n_s (cos(theta) = v^(1/2)), so both lobes
+// share one warp and one frame instead of computing both and discarding one.
 fn sample_phong_mixture_direction(m: Phong, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> vec3f {
-    if (HAS_SPECULAR && u_lobe < m.p_spec) {
-        let r = reflect_about(wo, n_s);
-        return frame_to_world(frame_from_normal(r), square_to_phong_lobe(u_dir, m.n));
-    }
-    return frame_to_world(frame_from_normal(n_s), square_to_cosine_hemisphere(u_dir));
+    let specular = HAS_SPECULAR && u_lobe < m.p_spec;
+    let axis = select(n_s, reflect_about(wo, n_s), specular);
+    let exponent = select(1.0, m.n, specular);
+    return frame_to_world(frame_from_normal(axis), square_to_phong_lobe(u_dir, exponent));
 }
 
 // Samples wi with the pipeline's strategy. Samples below the surface keep their pdf and get
@@ -118,7 +134,6 @@ fn sample_bsdf(m: Phong, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> Bs
             wi = sample_phong_mixture_direction(m, n_s, wo, u_dir, u_lobe);
         }
     }
-    let pdf = pdf_bsdf(m, n_s, wo, wi);
-    let weight = path_weight(eval_phong(m, n_s, wo, wi), dot(wi, n_s), pdf);
-    return BsdfSample(wi, pdf, weight);
+    let e = eval_pdf_bsdf(m, n_s, wo, wi);
+    return BsdfSample(wi, e.pdf, path_weight(e.f, dot(wi, n_s), e.pdf));
 }

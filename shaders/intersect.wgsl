@@ -13,91 +13,81 @@ struct Hit {
 // Numerically robust form (Haines et al., Ray Tracing Gems ch. 7): the discriminant is taken
 // from the squared distance between the centre and the ray, so far-away or tiny spheres keep
 // their precision; the second root comes from Vieta's formula (c / q), not a subtraction.
+// Written with selects, without early returns: SIMD CPU drivers run every branch anyway, and
+// GPUs lose nothing on a test this short.
 fn intersect_sphere(o: vec3f, d: vec3f, center: vec3f, radius: f32, t_min: f32, t_max: f32) -> f32 {
     let f = o - center;
     let b = dot(f, d);
     let perp = f - b * d;
-    let disc = radius * radius - dot(perp, perp);
-    if (disc < 0.0) {
-        return -1.0;
-    }
-    let c = dot(f, f) - radius * radius;
-    let q = -b - select(-1.0, 1.0, b >= 0.0) * sqrt(disc);
-    var t0 = c / q;
-    var t1 = q;
-    if (t0 > t1) {
-        let tmp = t0;
-        t0 = t1;
-        t1 = tmp;
-    }
-    if (t0 > t_min && t0 < t_max) {
-        return t0;
-    }
-    if (t1 > t_min && t1 < t_max) {
-        return t1;
-    }
-    return -1.0;
+    let r2 = radius * radius;
+    let disc = r2 - dot(perp, perp);
+    let c = dot(f, f) - r2;
+    let q = -b - select(-1.0, 1.0, b >= 0.0) * safe_sqrt(disc);
+    let t_near = min(c / q, q);
+    let t_far = max(c / q, q);
+    let far_ok = (disc >= 0.0) & (t_far > t_min) & (t_far < t_max);
+    let near_ok = (disc >= 0.0) & (t_near > t_min) & (t_near < t_max);
+    return select(select(-1.0, t_far, far_ok), t_near, near_ok);
 }
 
 // t of the ray's crossing of the plane dot(n, x) = offset, or -1 when parallel or out of range.
+// A ray parallel to the plane divides by zero: t is +-inf or NaN, and both fail the range test.
 fn intersect_plane(o: vec3f, d: vec3f, normal: vec3f, offset: f32, t_min: f32, t_max: f32) -> f32 {
-    let denom = dot(normal, d);
-    if (denom == 0.0) {
-        return -1.0;
-    }
-    let t = (offset - dot(normal, o)) / denom;
-    return select(-1.0, t, t > t_min && t < t_max);
+    let t = (offset - dot(normal, o)) / dot(normal, d);
+    return select(-1.0, t, (t > t_min) & (t < t_max));
 }
 
+// Closest hit along (o, d). The candidate's normal data and material are carried along by
+// selects as closer hits are found, rather than looked up afterwards at the hit's index,
+// which differs per lane (a gather on SIMD CPU drivers and a serialised constant-cache read on
+// GPUs, where these loops only read at lane-uniform indices).
 fn intersect_scene(o: vec3f, d: vec3f) -> Hit {
-    var hit = Hit(INFINITY, vec3f(0.0), 0u, INVALID);
+    var t_hit = INFINITY;
+    var object = INVALID;
+    var material = 0u;
+    // Of the closest sphere so far: centre and radius; of the closest plane: its normal.
+    var center = vec3f(0.0);
+    var radius = 1.0;
+    var plane_normal = vec3f(0.0);
     for (var i = 0u; i < NUM_SPHERES; i++) {
         let s = spheres[i];
-        let t = intersect_sphere(o, d, s.center, s.radius, 0.0, hit.t);
-        if (t > 0.0) {
-            hit.t = t;
-            hit.object = i;
-        }
+        let t = intersect_sphere(o, d, s.center, s.radius, 0.0, t_hit);
+        let closer = t > 0.0;
+        t_hit = select(t_hit, t, closer);
+        object = select(object, i, closer);
+        material = select(material, s.material, closer);
+        center = select(center, s.center, closer);
+        radius = select(radius, s.radius, closer);
     }
     for (var j = 0u; j < NUM_PLANES; j++) {
         let p = planes[j];
-        let t = intersect_plane(o, d, p.normal, p.offset, 0.0, hit.t);
-        if (t > 0.0) {
-            hit.t = t;
-            hit.object = NUM_SPHERES + j;
-        }
+        let t = intersect_plane(o, d, p.normal, p.offset, 0.0, t_hit);
+        let closer = t > 0.0;
+        t_hit = select(t_hit, t, closer);
+        object = select(object, NUM_SPHERES + j, closer);
+        material = select(material, p.material, closer);
+        plane_normal = select(plane_normal, p.normal, closer);
     }
-    // Normal and material of the closest object only (not of every candidate).
-    if (hit.object < NUM_SPHERES) {
-        let s = spheres[hit.object];
-        hit.normal = (o + d * hit.t - s.center) / s.radius;
-        hit.material = s.material;
-    } else if (hit.object != INVALID) {
-        let p = planes[hit.object - NUM_SPHERES];
-        hit.normal = p.normal;
-        hit.material = p.material;
-    }
-    return hit;
+    let sphere_normal = (o + d * t_hit - center) / radius;
+    let normal = select(plane_normal, sphere_normal, object < NUM_SPHERES);
+    return Hit(t_hit, normal, material, object);
 }
 
-// True when something other than sphere `skip` lies on the segment (o, o + t_max d).
+// True when something other than sphere `skip` lies on the segment (o, o + t_max d), a
+// shadow ray towards a light: planes that cannot separate a path vertex from a light are not
+// tested.
 fn occluded(o: vec3f, d: vec3f, t_max: f32, skip: u32) -> bool {
+    var blocked = false;
     for (var i = 0u; i < NUM_SPHERES; i++) {
-        if (i == skip) {
-            continue;
-        }
         let s = spheres[i];
-        if (intersect_sphere(o, d, s.center, s.radius, 0.0, t_max) > 0.0) {
-            return true;
-        }
+        let t = intersect_sphere(o, d, s.center, s.radius, 0.0, t_max);
+        blocked = blocked | ((t > 0.0) & (i != skip));
     }
-    for (var j = 0u; j < NUM_PLANES; j++) {
+    for (var j = 0u; j < NUM_OCCLUDING_PLANES; j++) {
         let p = planes[j];
-        if (intersect_plane(o, d, p.normal, p.offset, 0.0, t_max) > 0.0) {
-            return true;
-        }
+        blocked = blocked | (intersect_plane(o, d, p.normal, p.offset, 0.0, t_max) > 0.0);
     }
-    return false;
+    return blocked;
 }
 
 // Origin for a ray leaving surface point p on the side of unit normal n_side: offset by a

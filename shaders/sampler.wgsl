@@ -13,10 +13,15 @@ const SAMPLER_SOBOL: u32 = 3u;
 // Which sequence this pipeline draws from (set through pipeline constants).
 override SAMPLER: u32 = SAMPLER_INDEPENDENT;
 
-// The first HALTON_DIMENSIONS primes: the base of each Halton dimension. A storage buffer, not
-// a WGSL const array: dynamically indexed const arrays are copied per invocation by some
-// compilers (10x slower on lavapipe).
-@group(0) @binding(6) var<storage, read> halton_primes: array<u32>;
+// The first HALTON_DIMENSIONS primes, the base of each Halton dimension, four to a vec4u. A
+// uniform buffer: not a WGSL const array (dynamically indexed const arrays are copied per
+// invocation by some compilers, 10x slower on lavapipe), and not a storage buffer (lavapipe
+// loads storage per lane even at a uniform index, as the dimension is here).
+@group(0) @binding(6) var<uniform> halton_primes: array<vec4u, HALTON_DIMENSIONS / 4u>;
+
+fn halton_base(dim: u32) -> u32 {
+    return halton_primes[dim / 4u][dim % 4u];
+}
 
 // ---------------------------------------------------------------------------------------------
 // Hashing
@@ -188,7 +193,7 @@ fn sample_independent(pixel: u32, index: u32, dim: u32, seed: u32) -> f32 {
 // The study's Halton: radical inverse of the sample index in the dim-th prime base, shifted
 // per pixel and dimension by a Cranley-Patterson rotation.
 fn sample_halton(pixel: u32, index: u32, dim: u32, seed: u32) -> f32 {
-    let base = halton_primes[dim];
+    let base = halton_base(dim);
     var x: f32;
     if (base == 2u) {
         x = u32_to_unit_float(reverseBits(index));
@@ -202,7 +207,7 @@ fn sample_halton(pixel: u32, index: u32, dim: u32, seed: u32) -> f32 {
 
 // Halton with Owen scrambling of the digits, seeded per pixel and dimension.
 fn sample_halton_scrambled(pixel: u32, index: u32, dim: u32, seed: u32) -> f32 {
-    return radical_inverse_impl(halton_primes[dim], index, true, hash4(seed, pixel, dim, 0x0e7au));
+    return radical_inverse_impl(halton_base(dim), index, true, hash4(seed, pixel, dim, 0x0e7au));
 }
 
 // Sample `dim` of sample `index` in pixel `pixel`, in [0, 1). Halton dimensions beyond the

@@ -240,3 +240,50 @@ material = "floor"
         println!("tiny light {method}: worst relative error {worst:.2e}");
     }
 }
+
+/// A light above an opaque ceiling, the camera below it looking at a floor: no light reaches
+/// any pixel, so every method must give exactly 0. The ceiling separates the camera from the
+/// light, so shadow rays must test it; the floor (camera and light on its upper side) is the
+/// plane they may skip. Deterministic: no false failures. (Checked once: with every plane
+/// skipped by shadow rays, NEE lights the floor through the ceiling and this fails.)
+#[test]
+fn light_behind_an_opaque_plane_is_shadowed() {
+    let scene = scene(
+        r#"
+[camera]
+position = [0, 0, 0]
+look_at = [0, -1, -1]
+up = [0, 1, 0]
+fov_x = 90
+[render]
+width = 16
+height = 16
+max_depth = 4
+[materials.grey]
+diffuse = 0.8
+specular = 0.1
+glossiness = 20
+[materials.lamp]
+emission = 10
+[[planes]]
+point = [0, -1, 0]
+normal = [0, 1, 0]
+material = "grey"
+[[planes]]
+point = [0, 1, 0]
+normal = [0, -1, 0]
+material = "grey"
+[[spheres]]
+center = [0, 3, -2]
+radius = 0.5
+material = "lamp"
+"#,
+    );
+    let f = scene.features();
+    assert_eq!((f.num_planes, f.num_occluding_planes, f.light_interiors_reachable), (2, 1, false));
+    for (name, method) in unbiased_methods() {
+        let film = render(&scene, method, 16, 3);
+        let max = film.mean.iter().flatten().fold(0.0f32, |a, &b| a.max(b));
+        assert_eq!(max, 0.0, "{name}: light leaked through the ceiling");
+    }
+}

@@ -101,6 +101,7 @@ fn run(routine: &Routine, entry: &str, inputs: Vec<(u32, Vec<u8>)>, out_vec4s: u
         entry,
         constants: &routine.constants,
         inputs,
+        uniforms: vec![],
         output: (1, (out_vec4s * 16) as u64),
         workgroups: (items as u32).div_ceil(64),
     };

@@ -41,15 +41,12 @@ fn queries() -> Vec<[u32; 4]> {
 
 fn gpu_samples(sampler: Sampler, queries: &[[u32; 4]]) -> Vec<f32> {
     let source = shaders::assemble(&shaders::LIBRARY, KERNEL);
-    let primes: Vec<u32> = shaders::primes(shaders::HALTON_DIMENSIONS);
     let run = KernelRun {
         source: &source,
         entry: "sample_kernel",
         constants: &[("SAMPLER", sampler.constant() as f64)],
-        inputs: vec![
-            (0, bytemuck::cast_slice(queries).to_vec()),
-            (HALTON_PRIMES_BINDING, bytemuck::cast_slice(&primes).to_vec()),
-        ],
+        inputs: vec![(0, bytemuck::cast_slice(queries).to_vec())],
+        uniforms: vec![(HALTON_PRIMES_BINDING, shaders::halton_primes_bytes())],
         output: (1, (queries.len() * 4) as u64),
         workgroups: (queries.len() as u32).div_ceil(64),
     };

@@ -16,15 +16,17 @@ fn every_override_permutation_validates() {
             for lights in LightSampling::ALL {
                 for &(num_spheres, num_planes, num_lights) in &counts {
                     for has_specular in [false, true] {
-                        for has_environment in [false, true] {
+                        for (has_environment, light_interiors_reachable) in [(false, false), (true, true)] {
                             let key = PipelineKey {
                                 method: Method { sampler, bsdf, lights },
                                 features: SceneFeatures {
                                     num_spheres,
                                     num_planes,
                                     num_lights,
+                                    num_occluding_planes: if has_specular { num_planes } else { 0 },
                                     has_specular,
                                     has_environment,
+                                    light_interiors_reachable,
                                 },
                             };
                             if let Err(e) = shaders::validate(&source, &pipeline_constants(&key)) {

@@ -75,7 +75,8 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
     let scene = load_scene(path)?;
     let f = scene.features();
     println!(
-        "{}: valid; {}x{}, max_depth {}, {} materials, {} spheres ({} lights), {} planes, specular {}, environment {}",
+        "{}: valid; {}x{}, max_depth {}, {} materials, {} spheres ({} lights), {} planes ({} can shadow a light), \
+         specular {}, environment {}, light interiors reachable {}",
         path.display(),
         scene.render.width,
         scene.render.height,
@@ -84,8 +85,10 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
         f.num_spheres,
         f.num_lights,
         f.num_planes,
+        f.num_occluding_planes,
         if f.has_specular { "yes" } else { "no" },
         if f.has_environment { "yes" } else { "no" },
+        if f.light_interiors_reachable { "yes" } else { "no" },
     );
     Ok(())
 }

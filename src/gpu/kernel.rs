@@ -4,7 +4,7 @@
 
 use wgpu::util::DeviceExt;
 
-use super::pipeline::storage_entry;
+use super::pipeline::{storage_entry, uniform_entry};
 use super::{wait_for_submission, Gpu, GpuError};
 
 /// One dispatch of `entry` in `source`.
@@ -15,6 +15,8 @@ pub struct KernelRun<'a> {
     pub constants: &'a [(&'a str, f64)],
     /// Read-only storage buffers: (binding, bytes).
     pub inputs: Vec<(u32, Vec<u8>)>,
+    /// Uniform buffers: (binding, bytes).
+    pub uniforms: Vec<(u32, Vec<u8>)>,
     /// The read-write storage buffer that comes back: (binding, size in bytes).
     pub output: (u32, u64),
     /// Workgroups along x.
@@ -31,6 +33,7 @@ impl KernelRun<'_> {
             source: wgpu::ShaderSource::Wgsl(self.source.into()),
         });
         let mut layout_entries: Vec<_> = self.inputs.iter().map(|(b, _)| storage_entry(*b, true)).collect();
+        layout_entries.extend(self.uniforms.iter().map(|(b, _)| uniform_entry(*b)));
         layout_entries.push(storage_entry(self.output.0, false));
         let bgl = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: None, entries: &layout_entries });
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -49,15 +52,14 @@ impl KernelRun<'_> {
             },
             cache: None,
         });
-        let buffers: Vec<wgpu::Buffer> = self
-            .inputs
-            .iter()
-            .map(|(_, bytes)| {
-                device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: None,
-                    contents: bytes,
-                    usage: wgpu::BufferUsages::STORAGE,
-                })
+        let inputs = self.inputs.iter().map(|input| (input, wgpu::BufferUsages::STORAGE));
+        let uniforms = self.uniforms.iter().map(|input| (input, wgpu::BufferUsages::UNIFORM));
+        let buffers: Vec<(u32, wgpu::Buffer)> = inputs
+            .chain(uniforms)
+            .map(|((binding, bytes), usage)| {
+                let buffer =
+                    device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: None, contents: bytes, usage });
+                (*binding, buffer)
             })
             .collect();
         let output = device.create_buffer(&wgpu::BufferDescriptor {
@@ -72,11 +74,9 @@ impl KernelRun<'_> {
             usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let mut entries: Vec<wgpu::BindGroupEntry> = self
-            .inputs
+        let mut entries: Vec<wgpu::BindGroupEntry> = buffers
             .iter()
-            .zip(&buffers)
-            .map(|((b, _), buf)| wgpu::BindGroupEntry { binding: *b, resource: buf.as_entire_binding() })
+            .map(|(binding, buf)| wgpu::BindGroupEntry { binding: *binding, resource: buf.as_entire_binding() })
             .collect();
         entries.push(wgpu::BindGroupEntry { binding: self.output.0, resource: output.as_entire_binding() });
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor { label: None, layout: &bgl, entries: &entries });

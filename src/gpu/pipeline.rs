@@ -28,8 +28,10 @@ pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
         ("NUM_SPHERES", f.num_spheres as f64),
         ("NUM_PLANES", f.num_planes as f64),
         ("NUM_LIGHTS", f.num_lights as f64),
+        ("NUM_OCCLUDING_PLANES", f.num_occluding_planes as f64),
         ("HAS_SPECULAR", f.has_specular as u32 as f64),
         ("HAS_ENVIRONMENT", f.has_environment as u32 as f64),
+        ("LIGHT_INTERIORS_REACHABLE", f.light_interiors_reachable as u32 as f64),
     ]
 }
 
@@ -69,6 +71,20 @@ pub struct PathTracerPipelines {
     cache: Mutex<HashMap<PipelineKey, (Arc<wgpu::ComputePipeline>, PipelineStats)>>,
 }
 
+/// A compute-stage uniform buffer binding.
+pub(crate) fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
 /// A compute-stage storage buffer binding.
 pub(crate) fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
@@ -89,26 +105,17 @@ impl PathTracerPipelines {
             label: Some("path tracer"),
             source: wgpu::ShaderSource::Wgsl(shaders::path_tracer_source().into()),
         });
-        let uniform = wgpu::BindGroupLayoutEntry {
-            binding: 0,
-            visibility: wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Uniform,
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        };
         let bind_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("path tracer"),
             entries: &[
-                uniform,
-                storage_entry(1, true),
-                storage_entry(2, true),
-                storage_entry(3, true),
-                storage_entry(4, true),
+                // Frame parameters, then spheres, planes, materials (scene.wgsl).
+                uniform_entry(0),
+                uniform_entry(1),
+                uniform_entry(2),
+                uniform_entry(3),
+                // The accumulator (accumulate.wgsl).
                 storage_entry(5, false),
-                storage_entry(shaders::HALTON_PRIMES_BINDING, true),
+                uniform_entry(shaders::HALTON_PRIMES_BINDING),
             ],
         });
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -118,8 +125,8 @@ impl PathTracerPipelines {
         });
         let halton_primes = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("halton primes"),
-            contents: bytemuck::cast_slice(&shaders::primes(shaders::HALTON_DIMENSIONS)),
-            usage: wgpu::BufferUsages::STORAGE,
+            contents: &shaders::halton_primes_bytes(),
+            usage: wgpu::BufferUsages::UNIFORM,
         });
         PathTracerPipelines { module, halton_primes, bind_group_layout, layout, cache: Mutex::new(HashMap::new()) }
     }

@@ -1,11 +1,16 @@
 //! The scene packed for the GPU. Layouts mirror the structs in `shaders/scene.wgsl` and
 //! `shaders/accumulate.wgsl` (std430/uniform rules: a vec3 is 16-byte aligned, 12 bytes long).
+//!
+//! Spheres, planes and materials go in uniform buffers of fixed capacity (the `MAX_*`
+//! below, also generated into the WGSL): the kernel reads them at lane-uniform indices, which
+//! uniform buffers serve as broadcasts. Each stays under wgpu's default 64 KiB binding limit
+//! (`crate::scene::MAX_*`, enforced by scene validation).
 
 use bytemuck::{Pod, Zeroable};
 use glam::DVec3;
 use wgpu::util::DeviceExt;
 
-use crate::scene::{Fov, Scene};
+use crate::scene::{Fov, Scene, MAX_MATERIALS, MAX_PLANES, MAX_SPHERES};
 
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
@@ -13,8 +18,7 @@ pub struct GpuSphere {
     pub center: [f32; 3],
     pub radius: f32,
     pub material: u32,
-    pub light: u32,
-    pub _pad: [u32; 2],
+    pub _pad: [u32; 3],
 }
 
 #[repr(C)]
@@ -125,21 +129,23 @@ impl FrameParams {
     }
 }
 
-/// Read-only scene buffers. Empty lists get one zeroed element (bindings cannot be empty);
-/// the kernel never reads it because its counts are pipeline constants.
+/// The scene's uniform buffers, each allocated at its full capacity (the WGSL arrays are
+/// fixed-size); the kernel reads only the first elements, as many as its pipeline constants say.
 pub struct SceneBuffers {
     pub spheres: wgpu::Buffer,
     pub planes: wgpu::Buffer,
     pub materials: wgpu::Buffer,
-    pub lights: wgpu::Buffer,
 }
 
-fn storage<T: Pod + Zeroable>(device: &wgpu::Device, label: &str, items: &[T]) -> wgpu::Buffer {
-    let padded: Vec<T> = if items.is_empty() { vec![T::zeroed()] } else { items.to_vec() };
+/// A uniform buffer of `capacity` elements of `T`, starting with `items`, zero after them.
+/// Callers (validation) guarantee `items.len() <= capacity`.
+fn uniform_array<T: Pod>(device: &wgpu::Device, label: &str, items: &[T], capacity: usize) -> wgpu::Buffer {
+    let mut bytes = bytemuck::cast_slice::<T, u8>(items).to_vec();
+    bytes.resize(capacity.max(items.len()) * std::mem::size_of::<T>(), 0);
     device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some(label),
-        contents: bytemuck::cast_slice(&padded),
-        usage: wgpu::BufferUsages::STORAGE,
+        contents: &bytes,
+        usage: wgpu::BufferUsages::UNIFORM,
     })
 }
 
@@ -163,42 +169,40 @@ impl SceneBuffers {
             .collect()
     }
 
+    /// The spheres in kernel order (`Scene::gpu_sphere_order`): the lights first.
     pub fn pack_spheres(scene: &Scene) -> Vec<GpuSphere> {
-        let lights = scene.light_spheres();
         scene
-            .spheres
-            .iter()
-            .enumerate()
-            .map(|(i, s)| GpuSphere {
-                center: f3(s.center),
-                radius: s.radius as f32,
-                material: s.material as u32,
-                light: lights.iter().position(|&l| l == i).map_or(u32::MAX, |l| l as u32),
-                _pad: [0; 2],
+            .gpu_sphere_order()
+            .into_iter()
+            .map(|i| {
+                let s = &scene.spheres[i];
+                GpuSphere { center: f3(s.center), radius: s.radius as f32, material: s.material as u32, _pad: [0; 3] }
             })
             .collect()
     }
 
+    /// The planes in kernel order (`Scene::gpu_plane_order`): those that can occlude a light first.
     pub fn pack_planes(scene: &Scene) -> Vec<GpuPlane> {
         scene
-            .planes
-            .iter()
-            .map(|p| GpuPlane {
-                normal: f3(p.normal),
-                offset: p.normal.dot(p.point) as f32,
-                material: p.material as u32,
-                _pad: [0; 3],
+            .gpu_plane_order()
+            .into_iter()
+            .map(|i| {
+                let p = &scene.planes[i];
+                GpuPlane {
+                    normal: f3(p.normal),
+                    offset: p.normal.dot(p.point) as f32,
+                    material: p.material as u32,
+                    _pad: [0; 3],
+                }
             })
             .collect()
     }
 
     pub fn new(device: &wgpu::Device, scene: &Scene) -> SceneBuffers {
-        let lights: Vec<u32> = scene.light_spheres().into_iter().map(|i| i as u32).collect();
         SceneBuffers {
-            spheres: storage(device, "spheres", &Self::pack_spheres(scene)),
-            planes: storage(device, "planes", &Self::pack_planes(scene)),
-            materials: storage(device, "materials", &Self::pack_materials(scene)),
-            lights: storage(device, "lights", &lights),
+            spheres: uniform_array(device, "spheres", &Self::pack_spheres(scene), MAX_SPHERES),
+            planes: uniform_array(device, "planes", &Self::pack_planes(scene), MAX_PLANES),
+            materials: uniform_array(device, "materials", &Self::pack_materials(scene), MAX_MATERIALS),
         }
     }
 }
@@ -214,5 +218,13 @@ mod tests {
         assert_eq!(std::mem::size_of::<GpuMaterial>(), 48);
         assert_eq!(std::mem::size_of::<FrameParams>(), 112);
         assert_eq!(std::mem::size_of::<AccumPixel>(), 64);
+    }
+
+    #[test]
+    fn capacities_fit_default_uniform_bindings() {
+        let limit = wgpu::Limits::default().max_uniform_buffer_binding_size as usize;
+        assert!(MAX_SPHERES * std::mem::size_of::<GpuSphere>() <= limit);
+        assert!(MAX_PLANES * std::mem::size_of::<GpuPlane>() <= limit);
+        assert!(MAX_MATERIALS * std::mem::size_of::<GpuMaterial>() <= limit);
     }
 }

@@ -196,7 +196,6 @@ impl<'g> Renderer<'g> {
                     entry(1, &scene_buffers.spheres),
                     entry(2, &scene_buffers.planes),
                     entry(3, &scene_buffers.materials),
-                    entry(4, &scene_buffers.lights),
                     entry(5, &accum),
                     entry(shaders::HALTON_PRIMES_BINDING, &pipelines.halton_primes),
                 ],

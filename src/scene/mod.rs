@@ -13,6 +13,17 @@ use glam::DVec3;
 
 pub use diagnostic::{Diagnostic, SceneError, Severity};
 
+// Most objects of each kind a scene may have: the capacities of the kernel's uniform buffers
+// (src/gpu/scene_buffers.rs), each within wgpu's default 64 KiB uniform binding. The kernel tests
+// every object per ray (there is no acceleration structure), so scenes this large are slow anyway.
+
+/// Most spheres (32 bytes each on the GPU).
+pub const MAX_SPHERES: usize = 1024;
+/// Most planes (32 bytes each).
+pub const MAX_PLANES: usize = 1024;
+/// Most materials (48 bytes each).
+pub const MAX_MATERIALS: usize = 1024;
+
 /// Pinhole camera.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Camera {
@@ -119,7 +130,66 @@ impl Scene {
             num_lights: self.light_spheres().len() as u32,
             has_specular: self.materials.iter().any(|m| m.specular.max_element() > 0.0),
             has_environment: self.render.environment.max_element() > 0.0,
+            num_occluding_planes: self.occluding_planes().len() as u32,
+            light_interiors_reachable: self.light_interiors_reachable(),
         }
+    }
+
+    /// Order of the spheres in the kernel: the lights first (in scene order), so that light l
+    /// is sphere l, then the others.
+    pub fn gpu_sphere_order(&self) -> Vec<usize> {
+        let lights = self.light_spheres();
+        let others = (0..self.spheres.len()).filter(|i| !lights.contains(i));
+        lights.iter().copied().chain(others).collect()
+    }
+
+    /// Order of the planes in the kernel: `occluding_planes()` first, then the others.
+    pub fn gpu_plane_order(&self) -> Vec<usize> {
+        let occluding = self.occluding_planes();
+        let others = (0..self.planes.len()).filter(|i| !occluding.contains(i));
+        occluding.iter().copied().chain(others).collect()
+    }
+
+    /// Planes that can lie between a path vertex and a light. Planes are opaque and infinite,
+    /// so every path vertex is on the camera's side of each plane (or on it); a plane with the
+    /// camera and every light sphere strictly on the same side cannot block a shadow ray (the
+    /// segment from a vertex to a point of the light stays in that half-space). Contact within
+    /// a relative 1e-4 counts as crossing.
+    pub fn occluding_planes(&self) -> Vec<usize> {
+        const MARGIN: f64 = 1e-4;
+        let lights = self.light_spheres();
+        (0..self.planes.len())
+            .filter(|&j| {
+                let p = &self.planes[j];
+                let side = |x: DVec3| p.normal.dot(x - p.point);
+                let camera = side(self.camera.position);
+                let scale = self.camera.position.abs().max_element().max(p.point.abs().max_element()).max(1.0);
+                camera.abs() <= MARGIN * scale
+                    || lights.iter().any(|&l| {
+                        let s = &self.spheres[l];
+                        let d = side(s.center);
+                        d * camera <= 0.0 || d.abs() <= s.radius * (1.0 + MARGIN)
+                    })
+            })
+            .collect()
+    }
+
+    /// Whether a path vertex can lie inside a light sphere (or on its inner surface). Spheres
+    /// are closed and opaque, so paths from a camera outside every light stay outside, unless
+    /// another object reaches into a light. Conservative: contact within a relative 1e-4
+    /// counts as reaching in.
+    pub fn light_interiors_reachable(&self) -> bool {
+        const MARGIN: f64 = 1e-4;
+        self.light_spheres().into_iter().any(|l| {
+            let light = &self.spheres[l];
+            let reach = light.radius * (1.0 + MARGIN);
+            let camera_inside = self.camera.position.distance(light.center) <= reach;
+            let sphere_overlaps = self.spheres.iter().enumerate().any(|(i, s)| {
+                i != l && s.center.distance(light.center) <= (s.radius + light.radius) * (1.0 + MARGIN)
+            });
+            let plane_cuts = self.planes.iter().any(|p| p.normal.dot(light.center - p.point).abs() <= reach);
+            camera_inside || sphere_overlaps || plane_cuts
+        })
     }
 }
 
@@ -130,6 +200,59 @@ pub struct SceneFeatures {
     pub num_spheres: u32,
     pub num_planes: u32,
     pub num_lights: u32,
+    /// Planes that shadow rays must test (the first ones in kernel order).
+    pub num_occluding_planes: u32,
     pub has_specular: bool,
     pub has_environment: bool,
+    /// False when no path vertex can be inside a light: sampling lights from inside (by area)
+    /// is compiled out, leaving cone sampling alone.
+    pub light_interiors_reachable: bool,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The study-like box: camera and light inside, planes all around.
+    fn scene_with(extra: &str) -> Scene {
+        let text = format!(
+            "[camera]\nposition = [0, 0, 1]\nlook_at = [0, 0, 0]\nup = [0, 1, 0]\nfov_x = 90\n\
+             [render]\nwidth = 8\nheight = 8\nmax_depth = 2\n\
+             [materials.lamp]\nemission = 1\n[materials.grey]\ndiffuse = 0.5\n\
+             [[spheres]]\ncenter = [0, 0, -5]\nradius = 1\nmaterial = \"lamp\"\n\
+             [[planes]]\npoint = [0, -2, 0]\nnormal = [0, 1, 0]\nmaterial = \"grey\"\n{extra}"
+        );
+        Scene::parse(&text, "test.toml").unwrap()
+    }
+
+    #[test]
+    fn planes_with_camera_and_lights_on_one_side_cannot_occlude() {
+        let s = scene_with("");
+        assert!(s.occluding_planes().is_empty());
+        assert!(!s.light_interiors_reachable());
+        // A wall between camera and light must be tested, and comes first in kernel order.
+        let s = scene_with("[[planes]]\npoint = [0, 0, -3]\nnormal = [0, 0, 1]\nmaterial = \"grey\"\n");
+        assert_eq!(s.occluding_planes(), vec![1]);
+        assert_eq!(s.gpu_plane_order(), vec![1, 0]);
+        assert!(!s.light_interiors_reachable());
+    }
+
+    #[test]
+    fn a_plane_or_sphere_reaching_into_a_light_makes_its_interior_reachable() {
+        let s = scene_with("[[planes]]\npoint = [0, 0, -5.5]\nnormal = [0, 0, 1]\nmaterial = \"grey\"\n");
+        assert_eq!(s.occluding_planes(), vec![1]);
+        assert!(s.light_interiors_reachable());
+        let s = scene_with("[[spheres]]\ncenter = [0, 1.5, -5]\nradius = 1\nmaterial = \"grey\"\n");
+        assert!(s.light_interiors_reachable());
+        let s = scene_with("[[spheres]]\ncenter = [0, 3, -5]\nradius = 1\nmaterial = \"grey\"\n");
+        assert!(!s.light_interiors_reachable());
+    }
+
+    #[test]
+    fn lights_come_first_in_kernel_order() {
+        let s = scene_with("[[spheres]]\ncenter = [3, 0, -5]\nradius = 1\nmaterial = \"grey\"\n[[spheres]]\ncenter = [-3, 0, -5]\nradius = 1\nmaterial = \"lamp\"\n");
+        // Spheres 0 and 2 emit: they become kernel spheres 0 and 1.
+        assert_eq!(s.light_spheres(), vec![0, 2]);
+        assert_eq!(s.gpu_sphere_order(), vec![0, 2, 1]);
+    }
 }

@@ -10,7 +10,10 @@ use toml::Spanned;
 
 use super::diagnostic::LineIndex;
 use super::raw::{RawColor, RawMaterial, RawScene};
-use super::{Camera, Diagnostic, Fov, Material, Plane, RenderSettings, Scene, SceneError, Severity, Sphere};
+use super::{
+    Camera, Diagnostic, Fov, Material, Plane, RenderSettings, Scene, SceneError, Severity, Sphere, MAX_MATERIALS,
+    MAX_PLANES, MAX_SPHERES,
+};
 
 /// Largest accepted width, height or max_depth: beyond this the GPU buffers cannot be sized.
 const MAX_IMAGE_SIDE: i64 = 65_536;
@@ -162,6 +165,17 @@ pub(super) fn parse_and_validate(text: &str, file: &Path) -> Result<Scene, Scene
         planes.push(Plane { point, normal: if length > 0.0 { normal / length } else { DVec3::Z }, material });
     }
 
+    // Capacities of the kernel's uniform buffers.
+    if let Some(extra) = raw.spheres.get(MAX_SPHERES) {
+        ck.error(extra.span(), format!("spheres[{MAX_SPHERES}]"), too_many(raw.spheres.len(), MAX_SPHERES, "spheres"));
+    }
+    if let Some(extra) = raw.planes.get(MAX_PLANES) {
+        ck.error(extra.span(), format!("planes[{MAX_PLANES}]"), too_many(raw.planes.len(), MAX_PLANES, "planes"));
+    }
+    if let Some((name, extra)) = raw.materials.iter().nth(MAX_MATERIALS) {
+        ck.error(extra.span(), format!("materials.{name}"), too_many(raw.materials.len(), MAX_MATERIALS, "materials"));
+    }
+
     for (name, &i) in &names {
         if !used.contains(&i) {
             ck.warn(raw.materials[name].span(), format!("materials.{name}"), "material is defined but never used");
@@ -269,6 +283,13 @@ fn check_materials(ck: &mut Checker, raw: &RawScene) -> (Vec<Material>, BTreeMap
         materials.push(Material { name: name.clone(), diffuse, specular, glossiness, emission });
     }
     (materials, names)
+}
+
+fn too_many(count: usize, max: usize, what: &str) -> String {
+    format!(
+        "the scene has {count} {what}, more than the {max} the kernel supports \
+         (every ray is tested against every object: there is no acceleration structure)"
+    )
 }
 
 /// Dotted path of the TOML field at byte `offset` (e.g. `spheres[1].radius`), recovered from the
