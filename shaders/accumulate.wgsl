@@ -10,9 +10,10 @@ struct AccumPixel {
     sum: vec3f,
     count: u32,
     sum_err: vec3f,
-    _pad0: u32,
+    // Rays traced for this pixel (camera, bounce and shadow rays), as a 64-bit count.
+    rays_lo: u32,
     sum_sq: vec3f,
-    _pad1: u32,
+    rays_hi: u32,
     sum_sq_err: vec3f,
     _pad2: u32,
 }
@@ -33,6 +34,15 @@ fn compensated_add(s: ptr<function, vec3f>, err: ptr<function, vec3f>, x: vec3f)
     let t = opaque(*s + y);
     *err = (t - *s) - y;
     *s = t;
+}
+
+// Rays traced by this invocation in this dispatch (intersect.wgsl counts them).
+var<private> rays_traced: u32;
+
+fn accum_add_rays(p: ptr<function, AccumPixel>, n: u32) {
+    let lo = (*p).rays_lo + n;
+    (*p).rays_hi += select(0u, 1u, lo < n);
+    (*p).rays_lo = lo;
 }
 
 fn accum_add_sample(p: ptr<function, AccumPixel>, x: vec3f) {

@@ -160,7 +160,11 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
         let prev = PrevVertex(x, hit.object, from_inside, bs.pdf);
         ray_o = offset_ray_origin(x, n_s);
         ray_d = bs.wi;
-        hit = intersect_scene(ray_o, ray_d);
+        // A sample that cannot scatter (below the surface) ends the path untraced.
+        hit = Hit(0.0, vec3f(0.0, 0.0, 1.0), 0u, INVALID);
+        if (scattered) {
+            hit = intersect_scene(ray_o, ray_d);
+        }
         depth++;
         if (scattered) {
             var w = 1.0;
@@ -198,5 +202,6 @@ fn render_main(@builtin(global_invocation_id) gid: vec3u) {
             break if s >= frame.sample_count;
         }
     }
+    accum_add_rays(&acc, rays_traced);
     accum[slot] = acc;
 }

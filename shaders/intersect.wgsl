@@ -42,6 +42,7 @@ fn intersect_plane(o: vec3f, d: vec3f, normal: vec3f, offset: f32, t_min: f32, t
 // which differs per lane (a gather on SIMD CPU drivers and a serialised constant-cache read on
 // GPUs, where these loops only read at lane-uniform indices).
 fn intersect_scene(o: vec3f, d: vec3f) -> Hit {
+    rays_traced += 1u;
     var t_hit = INFINITY;
     var object = INVALID;
     var material = 0u;
@@ -77,6 +78,7 @@ fn intersect_scene(o: vec3f, d: vec3f) -> Hit {
 // shadow ray towards a light: planes that cannot separate a path vertex from a light are not
 // tested.
 fn occluded(o: vec3f, d: vec3f, t_max: f32, skip: u32) -> bool {
+    rays_traced += 1u;
     var blocked = false;
     for (var i = 0u; i < NUM_SPHERES; i++) {
         let s = spheres[i];

@@ -50,6 +50,8 @@ fn default_output_metadata_png_and_variance() {
     assert_eq!(meta(&metadata, "seed"), "5");
     assert_eq!(meta(&metadata, "version"), pathlab::VERSION);
     assert!(meta(&metadata, "render_seconds").parse::<f64>().unwrap() > 0.0);
+    // At least the camera rays: one per pixel sample.
+    assert!(meta(&metadata, "rays").parse::<u64>().unwrap() >= 32 * 16 * 8);
     assert!(film.variance.iter().flatten().any(|&v| v > 0.0), "variance channels present");
     let png = image::open(dir.join("preview.png")).unwrap();
     assert_eq!((png.width(), png.height()), (32, 16));

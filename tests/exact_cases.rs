@@ -89,3 +89,35 @@ environment = 0.1
         }
     }
 }
+
+/// The kernel's ray counter, where the count is known exactly: with max_depth 1 one camera ray
+/// per sample; inside a closed diffuse sphere with cosine sampling (every direction scatters
+/// and hits the sphere) one ray per segment; adding NEE towards the sphere itself (an
+/// emitter, sampled by area from inside) one shadow ray per scattering vertex, as every such
+/// sample contributes.
+#[test]
+fn ray_counter_counts_every_ray_traced() {
+    use pathlab::method::{LightSampling, Method};
+    use pathlab::render::{Budget, Renderer};
+    let count = |scene: &pathlab::scene::Scene, method: Method, spp: u64| {
+        let mut r = Renderer::new(gpu(), pipelines(), scene, method, 0).expect("renderer");
+        r.render(Budget::Samples(spp), &std::sync::atomic::AtomicBool::new(false), |_| {}).expect("render");
+        r.readback().expect("readback").rays
+    };
+    let view = scene(EMITTER_IN_VIEW);
+    let samples = 16 * 8 * 5;
+    for preset in Preset::ALL {
+        assert_eq!(count(&view, preset.method(), 5), samples, "{preset:?}");
+    }
+    let shell = scene(
+        "[camera]\nposition = [0, 0, 0]\nlook_at = [0, 0, -1]\nup = [0, 1, 0]\nfov_x = 60\n\
+         [render]\nwidth = 8\nheight = 8\nmax_depth = 4\n\
+         [materials.shell]\ndiffuse = 0.5\nemission = 0.5\n\
+         [[spheres]]\ncenter = [0, 0, 0]\nradius = 1\nmaterial = \"shell\"\n",
+    );
+    let samples = 8 * 8 * 3;
+    let cosine = Method { lights: LightSampling::None, ..Preset::Cosine.method() };
+    assert_eq!(count(&shell, cosine, 3), 4 * samples, "cosine: 4 segments");
+    let nee = Method { lights: LightSampling::Nee, ..Preset::Cosine.method() };
+    assert_eq!(count(&shell, nee, 3), (4 + 3) * samples, "nee: 4 segments and 3 shadow rays");
+}

@@ -14,6 +14,7 @@ use serde::Serialize;
 use pathlab::gpu::{adapter_summary, Gpu, PathTracerPipelines, PipelineKey};
 use pathlab::method::Preset;
 use pathlab::render::{Budget, Renderer};
+use pathlab::scene::Scene;
 
 use super::load_scene;
 
@@ -40,6 +41,10 @@ pub struct BenchArgs {
     /// Use the first adapter whose name contains this (also: PATHLAB_ADAPTER).
     #[arg(long)]
     adapter: Option<String>,
+    /// After each measurement, measure the same method with every optional feature of the
+    /// kernel on (not specialised to the scene), for the speed-up of specialisation.
+    #[arg(long)]
+    unspecialised: bool,
 }
 
 fn parse_size(s: &str) -> Result<(u32, u32), String> {
@@ -59,11 +64,18 @@ pub struct Record {
     width: u32,
     height: u32,
     max_depth: u32,
+    /// Whether the pipeline was specialised to the scene's features (false: every optional
+    /// feature on, `--unspecialised`).
+    specialised: bool,
     /// Samples per pixel rendered in the measured interval.
     spp: u64,
     frames: u64,
     wall_seconds: f64,
     pixel_samples_per_second: f64,
+    /// Camera, bounce and shadow rays traced in the measured interval, counted by the kernel.
+    rays: u64,
+    rays_per_second: f64,
+    rays_per_sample: f64,
     /// Device time of the measured frames, from timestamp queries (null if unsupported).
     device_seconds: Option<f64>,
     /// Share of wall time not covered by device work: (wall - device) / wall.
@@ -85,53 +97,21 @@ pub fn run(args: BenchArgs) -> anyhow::Result<i32> {
     let sizes = if args.sizes.is_empty() { vec![(256, 128), (1024, 512)] } else { args.sizes.clone() };
     let gpu = Gpu::new(args.adapter.as_deref())?;
     eprintln!("adapter: {}", adapter_summary(&gpu.info));
-    let never = AtomicBool::new(false);
     let mut records = Vec::new();
+    let variants: &[bool] = if args.unspecialised { &[true, false] } else { &[true] };
     for &(width, height) in &sizes {
         for &preset in &methods {
-            let mut scene = base.clone();
-            scene.render.width = width;
-            scene.render.height = height;
-            scene.render.max_depth = args.max_depth.unwrap_or(scene.render.max_depth);
-            let method = preset.method();
-            // A fresh pipeline cache, so every record carries its own compile time.
-            let pipelines = PathTracerPipelines::new(&gpu.device);
-            let (_, created) = pipelines.get(&gpu.device, PipelineKey { method, features: scene.features() });
-            let mut renderer = Renderer::new(&gpu, &pipelines, &scene, method, 0)?;
-            let first = renderer.render(Budget::Samples(1), &never, |_| {})?;
-            // Warm-up: first dispatches, and the frame size settles.
-            renderer.render(Budget::Time(Duration::from_secs_f64(0.5)), &never, |_| {})?;
-            let timed = renderer.enable_timestamps();
-            let spp_before = renderer.spp();
-            let stats = renderer
-                .render(Budget::Time(Duration::from_secs_f64(args.seconds)), &never, |_| {})
-                .with_context(|| format!("{} at {width}x{height}", preset.name()))?;
-            let spp = renderer.spp() - spp_before;
-            let device = if timed { renderer.device_time()? } else { None };
-            // Device time covers at most the first frames: scale to all when it does not.
-            let device_seconds = device.filter(|(_, n)| *n > 0).map(|(d, n)| d.as_secs_f64() * stats.frames as f64 / n as f64);
-            let pixels = width as f64 * height as f64;
-            records.push(Record {
-                scene: args.scene.display().to_string(),
-                method: preset.name().into(),
-                sampler: method.sampler.name().into(),
-                bsdf: method.bsdf.name().into(),
-                lights: method.lights.name().into(),
-                width,
-                height,
-                max_depth: scene.render.max_depth,
-                spp,
-                frames: stats.frames,
-                wall_seconds: stats.seconds,
-                pixel_samples_per_second: pixels * spp as f64 / stats.seconds,
-                device_seconds,
-                host_overhead: device_seconds.map(|d| ((stats.seconds - d) / stats.seconds).max(0.0)),
-                pipeline_create_seconds: created.compile_time.as_secs_f64(),
-                first_frame_seconds: first.seconds,
-                adapter: gpu.info.name.clone(),
-            });
-            if !args.json {
-                print_row(records.last().unwrap_or_else(|| unreachable!()), records.len() == 1);
+            for &specialised in variants {
+                let mut scene = base.clone();
+                scene.render.width = width;
+                scene.render.height = height;
+                scene.render.max_depth = args.max_depth.unwrap_or(scene.render.max_depth);
+                let record = measure(&gpu, &scene, &args, preset, specialised)
+                    .with_context(|| format!("{} at {width}x{height}", preset.name()))?;
+                if !args.json {
+                    print_row(&record, records.is_empty());
+                }
+                records.push(record);
             }
         }
     }
@@ -141,20 +121,82 @@ pub fn run(args: BenchArgs) -> anyhow::Result<i32> {
     Ok(0)
 }
 
+/// One (method, size, specialisation) measurement: a fresh pipeline cache (so the record
+/// carries its own compile time), a 1-spp first frame, 0.5 s of warm-up, then the timed interval.
+fn measure(gpu: &Gpu, scene: &Scene, args: &BenchArgs, preset: Preset, specialised: bool) -> anyhow::Result<Record> {
+    let never = AtomicBool::new(false);
+    let method = preset.method();
+    let features = if specialised { scene.features() } else { scene.features().all_on() };
+    let pipelines = PathTracerPipelines::new(&gpu.device);
+    let (_, created) = pipelines.get(&gpu.device, PipelineKey { method, features });
+    let mut renderer = if specialised {
+        Renderer::new(gpu, &pipelines, scene, method, 0)?
+    } else {
+        Renderer::unspecialised(gpu, &pipelines, scene, method, 0)?
+    };
+    let first = renderer.render(Budget::Samples(1), &never, |_| {})?;
+    // Warm-up: first dispatches, and the frame size settles.
+    renderer.render(Budget::Time(Duration::from_secs_f64(0.5)), &never, |_| {})?;
+    let timed = renderer.enable_timestamps();
+    let (spp_before, rays_before) = (renderer.spp(), renderer.readback()?.rays);
+    let stats = renderer.render(Budget::Time(Duration::from_secs_f64(args.seconds)), &never, |_| {})?;
+    let (spp, rays) = (renderer.spp() - spp_before, renderer.readback()?.rays - rays_before);
+    let device = if timed { renderer.device_time()? } else { None };
+    // Device time covers at most the first frames: scale to all when it does not.
+    let device_seconds = device.filter(|(_, n)| *n > 0).map(|(d, n)| d.as_secs_f64() * stats.frames as f64 / n as f64);
+    let (width, height) = (scene.render.width, scene.render.height);
+    let samples = width as f64 * height as f64 * spp as f64;
+    Ok(Record {
+        scene: args.scene.display().to_string(),
+        method: preset.name().into(),
+        sampler: method.sampler.name().into(),
+        bsdf: method.bsdf.name().into(),
+        lights: method.lights.name().into(),
+        width,
+        height,
+        max_depth: scene.render.max_depth,
+        specialised,
+        spp,
+        frames: stats.frames,
+        wall_seconds: stats.seconds,
+        pixel_samples_per_second: samples / stats.seconds,
+        rays,
+        rays_per_second: rays as f64 / stats.seconds,
+        rays_per_sample: rays as f64 / samples,
+        device_seconds,
+        host_overhead: device_seconds.map(|d| ((stats.seconds - d) / stats.seconds).max(0.0)),
+        pipeline_create_seconds: created.compile_time.as_secs_f64(),
+        first_frame_seconds: first.seconds,
+        adapter: gpu.info.name.clone(),
+    })
+}
+
 fn print_row(r: &Record, header: bool) {
     if header {
         println!(
-            "{:<8} {:>10} {:>6} {:>12} {:>8} {:>9} {:>7} {:>9} {:>9}",
-            "method", "size", "spp", "M samples/s", "wall s", "device s", "host %", "create s", "1st frame"
+            "{:<15} {:>10} {:>6} {:>12} {:>10} {:>9} {:>8} {:>9} {:>7} {:>9} {:>9}",
+            "method",
+            "size",
+            "spp",
+            "M samples/s",
+            "M rays/s",
+            "rays/spl",
+            "wall s",
+            "device s",
+            "host %",
+            "create s",
+            "1st frame"
         );
     }
     let opt = |v: Option<f64>, scale: f64| v.map_or("-".to_string(), |x| format!("{:.3}", x * scale));
     println!(
-        "{:<8} {:>10} {:>6} {:>12.3} {:>8.3} {:>9} {:>7} {:>9.3} {:>9.3}",
-        r.method,
+        "{:<15} {:>10} {:>6} {:>12.3} {:>10.3} {:>9.3} {:>8.3} {:>9} {:>7} {:>9.3} {:>9.3}",
+        if r.specialised { r.method.clone() } else { format!("{} (all on)", r.method) },
         format!("{}x{}", r.width, r.height),
         r.spp,
         r.pixel_samples_per_second / 1e6,
+        r.rays_per_second / 1e6,
+        r.rays_per_sample,
         r.wall_seconds,
         opt(r.device_seconds, 1.0),
         opt(r.host_overhead, 100.0),

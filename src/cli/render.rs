@@ -13,7 +13,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use pathlab::gpu::{adapter_summary, Gpu, PathTracerPipelines};
 use pathlab::method::{BsdfSampling, LightSampling, Method, Preset, Sampler};
 use pathlab::output::{write_exr, write_png, Metadata};
-use pathlab::render::{Budget, Renderer};
+use pathlab::render::{Budget, Readback, Renderer};
 
 use super::{load_scene, EXIT_INTERRUPTED};
 
@@ -137,7 +137,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
         }
     })?;
     bar.finish_and_clear();
-    let film = renderer.film()?;
+    let Readback { film, rays } = renderer.readback()?;
 
     let preset = method.preset().map_or("custom", Preset::name);
     let metadata: Metadata = [
@@ -149,6 +149,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
         ("seed", args.seed.to_string()),
         ("max_depth", scene.render.max_depth.to_string()),
         ("render_seconds", format!("{:.6}", stats.seconds)),
+        ("rays", rays.to_string()),
         ("scene", args.scene.display().to_string()),
         ("adapter", gpu.info.name.clone()),
         ("version", pathlab::VERSION.to_string()),
@@ -159,7 +160,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
     write_exr(&output, &film, &metadata, args.variance).with_context(|| "writing the EXR")?;
     let rate = stats.spp as f64 * film.mean.len() as f64 / stats.seconds.max(1e-9);
     eprintln!(
-        "wrote {} ({}x{}, {} spp, method {} [{}], {:.2} s, {:.3} M pixel samples/s)",
+        "wrote {} ({}x{}, {} spp, method {} [{}], {:.2} s, {:.3} M pixel samples/s, {:.3} M rays/s)",
         output.display(),
         film.width,
         film.height,
@@ -167,7 +168,8 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
         preset,
         method,
         stats.seconds,
-        rate / 1e6
+        rate / 1e6,
+        rays as f64 / stats.seconds.max(1e-9) / 1e6
     );
     if let Some(png) = &args.png {
         write_png(png, &film, args.exposure).with_context(|| "writing the PNG preview")?;

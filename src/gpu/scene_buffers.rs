@@ -72,9 +72,10 @@ pub struct AccumPixel {
     pub sum: [f32; 3],
     pub count: u32,
     pub sum_err: [f32; 3],
-    pub _pad0: u32,
+    /// Rays traced for this pixel (camera, bounce and shadow), low and high 32 bits.
+    pub rays_lo: u32,
     pub sum_sq: [f32; 3],
-    pub _pad1: u32,
+    pub rays_hi: u32,
     pub sum_sq_err: [f32; 3],
     pub _pad2: u32,
 }
@@ -86,6 +87,13 @@ fn f3(v: DVec3) -> [f32; 3] {
 /// Rec. 709 luminance, to choose between the BSDF lobes (`p_spec`).
 fn luminance(c: DVec3) -> f64 {
     c.dot(DVec3::new(0.212671, 0.715160, 0.072169))
+}
+
+impl AccumPixel {
+    /// Rays traced for this pixel so far.
+    pub fn rays(&self) -> u64 {
+        (self.rays_hi as u64) << 32 | self.rays_lo as u64
+    }
 }
 
 impl FrameParams {

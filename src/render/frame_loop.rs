@@ -70,6 +70,15 @@ pub struct Progress {
     pub elapsed: Duration,
 }
 
+/// The accumulators, read back.
+#[derive(Debug, Clone)]
+pub struct Readback {
+    pub film: Film,
+    /// Rays traced for the whole film so far (camera, bounce and shadow rays), counted by the
+    /// kernel as it traces them.
+    pub rays: u64,
+}
+
 /// What a call to `Renderer::render` did.
 #[derive(Debug, Clone, Copy)]
 pub struct RenderStats {
@@ -148,6 +157,30 @@ impl<'g> Renderer<'g> {
         seed: u32,
         band_bytes: u64,
     ) -> Result<Renderer<'g>, RenderError> {
+        Renderer::build(gpu, pipelines, scene, PipelineKey { method, features: scene.features() }, seed, band_bytes)
+    }
+
+    /// Like `new`, with a pipeline that has every optional feature on
+    /// (`SceneFeatures::all_on`): to measure what specialisation to the scene gains.
+    pub fn unspecialised(
+        gpu: &'g Gpu,
+        pipelines: &PathTracerPipelines,
+        scene: &Scene,
+        method: Method,
+        seed: u32,
+    ) -> Result<Renderer<'g>, RenderError> {
+        let key = PipelineKey { method, features: scene.features().all_on() };
+        Renderer::build(gpu, pipelines, scene, key, seed, u64::MAX)
+    }
+
+    fn build(
+        gpu: &'g Gpu,
+        pipelines: &PathTracerPipelines,
+        scene: &Scene,
+        key: PipelineKey,
+        seed: u32,
+        band_bytes: u64,
+    ) -> Result<Renderer<'g>, RenderError> {
         let device = &gpu.device;
         let (width, height) = (scene.render.width, scene.render.height);
         let limit = gpu.limits.max_storage_buffer_binding_size.min(gpu.limits.max_buffer_size);
@@ -156,7 +189,6 @@ impl<'g> Renderer<'g> {
             return Err(RenderError::TooLarge { width, bytes: row_bytes, limit });
         }
         let rows_per_band = (band_bytes.min(limit) / row_bytes).clamp(1, height as u64) as u32;
-        let key = PipelineKey { method, features: scene.features() };
         let max_samples_per_dispatch = if gpu.info.device_type == wgpu::DeviceType::Cpu {
             let per_sample = loop_iterations_per_sample(&key, scene.render.max_depth);
             if per_sample > CPU_LOOP_BUDGET {
@@ -408,6 +440,11 @@ impl<'g> Renderer<'g> {
 
     /// Copies the accumulators back and turns them into mean and variance.
     pub fn film(&self) -> Result<Film, RenderError> {
+        Ok(self.readback()?.film)
+    }
+
+    /// The film, and the number of rays the kernel traced for it (counted by the kernel).
+    pub fn readback(&self) -> Result<Readback, RenderError> {
         let mut pixels: Vec<AccumPixel> = Vec::with_capacity(self.params.width as usize * self.params.height as usize);
         for band in &self.bands {
             pixels.extend(self.read_band(band)?);
@@ -418,7 +455,8 @@ impl<'g> Renderer<'g> {
                 p.count, self.spp_done
             )));
         }
-        Ok(Film::from_accumulators(self.params.width, self.params.height, self.spp_done, &pixels))
+        let rays = pixels.iter().map(AccumPixel::rays).sum();
+        Ok(Readback { film: Film::from_accumulators(self.params.width, self.params.height, self.spp_done, &pixels), rays })
     }
 
     fn read_band(&self, band: &Band) -> Result<Vec<AccumPixel>, RenderError> {

@@ -5,4 +5,4 @@ mod film;
 mod frame_loop;
 
 pub use film::Film;
-pub use frame_loop::{Budget, Progress, RenderError, RenderStats, Renderer};
+pub use frame_loop::{Budget, Progress, Readback, RenderError, RenderStats, Renderer};

@@ -209,6 +209,21 @@ pub struct SceneFeatures {
     pub light_interiors_reachable: bool,
 }
 
+impl SceneFeatures {
+    /// Every optional feature on (specular lobe, environment lookups, shadow tests of every
+    /// plane, light sampling from inside), the object counts kept: the kernel a scene gets
+    /// without specialisation, for comparisons. It renders the same image, more slowly.
+    pub fn all_on(self) -> SceneFeatures {
+        SceneFeatures {
+            has_specular: true,
+            has_environment: true,
+            num_occluding_planes: self.num_planes,
+            light_interiors_reachable: true,
+            ..self
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
