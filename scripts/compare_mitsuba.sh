@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Interleaved speed comparison with the reference renderer (Mitsuba 3, llvm_ad_rgb) on the same
-# machine: the study scene at 256x128, max_depth 3, 256 spp. pathlab is timed as a whole process
+# machine: the study scene at 256x128, max_depth 3, SPP samples per pixel (default 1024; Mitsuba
+# renders them as passes of 256, which keeps its wavefront in memory). pathlab is timed as a whole process
 # (start-up, adapter, pipeline and readback included); Mitsuba reports its render time alone
 # (after its JIT warm-up), as its script prints it. Only ratios within one round mean anything:
 # the machine's speed swings with load.
@@ -9,7 +10,7 @@
 #   apt-get install -y libllvm19
 #   python3 -m venv /tmp/mitsuba-venv && /tmp/mitsuba-venv/bin/pip install -r ../shared/reference-renderer/requirements.txt
 #
-# Usage: scripts/compare_mitsuba.sh [ROUNDS] [METHODS...]   (default: 3 rounds, plain mis best)
+# Usage: [SPP=n] scripts/compare_mitsuba.sh [ROUNDS] [METHODS...]   (default: 3 rounds, plain mis best)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 rounds=${1:-3}
@@ -22,10 +23,11 @@ pathlab=$(pwd)/target/release/pathlab
 [ -x "$pathlab" ] || cargo build --release
 [ -x "$py" ] || { echo "no Mitsuba python at $py (see the set-up above)" >&2; exit 1; }
 out=$(mktemp -d)
-w=256; h=128; spp=256; depth=3
+w=256; h=128; spp=${SPP:-1024}; depth=3
+pass_spp=$(( spp < 256 ? spp : 256 )); passes=$(( spp / pass_spp ))
 echo "round,renderer,method,pixel_samples_per_second,ratio_to_mitsuba"
 for r in $(seq "$rounds"); do
-    mi=$(cd "$ref" && "$py" mitsuba_seed.py "$scene" --variant llvm_ad_rgb --spp $spp --width $w --height $h \
+    mi=$(cd "$ref" && "$py" mitsuba_seed.py "$scene" --variant llvm_ad_rgb --spp $pass_spp --passes $passes --width $w --height $h \
         --max-depth $depth --out "$out/mi.exr" 2>/dev/null | tail -n 1 | python3 -c 'import json,sys; print(json.load(sys.stdin)["samples_per_s"])')
     echo "$r,mitsuba,path,$mi,1"
     for m in $methods; do

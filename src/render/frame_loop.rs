@@ -19,7 +19,7 @@ use super::Film;
 
 /// Aim for dispatches of about this long: far below any driver watchdog, short enough for a
 /// responsive Ctrl-C and progress bar, long enough to amortise submission overhead.
-const TARGET_DISPATCH: Duration = Duration::from_millis(40);
+const TARGET_DISPATCH: Duration = Duration::from_millis(150);
 /// Frames submitted but not yet finished, at most.
 const MAX_IN_FLIGHT: usize = 3;
 /// Largest number of samples per pixel in one dispatch.
