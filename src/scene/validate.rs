@@ -336,4 +336,22 @@ mod tests {
         assert_eq!(field_path_at(text, offset), "spheres[1].radius");
         assert_eq!(field_path_at(text, text.find("fov_x").unwrap()), "camera.fov_x");
     }
+
+    #[test]
+    fn more_objects_than_the_kernel_holds_are_refused_at_the_first_extra_one() {
+        let mut text = String::from(
+            "[camera]\nposition = [0, 0, 0]\nlook_at = [0, 0, -1]\nup = [0, 1, 0]\nfov_x = 60\n\
+             [render]\nwidth = 4\nheight = 4\nmax_depth = 1\n[materials.m]\nemission = 1\n",
+        );
+        for i in 0..=MAX_SPHERES {
+            text.push_str(&format!("[[spheres]]\ncenter = [{i}, 0, -10]\nradius = 0.1\nmaterial = \"m\"\n"));
+        }
+        let Err(SceneError::Invalid(diagnostics)) = parse_and_validate(&text, Path::new("many.toml")) else {
+            panic!("accepted {} spheres", MAX_SPHERES + 1);
+        };
+        let d = &diagnostics[0];
+        assert_eq!(d.field, format!("spheres[{MAX_SPHERES}]"));
+        assert_eq!(d.line, 12 + 4 * MAX_SPHERES);
+        assert!(d.message.contains("more than the 1024"), "{}", d.message);
+    }
 }
