@@ -98,11 +98,9 @@ environment = 0.1
 #[test]
 fn ray_counter_counts_every_ray_traced() {
     use pathlab::method::{LightSampling, Method};
-    use pathlab::render::{Budget, Renderer};
+    use pathlab::render::Renderer;
     let count = |scene: &pathlab::scene::Scene, method: Method, spp: u64| {
-        let mut r = Renderer::new(gpu(), pipelines(), scene, method, 0).expect("renderer");
-        r.render(Budget::Samples(spp), &std::sync::atomic::AtomicBool::new(false), |_| {}).expect("render");
-        r.readback().expect("readback").rays
+        finish(Renderer::new(gpu(), pipelines(), scene, method, 0).expect("renderer"), spp).rays
     };
     let view = scene(EMITTER_IN_VIEW);
     let samples = 16 * 8 * 5;

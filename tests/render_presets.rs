@@ -83,7 +83,7 @@ fn banded_accumulator_equals_single_band() {
 /// traces the same rays. Deterministic: no false failures.
 #[test]
 fn unspecialised_pipeline_renders_the_same_image() {
-    use pathlab::render::{Budget, Renderer};
+    use pathlab::render::Renderer;
     let mut scene = study_scene();
     scene.render.width = 48;
     scene.render.height = 24;
@@ -91,12 +91,8 @@ fn unspecialised_pipeline_renders_the_same_image() {
     let f = scene.features();
     assert_ne!(f, f.all_on(), "the study scene should be specialised");
     for preset in [Preset::Plain, Preset::Nee, Preset::Mis, Preset::Best] {
-        let never = std::sync::atomic::AtomicBool::new(false);
-        let mut all_on = Renderer::unspecialised(gpu(), pipelines(), &scene, preset.method(), 5).expect("renderer");
-        all_on.render(Budget::Samples(16), &never, |_| {}).expect("render");
-        let mut specialised = Renderer::new(gpu(), pipelines(), &scene, preset.method(), 5).expect("renderer");
-        specialised.render(Budget::Samples(16), &never, |_| {}).expect("render");
-        let (a, b) = (all_on.readback().expect("readback"), specialised.readback().expect("readback"));
+        let a = finish(Renderer::unspecialised(gpu(), pipelines(), &scene, preset.method(), 5).expect("renderer"), 16);
+        let b = finish(Renderer::new(gpu(), pipelines(), &scene, preset.method(), 5).expect("renderer"), 16);
         assert_eq!(a.rays, b.rays, "{preset:?}: different ray counts");
         assert_eq!(bits(&a.film), bits(&b.film), "{preset:?}: specialisation changed the image");
     }

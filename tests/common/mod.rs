@@ -6,7 +6,7 @@ use std::sync::OnceLock;
 
 use pathlab::gpu::{Gpu, PathTracerPipelines};
 use pathlab::method::Method;
-use pathlab::render::{Budget, Film, Renderer};
+use pathlab::render::{Budget, Film, Readback, Renderer};
 use pathlab::scene::Scene;
 
 pub fn gpu() -> &'static Gpu {
@@ -29,9 +29,14 @@ pub fn study_scene() -> Scene {
 
 /// Renders `spp` samples per pixel in one call.
 pub fn render(scene: &Scene, method: Method, spp: u64, seed: u32) -> Film {
-    let mut r = Renderer::new(gpu(), pipelines(), scene, method, seed).expect("renderer");
-    r.render(Budget::Samples(spp), &AtomicBool::new(false), |_| {}).expect("render");
-    r.film().expect("readback")
+    let r = Renderer::new(gpu(), pipelines(), scene, method, seed).expect("renderer");
+    finish(r, spp).film
+}
+
+/// Renders `spp` samples per pixel with `renderer` and reads back film and ray count.
+pub fn finish(mut renderer: Renderer, spp: u64) -> Readback {
+    renderer.render(Budget::Samples(spp), &AtomicBool::new(false), |_| {}).expect("render");
+    renderer.readback().expect("readback")
 }
 
 /// Bit patterns of every mean and variance value, for exact comparisons.
