@@ -6,10 +6,17 @@
 //! - `gpu`: device, specialised pipelines, scene buffers;
 //! - `render`: the frame loop, accumulation and readback;
 //! - `output`: EXR and PNG files, written atomically;
+//! - `display`: the display transform (sRGB or gamma, exposure) of PNGs, figures and metrics;
+//! - `metrics`: MSE, relative MSE, bias, PSNR, SSIM, FLIP;
+//! - `figures`: error maps, plots and image grids with an embedded font;
 //! - `sequences`: the CPU twin of the WGSL samplers;
+//! - `study`: `pathlab study`: reference, tables, convergence, bias verdicts, report;
 //! - `stats`: quantiles, Šidák correction, per-pixel z-tests.
 
+pub mod display;
+pub mod figures;
 pub mod gpu;
+pub mod metrics;
 pub mod method;
 pub mod output;
 pub mod render;
@@ -17,6 +24,7 @@ pub mod scene;
 pub mod sequences;
 pub mod shaders;
 pub mod stats;
+pub mod study;
 
 /// pathlab's version, recorded in every output file.
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");

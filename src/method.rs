@@ -193,3 +193,28 @@ impl Method {
         Preset::ALL.into_iter().find(|p| p.method() == *self)
     }
 }
+
+/// The study's two mistakes, kept as named methods so users can see what bias looks like:
+/// `phong-lobe-only` (the `phong` preset sampling only the Phong lobe, without light sampling
+/// as in the study; with MIS the light strategy would cover what the lobe misses) and
+/// `nee-double-count` (the `nee` preset counting direct light twice).
+pub fn biased_demonstrations() -> [(&'static str, Method); 2] {
+    [
+        ("phong-lobe-only", Method { bsdf: BsdfSampling::PhongLobeOnly, ..Preset::Phong.method() }),
+        ("nee-double-count", Method { lights: LightSampling::NeeDoubleCount, ..Preset::Nee.method() }),
+    ]
+}
+
+/// A preset or a biased demonstration by its command-line name.
+pub fn method_by_name(name: &str) -> Option<Method> {
+    Preset::ALL
+        .iter()
+        .find(|p| p.name() == name)
+        .map(|p| p.method())
+        .or_else(|| biased_demonstrations().into_iter().find(|(n, _)| *n == name).map(|(_, m)| m))
+}
+
+/// Every name `method_by_name` knows.
+pub fn method_names() -> Vec<&'static str> {
+    Preset::ALL.iter().map(|p| p.name()).chain(biased_demonstrations().map(|(n, _)| n)).collect()
+}

@@ -1,6 +1,8 @@
 //! Writing films: OpenEXR (linear float32, with metadata and optional variance channels) and
-//! PNG previews (sRGB). Every file is written to a temporary file beside the target and renamed
-//! over it, so an interrupted or failed write never leaves a truncated file behind.
+//! PNG images (display-referred, see `display`). Every file is written to a temporary file
+//! beside the target and renamed over it, so an interrupted or failed write never leaves a
+//! truncated file behind; the file gets the permissions the user's umask gives (0666 & !umask),
+//! like any file a program creates.
 
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -9,6 +11,7 @@ use exr::prelude::*;
 // The exr prelude exports its own `Result`; ours is the standard one.
 use std::result::Result;
 
+use crate::display::DisplayImage;
 use crate::render::Film;
 
 #[derive(Debug, thiserror::Error)]
@@ -21,6 +24,8 @@ pub enum OutputError {
     },
     #[error("cannot encode {}: {message}", path.display())]
     Encode { path: PathBuf, message: String },
+    #[error("cannot read {}: {message}", path.display())]
+    Read { path: PathBuf, message: String },
 }
 
 /// Writes through a temporary file in the target's directory, renamed into place on success.
@@ -33,9 +38,16 @@ pub fn write_atomically(
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
     };
-    let mut tmp = tempfile::Builder::new()
-        .prefix(".pathlab-")
-        .suffix(".tmp")
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".pathlab-").suffix(".tmp");
+    // open(2) applies the umask to this mode: the file ends up as any newly created file would
+    // (tempfile's own default, 0600, would survive the rename).
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        builder.permissions(std::fs::Permissions::from_mode(0o666));
+    }
+    let mut tmp = builder
         .tempfile_in(dir)
         .map_err(io_err)?;
     {
@@ -79,18 +91,14 @@ pub fn write_exr(path: &Path, film: &Film, metadata: &Metadata, variance: bool) 
     })
 }
 
-/// sRGB transfer function of a linear value clipped to [0, 1].
-fn srgb_encode(x: f32) -> u8 {
-    let x = if x.is_finite() { x.clamp(0.0, 1.0) } else { 0.0 };
-    let s = if x <= 0.0031308 { 12.92 * x } else { 1.055 * x.powf(1.0 / 2.4) - 0.055 };
-    (s * 255.0 + 0.5) as u8
+/// 8-bit RGB PNG of a display image.
+pub fn write_png(path: &Path, image: &DisplayImage) -> Result<(), OutputError> {
+    write_rgb8_png(path, image.width, image.height, image.to_rgb8())
 }
 
-/// 8-bit sRGB preview: scaled by 2^exposure, clipped to [0, 1].
-pub fn write_png(path: &Path, film: &Film, exposure: f32) -> Result<(), OutputError> {
-    let scale = exposure.exp2();
-    let bytes: Vec<u8> = film.mean.iter().flat_map(|p| p.map(|c| srgb_encode(c * scale))).collect();
-    let img = image::RgbImage::from_raw(film.width, film.height, bytes).ok_or_else(|| OutputError::Encode {
+/// 8-bit RGB PNG from raw bytes (3 per pixel, row-major).
+pub fn write_rgb8_png(path: &Path, width: u32, height: u32, bytes: Vec<u8>) -> Result<(), OutputError> {
+    let img = image::RgbImage::from_raw(width, height, bytes).ok_or_else(|| OutputError::Encode {
         path: path.to_path_buf(),
         message: "image size does not match its pixels".into(),
     })?;
@@ -101,10 +109,28 @@ pub fn write_png(path: &Path, film: &Film, exposure: f32) -> Result<(), OutputEr
     })
 }
 
+/// An EXR read back: the film (variance 0 where the file has no variance channels), its
+/// pathlab metadata, and whether it had variance channels.
+#[derive(Debug, Clone)]
+pub struct ExrImage {
+    pub film: Film,
+    pub metadata: Metadata,
+    pub has_variance: bool,
+}
+
 /// Reads the RGB channels and pathlab metadata of an EXR written by `write_exr`.
-pub fn read_exr(path: &Path) -> Result<(Film, Metadata), String> {
-    let image = read_all_flat_layers_from_file(path).map_err(|e| e.to_string())?;
-    let layer = image.layer_data.first().ok_or("no layer")?;
+pub fn read_exr(path: &Path) -> Result<(Film, Metadata), OutputError> {
+    read_exr_image(path).map(|e| (e.film, e.metadata))
+}
+
+/// Like `read_exr`, also telling whether the file carries variance channels.
+pub fn read_exr_image(path: &Path) -> Result<ExrImage, OutputError> {
+    let fail = |message: String| OutputError::Read { path: path.to_path_buf(), message };
+    if !path.is_file() {
+        return Err(fail("no such file".into()));
+    }
+    let image = read_all_flat_layers_from_file(path).map_err(|e| fail(format!("not a readable OpenEXR file ({e})")))?;
+    let layer = image.layer_data.first().ok_or_else(|| fail("the EXR has no layer".into()))?;
     let (w, h) = (layer.size.width(), layer.size.height());
     let find = |name: &str| -> Option<Vec<f32>> {
         layer
@@ -118,8 +144,10 @@ pub fn read_exr(path: &Path) -> Result<(Film, Metadata), String> {
         let (r, g, b) = (find(&format!("{prefix}R"))?, find(&format!("{prefix}G"))?, find(&format!("{prefix}B"))?);
         Some((0..w * h).map(|i| [r[i], g[i], b[i]]).collect())
     };
-    let mean = get("").ok_or("missing R, G or B channel")?;
-    let variance = get("variance.").unwrap_or_else(|| vec![[0.0; 3]; w * h]);
+    let mean = get("").ok_or_else(|| fail("the EXR has no R, G and B channels".into()))?;
+    let variance = get("variance.");
+    let has_variance = variance.is_some();
+    let variance = variance.unwrap_or_else(|| vec![[0.0; 3]; w * h]);
     let mut metadata = Metadata::new();
     // Custom attributes may come back as image or as layer attributes.
     for (key, value) in image.attributes.other.iter().chain(&layer.attributes.other) {
@@ -129,5 +157,5 @@ pub fn read_exr(path: &Path) -> Result<(Film, Metadata), String> {
     }
     metadata.sort();
     let spp = metadata.iter().find(|(k, _)| k == "spp").and_then(|(_, v)| v.parse().ok()).unwrap_or(0);
-    Ok((Film { width: w as u32, height: h as u32, spp, mean, variance }, metadata))
+    Ok(ExrImage { film: Film { width: w as u32, height: h as u32, spp, mean, variance }, metadata, has_variance })
 }

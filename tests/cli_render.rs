@@ -147,3 +147,31 @@ fn bench_json_records() {
         assert!(r["pixel_samples_per_second"].as_f64().unwrap() > 0.0);
     }
 }
+
+/// Output files get the permissions the user's umask gives (0666 & !umask), not the
+/// temporary file's 0600.
+#[cfg(unix)]
+#[test]
+fn outputs_follow_the_umask() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = temp_dir("umask");
+    for (umask, mode) in [("022", 0o644), ("027", 0o640)] {
+        let (exr, png) = (dir.join(format!("u{umask}.exr")), dir.join(format!("u{umask}.png")));
+        let status = Command::new("sh")
+            .arg("-c")
+            .arg(format!("umask {umask}; exec \"$0\" \"$@\""))
+            .arg(env!("CARGO_BIN_EXE_pathlab"))
+            .arg("render")
+            .arg(study())
+            .args(["--width", "8", "--height", "4", "--spp", "1", "--quiet", "-o"])
+            .arg(&exr)
+            .arg("--png")
+            .arg(&png)
+            .status()
+            .unwrap();
+        assert!(status.success());
+        for f in [&exr, &png] {
+            assert_eq!(std::fs::metadata(f).unwrap().permissions().mode() & 0o777, mode, "{} under umask {umask}", f.display());
+        }
+    }
+}

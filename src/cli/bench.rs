@@ -16,7 +16,7 @@ use pathlab::method::Preset;
 use pathlab::render::{Budget, Renderer};
 use pathlab::scene::Scene;
 
-use super::load_scene;
+use super::{load_scene, parse_size};
 
 #[derive(Args)]
 pub struct BenchArgs {
@@ -47,11 +47,6 @@ pub struct BenchArgs {
     unspecialised: bool,
 }
 
-fn parse_size(s: &str) -> Result<(u32, u32), String> {
-    let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("expected WxH, got {s}"))?;
-    let parse = |v: &str| v.trim().parse::<u32>().ok().filter(|&n| n > 0).ok_or_else(|| format!("bad size {s}"));
-    Ok((parse(w)?, parse(h)?))
-}
 
 /// One measurement.
 #[derive(Serialize)]

@@ -2,7 +2,9 @@
 //! here, at the edge; the library reports typed errors.
 
 mod bench;
+mod compare;
 mod render;
+mod study;
 
 use std::path::PathBuf;
 
@@ -29,6 +31,11 @@ enum Command {
         /// Scene file (TOML).
         scene: PathBuf,
     },
+    /// The variance-reduction study in one command: reference, equal-sample and equal-time
+    /// tables, convergence, bias verdicts, plots, image grid and report.
+    Study(study::StudyArgs),
+    /// Score one EXR against a reference: MSE, relMSE, bias, PSNR, SSIM, FLIP, z-test.
+    Compare(compare::CompareArgs),
     /// Measure samples per second of every method (device time, host overhead, compile time).
     Bench(bench::BenchArgs),
     /// List the graphics adapters wgpu can see, best first.
@@ -41,6 +48,8 @@ pub fn run() -> i32 {
     let result = match cli.command {
         Command::Render(args) => render::run(args),
         Command::Bench(args) => bench::run(args),
+        Command::Compare(args) => compare::run(args),
+        Command::Study(args) => study::run(args),
         Command::Check { scene } => check(&scene).map(|()| 0),
         Command::Adapters => {
             for a in pathlab::gpu::list_adapters() {
@@ -91,4 +100,11 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
         if f.light_interiors_reachable { "yes" } else { "no" },
     );
     Ok(())
+}
+
+/// Parses an image size `WxH`.
+pub(crate) fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("expected WxH, got {s}"))?;
+    let parse = |v: &str| v.trim().parse::<u32>().ok().filter(|&n| n > 0).ok_or_else(|| format!("bad size {s}"));
+    Ok((parse(w)?, parse(h)?))
 }

@@ -1,19 +1,15 @@
 //! `pathlab render`: headless batch rendering to EXR (and optionally a PNG preview).
 
-use std::io::IsTerminal;
-use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+use std::path::PathBuf;
 use std::time::Duration;
 
-use anyhow::{bail, Context};
+use anyhow::bail;
 use clap::Args;
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
+use pathlab::display::DisplayTransform;
 use pathlab::gpu::{adapter_summary, Gpu, PathTracerPipelines};
 use pathlab::method::{BsdfSampling, LightSampling, Method, Preset, Sampler};
-use pathlab::output::{write_exr, write_png, Metadata};
-use pathlab::render::{Budget, Readback, Renderer};
+use pathlab::render::{ctrl_c_flag, default_output, method_label, progress_bar, show_progress, Budget, OutputFiles, RenderJob};
 
 use super::{load_scene, EXIT_INTERRUPTED};
 
@@ -74,23 +70,18 @@ pub struct RenderArgs {
     adapter: Option<String>,
 }
 
-fn method_of(args: &RenderArgs) -> Method {
-    let mut m = args.method.method();
-    if let Some(s) = args.sampler {
+pub(crate) fn method_of(preset: Preset, sampler: Option<Sampler>, bsdf: Option<BsdfSampling>, lights: Option<LightSampling>) -> Method {
+    let mut m = preset.method();
+    if let Some(s) = sampler {
         m.sampler = s;
     }
-    if let Some(b) = args.bsdf {
+    if let Some(b) = bsdf {
         m.bsdf = b;
     }
-    if let Some(l) = args.lights {
+    if let Some(l) = lights {
         m.lights = l;
     }
     m
-}
-
-fn default_output(scene: &Path) -> PathBuf {
-    let stem = scene.file_stem().map_or_else(|| "render".into(), |s| s.to_string_lossy().into_owned());
-    PathBuf::from(format!("{stem}.exr"))
 }
 
 pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
@@ -114,65 +105,39 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
     if !args.exposure.is_finite() {
         bail!("--exposure must be finite");
     }
-    let method = method_of(&args);
-    let output = args.output.clone().unwrap_or_else(|| default_output(&args.scene));
+    let method = method_of(args.method, args.sampler, args.bsdf, args.lights);
+    let files = OutputFiles {
+        exr: args.output.clone().unwrap_or_else(|| default_output(&args.scene)),
+        png: args.png.clone(),
+        display: DisplayTransform { exposure: args.exposure, ..DisplayTransform::default() },
+        variance: args.variance,
+    };
+    let job = RenderJob { scene, scene_path: args.scene.clone(), method, seed: args.seed, budget };
 
     let gpu = Gpu::new(args.adapter.as_deref())?;
     eprintln!("adapter: {}", adapter_summary(&gpu.info));
     let pipelines = PathTracerPipelines::new(&gpu.device);
-    let mut renderer = Renderer::new(&gpu, &pipelines, &scene, method, args.seed)?;
-
-    let cancel = Arc::new(AtomicBool::new(false));
-    {
-        let cancel = cancel.clone();
-        // A second Ctrl-C while the image is being written falls through to the default.
-        let _ = ctrlc::set_handler(move || cancel.store(true, Ordering::Relaxed));
-    }
+    let cancel = ctrl_c_flag();
     let bar = progress_bar(budget, args.quiet);
-    let stats = renderer.render(budget, &cancel, |p| match budget {
-        Budget::Samples(_) => bar.set_position(p.spp_done),
-        Budget::Time(_) => {
-            bar.set_position(p.elapsed.as_millis() as u64);
-            bar.set_message(format!("{} spp", p.spp_done));
-        }
-    })?;
+    let outcome = job.run(&gpu, &pipelines, &cancel, |p| show_progress(&bar, budget, p))?;
     bar.finish_and_clear();
-    let Readback { film, rays } = renderer.readback()?;
+    job.write(&outcome, &gpu.info.name, &files)?;
 
-    let preset = method.preset().map_or("custom", Preset::name);
-    let metadata: Metadata = [
-        ("spp", stats.spp.to_string()),
-        ("method", preset.to_string()),
-        ("sampler", method.sampler.name().to_string()),
-        ("bsdf", method.bsdf.name().to_string()),
-        ("lights", method.lights.name().to_string()),
-        ("seed", args.seed.to_string()),
-        ("max_depth", scene.render.max_depth.to_string()),
-        ("render_seconds", format!("{:.6}", stats.seconds)),
-        ("rays", rays.to_string()),
-        ("scene", args.scene.display().to_string()),
-        ("adapter", gpu.info.name.clone()),
-        ("version", pathlab::VERSION.to_string()),
-    ]
-    .into_iter()
-    .map(|(k, v)| (k.to_string(), v))
-    .collect();
-    write_exr(&output, &film, &metadata, args.variance).with_context(|| "writing the EXR")?;
+    let (film, stats) = (&outcome.film, &outcome.stats);
     let rate = stats.spp as f64 * film.mean.len() as f64 / stats.seconds.max(1e-9);
     eprintln!(
         "wrote {} ({}x{}, {} spp, method {} [{}], {:.2} s, {:.3} M pixel samples/s, {:.3} M rays/s)",
-        output.display(),
+        files.exr.display(),
         film.width,
         film.height,
         stats.spp,
-        preset,
+        method_label(&method),
         method,
         stats.seconds,
         rate / 1e6,
-        rays as f64 / stats.seconds.max(1e-9) / 1e6
+        outcome.rays as f64 / stats.seconds.max(1e-9) / 1e6
     );
-    if let Some(png) = &args.png {
-        write_png(png, &film, args.exposure).with_context(|| "writing the PNG preview")?;
+    if let Some(png) = &files.png {
         eprintln!("wrote {}", png.display());
     }
     if stats.interrupted {
@@ -180,22 +145,4 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
         return Ok(EXIT_INTERRUPTED);
     }
     Ok(0)
-}
-
-fn progress_bar(budget: Budget, quiet: bool) -> ProgressBar {
-    let visible = !quiet && std::io::stderr().is_terminal();
-    let bar = match budget {
-        Budget::Samples(n) => ProgressBar::new(n).with_style(
-            ProgressStyle::with_template("{bar:40} {pos}/{len} spp  {per_sec}  ETA {eta}")
-                .unwrap_or_else(|_| ProgressStyle::default_bar()),
-        ),
-        Budget::Time(t) => ProgressBar::new(t.as_millis() as u64).with_style(
-            ProgressStyle::with_template("{bar:40} {msg}  {elapsed} / {duration}")
-                .unwrap_or_else(|_| ProgressStyle::default_bar()),
-        ),
-    };
-    if !visible {
-        bar.set_draw_target(ProgressDrawTarget::hidden());
-    }
-    bar
 }

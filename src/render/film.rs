@@ -70,6 +70,22 @@ impl Film {
         Film { width: w, height: h, spp: self.spp, mean, variance }
     }
 
+    /// The average of independent renders of the same size (e.g. several seeds): mean of the
+    /// means, variance of that mean = sum of variances / K^2; `spp` is the total.
+    pub fn mean_of(films: &[Film]) -> Film {
+        assert!(!films.is_empty(), "mean_of: no films");
+        let k = films.len() as f64;
+        let n = films[0].mean.len();
+        let (mut mean, mut variance) = (vec![[0.0f32; 3]; n], vec![[0.0f32; 3]; n]);
+        for i in 0..n {
+            for c in 0..3 {
+                mean[i][c] = (films.iter().map(|f| f.mean[i][c] as f64).sum::<f64>() / k) as f32;
+                variance[i][c] = (films.iter().map(|f| f.variance[i][c] as f64).sum::<f64>() / (k * k)) as f32;
+            }
+        }
+        Film { width: films[0].width, height: films[0].height, spp: films.iter().map(|f| f.spp).sum(), mean, variance }
+    }
+
     /// Mean over all pixels and channels.
     pub fn average(&self) -> f64 {
         let total: f64 = self.mean.iter().flat_map(|p| p.iter()).map(|&x| x as f64).sum();

@@ -43,6 +43,8 @@ pub enum RenderError {
     TooLarge { width: u32, bytes: u64, limit: u64 },
     #[error("reading the image back from the GPU failed: {0}")]
     Readback(String),
+    #[error("cannot resume from the saved accumulators: {0}")]
+    Restore(String),
     #[error("at most 2^32 samples per pixel are supported (asked for {0})")]
     TooManySamples(u64),
     #[error(
@@ -329,9 +331,16 @@ impl<'g> Renderer<'g> {
     }
 
     /// Adds samples until `budget` is met or `cancel` is set, then waits for the device.
-    pub fn render(
+    pub fn render(&mut self, budget: Budget, cancel: &AtomicBool, progress: impl FnMut(Progress)) -> Result<RenderStats, RenderError> {
+        self.render_until(budget, None, cancel, progress)
+    }
+
+    /// Like `render`, also stopping (not interrupted) once `deadline` has passed: for
+    /// checkpoints at regular intervals.
+    pub fn render_until(
         &mut self,
         budget: Budget,
+        deadline: Option<Instant>,
         cancel: &AtomicBool,
         mut progress: impl FnMut(Progress),
     ) -> Result<RenderStats, RenderError> {
@@ -370,6 +379,9 @@ impl<'g> Renderer<'g> {
                 if start.elapsed() >= limit {
                     break;
                 }
+            }
+            if deadline.is_some_and(|d| Instant::now() >= d) {
+                break;
             }
             let count = (self.samples_per_dispatch as u64).min(target_spp - submitted) as u32;
             self.params.sample_start = (self.first_sample + submitted) as u32;
@@ -445,6 +457,14 @@ impl<'g> Renderer<'g> {
 
     /// The film, and the number of rays the kernel traced for it (counted by the kernel).
     pub fn readback(&self) -> Result<Readback, RenderError> {
+        let pixels = self.accumulators()?;
+        let rays = pixels.iter().map(AccumPixel::rays).sum();
+        Ok(Readback { film: Film::from_accumulators(self.params.width, self.params.height, self.spp_done, &pixels), rays })
+    }
+
+    /// The raw per-pixel accumulators (compensated sums, sums of squares, count, rays), row-major,
+    /// after checking that every pixel holds exactly the samples submitted.
+    pub fn accumulators(&self) -> Result<Vec<AccumPixel>, RenderError> {
         let mut pixels: Vec<AccumPixel> = Vec::with_capacity(self.params.width as usize * self.params.height as usize);
         for band in &self.bands {
             pixels.extend(self.read_band(band)?);
@@ -455,8 +475,38 @@ impl<'g> Renderer<'g> {
                 p.count, self.spp_done
             )));
         }
-        let rays = pixels.iter().map(AccumPixel::rays).sum();
-        Ok(Readback { film: Film::from_accumulators(self.params.width, self.params.height, self.spp_done, &pixels), rays })
+        Ok(pixels)
+    }
+
+    /// Sample index of the first sample of this render.
+    pub fn first_sample(&self) -> u64 {
+        self.first_sample
+    }
+
+    /// Loads accumulators saved by `accumulators` (before any sample is rendered): the render
+    /// continues at sample index `first_sample + spp` and ends bit-identical to one that never
+    /// stopped.
+    pub fn restore(&mut self, first_sample: u64, spp: u64, pixels: &[AccumPixel]) -> Result<(), RenderError> {
+        let expected = self.params.width as usize * self.params.height as usize;
+        if pixels.len() != expected {
+            return Err(RenderError::Restore(format!("{} pixels given, the image has {expected}", pixels.len())));
+        }
+        if let Some((i, p)) = pixels.iter().enumerate().find(|(_, p)| p.count as u64 != spp % (1 << 32)) {
+            return Err(RenderError::Restore(format!("pixel {i} holds {} samples, expected {spp}", p.count)));
+        }
+        if self.spp_done > 0 || first_sample + spp > MAX_SPP {
+            return Err(RenderError::TooManySamples(first_sample + spp));
+        }
+        let row = self.params.width as usize;
+        for band in &self.bands {
+            let start = band.y0 as usize * row;
+            let slice = &pixels[start..start + band.rows as usize * row];
+            self.gpu.queue.write_buffer(&band.accum, 0, bytemuck::cast_slice(slice));
+        }
+        self.gpu.queue.submit([]);
+        self.first_sample = first_sample;
+        self.spp_done = spp;
+        Ok(())
     }
 
     fn read_band(&self, band: &Band) -> Result<Vec<AccumPixel>, RenderError> {

@@ -115,6 +115,18 @@ impl Scene {
         validate::parse_and_validate(text, path.as_ref())
     }
 
+    /// SHA-256 (first 16 hex digits) of everything that determines the image: camera, render
+    /// settings (size and depth overrides included), materials, spheres and planes; not the
+    /// file's path, comments or formatting. Checkpoints and cached references are keyed by it.
+    pub fn content_hash(&self) -> String {
+        use sha2::{Digest, Sha256};
+        // The default sample count does not change the image.
+        let render = RenderSettings { spp: None, ..self.render.clone() };
+        let canonical = format!("{:?}|{:?}|{:?}|{:?}|{:?}", self.camera, render, self.materials, self.spheres, self.planes);
+        let digest = Sha256::digest(canonical.as_bytes());
+        digest.iter().take(8).map(|b| format!("{b:02x}")).collect()
+    }
+
     /// Indices of the spheres that emit: the lights.
     pub fn light_spheres(&self) -> Vec<usize> {
         (0..self.spheres.len())

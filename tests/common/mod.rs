@@ -44,7 +44,7 @@ pub fn bits(film: &Film) -> Vec<u32> {
     film.mean.iter().chain(&film.variance).flatten().map(|x| x.to_bits()).collect()
 }
 
-use pathlab::method::{LightSampling, Preset, Sampler};
+use pathlab::method::{Preset, Sampler};
 
 /// Every unbiased method the suite holds to the contract: the presets, and `mis` with each
 /// sampler.
@@ -61,12 +61,7 @@ pub fn unbiased_methods() -> Vec<(String, Method)> {
 
 /// The two deliberately biased demonstration methods.
 pub fn biased_methods() -> Vec<(String, Method)> {
-    vec![
-        // Without light sampling, as in the study: combined with MIS it would be unbiased,
-        // since NEE takes full weight wherever the lobe cannot sample.
-        ("phong-lobe-only".into(), Method { bsdf: pathlab::method::BsdfSampling::PhongLobeOnly, ..Preset::Phong.method() }),
-        ("nee-double-count".into(), Method { lights: LightSampling::NeeDoubleCount, ..Preset::Nee.method() }),
-    ]
+    pathlab::method::biased_demonstrations().into_iter().map(|(n, m)| (n.to_string(), m)).collect()
 }
 
 /// A film of the constant `value` with zero variance, as a reference for z-tests.

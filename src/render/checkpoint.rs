@@ -1,0 +1,271 @@
+//! Checkpoints of a render in progress: the raw per-pixel accumulators (Kahan-compensated sums
+//! and sums of squares as float32, sample count and 64-bit ray count as uint32 channels) in an
+//! OpenEXR file, with what produced them in the header. Restoring them into a `Renderer` and
+//! continuing gives a result bit-identical to a render that never stopped, because every sample
+//! is a pure function of (pixel, sample index, dimension, seed) and the accumulators are stored
+//! exactly.
+//!
+//! Channels: `sum.{R,G,B}`, `sum_err.*`, `sum_sq.*`, `sum_sq_err.*` (f32), `count`, `rays_lo`,
+//! `rays_hi` (u32). Header: `pathlab:kind = accumulator`, `scene_hash`, `sampler`, `bsdf`,
+//! `lights`, `seed`, `max_depth`, `first_sample`, `spp`, `render_seconds` (all sessions),
+//! `version`. Written through a temporary file and renamed, so a checkpoint on disk is always
+//! complete: a `kill -9` loses at most the samples since the last one.
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
+use std::time::{Duration, Instant};
+
+use clap::ValueEnum;
+use exr::prelude::*;
+use std::result::Result;
+
+use crate::gpu::AccumPixel;
+use crate::method::Method;
+use crate::output::{write_atomically, OutputError};
+
+use super::{Budget, Film, Progress, RenderError, RenderStats, Renderer};
+
+/// What must match for a checkpoint to be continued: scene content, method, seed, size, depth.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct CheckpointKey {
+    /// `Scene::content_hash` of the scene as rendered (size and depth overrides applied).
+    pub scene_hash: String,
+    pub method: Method,
+    pub seed: u32,
+    pub width: u32,
+    pub height: u32,
+    pub max_depth: u32,
+}
+
+/// Saved accumulators of a render.
+#[derive(Debug, Clone)]
+pub struct Checkpoint {
+    pub key: CheckpointKey,
+    /// Sample index of the first sample accumulated.
+    pub first_sample: u64,
+    /// Samples per pixel accumulated.
+    pub spp: u64,
+    /// Wall time spent rendering them, over every session.
+    pub render_seconds: f64,
+    pub pixels: Vec<AccumPixel>,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum CheckpointError {
+    #[error(transparent)]
+    Output(#[from] OutputError),
+    #[error(transparent)]
+    Render(#[from] RenderError),
+    #[error("{}: not a pathlab accumulator file: {message}", path.display())]
+    Invalid { path: PathBuf, message: String },
+    #[error("{}: made by another render ({field} is {found}, this render has {expected}); remove it or choose another file", path.display())]
+    Mismatch { path: PathBuf, field: &'static str, found: String, expected: String },
+}
+
+const F32_CHANNELS: [&str; 4] = ["sum", "sum_err", "sum_sq", "sum_sq_err"];
+const RGB: [&str; 3] = ["R", "G", "B"];
+
+impl CheckpointKey {
+    fn fields(&self) -> Vec<(&'static str, String)> {
+        vec![
+            ("scene_hash", self.scene_hash.clone()),
+            ("sampler", self.method.sampler.name().to_string()),
+            ("bsdf", self.method.bsdf.name().to_string()),
+            ("lights", self.method.lights.name().to_string()),
+            ("seed", self.seed.to_string()),
+            ("width", self.width.to_string()),
+            ("height", self.height.to_string()),
+            ("max_depth", self.max_depth.to_string()),
+        ]
+    }
+
+    /// An error naming the first field where `other` (read from `path`) differs.
+    fn check(&self, other: &CheckpointKey, path: &Path) -> Result<(), CheckpointError> {
+        for ((field, expected), (_, found)) in self.fields().into_iter().zip(other.fields()) {
+            if expected != found {
+                return Err(CheckpointError::Mismatch { path: path.to_path_buf(), field, found, expected });
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Checkpoint {
+    /// The film these accumulators hold.
+    pub fn film(&self) -> Film {
+        Film::from_accumulators(self.key.width, self.key.height, self.spp, &self.pixels)
+    }
+
+    /// Rays traced for them.
+    pub fn rays(&self) -> u64 {
+        self.pixels.iter().map(AccumPixel::rays).sum()
+    }
+
+    /// Writes the checkpoint atomically.
+    pub fn write(&self, path: &Path) -> Result<(), OutputError> {
+        let size = (self.key.width as usize, self.key.height as usize);
+        let mut list = SmallVec::new();
+        for name in F32_CHANNELS {
+            for (c, rgb) in RGB.iter().enumerate() {
+                let values: Vec<f32> = self
+                    .pixels
+                    .iter()
+                    .map(|p| match name {
+                        "sum" => p.sum[c],
+                        "sum_err" => p.sum_err[c],
+                        "sum_sq" => p.sum_sq[c],
+                        _ => p.sum_sq_err[c],
+                    })
+                    .collect();
+                list.push(AnyChannel::new(format!("{name}.{rgb}").as_str(), FlatSamples::F32(values)));
+            }
+        }
+        list.push(AnyChannel::new("count", FlatSamples::U32(self.pixels.iter().map(|p| p.count).collect())));
+        list.push(AnyChannel::new("rays_lo", FlatSamples::U32(self.pixels.iter().map(|p| p.rays_lo).collect())));
+        list.push(AnyChannel::new("rays_hi", FlatSamples::U32(self.pixels.iter().map(|p| p.rays_hi).collect())));
+        let layer = Layer::new(size, LayerAttributes::default(), Encoding::FAST_LOSSLESS, AnyChannels::sort(list));
+        let mut image = Image::from_layer(layer);
+        let mut header = self.key.fields();
+        header.extend([
+            ("kind", "accumulator".to_string()),
+            ("first_sample", self.first_sample.to_string()),
+            ("spp", self.spp.to_string()),
+            ("render_seconds", format!("{:.6}", self.render_seconds)),
+            ("version", crate::VERSION.to_string()),
+        ]);
+        for (key, value) in header {
+            image
+                .attributes
+                .other
+                .insert(Text::from(format!("pathlab:{key}").as_str()), AttributeValue::Text(Text::from(value.as_str())));
+        }
+        write_atomically(path, |w| {
+            let mut cursor = std::io::Cursor::new(Vec::new());
+            image.write().to_buffered(&mut cursor).map_err(|e| e.to_string())?;
+            std::io::Write::write_all(w, cursor.get_ref()).map_err(|e| e.to_string())
+        })
+    }
+
+    /// Reads a checkpoint, checking that it is complete and consistent.
+    pub fn read(path: &Path) -> Result<Checkpoint, CheckpointError> {
+        let invalid = |message: String| CheckpointError::Invalid { path: path.to_path_buf(), message };
+        let image = read_all_flat_layers_from_file(path).map_err(|e| invalid(format!("cannot read it as OpenEXR ({e})")))?;
+        let layer = image.layer_data.first().ok_or_else(|| invalid("no layer".into()))?;
+        let (w, h) = (layer.size.width(), layer.size.height());
+        let mut header = std::collections::HashMap::new();
+        for (key, value) in image.attributes.other.iter().chain(&layer.attributes.other) {
+            if let (Some(k), AttributeValue::Text(t)) = (key.to_string().strip_prefix("pathlab:"), value) {
+                header.insert(k.to_string(), t.to_string());
+            }
+        }
+        let get = |k: &str| header.get(k).cloned().ok_or_else(|| invalid(format!("header attribute pathlab:{k} missing")));
+        if get("kind")? != "accumulator" {
+            return Err(invalid("pathlab:kind is not `accumulator`".into()));
+        }
+        let num = |k: &str| -> Result<u64, CheckpointError> { get(k)?.parse().map_err(|_| invalid(format!("pathlab:{k} is not a number"))) };
+        let method = Method {
+            sampler: ValueEnum::from_str(&get("sampler")?, false).map_err(|_| invalid("unknown sampler".into()))?,
+            bsdf: ValueEnum::from_str(&get("bsdf")?, false).map_err(|_| invalid("unknown bsdf".into()))?,
+            lights: ValueEnum::from_str(&get("lights")?, false).map_err(|_| invalid("unknown lights".into()))?,
+        };
+        let key = CheckpointKey {
+            scene_hash: get("scene_hash")?,
+            method,
+            seed: num("seed")? as u32,
+            width: num("width")? as u32,
+            height: num("height")? as u32,
+            max_depth: num("max_depth")? as u32,
+        };
+        if (key.width as usize, key.height as usize) != (w, h) {
+            return Err(invalid(format!("header says {}x{}, the data is {w}x{h}", key.width, key.height)));
+        }
+        let channel = |name: &str| layer.channel_data.list.iter().find(|c| c.name == Text::from(name));
+        let f32s = |name: &str| -> Result<Vec<f32>, CheckpointError> {
+            match channel(name).map(|c| &c.sample_data) {
+                Some(FlatSamples::F32(v)) if v.len() == w * h => Ok(v.clone()),
+                _ => Err(invalid(format!("channel {name} missing or not float32"))),
+            }
+        };
+        let u32s = |name: &str| -> Result<Vec<u32>, CheckpointError> {
+            match channel(name).map(|c| &c.sample_data) {
+                Some(FlatSamples::U32(v)) if v.len() == w * h => Ok(v.clone()),
+                _ => Err(invalid(format!("channel {name} missing or not uint32"))),
+            }
+        };
+        let mut pixels = vec![AccumPixel::zeroed(); w * h];
+        for name in F32_CHANNELS {
+            for (c, rgb) in RGB.iter().enumerate() {
+                for (p, v) in pixels.iter_mut().zip(f32s(&format!("{name}.{rgb}"))?) {
+                    match name {
+                        "sum" => p.sum[c] = v,
+                        "sum_err" => p.sum_err[c] = v,
+                        "sum_sq" => p.sum_sq[c] = v,
+                        _ => p.sum_sq_err[c] = v,
+                    }
+                }
+            }
+        }
+        for (p, ((count, lo), hi)) in pixels.iter_mut().zip(u32s("count")?.into_iter().zip(u32s("rays_lo")?).zip(u32s("rays_hi")?)) {
+            (p.count, p.rays_lo, p.rays_hi) = (count, lo, hi);
+        }
+        let spp = num("spp")?;
+        if let Some(i) = pixels.iter().position(|p| p.count as u64 != spp % (1 << 32)) {
+            return Err(invalid(format!("pixel {i} holds {} samples, the header says {spp}", pixels[i].count)));
+        }
+        let render_seconds = get("render_seconds")?.parse().map_err(|_| invalid("pathlab:render_seconds is not a number".into()))?;
+        Ok(Checkpoint { key, first_sample: num("first_sample")?, spp, render_seconds, pixels })
+    }
+}
+
+use bytemuck::Zeroable;
+
+/// Renders `total_spp` samples per pixel with `renderer` (fresh, for `key`), saving the
+/// accumulators to `path` every `every` and at the end. When `path` holds a checkpoint of the
+/// same key it is continued (and an error names the field when the key differs). Returns the
+/// final checkpoint (its `render_seconds` counts every session) and whether `cancel` stopped it.
+pub fn render_checkpointed(
+    renderer: &mut Renderer,
+    key: &CheckpointKey,
+    total_spp: u64,
+    path: &Path,
+    every: Duration,
+    cancel: &AtomicBool,
+    mut progress: impl FnMut(Progress),
+) -> Result<(Checkpoint, bool), CheckpointError> {
+    let mut seconds_before = 0.0;
+    if path.exists() {
+        let saved = Checkpoint::read(path)?;
+        key.check(&saved.key, path)?;
+        if saved.spp > total_spp {
+            return Err(CheckpointError::Mismatch {
+                path: path.to_path_buf(),
+                field: "spp",
+                found: saved.spp.to_string(),
+                expected: format!("at most {total_spp}"),
+            });
+        }
+        renderer.restore(saved.first_sample, saved.spp, &saved.pixels)?;
+        seconds_before = saved.render_seconds;
+    }
+    let start = Instant::now();
+    let mut interrupted = false;
+    loop {
+        let remaining = total_spp - renderer.spp();
+        if remaining > 0 && !interrupted {
+            let stats: RenderStats =
+                renderer.render_until(Budget::Samples(remaining), Some(Instant::now() + every), cancel, &mut progress)?;
+            interrupted = stats.interrupted;
+        }
+        let checkpoint = Checkpoint {
+            key: key.clone(),
+            first_sample: renderer.first_sample(),
+            spp: renderer.spp(),
+            render_seconds: seconds_before + start.elapsed().as_secs_f64(),
+            pixels: renderer.accumulators()?,
+        };
+        checkpoint.write(path)?;
+        if interrupted || checkpoint.spp >= total_spp {
+            return Ok((checkpoint, interrupted));
+        }
+    }
+}

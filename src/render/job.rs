@@ -1,0 +1,154 @@
+//! One render from a scene to its files, shared by `pathlab render`, the study and (later) the
+//! viewer and the cluster commands: the renderer for a method and seed, the budget, progress,
+//! cancellation (Ctrl-C), the EXR header and the files written atomically.
+
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, OnceLock};
+
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+use crate::display::DisplayTransform;
+use crate::gpu::{Gpu, PathTracerPipelines};
+use crate::method::{Method, Preset};
+use crate::output::{write_exr, write_png, Metadata, OutputError};
+use crate::scene::Scene;
+
+use super::{Budget, Film, Progress, RenderError, RenderStats, Renderer};
+
+/// What to render: the scene (with any size or depth overrides applied), where it came from,
+/// the method, the seed and the budget.
+#[derive(Debug, Clone)]
+pub struct RenderJob {
+    pub scene: Scene,
+    pub scene_path: PathBuf,
+    pub method: Method,
+    pub seed: u32,
+    pub budget: Budget,
+}
+
+/// A finished (or interrupted) render.
+#[derive(Debug, Clone)]
+pub struct RenderOutcome {
+    pub film: Film,
+    /// Rays traced (camera, bounce and shadow), counted by the kernel.
+    pub rays: u64,
+    pub stats: RenderStats,
+}
+
+/// Where a render's files go.
+#[derive(Debug, Clone, Default)]
+pub struct OutputFiles {
+    pub exr: PathBuf,
+    /// Also a PNG of the display image.
+    pub png: Option<PathBuf>,
+    /// The display transform of the PNG.
+    pub display: DisplayTransform,
+    /// Add variance-of-the-mean channels to the EXR.
+    pub variance: bool,
+}
+
+/// The name a method is recorded under: its preset's, or `custom`.
+pub fn method_label(method: &Method) -> &'static str {
+    method.preset().map_or("custom", Preset::name)
+}
+
+/// A flag set by Ctrl-C (SIGINT) for the rest of the process. The handler is installed once;
+/// a second Ctrl-C while the flag is already set falls through to the default (exit).
+pub fn ctrl_c_flag() -> Arc<AtomicBool> {
+    static FLAG: OnceLock<Arc<AtomicBool>> = OnceLock::new();
+    FLAG.get_or_init(|| {
+        let flag = Arc::new(AtomicBool::new(false));
+        let f = flag.clone();
+        let _ = ctrlc::set_handler(move || {
+            if f.swap(true, Ordering::Relaxed) {
+                std::process::exit(130);
+            }
+        });
+        flag
+    })
+    .clone()
+}
+
+/// A progress bar for `budget` on stderr, hidden when `quiet` or stderr is not a terminal.
+pub fn progress_bar(budget: Budget, quiet: bool) -> ProgressBar {
+    let bar = match budget {
+        Budget::Samples(n) => ProgressBar::new(n).with_style(
+            ProgressStyle::with_template("{bar:40} {pos}/{len} spp  {per_sec}  ETA {eta}")
+                .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        ),
+        Budget::Time(t) => ProgressBar::new(t.as_millis() as u64).with_style(
+            ProgressStyle::with_template("{bar:40} {msg}  {elapsed} / {duration}")
+                .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        ),
+    };
+    if quiet || !std::io::stderr().is_terminal() {
+        bar.set_draw_target(ProgressDrawTarget::hidden());
+    }
+    bar
+}
+
+/// Moves `bar` (made by `progress_bar` for `budget`) to `p`.
+pub fn show_progress(bar: &ProgressBar, budget: Budget, p: Progress) {
+    match budget {
+        Budget::Samples(_) => bar.set_position(p.spp_done),
+        Budget::Time(_) => {
+            bar.set_position(p.elapsed.as_millis() as u64);
+            bar.set_message(format!("{} spp", p.spp_done));
+        }
+    }
+}
+
+impl RenderJob {
+    /// Renders until the budget is met or `cancel` is set, and reads the film back.
+    pub fn run(
+        &self,
+        gpu: &Gpu,
+        pipelines: &PathTracerPipelines,
+        cancel: &AtomicBool,
+        progress: impl FnMut(Progress),
+    ) -> Result<RenderOutcome, RenderError> {
+        let mut renderer = Renderer::new(gpu, pipelines, &self.scene, self.method, self.seed)?;
+        let stats = renderer.render(self.budget, cancel, progress)?;
+        let readback = renderer.readback()?;
+        Ok(RenderOutcome { film: readback.film, rays: readback.rays, stats })
+    }
+
+    /// The EXR header of `outcome`: `pathlab:KEY` attributes.
+    pub fn metadata(&self, outcome: &RenderOutcome, adapter: &str) -> Metadata {
+        let m = &self.method;
+        [
+            ("spp", outcome.stats.spp.to_string()),
+            ("method", method_label(m).to_string()),
+            ("sampler", m.sampler.name().to_string()),
+            ("bsdf", m.bsdf.name().to_string()),
+            ("lights", m.lights.name().to_string()),
+            ("seed", self.seed.to_string()),
+            ("max_depth", self.scene.render.max_depth.to_string()),
+            ("render_seconds", format!("{:.6}", outcome.stats.seconds)),
+            ("rays", outcome.rays.to_string()),
+            ("scene", self.scene_path.display().to_string()),
+            ("adapter", adapter.to_string()),
+            ("version", crate::VERSION.to_string()),
+        ]
+        .into_iter()
+        .map(|(k, v)| (k.to_string(), v))
+        .collect()
+    }
+
+    /// Writes the EXR (and PNG) of `outcome`, each atomically.
+    pub fn write(&self, outcome: &RenderOutcome, adapter: &str, files: &OutputFiles) -> Result<(), OutputError> {
+        write_exr(&files.exr, &outcome.film, &self.metadata(outcome, adapter), files.variance)?;
+        if let Some(png) = &files.png {
+            write_png(png, &files.display.film(&outcome.film))?;
+        }
+        Ok(())
+    }
+}
+
+/// `<scene stem>.exr` in the current directory.
+pub fn default_output(scene: &Path) -> PathBuf {
+    let stem = scene.file_stem().map_or_else(|| "render".into(), |s| s.to_string_lossy().into_owned());
+    PathBuf::from(format!("{stem}.exr"))
+}

@@ -1,0 +1,186 @@
+//! The study's ground truth: loaded from an EXR, or rendered (default `best` at 100,000 spp)
+//! with checkpoints so that a reference of hours survives interruption, and cached in the study
+//! directory for later studies of the same scene, method, size and spp.
+//!
+//! Files: `DIR/reference.exr` (mean and variance, header with the scene hash and the spp) and
+//! `DIR/reference.checkpoint.exr` (the raw accumulators: continued by a rerun, bit-identical to
+//! an uninterrupted render; kept after completion so a larger `--reference-spp` continues it).
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
+use std::time::Duration;
+
+use crate::gpu::{Gpu, PathTracerPipelines};
+use crate::method::Method;
+use crate::output::{read_exr_image, write_exr, Metadata};
+use crate::render::{progress_bar, render_checkpointed, show_progress, Budget, CheckpointKey, Film, Renderer};
+use crate::scene::Scene;
+
+use super::StudyError;
+
+/// Seed of rendered references (the study's own runs use seeds 1..=K).
+pub const REFERENCE_SEED: u32 = 1_000_003;
+
+/// Where the reference comes from.
+#[derive(Debug, Clone)]
+pub enum ReferenceSource {
+    /// An EXR made elsewhere (another renderer, a cluster, an earlier study).
+    File(PathBuf),
+    /// Rendered by the study.
+    Render { method_name: String, method: Method, spp: u64 },
+}
+
+/// The reference as the study uses it.
+#[derive(Debug, Clone)]
+pub struct Reference {
+    pub film: Film,
+    /// True when the film carries per-pixel variances (rendered ones always do).
+    pub has_variance: bool,
+    /// One line saying what it is, for the report and the run records' cache keys.
+    pub description: String,
+    /// Rendering time over every session, when pathlab rendered it.
+    pub render_seconds: Option<f64>,
+    /// Its own expected relMSE: mean over pixels of var / (ref^2 + 0.01), from its variance.
+    pub expected_rel_mse: Option<f64>,
+}
+
+/// The reference's own expected relative MSE from its per-pixel variance of the mean.
+pub fn expected_rel_mse(film: &Film) -> f64 {
+    let eps = crate::metrics::linear::REL_MSE_EPSILON;
+    let total: f64 = film
+        .mean
+        .iter()
+        .zip(&film.variance)
+        .flat_map(|(m, v)| (0..3).map(move |c| v[c] as f64 / ((m[c] as f64).powi(2) + eps)))
+        .sum();
+    total / (3 * film.mean.len()).max(1) as f64
+}
+
+pub fn exr_path(dir: &Path) -> PathBuf {
+    dir.join("reference.exr")
+}
+
+pub fn checkpoint_path(dir: &Path) -> PathBuf {
+    dir.join("reference.checkpoint.exr")
+}
+
+fn meta<'a>(metadata: &'a Metadata, key: &str) -> Option<&'a str> {
+    metadata.iter().find(|(k, _)| k == key).map(|(_, v)| v.as_str())
+}
+
+/// Loads a reference file, checking its size against the study's (before any GPU work).
+pub fn load_file(path: &Path, width: u32, height: u32) -> Result<Reference, StudyError> {
+    let image = read_exr_image(path)?;
+    let film = image.film;
+    if (film.width, film.height) != (width, height) {
+        return Err(StudyError::Input(format!(
+            "the reference {} is {}x{}, the study renders {width}x{height} (use --size {}x{})",
+            path.display(),
+            film.width,
+            film.height,
+            film.width,
+            film.height
+        )));
+    }
+    let expected = image.has_variance.then(|| expected_rel_mse(&film));
+    Ok(Reference {
+        description: format!("{} ({} spp, loaded)", path.display(), film.spp),
+        render_seconds: meta(&image.metadata, "render_seconds").and_then(|s| s.parse().ok()),
+        has_variance: image.has_variance,
+        expected_rel_mse: expected,
+        film,
+    })
+}
+
+/// The rendered reference's identity: what must match for a cached one to be reused.
+fn rendered_description(method_name: &str, spp: u64, key: &CheckpointKey) -> String {
+    format!(
+        "{method_name} at {spp} spp, seed {}, {}x{}, max_depth {}, scene {}",
+        key.seed, key.width, key.height, key.max_depth, key.scene_hash
+    )
+}
+
+/// Renders the reference (or reuses the cached one). Returns `None` when interrupted, after
+/// saving a checkpoint.
+#[allow(clippy::too_many_arguments)]
+pub fn render(
+    dir: &Path,
+    scene: &Scene,
+    method_name: &str,
+    method: Method,
+    spp: u64,
+    every: Duration,
+    gpu: &Gpu,
+    pipelines: &PathTracerPipelines,
+    cancel: &AtomicBool,
+    quiet: bool,
+) -> Result<Option<Reference>, StudyError> {
+    let key = CheckpointKey {
+        scene_hash: scene.content_hash(),
+        method,
+        seed: REFERENCE_SEED,
+        width: scene.render.width,
+        height: scene.render.height,
+        max_depth: scene.render.max_depth,
+    };
+    let description = rendered_description(method_name, spp, &key);
+    let cached = exr_path(dir);
+    if cached.exists() {
+        if let Ok(image) = read_exr_image(&cached) {
+            if meta(&image.metadata, "reference") == Some(description.as_str()) && image.has_variance {
+                eprintln!("reference: reusing {} ({description})", cached.display());
+                return Ok(Some(Reference {
+                    expected_rel_mse: Some(expected_rel_mse(&image.film)),
+                    render_seconds: meta(&image.metadata, "render_seconds").and_then(|s| s.parse().ok()),
+                    film: image.film,
+                    has_variance: true,
+                    description,
+                }));
+            }
+        }
+    }
+    let checkpoint = checkpoint_path(dir);
+    if checkpoint.exists() {
+        eprintln!("reference: continuing from {}", checkpoint.display());
+    }
+    eprintln!("reference: rendering {description} (checkpoint every {} s)", every.as_secs_f64());
+    let mut renderer = Renderer::new(gpu, pipelines, scene, method, REFERENCE_SEED)?;
+    let bar = progress_bar(Budget::Samples(spp), quiet);
+    let (saved, interrupted) = render_checkpointed(&mut renderer, &key, spp, &checkpoint, every, cancel, |p| {
+        show_progress(&bar, Budget::Samples(spp), p)
+    })?;
+    bar.finish_and_clear();
+    if interrupted {
+        eprintln!("reference: interrupted at {} of {spp} spp; checkpoint saved in {}", saved.spp, checkpoint.display());
+        return Ok(None);
+    }
+    let film = saved.film();
+    let metadata: Metadata = [
+        ("reference", description.clone()),
+        ("spp", saved.spp.to_string()),
+        ("method", method_name.to_string()),
+        ("sampler", method.sampler.name().to_string()),
+        ("bsdf", method.bsdf.name().to_string()),
+        ("lights", method.lights.name().to_string()),
+        ("seed", REFERENCE_SEED.to_string()),
+        ("max_depth", scene.render.max_depth.to_string()),
+        ("render_seconds", format!("{:.6}", saved.render_seconds)),
+        ("rays", saved.rays().to_string()),
+        ("scene", scene.path.display().to_string()),
+        ("scene_hash", key.scene_hash.clone()),
+        ("adapter", gpu.info.name.clone()),
+        ("version", crate::VERSION.to_string()),
+    ]
+    .into_iter()
+    .map(|(k, v)| (k.to_string(), v))
+    .collect();
+    write_exr(&cached, &film, &metadata, true)?;
+    eprintln!("reference: {} spp in {:.1} s, wrote {}", saved.spp, saved.render_seconds, cached.display());
+    Ok(Some(Reference {
+        expected_rel_mse: Some(expected_rel_mse(&film)),
+        film,
+        has_variance: true,
+        description,
+        render_seconds: Some(saved.render_seconds),
+    }))
+}

@@ -1,0 +1,142 @@
+//! Bias verdicts a user can read. At the study's highest spp, the renders of every seed are
+//! averaged (independent estimates: mean of means, variance / K^2) and tested against the
+//! reference with the correctness suite's tools:
+//!
+//! 1. the image-mean bias per channel, z = bias / standard error (both images' variances),
+//!    against a Šidák threshold over the 3 channels;
+//! 2. the per-pixel z-test (`stats::z_test`; >= 99.75% of channels must pass a Šidák threshold
+//!    over all channels), per pixel for methods with light sampling, and on pixel blocks for
+//!    methods without it, whose rare light hits make per-pixel (or small-block) normal
+//!    approximations invalid at a study's sample counts (`block_for`: blocks of 2^20 samples
+//!    where the image allows, as in `tests/unbiased_study.rs`).
+//!
+//! Each test runs at alpha / 2, with alpha = 0.01 shared by all methods of the study (Šidák), so
+//! a whole study wrongly calls some unbiased method biased with probability below 0.01.
+
+use serde::Serialize;
+
+use crate::method::LightSampling;
+use crate::metrics::{mean_bias, ChannelBias, Z_TEST_MIN_PASS};
+use crate::render::Film;
+use crate::stats::{sidak, z_test, z_threshold};
+
+use super::StudyMethod;
+
+/// Family-wise false-alarm probability of one study's verdicts.
+pub const STUDY_ALPHA: f64 = 0.01;
+/// Confidence of the bias bounds quoted.
+pub const CONFIDENCE: f64 = 0.99;
+
+/// One method's verdict.
+#[derive(Debug, Clone, Serialize)]
+pub struct Verdict {
+    pub method: String,
+    /// A deliberately biased demonstration method (expected to be flagged).
+    pub biased_demonstration: bool,
+    /// Samples per pixel per seed, and seeds averaged.
+    pub spp: u64,
+    pub seeds: usize,
+    /// Per channel (R, G, B).
+    pub bias: [ChannelBias; 3],
+    /// Largest |z| of the image-mean bias over the channels, and its threshold.
+    pub mean_bias_max_abs_z: f64,
+    pub mean_bias_threshold: f64,
+    /// Side of the pixel blocks of the z-test (1 = per pixel).
+    pub block: u32,
+    pub z_pass_fraction: f64,
+    pub z_threshold: f64,
+    /// Either test rejected "same expectation as the reference".
+    pub bias_detected: bool,
+    /// The sentence for the report.
+    pub text: String,
+}
+
+/// Samples a block should hold for its mean to be near normal when light is found only by
+/// chance (the correctness suite's 4x4 blocks at 65536 spp hold 2^20).
+const BLOCK_SAMPLES: u64 = 1 << 20;
+/// Fewest blocks the block z-test keeps.
+const MIN_BLOCKS: u32 = 8;
+
+/// Side of the square pixel blocks for methods without light sampling: the smallest power of
+/// two dividing both sides whose blocks hold `BLOCK_SAMPLES` samples, but no larger than leaves
+/// `MIN_BLOCKS` blocks (then the largest such).
+pub fn block_for(width: u32, height: u32, spp: u64) -> u32 {
+    let candidates: Vec<u32> = (0..16)
+        .map(|k| 1u32 << k)
+        .filter(|&b| width % b == 0 && height % b == 0 && (width / b) * (height / b) >= MIN_BLOCKS)
+        .collect();
+    candidates.iter().copied().find(|&b| (b as u64).pow(2) * spp >= BLOCK_SAMPLES).or(candidates.last().copied()).unwrap_or(1)
+}
+
+/// Tests the seed-averaged `film` of `method` against `reference`; `methods_in_study` sets
+/// the per-method significance.
+pub fn verdict(method: &StudyMethod, films: &[Film], reference: &Film, methods_in_study: usize) -> Verdict {
+    let film = Film::mean_of(films);
+    let alpha = sidak(STUDY_ALPHA, methods_in_study.max(1));
+    let bias = mean_bias(&film, reference);
+    let mean_threshold = z_threshold(alpha / 2.0, 3);
+    let max_abs_z = bias.iter().filter_map(|b| b.z()).map(f64::abs).fold(0.0, f64::max);
+    let block = if method.method.lights == LightSampling::None { block_for(film.width, film.height, film.spp) } else { 1 };
+    let z = if block > 1 { z_test(&reference.downsample(block), &film.downsample(block), alpha / 2.0) } else { z_test(reference, &film, alpha / 2.0) };
+    let detected = max_abs_z > mean_threshold || z.pass_fraction < Z_TEST_MIN_PASS;
+    let pct = |x: f64| format!("{:+.2}%", 100.0 * x);
+    let text = if detected {
+        let per_channel: Vec<String> = ["R", "G", "B"]
+            .iter()
+            .zip(&bias)
+            .map(|(c, b)| format!("{c} {} (+-{:.2}%)", pct(b.relative()), 100.0 * b.relative_half_width(CONFIDENCE).unwrap_or(0.0)))
+            .collect();
+        format!(
+            "{}: mean bias {} at {:.0}% confidence; {:.2}% of {} fail the z-test (|z| > {:.2}){}",
+            if method.biased { "biased, as expected of this demonstration" } else { "BIASED" },
+            per_channel.join(", "),
+            100.0 * CONFIDENCE,
+            100.0 * (1.0 - z.pass_fraction),
+            if block > 1 { format!("{block}x{block} blocks") } else { "pixels".to_string() },
+            z.threshold,
+            if max_abs_z > mean_threshold { format!("; image-mean |z| = {max_abs_z:.1}") } else { String::new() }
+        )
+    } else {
+        let bound = bias
+            .iter()
+            .map(|b| b.relative().abs() + b.relative_half_width(CONFIDENCE).unwrap_or(f64::INFINITY))
+            .fold(0.0, f64::max);
+        format!(
+            "no bias detected at this precision: |bias| < {:.2}% with {:.0}% confidence in every channel; {:.2}% of {} pass the z-test{}",
+            100.0 * bound,
+            100.0 * CONFIDENCE,
+            100.0 * z.pass_fraction,
+            if block > 1 { format!("{block}x{block} blocks") } else { "pixels".to_string() },
+            if method.biased { " (a biased demonstration that this precision cannot expose: raise --spp)" } else { "" }
+        )
+    };
+    Verdict {
+        method: method.name.clone(),
+        biased_demonstration: method.biased,
+        spp: films[0].spp,
+        seeds: films.len(),
+        bias,
+        mean_bias_max_abs_z: max_abs_z,
+        mean_bias_threshold: mean_threshold,
+        block,
+        z_pass_fraction: z.pass_fraction,
+        z_threshold: z.threshold,
+        bias_detected: detected,
+        text,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn blocks_hold_enough_samples_and_leave_enough_blocks() {
+        // 256x128 at 3000 spp: 32x32 blocks (3.1M samples each, 32 blocks).
+        assert_eq!(super::block_for(256, 128, 3000), 32);
+        // 128x64 at 512 spp: 64x64 would hold enough but leave 2 blocks; 32x32 leaves 8.
+        assert_eq!(super::block_for(128, 64, 512), 32);
+        // Plenty of samples: per pixel.
+        assert_eq!(super::block_for(64, 32, 1 << 20), 1);
+        // Odd sizes: only 1 divides.
+        assert_eq!(super::block_for(37, 23, 100), 1);
+    }
+}
