@@ -9,6 +9,7 @@
 //! - `display`: the display transform (sRGB or gamma, exposure) of PNGs, figures and metrics;
 //! - `metrics`: MSE, relative MSE, bias, PSNR, SSIM, FLIP;
 //! - `figures`: error maps, plots and image grids with an embedded font;
+//! - `shard`: sample ranges of split renders and their exact merge;
 //! - `sequences`: the CPU twin of the WGSL samplers;
 //! - `study`: `pathlab study`: reference, tables, convergence, bias verdicts, report;
 //! - `stats`: quantiles, Šidák correction, per-pixel z-tests.
@@ -22,6 +23,7 @@ pub mod output;
 pub mod render;
 pub mod scene;
 pub mod sequences;
+pub mod shard;
 pub mod shaders;
 pub mod stats;
 pub mod study;

@@ -65,18 +65,28 @@ pub type Metadata = Vec<(String, String)>;
 
 /// Linear RGB float32 EXR; with `variance`, also `variance.R/G/B` (variance of the mean).
 pub fn write_exr(path: &Path, film: &Film, metadata: &Metadata, variance: bool) -> Result<(), OutputError> {
-    let size = (film.width as usize, film.height as usize);
     let channel = |name: &str, data: &[[f32; 3]], c: usize| {
         AnyChannel::new(name, FlatSamples::F32(data.iter().map(|p| p[c]).collect()))
     };
-    let mut list = SmallVec::new();
+    let mut list = Vec::new();
     for (c, name) in ["R", "G", "B"].iter().enumerate() {
         list.push(channel(name, &film.mean, c));
         if variance {
             list.push(channel(&format!("variance.{name}"), &film.variance, c));
         }
     }
-    let layer = Layer::new(size, LayerAttributes::default(), Encoding::FAST_LOSSLESS, AnyChannels::sort(list));
+    write_exr_layer(path, (film.width as usize, film.height as usize), list, metadata)
+}
+
+/// One EXR layer of `channels` with `metadata` as `pathlab:KEY` text attributes, written
+/// atomically (lossless compression).
+pub(crate) fn write_exr_layer(
+    path: &Path,
+    size: (usize, usize),
+    channels: Vec<AnyChannel<FlatSamples>>,
+    metadata: &Metadata,
+) -> Result<(), OutputError> {
+    let layer = Layer::new(size, LayerAttributes::default(), Encoding::FAST_LOSSLESS, AnyChannels::sort(channels.into()));
     let mut image = Image::from_layer(layer);
     for (key, value) in metadata {
         image
@@ -89,6 +99,21 @@ pub fn write_exr(path: &Path, film: &Film, metadata: &Metadata, variance: bool) 
         image.write().to_buffered(&mut cursor).map_err(|e| e.to_string())?;
         w.write_all(cursor.get_ref()).map_err(|e| e.to_string())
     })
+}
+
+/// The first layer of an EXR and its `pathlab:KEY` attributes (sorted by key).
+pub(crate) fn read_exr_layer(path: &Path) -> Result<(Layer<AnyChannels<FlatSamples>>, Metadata), String> {
+    let image = read_all_flat_layers_from_file(path).map_err(|e| e.to_string())?;
+    let mut metadata = Metadata::new();
+    let layer = image.layer_data.into_iter().next().ok_or("the EXR has no layer")?;
+    // Custom attributes may come back as image or as layer attributes.
+    for (key, value) in image.attributes.other.iter().chain(&layer.attributes.other) {
+        if let (Some(k), AttributeValue::Text(t)) = (key.to_string().strip_prefix("pathlab:"), value) {
+            metadata.push((k.to_string(), t.to_string()));
+        }
+    }
+    metadata.sort();
+    Ok((layer, metadata))
 }
 
 /// 8-bit RGB PNG of a display image.
@@ -129,8 +154,7 @@ pub fn read_exr_image(path: &Path) -> Result<ExrImage, OutputError> {
     if !path.is_file() {
         return Err(fail("no such file".into()));
     }
-    let image = read_all_flat_layers_from_file(path).map_err(|e| fail(format!("not a readable OpenEXR file ({e})")))?;
-    let layer = image.layer_data.first().ok_or_else(|| fail("the EXR has no layer".into()))?;
+    let (layer, metadata) = read_exr_layer(path).map_err(|e| fail(format!("not a readable OpenEXR file ({e})")))?;
     let (w, h) = (layer.size.width(), layer.size.height());
     let find = |name: &str| -> Option<Vec<f32>> {
         layer
@@ -148,14 +172,6 @@ pub fn read_exr_image(path: &Path) -> Result<ExrImage, OutputError> {
     let variance = get("variance.");
     let has_variance = variance.is_some();
     let variance = variance.unwrap_or_else(|| vec![[0.0; 3]; w * h]);
-    let mut metadata = Metadata::new();
-    // Custom attributes may come back as image or as layer attributes.
-    for (key, value) in image.attributes.other.iter().chain(&layer.attributes.other) {
-        if let (Some(k), AttributeValue::Text(t)) = (key.to_string().strip_prefix("pathlab:"), value) {
-            metadata.push((k.to_string(), t.to_string()));
-        }
-    }
-    metadata.sort();
     let spp = metadata.iter().find(|(k, _)| k == "spp").and_then(|(_, v)| v.parse().ok()).unwrap_or(0);
     Ok(ExrImage { film: Film { width: w as u32, height: h as u32, spp, mean, variance }, metadata, has_variance })
 }

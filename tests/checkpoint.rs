@@ -10,7 +10,11 @@ use std::time::Duration;
 
 use common::*;
 use pathlab::method::{Method, Preset, Sampler};
-use pathlab::render::{render_checkpointed, Checkpoint, CheckpointError, CheckpointKey, Renderer};
+use pathlab::render::{render_checkpointed, Checkpoint, CheckpointError, CheckpointKey, CheckpointPlan, Renderer, Resume};
+
+fn plan(path: &std::path::Path) -> CheckpointPlan {
+    CheckpointPlan { path: path.to_path_buf(), every: Duration::from_secs(3600), resume: Resume::IfPresent, planned_total: None }
+}
 
 fn key(scene: &pathlab::scene::Scene, method: Method, seed: u32) -> CheckpointKey {
     CheckpointKey {
@@ -41,7 +45,7 @@ fn restored_render_equals_an_uninterrupted_one_for_every_sampler() {
         // First session: 13 spp, saved.
         let mut first = Renderer::new(gpu(), pipelines(), &scene, method, 9).unwrap();
         let (saved, interrupted) =
-            render_checkpointed(&mut first, &key(&scene, method, 9), 13, &path, Duration::from_secs(3600), &AtomicBool::new(false), |_| {}).unwrap();
+            render_checkpointed(&mut first, &key(&scene, method, 9), 13, &plan(&path), &AtomicBool::new(false), |_| {}).unwrap();
         assert!(!interrupted);
         assert_eq!(saved.spp, 13);
         let reread = Checkpoint::read(&path).unwrap();
@@ -49,7 +53,7 @@ fn restored_render_equals_an_uninterrupted_one_for_every_sampler() {
         // Second session: continue to 37 spp from the file.
         let mut second = Renderer::new(gpu(), pipelines(), &scene, method, 9).unwrap();
         let (done, _) =
-            render_checkpointed(&mut second, &key(&scene, method, 9), 37, &path, Duration::from_secs(3600), &AtomicBool::new(false), |_| {}).unwrap();
+            render_checkpointed(&mut second, &key(&scene, method, 9), 37, &plan(&path), &AtomicBool::new(false), |_| {}).unwrap();
         assert_eq!(done.spp, 37);
         assert_eq!(bits(&done.film()), bits(&whole), "{}: resumed != uninterrupted", sampler.name());
         assert_eq!(bits(&second.readback().unwrap().film), bits(&whole));
@@ -63,10 +67,10 @@ fn a_checkpoint_of_another_render_is_refused_naming_the_field() {
     let path = dir.path().join("ck.exr");
     let method = Preset::Nee.method();
     let mut r = Renderer::new(gpu(), pipelines(), &scene, method, 1).unwrap();
-    render_checkpointed(&mut r, &key(&scene, method, 1), 2, &path, Duration::from_secs(3600), &AtomicBool::new(false), |_| {}).unwrap();
+    render_checkpointed(&mut r, &key(&scene, method, 1), 2, &plan(&path), &AtomicBool::new(false), |_| {}).unwrap();
     let attempt = |k: CheckpointKey| {
         let mut r = Renderer::new(gpu(), pipelines(), &scene, k.method, k.seed).unwrap();
-        match render_checkpointed(&mut r, &k, 4, &path, Duration::from_secs(3600), &AtomicBool::new(false), |_| {}) {
+        match render_checkpointed(&mut r, &k, 4, &plan(&path), &AtomicBool::new(false), |_| {}) {
             Err(CheckpointError::Mismatch { field, .. }) => field,
             other => panic!("expected a mismatch, got {other:?}"),
         }

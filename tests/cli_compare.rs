@@ -56,6 +56,15 @@ fn compare_two_renders() {
     assert_eq!(s["mse"].as_f64(), Some(0.0));
     assert_eq!(s["ssim"].as_f64(), Some(1.0));
 
+    // The z-test on 4x4 blocks.
+    let blocks = pathlab().arg("compare").arg(&test).arg(&reference).args(["--json", "--block", "4"]).output().unwrap();
+    let b: serde_json::Value = serde_json::from_slice(&blocks.stdout).unwrap();
+    assert_eq!(b["z_test"]["block"], 4);
+    assert_eq!(b["z_test"]["channels"], 12 * 6 * 3);
+    let bad_block = pathlab().arg("compare").arg(&test).arg(&reference).args(["--block", "5"]).output().unwrap();
+    assert_eq!(bad_block.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&bad_block.stderr).contains("must divide"));
+
     // The human-readable table names every metric.
     let table = pathlab().arg("compare").arg(&test).arg(&reference).output().unwrap();
     let text = String::from_utf8_lossy(&table.stdout);

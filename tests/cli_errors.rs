@@ -66,6 +66,10 @@ const CASES: &[Case] = &[
     Case { name: "zero max_depth", edit: ("max_depth = 2", "max_depth = 0"), line: 10, field: "render.max_depth" },
     Case { name: "emissive plane", edit: ("material = \"grey\"", "material = \"light\""), line: 29, field: "planes[0].material" },
     Case { name: "wrong type", edit: ("radius = 1", "radius = \"one\""), line: 23, field: "spheres[0].radius" },
+    Case { name: "unknown transfer", edit: ("material = \"grey\"", "material = \"grey\"\n\n[display]\ntransfer = \"log\""), line: 32, field: "display.transfer" },
+    Case { name: "gamma missing", edit: ("material = \"grey\"", "material = \"grey\"\n\n[display]\ntransfer = \"gamma\""), line: 32, field: "display.gamma" },
+    Case { name: "gamma not positive", edit: ("material = \"grey\"", "material = \"grey\"\n\n[display]\ntransfer = \"gamma\"\ngamma = -1.6"), line: 33, field: "display.gamma" },
+    Case { name: "gamma with srgb", edit: ("material = \"grey\"", "material = \"grey\"\n\n[display]\ngamma = 2.2"), line: 32, field: "display.gamma" },
 ];
 
 fn temp_dir(name: &str) -> PathBuf {

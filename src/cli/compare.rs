@@ -7,7 +7,7 @@ use clap::Args;
 
 use pathlab::display::{DisplayTransform, Transfer};
 use pathlab::figures::error_map::write_error_map;
-use pathlab::metrics::{compare, rel_mse_map, Comparison};
+use pathlab::metrics::{compare_blocks, rel_mse_map, Comparison};
 use pathlab::output::read_exr_image;
 
 #[derive(Args)]
@@ -16,12 +16,18 @@ pub struct CompareArgs {
     test: PathBuf,
     /// The reference it is scored against (EXR), e.g. a high-spp render.
     reference: PathBuf,
-    /// Display transform of PSNR, SSIM and FLIP: `srgb` or `gamma:G`.
-    #[arg(long, default_value = "srgb")]
-    display: Transfer,
-    /// Exposure in stops applied before the display transform.
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
-    exposure: f32,
+    /// Display transform of PSNR, SSIM and FLIP: `srgb` or `gamma:G` (default: the one the
+    /// reference's header records, from its scene's [display] table; else srgb).
+    #[arg(long)]
+    display: Option<Transfer>,
+    /// Exposure in stops applied before the display transform (default: the reference's
+    /// header, else 0).
+    #[arg(long, allow_negative_numbers = true)]
+    exposure: Option<f32>,
+    /// Run the z-test on BxB pixel blocks (for methods without light sampling, whose per-pixel
+    /// estimates are too heavy-tailed for a normal approximation at moderate spp).
+    #[arg(long, default_value_t = 1)]
+    block: u32,
     /// Print the metrics as JSON.
     #[arg(long)]
     json: bool,
@@ -31,13 +37,17 @@ pub struct CompareArgs {
 }
 
 pub fn run(args: CompareArgs) -> anyhow::Result<i32> {
-    if !args.exposure.is_finite() {
+    if args.exposure.is_some_and(|e| !e.is_finite()) {
         bail!("--exposure must be finite");
     }
     let test = read_exr_image(&args.test)?;
     let reference = read_exr_image(&args.reference)?;
-    let display = DisplayTransform { transfer: args.display, exposure: args.exposure };
-    let result = compare(&test.film, &reference.film, display, test.has_variance && reference.has_variance)
+    let recorded = |key: &str| reference.metadata.iter().find(|(k, _)| k == key).map(|(_, v)| v.clone());
+    let display = DisplayTransform {
+        transfer: args.display.or_else(|| recorded("display").and_then(|t| t.parse().ok())).unwrap_or(Transfer::Srgb),
+        exposure: args.exposure.or_else(|| recorded("exposure").and_then(|e| e.parse().ok())).unwrap_or(0.0),
+    };
+    let result = compare_blocks(&test.film, &reference.film, display, test.has_variance && reference.has_variance, args.block)
         .with_context(|| format!("comparing {} with {}", args.test.display(), args.reference.display()))?;
     if let Some(path) = &args.error_map {
         let values = rel_mse_map(&test.film, &reference.film);
@@ -74,9 +84,10 @@ fn print_table(r: &Comparison) {
     println!("FLIP      {:.5}", r.flip);
     match &r.z_test {
         Some(z) => println!(
-            "z-test    {:.4} of {} channels pass |z| <= {:.2} (alpha {} Sidak-corrected; needs {}): {}",
+            "z-test    {:.4} of {} channels{} pass |z| <= {:.2} (alpha {} Sidak-corrected; needs {}): {}",
             z.pass_fraction,
             z.channels,
+            if z.block > 1 { format!(" of {0}x{0} blocks", z.block) } else { String::new() },
             z.threshold,
             z.alpha,
             pathlab::metrics::Z_TEST_MIN_PASS,

@@ -3,10 +3,12 @@
 
 mod bench;
 mod compare;
+mod merge;
 mod render;
 mod study;
 
 use std::path::PathBuf;
+use std::time::Duration;
 
 use clap::{Parser, Subcommand};
 
@@ -34,6 +36,9 @@ enum Command {
     /// The variance-reduction study in one command: reference, equal-sample and equal-time
     /// tables, convergence, bias verdicts, plots, image grid and report.
     Study(study::StudyArgs),
+    /// Merge partial files of a split render (render --samples / --shard) into one image,
+    /// exactly: same scene, method, seed, size and depth; no overlaps, no gaps.
+    Merge(merge::MergeArgs),
     /// Score one EXR against a reference: MSE, relMSE, bias, PSNR, SSIM, FLIP, z-test.
     Compare(compare::CompareArgs),
     /// Measure samples per second of every method (device time, host overhead, compile time).
@@ -49,6 +54,7 @@ pub fn run() -> i32 {
         Command::Render(args) => render::run(args),
         Command::Bench(args) => bench::run(args),
         Command::Compare(args) => compare::run(args),
+        Command::Merge(args) => merge::run(args),
         Command::Study(args) => study::run(args),
         Command::Check { scene } => check(&scene).map(|()| 0),
         Command::Adapters => {
@@ -107,4 +113,20 @@ pub(crate) fn parse_size(s: &str) -> Result<(u32, u32), String> {
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("expected WxH, got {s}"))?;
     let parse = |v: &str| v.trim().parse::<u32>().ok().filter(|&n| n > 0).ok_or_else(|| format!("bad size {s}"));
     Ok((parse(w)?, parse(h)?))
+}
+
+/// Parses a duration: seconds (`90`, `0.5`) or with a unit (`30s`, `5m`, `2h`).
+pub(crate) fn parse_duration(s: &str) -> Result<Duration, String> {
+    let t = s.trim();
+    let (number, scale) = match t.chars().last() {
+        Some('s') => (&t[..t.len() - 1], 1.0),
+        Some('m') => (&t[..t.len() - 1], 60.0),
+        Some('h') => (&t[..t.len() - 1], 3600.0),
+        _ => (t, 1.0),
+    };
+    let v: f64 = number.trim().parse().map_err(|_| format!("`{s}` is not a duration (e.g. 90, 30s, 5m, 2h)"))?;
+    if !(v.is_finite() && v > 0.0) {
+        return Err(format!("`{s}`: the duration must be positive"));
+    }
+    Ok(Duration::from_secs_f64(v * scale))
 }

@@ -6,12 +6,15 @@ use std::time::Duration;
 use anyhow::bail;
 use clap::Args;
 
-use pathlab::display::DisplayTransform;
+use pathlab::display::{DisplayTransform, Transfer};
 use pathlab::gpu::{adapter_summary, Gpu, PathTracerPipelines};
 use pathlab::method::{BsdfSampling, LightSampling, Method, Preset, Sampler};
-use pathlab::render::{ctrl_c_flag, default_output, method_label, progress_bar, show_progress, Budget, OutputFiles, RenderJob};
+use pathlab::render::{
+    ctrl_c_flag, default_output, method_label, progress_bar, show_progress, Budget, CheckpointPlan, OutputFiles, RenderJob, Resume,
+};
+use pathlab::shard::{default_part_name, shard_range};
 
-use super::{load_scene, EXIT_INTERRUPTED};
+use super::{load_scene, parse_duration, EXIT_INTERRUPTED};
 
 /// Samples per pixel when neither `--spp`, `--time` nor the scene's `render.spp` says.
 const DEFAULT_SPP: u64 = 64;
@@ -35,6 +38,24 @@ pub struct RenderArgs {
     /// Samples per pixel (default: the scene's render.spp, else 64).
     #[arg(long, conflicts_with = "time")]
     spp: Option<u64>,
+    /// Render only sample indices START..END (END exclusive) of every pixel, into a partial
+    /// file for `pathlab merge` (the raw accumulators, not an image).
+    #[arg(long, value_name = "START..END", value_parser = pathlab::shard::parse_range, conflicts_with_all = ["time", "spp", "shard"])]
+    samples: Option<std::ops::Range<u64>>,
+    /// Render the I-th (0-based) of N equal sample ranges of --spp into a partial file.
+    #[arg(long, value_name = "I/N", value_parser = pathlab::shard::parse_shard, conflicts_with = "time")]
+    shard: Option<(u64, u64)>,
+    /// Save the raw accumulators to this file during the render (every --checkpoint-every),
+    /// so that `--resume FILE` can continue after a crash or kill.
+    #[arg(long, conflicts_with = "resume")]
+    checkpoint: Option<PathBuf>,
+    /// Continue the render saved in this checkpoint (same scene, method, seed, size, depth),
+    /// saving to it as it goes.
+    #[arg(long)]
+    resume: Option<PathBuf>,
+    /// Interval between checkpoints: seconds, or with a unit (30s, 5m, 2h).
+    #[arg(long, default_value = "5m", value_parser = parse_duration)]
+    checkpoint_every: Duration,
     /// Render for this many seconds instead of a sample count.
     #[arg(long)]
     time: Option<f64>,
@@ -56,9 +77,13 @@ pub struct RenderArgs {
     /// Also write an 8-bit sRGB PNG preview here.
     #[arg(long)]
     png: Option<PathBuf>,
-    /// Exposure of the PNG preview, in stops.
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
-    exposure: f32,
+    /// Exposure of the PNG preview, in stops (default: the scene's [display] exposure, else 0).
+    #[arg(long, allow_negative_numbers = true)]
+    exposure: Option<f32>,
+    /// Display transform of the PNG preview: `srgb` or `gamma:G` (default: the scene's
+    /// [display] table, else srgb).
+    #[arg(long)]
+    display: Option<Transfer>,
     /// Add per-pixel variance-of-the-mean channels (variance.R/G/B) to the EXR.
     #[arg(long)]
     variance: bool,
@@ -95,24 +120,60 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
     scene.render.width = args.width.unwrap_or(scene.render.width);
     scene.render.height = args.height.unwrap_or(scene.render.height);
     scene.render.max_depth = args.max_depth.unwrap_or(scene.render.max_depth);
-    let budget = match (args.spp, args.time) {
-        (_, Some(t)) if !(t.is_finite() && t > 0.0) => bail!("--time must be a positive number of seconds"),
-        (_, Some(t)) => Budget::Time(Duration::from_secs_f64(t)),
-        (Some(0), _) => bail!("--spp must be at least 1"),
-        (Some(n), _) => Budget::Samples(n),
-        (None, None) => Budget::Samples(scene.render.spp.unwrap_or(DEFAULT_SPP)),
+    let spp = match args.spp {
+        Some(0) => bail!("--spp must be at least 1"),
+        Some(n) => n,
+        None => scene.render.spp.unwrap_or(DEFAULT_SPP),
     };
-    if !args.exposure.is_finite() {
+    let budget = match args.time {
+        Some(t) if !(t.is_finite() && t > 0.0) => bail!("--time must be a positive number of seconds"),
+        Some(t) => Budget::Time(Duration::from_secs_f64(t)),
+        None => Budget::Samples(spp),
+    };
+    if args.exposure.is_some_and(|e| !e.is_finite()) {
         bail!("--exposure must be finite");
     }
     let method = method_of(args.method, args.sampler, args.bsdf, args.lights);
+    // A part of a split render: a sample range, written as raw accumulators.
+    let part = match (&args.samples, args.shard) {
+        (Some(r), _) => Some((r.clone(), None)),
+        (None, Some((i, n))) => {
+            if n > spp {
+                bail!("--shard {i}/{n}: {spp} spp cannot be split into {n} non-empty ranges");
+            }
+            Some((shard_range(i, n, spp), Some(spp)))
+        }
+        (None, None) => None,
+    };
     let files = OutputFiles {
-        exr: args.output.clone().unwrap_or_else(|| default_output(&args.scene)),
+        exr: args.output.clone().unwrap_or_else(|| match &part {
+            Some((range, _)) => default_part_name(&args.scene, range),
+            None => default_output(&args.scene),
+        }),
         png: args.png.clone(),
-        display: DisplayTransform { exposure: args.exposure, ..DisplayTransform::default() },
+        display: DisplayTransform {
+            transfer: args.display.unwrap_or(scene.display.transfer),
+            exposure: args.exposure.unwrap_or(scene.display.exposure),
+        },
         variance: args.variance,
     };
-    let job = RenderJob { scene, scene_path: args.scene.clone(), method, seed: args.seed, budget };
+    let mut job = RenderJob::new(scene, args.scene.clone(), method, args.seed, budget);
+    let resume = if args.resume.is_some() { Resume::Required } else { Resume::Never };
+    if let Some((range, planned_total)) = &part {
+        if args.png.is_some() || args.variance || args.checkpoint.is_some() {
+            bail!("a sample range is written as a partial file for `pathlab merge`: --png, --variance and --checkpoint apply to the merged image");
+        }
+        job.budget = Budget::Samples(range.end - range.start);
+        job.first_sample = range.start;
+        let path = args.resume.clone().unwrap_or_else(|| files.exr.clone());
+        job.checkpoint = Some(CheckpointPlan { path, every: args.checkpoint_every, resume, planned_total: *planned_total });
+    } else if let Some(path) = args.checkpoint.clone().or(args.resume.clone()) {
+        if args.time.is_some() {
+            bail!("--checkpoint and --resume need a sample budget (--spp), not --time");
+        }
+        job.checkpoint = Some(CheckpointPlan { path, every: args.checkpoint_every, resume, planned_total: None });
+    }
+    let budget = job.budget;
 
     let gpu = Gpu::new(args.adapter.as_deref())?;
     eprintln!("adapter: {}", adapter_summary(&gpu.info));
@@ -121,9 +182,26 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
     let bar = progress_bar(budget, args.quiet);
     let outcome = job.run(&gpu, &pipelines, &cancel, |p| show_progress(&bar, budget, p))?;
     bar.finish_and_clear();
+    let (film, stats) = (&outcome.film, &outcome.stats);
+    if let (Some((range, _)), Some(plan)) = (&part, &job.checkpoint) {
+        eprintln!(
+            "wrote {} (samples {}..{} of {}x{}, method {}, {:.2} s)",
+            plan.path.display(),
+            range.start,
+            range.start + stats.spp,
+            film.width,
+            film.height,
+            method_label(&method),
+            stats.seconds
+        );
+        if stats.interrupted {
+            eprintln!("interrupted: continue with --resume {}", plan.path.display());
+            return Ok(EXIT_INTERRUPTED);
+        }
+        return Ok(0);
+    }
     job.write(&outcome, &gpu.info.name, &files)?;
 
-    let (film, stats) = (&outcome.film, &outcome.stats);
     let rate = stats.spp as f64 * film.mean.len() as f64 / stats.seconds.max(1e-9);
     eprintln!(
         "wrote {} ({}x{}, {} spp, method {} [{}], {:.2} s, {:.3} M pixel samples/s, {:.3} M rays/s)",
@@ -142,6 +220,9 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
     }
     if stats.interrupted {
         eprintln!("interrupted: the image holds the {} spp finished before Ctrl-C", stats.spp);
+        if let Some(plan) = &job.checkpoint {
+            eprintln!("continue with --resume {}", plan.path.display());
+        }
         return Ok(EXIT_INTERRUPTED);
     }
     Ok(0)

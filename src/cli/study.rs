@@ -49,9 +49,10 @@ pub struct StudyArgs {
     /// Path segments (default: the scene's).
     #[arg(long)]
     max_depth: Option<u32>,
-    /// Display transform of PSNR, SSIM, FLIP and the grid: `srgb` or `gamma:G`.
-    #[arg(long, default_value = "srgb")]
-    display: Transfer,
+    /// Display transform of PSNR, SSIM, FLIP and the grid: `srgb` or `gamma:G` (default: the
+    /// scene's [display] table, else srgb).
+    #[arg(long)]
+    display: Option<Transfer>,
     /// Target relMSE for the time-to-target column (default: what plain reaches at the largest spp).
     #[arg(long)]
     target: Option<f64>,
@@ -106,6 +107,10 @@ pub fn run(args: StudyArgs) -> anyhow::Result<i32> {
         scene.render.height = h;
     }
     scene.render.max_depth = args.max_depth.unwrap_or(scene.render.max_depth);
+    let display = match args.display {
+        Some(transfer) => DisplayTransform { transfer, exposure: scene.display.exposure },
+        None => scene.display,
+    };
     let study = Study {
         scene,
         scene_path: args.scene.clone(),
@@ -115,7 +120,7 @@ pub fn run(args: StudyArgs) -> anyhow::Result<i32> {
         times,
         seeds: args.seeds.unwrap_or(if q { 2 } else { 3 }),
         reference,
-        display: DisplayTransform { transfer: args.display, exposure: 0.0 },
+        display,
         target: args.target,
         checkpoint_every: Duration::from_secs_f64(args.checkpoint_every),
         command: std::env::args().map(|a| if a.contains(' ') { format!("'{a}'") } else { a }).collect::<Vec<_>>().join(" "),

@@ -33,11 +33,15 @@ pub enum MetricsError {
     SizeMismatch(u32, u32, u32, u32),
     #[error("the images are {0}x{1}; SSIM needs at least 7x7 pixels")]
     TooSmall(u32, u32),
+    #[error("z-test blocks of {0}x{0} pixels must divide the image size {1}x{2}")]
+    Block(u32, u32, u32),
 }
 
 /// The z-test of the correctness suite, summarised.
 #[derive(Debug, Clone, Copy, Serialize)]
 pub struct ZTestSummary {
+    /// Side of the pixel blocks tested (1: per pixel).
+    pub block: u32,
     pub alpha: f64,
     pub pass_fraction: f64,
     pub threshold: f64,
@@ -51,6 +55,7 @@ pub struct ZTestSummary {
 impl From<ZTest> for ZTestSummary {
     fn from(z: ZTest) -> Self {
         ZTestSummary {
+            block: 1,
             alpha: Z_TEST_ALPHA,
             pass_fraction: z.pass_fraction,
             threshold: z.threshold,
@@ -94,7 +99,17 @@ pub fn check_sizes(test: &Film, reference: &Film) -> Result<(), MetricsError> {
 /// Every metric of `test` against `reference`; `with_variance` says both films carry
 /// meaningful variances (then the per-pixel z-test runs).
 pub fn compare(test: &Film, reference: &Film, display: DisplayTransform, with_variance: bool) -> Result<Comparison, MetricsError> {
+    compare_blocks(test, reference, display, with_variance, 1)
+}
+
+/// Like `compare`, with the z-test on `block` x `block` pixel blocks (block means and their
+/// variances), as the correctness suite tests methods whose per-pixel estimates are too
+/// heavy-tailed for a normal approximation. `block` must divide both sides.
+pub fn compare_blocks(test: &Film, reference: &Film, display: DisplayTransform, with_variance: bool, block: u32) -> Result<Comparison, MetricsError> {
     check_sizes(test, reference)?;
+    if block == 0 || test.width % block != 0 || test.height % block != 0 {
+        return Err(MetricsError::Block(block, test.width, test.height));
+    }
     let (t, r) = (display.film(test), display.film(reference));
     Ok(Comparison {
         width: test.width,
@@ -106,6 +121,13 @@ pub fn compare(test: &Film, reference: &Film, display: DisplayTransform, with_va
         psnr: psnr(&r, &t),
         ssim: ssim(&r, &t),
         flip: flip(&r, &t),
-        z_test: with_variance.then(|| z_test(reference, test, Z_TEST_ALPHA).into()),
+        z_test: with_variance.then(|| {
+            let z = if block > 1 {
+                z_test(&reference.downsample(block), &test.downsample(block), Z_TEST_ALPHA)
+            } else {
+                z_test(reference, test, Z_TEST_ALPHA)
+            };
+            ZTestSummary { block, ..z.into() }
+        }),
     })
 }

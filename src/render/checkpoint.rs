@@ -15,13 +15,14 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
 
+use bytemuck::Zeroable;
 use clap::ValueEnum;
 use exr::prelude::*;
 use std::result::Result;
 
 use crate::gpu::AccumPixel;
 use crate::method::Method;
-use crate::output::{write_atomically, OutputError};
+use crate::output::{read_exr_layer, write_exr_layer, Metadata, OutputError};
 
 use super::{Budget, Film, Progress, RenderError, RenderStats, Renderer};
 
@@ -47,6 +48,9 @@ pub struct Checkpoint {
     pub spp: u64,
     /// Wall time spent rendering them, over every session.
     pub render_seconds: f64,
+    /// For a shard (`render --shard I/N`): the whole range [0, total) its render is split from,
+    /// so that `merge` can name missing shards at the end too.
+    pub planned_total: Option<u64>,
     pub pixels: Vec<AccumPixel>,
 }
 
@@ -67,26 +71,31 @@ const RGB: [&str; 3] = ["R", "G", "B"];
 
 impl CheckpointKey {
     fn fields(&self) -> Vec<(&'static str, String)> {
+        // Size and depth before the scene hash, which covers them too: a mismatch names the
+        // most specific field.
         vec![
-            ("scene_hash", self.scene_hash.clone()),
+            ("width", self.width.to_string()),
+            ("height", self.height.to_string()),
+            ("max_depth", self.max_depth.to_string()),
             ("sampler", self.method.sampler.name().to_string()),
             ("bsdf", self.method.bsdf.name().to_string()),
             ("lights", self.method.lights.name().to_string()),
             ("seed", self.seed.to_string()),
-            ("width", self.width.to_string()),
-            ("height", self.height.to_string()),
-            ("max_depth", self.max_depth.to_string()),
+            ("scene_hash", self.scene_hash.clone()),
         ]
+    }
+
+    /// The first field where `other` differs: (field, other's value, this one's value).
+    pub fn first_difference(&self, other: &CheckpointKey) -> Option<(&'static str, String, String)> {
+        self.fields().into_iter().zip(other.fields()).find(|((_, a), (_, b))| a != b).map(|((field, a), (_, b))| (field, b, a))
     }
 
     /// An error naming the first field where `other` (read from `path`) differs.
     fn check(&self, other: &CheckpointKey, path: &Path) -> Result<(), CheckpointError> {
-        for ((field, expected), (_, found)) in self.fields().into_iter().zip(other.fields()) {
-            if expected != found {
-                return Err(CheckpointError::Mismatch { path: path.to_path_buf(), field, found, expected });
-            }
+        match self.first_difference(other) {
+            Some((field, found, expected)) => Err(CheckpointError::Mismatch { path: path.to_path_buf(), field, found, expected }),
+            None => Ok(()),
         }
-        Ok(())
     }
 }
 
@@ -103,8 +112,7 @@ impl Checkpoint {
 
     /// Writes the checkpoint atomically.
     pub fn write(&self, path: &Path) -> Result<(), OutputError> {
-        let size = (self.key.width as usize, self.key.height as usize);
-        let mut list = SmallVec::new();
+        let mut list = Vec::new();
         for name in F32_CHANNELS {
             for (c, rgb) in RGB.iter().enumerate() {
                 let values: Vec<f32> = self
@@ -123,8 +131,6 @@ impl Checkpoint {
         list.push(AnyChannel::new("count", FlatSamples::U32(self.pixels.iter().map(|p| p.count).collect())));
         list.push(AnyChannel::new("rays_lo", FlatSamples::U32(self.pixels.iter().map(|p| p.rays_lo).collect())));
         list.push(AnyChannel::new("rays_hi", FlatSamples::U32(self.pixels.iter().map(|p| p.rays_hi).collect())));
-        let layer = Layer::new(size, LayerAttributes::default(), Encoding::FAST_LOSSLESS, AnyChannels::sort(list));
-        let mut image = Image::from_layer(layer);
         let mut header = self.key.fields();
         header.extend([
             ("kind", "accumulator".to_string()),
@@ -133,31 +139,19 @@ impl Checkpoint {
             ("render_seconds", format!("{:.6}", self.render_seconds)),
             ("version", crate::VERSION.to_string()),
         ]);
-        for (key, value) in header {
-            image
-                .attributes
-                .other
-                .insert(Text::from(format!("pathlab:{key}").as_str()), AttributeValue::Text(Text::from(value.as_str())));
+        if let Some(total) = self.planned_total {
+            header.push(("planned_total", total.to_string()));
         }
-        write_atomically(path, |w| {
-            let mut cursor = std::io::Cursor::new(Vec::new());
-            image.write().to_buffered(&mut cursor).map_err(|e| e.to_string())?;
-            std::io::Write::write_all(w, cursor.get_ref()).map_err(|e| e.to_string())
-        })
+        let metadata: Metadata = header.into_iter().map(|(k, v)| (k.to_string(), v)).collect();
+        write_exr_layer(path, (self.key.width as usize, self.key.height as usize), list, &metadata)
     }
 
     /// Reads a checkpoint, checking that it is complete and consistent.
     pub fn read(path: &Path) -> Result<Checkpoint, CheckpointError> {
         let invalid = |message: String| CheckpointError::Invalid { path: path.to_path_buf(), message };
-        let image = read_all_flat_layers_from_file(path).map_err(|e| invalid(format!("cannot read it as OpenEXR ({e})")))?;
-        let layer = image.layer_data.first().ok_or_else(|| invalid("no layer".into()))?;
+        let (layer, metadata) = read_exr_layer(path).map_err(|e| invalid(format!("cannot read it as OpenEXR ({e})")))?;
         let (w, h) = (layer.size.width(), layer.size.height());
-        let mut header = std::collections::HashMap::new();
-        for (key, value) in image.attributes.other.iter().chain(&layer.attributes.other) {
-            if let (Some(k), AttributeValue::Text(t)) = (key.to_string().strip_prefix("pathlab:"), value) {
-                header.insert(k.to_string(), t.to_string());
-            }
-        }
+        let header: std::collections::HashMap<String, String> = metadata.into_iter().collect();
         let get = |k: &str| header.get(k).cloned().ok_or_else(|| invalid(format!("header attribute pathlab:{k} missing")));
         if get("kind")? != "accumulator" {
             return Err(invalid("pathlab:kind is not `accumulator`".into()));
@@ -213,35 +207,62 @@ impl Checkpoint {
             return Err(invalid(format!("pixel {i} holds {} samples, the header says {spp}", pixels[i].count)));
         }
         let render_seconds = get("render_seconds")?.parse().map_err(|_| invalid("pathlab:render_seconds is not a number".into()))?;
-        Ok(Checkpoint { key, first_sample: num("first_sample")?, spp, render_seconds, pixels })
+        let planned_total = match header.get("planned_total") {
+            Some(t) => Some(t.parse().map_err(|_| invalid("pathlab:planned_total is not a number".into()))?),
+            None => None,
+        };
+        Ok(Checkpoint { key, first_sample: num("first_sample")?, spp, render_seconds, planned_total, pixels })
     }
 }
 
-use bytemuck::Zeroable;
+/// What to do with an accumulator file that already exists when a render starts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Resume {
+    /// Start afresh; the file is replaced at the first save.
+    Never,
+    /// Continue it when present (the study's reference).
+    IfPresent,
+    /// Continue it; its absence is an error (`render --resume`).
+    Required,
+}
 
-/// Renders `total_spp` samples per pixel with `renderer` (fresh, for `key`), saving the
-/// accumulators to `path` every `every` and at the end. When `path` holds a checkpoint of the
-/// same key it is continued (and an error names the field when the key differs). Returns the
-/// final checkpoint (its `render_seconds` counts every session) and whether `cancel` stopped it.
+/// Where and how often a render saves its accumulators.
+#[derive(Debug, Clone)]
+pub struct CheckpointPlan {
+    pub path: PathBuf,
+    pub every: Duration,
+    pub resume: Resume,
+    /// Recorded in the file (see `Checkpoint::planned_total`).
+    pub planned_total: Option<u64>,
+}
+
+/// Renders until the renderer holds `total_spp` samples per pixel (fresh, for `key`, its first
+/// sample index already set), saving the accumulators to `plan.path` every `plan.every` and at
+/// the end. A saved file of another key is refused naming the field. Returns the final
+/// checkpoint (its `render_seconds` counts every session) and whether `cancel` stopped it.
 pub fn render_checkpointed(
     renderer: &mut Renderer,
     key: &CheckpointKey,
     total_spp: u64,
-    path: &Path,
-    every: Duration,
+    plan: &CheckpointPlan,
     cancel: &AtomicBool,
     mut progress: impl FnMut(Progress),
 ) -> Result<(Checkpoint, bool), CheckpointError> {
+    let path = plan.path.as_path();
     let mut seconds_before = 0.0;
-    if path.exists() {
+    let exists = path.exists();
+    if plan.resume == Resume::Required && !exists {
+        return Err(CheckpointError::Invalid { path: path.to_path_buf(), message: "no such file to resume from".into() });
+    }
+    if exists && plan.resume != Resume::Never {
         let saved = Checkpoint::read(path)?;
         key.check(&saved.key, path)?;
-        if saved.spp > total_spp {
+        if saved.first_sample != renderer.first_sample() || saved.spp > total_spp {
             return Err(CheckpointError::Mismatch {
                 path: path.to_path_buf(),
-                field: "spp",
-                found: saved.spp.to_string(),
-                expected: format!("at most {total_spp}"),
+                field: "samples",
+                found: format!("{}..{}", saved.first_sample, saved.first_sample + saved.spp),
+                expected: format!("a start at {} and at most {total_spp} spp", renderer.first_sample()),
             });
         }
         renderer.restore(saved.first_sample, saved.spp, &saved.pixels)?;
@@ -253,7 +274,7 @@ pub fn render_checkpointed(
         let remaining = total_spp - renderer.spp();
         if remaining > 0 && !interrupted {
             let stats: RenderStats =
-                renderer.render_until(Budget::Samples(remaining), Some(Instant::now() + every), cancel, &mut progress)?;
+                renderer.render_until(Budget::Samples(remaining), Some(Instant::now() + plan.every), cancel, &mut progress)?;
             interrupted = stats.interrupted;
         }
         let checkpoint = Checkpoint {
@@ -261,6 +282,7 @@ pub fn render_checkpointed(
             first_sample: renderer.first_sample(),
             spp: renderer.spp(),
             render_seconds: seconds_before + start.elapsed().as_secs_f64(),
+            planned_total: plan.planned_total,
             pixels: renderer.accumulators()?,
         };
         checkpoint.write(path)?;

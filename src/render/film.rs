@@ -18,16 +18,26 @@ pub struct Film {
 impl Film {
     /// Mean and variance of the mean from compensated sums (computed in f64).
     pub fn from_accumulators(width: u32, height: u32, spp: u64, pixels: &[AccumPixel]) -> Film {
+        // Kahan's err holds minus the part of the sum not yet in `sum`.
+        let sums = pixels.iter().map(|p| {
+            (
+                std::array::from_fn(|c| p.sum[c] as f64 - p.sum_err[c] as f64),
+                std::array::from_fn(|c| p.sum_sq[c] as f64 - p.sum_sq_err[c] as f64),
+            )
+        });
+        Film::from_sums(width, height, spp, sums)
+    }
+
+    /// Mean and variance of the mean from per-pixel (sum, sum of squares) of `spp` samples.
+    pub fn from_sums(width: u32, height: u32, spp: u64, sums: impl ExactSizeIterator<Item = ([f64; 3], [f64; 3])>) -> Film {
         let n = spp as f64;
-        let mut mean = Vec::with_capacity(pixels.len());
-        let mut variance = Vec::with_capacity(pixels.len());
-        for p in pixels {
+        let mut mean = Vec::with_capacity(sums.len());
+        let mut variance = Vec::with_capacity(sums.len());
+        for (sum, sum_sq) in sums {
             let mut m = [0.0f32; 3];
             let mut v = [0.0f32; 3];
             for c in 0..3 {
-                // Kahan's err holds minus the part of the sum not yet in `sum`.
-                let sum = p.sum[c] as f64 - p.sum_err[c] as f64;
-                let sum_sq = p.sum_sq[c] as f64 - p.sum_sq_err[c] as f64;
+                let (sum, sum_sq) = (sum[c], sum_sq[c]);
                 let mu = if n > 0.0 { sum / n } else { 0.0 };
                 m[c] = mu as f32;
                 if n > 1.0 {

@@ -15,10 +15,10 @@ use crate::method::{Method, Preset};
 use crate::output::{write_exr, write_png, Metadata, OutputError};
 use crate::scene::Scene;
 
-use super::{Budget, Film, Progress, RenderError, RenderStats, Renderer};
+use super::{render_checkpointed, Budget, CheckpointError, CheckpointKey, CheckpointPlan, Film, Progress, RenderStats, Renderer};
 
 /// What to render: the scene (with any size or depth overrides applied), where it came from,
-/// the method, the seed and the budget.
+/// the method, the seed, the budget, the first sample index, and where to checkpoint.
 #[derive(Debug, Clone)]
 pub struct RenderJob {
     pub scene: Scene,
@@ -26,6 +26,10 @@ pub struct RenderJob {
     pub method: Method,
     pub seed: u32,
     pub budget: Budget,
+    /// Sample index of the first sample (0 except for a sample range of a split render).
+    pub first_sample: u64,
+    /// Save the accumulators during the render (needs a sample budget).
+    pub checkpoint: Option<CheckpointPlan>,
 }
 
 /// A finished (or interrupted) render.
@@ -101,18 +105,48 @@ pub fn show_progress(bar: &ProgressBar, budget: Budget, p: Progress) {
 }
 
 impl RenderJob {
-    /// Renders until the budget is met or `cancel` is set, and reads the film back.
+    /// A job of `budget` from sample index 0, without checkpoints.
+    pub fn new(scene: Scene, scene_path: PathBuf, method: Method, seed: u32, budget: Budget) -> RenderJob {
+        RenderJob { scene, scene_path, method, seed, budget, first_sample: 0, checkpoint: None }
+    }
+
+    /// What a checkpoint of this job must match.
+    pub fn checkpoint_key(&self) -> CheckpointKey {
+        CheckpointKey {
+            scene_hash: self.scene.content_hash(),
+            method: self.method,
+            seed: self.seed,
+            width: self.scene.render.width,
+            height: self.scene.render.height,
+            max_depth: self.scene.render.max_depth,
+        }
+    }
+
+    /// Renders until the budget is met or `cancel` is set (saving checkpoints when planned),
+    /// and reads the film back.
     pub fn run(
         &self,
         gpu: &Gpu,
         pipelines: &PathTracerPipelines,
         cancel: &AtomicBool,
         progress: impl FnMut(Progress),
-    ) -> Result<RenderOutcome, RenderError> {
+    ) -> Result<RenderOutcome, CheckpointError> {
         let mut renderer = Renderer::new(gpu, pipelines, &self.scene, self.method, self.seed)?;
-        let stats = renderer.render(self.budget, cancel, progress)?;
-        let readback = renderer.readback()?;
-        Ok(RenderOutcome { film: readback.film, rays: readback.rays, stats })
+        if self.first_sample > 0 {
+            renderer.start_at_sample(self.first_sample)?;
+        }
+        let Some(plan) = &self.checkpoint else {
+            let stats = renderer.render(self.budget, cancel, progress)?;
+            let readback = renderer.readback()?;
+            return Ok(RenderOutcome { film: readback.film, rays: readback.rays, stats });
+        };
+        let Budget::Samples(spp) = self.budget else {
+            return Err(CheckpointError::Invalid { path: plan.path.clone(), message: "checkpoints need a sample budget (--spp), not a time".into() });
+        };
+        let (saved, interrupted) = render_checkpointed(&mut renderer, &self.checkpoint_key(), spp, plan, cancel, progress)?;
+        // Seconds of every session that rendered these samples.
+        let stats = RenderStats { spp: saved.spp, seconds: saved.render_seconds, frames: 0, interrupted };
+        Ok(RenderOutcome { film: saved.film(), rays: saved.rays(), stats })
     }
 
     /// The EXR header of `outcome`: `pathlab:KEY` attributes.
@@ -129,6 +163,9 @@ impl RenderJob {
             ("render_seconds", format!("{:.6}", outcome.stats.seconds)),
             ("rays", outcome.rays.to_string()),
             ("scene", self.scene_path.display().to_string()),
+            ("scene_hash", self.scene.content_hash()),
+            ("display", self.scene.display.transfer.to_string()),
+            ("exposure", self.scene.display.exposure.to_string()),
             ("adapter", adapter.to_string()),
             ("version", crate::VERSION.to_string()),
         ]

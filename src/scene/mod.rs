@@ -95,6 +95,9 @@ pub struct Scene {
     pub materials: Vec<Material>,
     pub spheres: Vec<Sphere>,
     pub planes: Vec<Plane>,
+    /// How images of this scene are shown and scored on screen (`[display]`, default sRGB):
+    /// PNG previews, figures and the display-referred metrics. Not part of `content_hash`.
+    pub display: crate::display::DisplayTransform,
     /// Findings that do not stop rendering (unused materials, black scenes, ...).
     pub warnings: Vec<Diagnostic>,
 }

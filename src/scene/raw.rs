@@ -18,6 +18,15 @@ pub(crate) struct RawScene {
     pub spheres: Vec<Spanned<RawSphere>>,
     #[serde(default)]
     pub planes: Vec<Spanned<RawPlane>>,
+    pub display: Option<Spanned<RawDisplay>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawDisplay {
+    pub transfer: Option<Spanned<String>>,
+    pub gamma: Option<Spanned<f64>>,
+    pub exposure: Option<Spanned<f64>>,
 }
 
 #[derive(Debug, Deserialize)]

@@ -8,6 +8,8 @@ use std::path::Path;
 use glam::DVec3;
 use toml::Spanned;
 
+use crate::display::{DisplayTransform, Transfer};
+
 use super::diagnostic::LineIndex;
 use super::raw::{RawColor, RawMaterial, RawScene};
 use super::{
@@ -106,6 +108,7 @@ pub(super) fn parse_and_validate(text: &str, file: &Path) -> Result<Scene, Scene
     let camera = check_camera(&mut ck, &raw);
     let render = check_render(&mut ck, &raw);
     let (materials, names) = check_materials(&mut ck, &raw);
+    let display = check_display(&mut ck, &raw);
 
     let mut used = BTreeSet::new();
     let mut resolve = |ck: &mut Checker, name: &Spanned<String>, field: &str| -> usize {
@@ -198,8 +201,45 @@ pub(super) fn parse_and_validate(text: &str, file: &Path) -> Result<Scene, Scene
         materials,
         spheres,
         planes,
+        display,
         warnings: ck.diagnostics,
     })
+}
+
+/// `[display]`: `transfer = "srgb"` (default) or `"gamma"` with `gamma = G > 0`; `exposure` in
+/// stops (default 0).
+fn check_display(ck: &mut Checker, raw: &RawScene) -> DisplayTransform {
+    let Some(d) = &raw.display else { return DisplayTransform::default() };
+    let d = d.get_ref();
+    let exposure = d.exposure.as_ref().map_or(0.0, |e| ck.number(e, "display.exposure")) as f32;
+    let gamma = d.gamma.as_ref().map(|g| {
+        let v = ck.number(g, "display.gamma");
+        if !(v > 0.0) && g.get_ref().is_finite() {
+            ck.error(g.span(), "display.gamma", format!("gamma must be > 0 (got {v})"));
+        }
+        v
+    });
+    let transfer = match d.transfer.as_ref().map(|t| (t.get_ref().as_str(), t.span())) {
+        None | Some(("srgb", _)) => {
+            if let (Some(g), Some(_)) = (&d.gamma, gamma) {
+                ck.error(g.span(), "display.gamma", "gamma applies only with transfer = \"gamma\"");
+            }
+            Transfer::Srgb
+        }
+        Some(("gamma", span)) => match gamma {
+            Some(g) if g > 0.0 => Transfer::Gamma(g as f32),
+            Some(_) => Transfer::Srgb,
+            None => {
+                ck.error(span, "display.gamma", "transfer = \"gamma\" needs gamma = G (e.g. 2.2; the study used 1.6)");
+                Transfer::Srgb
+            }
+        },
+        Some((other, span)) => {
+            ck.error(span, "display.transfer", format!("unknown transfer \"{other}\" (known: \"srgb\", \"gamma\")"));
+            Transfer::Srgb
+        }
+    };
+    DisplayTransform { transfer, exposure }
 }
 
 fn check_camera(ck: &mut Checker, raw: &RawScene) -> Camera {

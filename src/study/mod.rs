@@ -137,7 +137,7 @@ impl Study {
     }
 
     fn job(&self, method: &StudyMethod, budget: Budget, seed: u32) -> RenderJob {
-        RenderJob { scene: self.scene.clone(), scene_path: self.scene_path.clone(), method: method.method, seed, budget }
+        RenderJob::new(self.scene.clone(), self.scene_path.clone(), method.method, seed, budget)
     }
 
     /// The largest spp: its images (every seed) feed the bias verdicts.

@@ -13,7 +13,7 @@ use std::time::Duration;
 use crate::gpu::{Gpu, PathTracerPipelines};
 use crate::method::Method;
 use crate::output::{read_exr_image, write_exr, Metadata};
-use crate::render::{progress_bar, render_checkpointed, show_progress, Budget, CheckpointKey, Film, Renderer};
+use crate::render::{progress_bar, render_checkpointed, show_progress, Budget, CheckpointKey, CheckpointPlan, Film, Renderer, Resume};
 use crate::scene::Scene;
 
 use super::StudyError;
@@ -146,9 +146,8 @@ pub fn render(
     eprintln!("reference: rendering {description} (checkpoint every {} s)", every.as_secs_f64());
     let mut renderer = Renderer::new(gpu, pipelines, scene, method, REFERENCE_SEED)?;
     let bar = progress_bar(Budget::Samples(spp), quiet);
-    let (saved, interrupted) = render_checkpointed(&mut renderer, &key, spp, &checkpoint, every, cancel, |p| {
-        show_progress(&bar, Budget::Samples(spp), p)
-    })?;
+    let plan = CheckpointPlan { path: checkpoint.clone(), every, resume: Resume::IfPresent, planned_total: None };
+    let (saved, interrupted) = render_checkpointed(&mut renderer, &key, spp, &plan, cancel, |p| show_progress(&bar, Budget::Samples(spp), p))?;
     bar.finish_and_clear();
     if interrupted {
         eprintln!("reference: interrupted at {} of {spp} spp; checkpoint saved in {}", saved.spp, checkpoint.display());
