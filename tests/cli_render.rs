@@ -175,3 +175,23 @@ fn outputs_follow_the_umask() {
         }
     }
 }
+
+/// Headless commands print no windowing-system noise: Mesa's device-select layer would make
+/// libwayland print "error: XDG_RUNTIME_DIR is invalid or not set" on a machine without a
+/// session directory.
+#[test]
+fn headless_commands_print_no_windowing_noise() {
+    let dir = temp_dir("headless");
+    for args in [vec!["adapters"], vec!["render", "--width", "8", "--height", "4", "--spp", "1", "--quiet", "-o", "h.exr"]] {
+        let mut cmd = pathlab();
+        cmd.current_dir(&dir).env_remove("XDG_RUNTIME_DIR").env_remove("NODEVICE_SELECT").arg(args[0]);
+        if args[0] == "render" {
+            cmd.arg(study());
+        }
+        let out = cmd.args(&args[1..]).output().unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{stderr}");
+        assert!(!stderr.contains("XDG_RUNTIME_DIR"), "{args:?}: {stderr}");
+        assert!(!stderr.contains("error"), "{args:?}: {stderr}");
+    }
+}

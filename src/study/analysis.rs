@@ -99,7 +99,12 @@ pub struct Fit {
     /// Coefficient of determination.
     pub r2: f64,
     pub points: usize,
+    /// Largest x fitted.
+    pub x_max: f64,
 }
+
+/// `Fit::solve` extrapolates at most this factor beyond the largest x measured.
+pub const MAX_EXTRAPOLATION: f64 = 100.0;
 
 impl Fit {
     /// Least squares through (ln x, ln y) of the positive points; `None` with fewer than two
@@ -117,7 +122,8 @@ impl Fit {
         }
         let slope = sxy / sxx;
         let r2 = if syy > 0.0 { (sxy * sxy) / (sxx * syy) } else { 1.0 };
-        Some(Fit { slope, intercept: my - slope * mx, r2, points: pts.len() })
+        let x_max = pts.iter().map(|p| p.0).fold(f64::MIN, f64::max).exp();
+        Some(Fit { slope, intercept: my - slope * mx, r2, points: pts.len(), x_max })
     }
 
     /// The fitted relMSE at x.
@@ -125,9 +131,14 @@ impl Fit {
         (self.intercept + self.slope * x.ln()).exp()
     }
 
-    /// The x at which the fit reaches `target` (only for decreasing fits).
+    /// The x at which the fit reaches `target`: only for decreasing fits, and only up to
+    /// `MAX_EXTRAPOLATION` times the largest x measured (beyond, the fit says nothing).
     pub fn solve(&self, target: f64) -> Option<f64> {
-        (self.slope < 0.0 && target > 0.0).then(|| ((target.ln() - self.intercept) / self.slope).exp())
+        if !(self.slope < 0.0 && target > 0.0) {
+            return None;
+        }
+        let x = ((target.ln() - self.intercept) / self.slope).exp();
+        (x <= MAX_EXTRAPOLATION * self.x_max).then_some(x)
     }
 }
 
@@ -184,6 +195,8 @@ mod tests {
         let f = Fit::log_log(&pts).unwrap();
         assert!((f.slope + 1.0).abs() < 1e-12 && (f.intercept - 2f64.ln()).abs() < 1e-12 && (f.r2 - 1.0).abs() < 1e-12);
         assert!((f.solve(0.02).unwrap() - 100.0).abs() < 1e-9);
+        // Beyond 100x the largest x measured (64), no prediction.
+        assert!(f.solve(2.0 / 6399.0).is_some() && f.solve(2.0 / 6500.0).is_none());
         assert!((f.at(8.0) - 0.25).abs() < 1e-12);
         assert!(Fit::log_log(&[(1.0, 1.0)]).is_none());
     }
