@@ -7,6 +7,7 @@
 //! - `render`: the frame loop, accumulation and readback;
 //! - `output`: EXR and PNG files, written atomically;
 //! - `display`: the display transform (sRGB or gamma, exposure) of PNGs, figures and metrics;
+//! - `estimate`: error estimates without a reference, and rendering to a target error;
 //! - `metrics`: MSE, relative MSE, bias, PSNR, SSIM, FLIP;
 //! - `figures`: error maps, plots and image grids with an embedded font;
 //! - `shard`: sample ranges of split renders and their exact merge;
@@ -15,6 +16,7 @@
 //! - `stats`: quantiles, Šidák correction, per-pixel z-tests.
 
 pub mod display;
+pub mod estimate;
 pub mod figures;
 pub mod gpu;
 pub mod metrics;

@@ -12,6 +12,9 @@ use pathlab::method::{BsdfSampling, LightSampling, Method, Preset, Sampler};
 use pathlab::render::{
     ctrl_c_flag, default_output, method_label, progress_bar, show_progress, Budget, CheckpointPlan, OutputFiles, RenderJob, Resume,
 };
+use pathlab::estimate::target::{render_to_target, Target};
+use pathlab::output::Metadata;
+use pathlab::render::{RenderOutcome, RenderStats};
 use pathlab::shard::{default_part_name, shard_range};
 
 use super::{load_scene, parse_duration, EXIT_INTERRUPTED};
@@ -53,6 +56,13 @@ pub struct RenderArgs {
     /// saving to it as it goes.
     #[arg(long)]
     resume: Option<PathBuf>,
+    /// Render until the estimated relMSE (no reference needed) is at most this; --spp and
+    /// --time become upper bounds.
+    #[arg(long, conflicts_with_all = ["target_psnr", "samples", "shard", "checkpoint", "resume"])]
+    target_rel_error: Option<f64>,
+    /// Render until the estimated PSNR of the display image is at least this (dB).
+    #[arg(long, conflicts_with_all = ["samples", "shard", "checkpoint", "resume"])]
+    target_psnr: Option<f64>,
     /// Interval between checkpoints: seconds, or with a unit (30s, 5m, 2h).
     #[arg(long, default_value = "5m", value_parser = parse_duration)]
     checkpoint_every: Duration,
@@ -174,6 +184,16 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
         job.checkpoint = Some(CheckpointPlan { path, every: args.checkpoint_every, resume, planned_total: None });
     }
     let budget = job.budget;
+    let target = match (args.target_rel_error, args.target_psnr) {
+        (Some(e), _) if !(e.is_finite() && e > 0.0) => bail!("--target-rel-error must be a positive relative MSE"),
+        (Some(e), _) => Some(Target::RelMse(e)),
+        (None, Some(db)) if !db.is_finite() => bail!("--target-psnr must be a number of dB"),
+        (None, Some(db)) => Some(Target::Psnr(db)),
+        (None, None) => None,
+    };
+    if let Some(target) = target {
+        return render_target(&args, &job, target, &files);
+    }
 
     let gpu = Gpu::new(args.adapter.as_deref())?;
     eprintln!("adapter: {}", adapter_summary(&gpu.info));
@@ -200,7 +220,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
         }
         return Ok(0);
     }
-    job.write(&outcome, &gpu.info.name, &files)?;
+    job.write(&outcome, &gpu.info.name, &files, &Vec::new())?;
 
     let rate = stats.spp as f64 * film.mean.len() as f64 / stats.seconds.max(1e-9);
     eprintln!(
@@ -226,4 +246,68 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
         return Ok(EXIT_INTERRUPTED);
     }
     Ok(0)
+}
+
+/// `--target-rel-error` / `--target-psnr`: render until the estimate meets the target.
+fn render_target(args: &RenderArgs, job: &RenderJob, target: Target, files: &OutputFiles) -> anyhow::Result<i32> {
+    let gpu = Gpu::new(args.adapter.as_deref())?;
+    eprintln!("adapter: {}", adapter_summary(&gpu.info));
+    let pipelines = PathTracerPipelines::new(&gpu.device);
+    let cancel = ctrl_c_flag();
+    let bar = indicatif::ProgressBar::new_spinner();
+    if args.quiet || !std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+        bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());
+    }
+    let max_time = args.time.map(Duration::from_secs_f64);
+    let out = render_to_target(&gpu, &pipelines, &job.scene, job.method, job.seed, target, &files.display, args.spp, max_time, &cancel, |p| {
+        let est = p.estimate.map_or("estimating".to_string(), |e| match target {
+            Target::RelMse(t) => format!("relMSE ~{:.3e} (target {t:.3e})", e.rel_mse),
+            Target::Psnr(db) => format!("PSNR ~{:.2} dB (target {db} dB)", e.psnr.unwrap_or(0.0)),
+        });
+        let eta = p.eta.map_or(String::new(), |d| format!(", ETA {:.1} s", d.as_secs_f64()));
+        bar.set_message(format!("{} spp, {:.1} s, {est}{eta}", p.spp, p.elapsed.as_secs_f64()));
+        bar.tick();
+    })?;
+    bar.finish_and_clear();
+    let outcome = RenderOutcome {
+        stats: RenderStats { spp: out.film.spp, seconds: out.seconds, frames: 0, interrupted: out.interrupted },
+        film: out.film,
+        rays: out.rays,
+    };
+    let (target_key, target_value) = match target {
+        Target::RelMse(t) => ("target_rel_mse", t),
+        Target::Psnr(db) => ("target_psnr", db),
+    };
+    let extra: Metadata = [
+        (target_key, target_value.to_string()),
+        ("estimated_rel_mse", format!("{:.6e}", out.estimate.rel_mse)),
+        ("estimated_psnr", out.estimate.psnr.map_or("-".into(), |p| format!("{p:.4}"))),
+        ("estimator", out.estimator.describe()),
+        ("target_reached", out.reached.to_string()),
+    ]
+    .into_iter()
+    .map(|(k, v)| (k.to_string(), v))
+    .collect();
+    job.write(&outcome, &gpu.info.name, files, &extra)?;
+    eprintln!(
+        "wrote {} ({} spp, {:.2} s; estimated relMSE {:.3e}, PSNR {} under {}; {}; target {}; {} checks took {:.2}% of the time)",
+        files.exr.display(),
+        outcome.stats.spp,
+        out.seconds,
+        out.estimate.rel_mse,
+        out.estimate.psnr.map_or("-".into(), |p| format!("{p:.2} dB")),
+        files.display,
+        out.estimator.describe(),
+        if out.reached { "reached" } else { "NOT reached (an upper bound stopped it)" },
+        out.checks,
+        100.0 * out.check_seconds / out.seconds.max(1e-9)
+    );
+    if let Some(png) = &files.png {
+        eprintln!("wrote {}", png.display());
+    }
+    if out.interrupted {
+        eprintln!("interrupted: the image holds the {} spp finished before Ctrl-C", outcome.stats.spp);
+        return Ok(EXIT_INTERRUPTED);
+    }
+    Ok(if out.reached { 0 } else { 3 })
 }

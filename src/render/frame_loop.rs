@@ -255,6 +255,11 @@ impl<'g> Renderer<'g> {
         self.bands.len()
     }
 
+    /// Image width and height.
+    pub fn size(&self) -> (u32, u32) {
+        (self.params.width, self.params.height)
+    }
+
     /// Samples per pixel accumulated so far.
     pub fn spp(&self) -> u64 {
         self.spp_done
@@ -510,8 +515,31 @@ impl<'g> Renderer<'g> {
     }
 
     fn read_band(&self, band: &Band) -> Result<Vec<AccumPixel>, RenderError> {
+        self.read_regions(&[(&band.accum, 0, band.accum.size())])
+    }
+
+    /// The accumulators of rows 0, stride, 2 stride, ... (row-major): a cheap sample of the
+    /// image for error estimates during a render. Returns the pixels and the number of rows.
+    pub fn accumulator_rows(&self, stride: u32) -> Result<(Vec<AccumPixel>, u32), RenderError> {
+        let row_bytes = self.params.width as u64 * std::mem::size_of::<AccumPixel>() as u64;
+        let mut regions = Vec::new();
+        for y in (0..self.params.height).step_by(stride.max(1) as usize) {
+            let band = self.bands.iter().find(|b| y >= b.y0 && y < b.y0 + b.rows).expect("bands cover the image");
+            regions.push((&band.accum, (y - band.y0) as u64 * row_bytes, row_bytes));
+        }
+        let rows = regions.len() as u32;
+        let pixels = self.read_regions(&regions)?;
+        if pixels.iter().any(|p| p.count as u64 != self.spp_done % (1 << 32)) {
+            return Err(RenderError::Readback("a pixel holds fewer samples than submitted: the device dropped work".into()));
+        }
+        Ok((pixels, rows))
+    }
+
+    /// Copies `regions` (buffer, byte offset, bytes) one after another into a staging buffer
+    /// and reads it back.
+    fn read_regions(&self, regions: &[(&wgpu::Buffer, u64, u64)]) -> Result<Vec<AccumPixel>, RenderError> {
         let device = &self.gpu.device;
-        let size = band.accum.size();
+        let size: u64 = regions.iter().map(|r| r.2).sum();
         let staging = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("readback"),
             size,
@@ -519,7 +547,11 @@ impl<'g> Renderer<'g> {
             mapped_at_creation: false,
         });
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("readback") });
-        encoder.copy_buffer_to_buffer(&band.accum, 0, &staging, 0, size);
+        let mut at = 0;
+        for &(buffer, offset, bytes) in regions {
+            encoder.copy_buffer_to_buffer(buffer, offset, &staging, at, bytes);
+            at += bytes;
+        }
         let index = self.gpu.queue.submit([encoder.finish()]);
         let (tx, rx) = std::sync::mpsc::channel();
         staging.map_async(wgpu::MapMode::Read, .., move |r| {

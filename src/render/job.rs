@@ -174,9 +174,11 @@ impl RenderJob {
         .collect()
     }
 
-    /// Writes the EXR (and PNG) of `outcome`, each atomically.
-    pub fn write(&self, outcome: &RenderOutcome, adapter: &str, files: &OutputFiles) -> Result<(), OutputError> {
-        write_exr(&files.exr, &outcome.film, &self.metadata(outcome, adapter), files.variance)?;
+    /// Writes the EXR (and PNG) of `outcome`, each atomically; `extra` joins the header.
+    pub fn write(&self, outcome: &RenderOutcome, adapter: &str, files: &OutputFiles, extra: &Metadata) -> Result<(), OutputError> {
+        let mut metadata = self.metadata(outcome, adapter);
+        metadata.extend(extra.iter().cloned());
+        write_exr(&files.exr, &outcome.film, &metadata, files.variance)?;
         if let Some(png) = &files.png {
             write_png(png, &files.display.film(&outcome.film))?;
         }

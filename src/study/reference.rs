@@ -44,16 +44,10 @@ pub struct Reference {
     pub expected_rel_mse: Option<f64>,
 }
 
-/// The reference's own expected relative MSE from its per-pixel variance of the mean.
+/// The reference's own expected relMSE: its per-pixel variance of the mean over
+/// (mean^2 + 0.01), the estimate `estimate::within_pixel` makes.
 pub fn expected_rel_mse(film: &Film) -> f64 {
-    let eps = crate::metrics::linear::REL_MSE_EPSILON;
-    let total: f64 = film
-        .mean
-        .iter()
-        .zip(&film.variance)
-        .flat_map(|(m, v)| (0..3).map(move |c| v[c] as f64 / ((m[c] as f64).powi(2) + eps)))
-        .sum();
-    total / (3 * film.mean.len()).max(1) as f64
+    crate::estimate::within_pixel(film, None).rel_mse
 }
 
 pub fn exr_path(dir: &Path) -> PathBuf {
