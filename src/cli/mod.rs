@@ -1,6 +1,7 @@
 //! Command-line interface: argument parsing (clap) and the subcommands. Errors are `anyhow`
 //! here, at the edge; the library reports typed errors.
 
+mod advise;
 mod bench;
 mod compare;
 mod merge;
@@ -41,6 +42,9 @@ enum Command {
     Merge(merge::MergeArgs),
     /// Score one EXR against a reference: MSE, relMSE, bias, PSNR, SSIM, FLIP, z-test.
     Compare(compare::CompareArgs),
+    /// Predict which method reaches a target error first, from short pilots (--verify renders
+    /// the winner).
+    Advise(advise::AdviseArgs),
     /// Measure samples per second of every method (device time, host overhead, compile time).
     Bench(bench::BenchArgs),
     /// List the graphics adapters wgpu can see, best first.
@@ -53,6 +57,7 @@ pub fn run() -> i32 {
     let result = match cli.command {
         Command::Render(args) => render::run(args),
         Command::Bench(args) => bench::run(args),
+        Command::Advise(args) => advise::run(args),
         Command::Compare(args) => compare::run(args),
         Command::Merge(args) => merge::run(args),
         Command::Study(args) => study::run(args),

@@ -58,7 +58,7 @@ pub struct RenderArgs {
     resume: Option<PathBuf>,
     /// Render until the estimated relMSE (no reference needed) is at most this; --spp and
     /// --time become upper bounds.
-    #[arg(long, conflicts_with_all = ["target_psnr", "samples", "shard", "checkpoint", "resume"])]
+    #[arg(long, conflicts_with_all = ["target_psnr", "samples", "shard", "checkpoint", "resume"], allow_negative_numbers = true)]
     target_rel_error: Option<f64>,
     /// Render until the estimated PSNR of the display image is at least this (dB).
     #[arg(long, conflicts_with_all = ["samples", "shard", "checkpoint", "resume"])]
@@ -259,7 +259,7 @@ fn render_target(args: &RenderArgs, job: &RenderJob, target: Target, files: &Out
         bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());
     }
     let max_time = args.time.map(Duration::from_secs_f64);
-    let out = render_to_target(&gpu, &pipelines, &job.scene, job.method, job.seed, target, &files.display, args.spp, max_time, &cancel, |p| {
+    let out = render_to_target(&gpu, &pipelines, &job.scene, job.method, job.seed, Some(target), &files.display, args.spp, max_time, None, &cancel, |p| {
         let est = p.estimate.map_or("estimating".to_string(), |e| match target {
             Target::RelMse(t) => format!("relMSE ~{:.3e} (target {t:.3e})", e.rel_mse),
             Target::Psnr(db) => format!("PSNR ~{:.2} dB (target {db} dB)", e.psnr.unwrap_or(0.0)),

@@ -18,6 +18,7 @@
 //! through the display transform g: E[(g(X) - g(mu))^2] ~ ((g(m + s) - g(m - s)) / 2)^2 with
 //! s the standard error (the secant form of the delta method, which also handles clipping).
 
+pub mod advise;
 pub mod target;
 
 use serde::Serialize;

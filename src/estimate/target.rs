@@ -81,6 +81,8 @@ pub struct TargetOutcome {
     /// Estimates made along the way, and the wall time they took.
     pub checks: u32,
     pub check_seconds: f64,
+    /// Every check: (seconds of rendering so far, spp, estimate).
+    pub history: Vec<(f64, u64, ErrorEstimate)>,
 }
 
 /// Seed of randomisation `r` (r = 0 keeps `seed`).
@@ -88,8 +90,10 @@ pub fn randomisation_seed(seed: u32, r: u32) -> u32 {
     seed.wrapping_add(r.wrapping_mul(0x9E37_79B9))
 }
 
-/// Renders `scene` with `method` until `target` is met, `max_spp` samples per pixel (all
-/// randomisations together) or `max_time` is spent, or `cancel` is set.
+/// Renders `scene` with `method` until `target` is met (never, for `None`: a pilot that only
+/// records its estimates), `max_spp` samples per pixel (all randomisations together) or
+/// `max_time` is spent, or `cancel` is set. Checks come every `check_every`, or (`None`) as the
+/// check cost allows (see `CHECK_COST_FACTOR`).
 #[allow(clippy::too_many_arguments)]
 pub fn render_to_target(
     gpu: &Gpu,
@@ -97,10 +101,11 @@ pub fn render_to_target(
     scene: &Scene,
     method: Method,
     seed: u32,
-    target: Target,
+    target: Option<Target>,
     display: &DisplayTransform,
     max_spp: Option<u64>,
     max_time: Option<Duration>,
+    check_every: Option<Duration>,
     cancel: &AtomicBool,
     mut progress: impl FnMut(TargetProgress),
 ) -> Result<TargetOutcome, RenderError> {
@@ -114,8 +119,11 @@ pub fn render_to_target(
     let start = Instant::now();
     let (mut checks, mut check_seconds) = (0u32, 0.0f64);
     let mut last_check = start;
-    let mut interval = MIN_CHECK_INTERVAL;
+    let mut interval = check_every.unwrap_or(MIN_CHECK_INTERVAL);
     let mut latest: Option<ErrorEstimate> = None;
+    let mut history = Vec::new();
+    // Time spent checking is not rendering time: the history's seconds leave it out.
+    let rendering = |now: Instant, check_seconds: f64| (now - start).as_secs_f64() - check_seconds;
     let mut k = 1u64;
     let mut interrupted = false;
     let read = |renderers: &[Renderer]| -> Result<(Vec<Film>, u64), RenderError> {
@@ -148,17 +156,18 @@ pub fn render_to_target(
             let t0 = Instant::now();
             let e = sampled_estimate(&renderers, estimator, display)?;
             let cost = t0.elapsed();
+            history.push((rendering(t0, check_seconds), renderers[0].spp() * r, e));
             checks += 1;
             check_seconds += cost.as_secs_f64();
-            interval = MIN_CHECK_INTERVAL.max(cost.mul_f64(CHECK_COST_FACTOR));
+            interval = check_every.unwrap_or_else(|| MIN_CHECK_INTERVAL.max(cost.mul_f64(CHECK_COST_FACTOR)));
             last_check = Instant::now();
             latest = Some(e);
-            if target.reached(&e) {
+            if target.is_some_and(|t| t.reached(&e)) {
                 break;
             }
         }
         let elapsed = start.elapsed();
-        let eta = latest.map(|e| elapsed.mul_f64((target.remaining_factor(&e) - 1.0).clamp(0.0, 1e6)));
+        let eta = latest.zip(target).map(|(e, t)| elapsed.mul_f64((t.remaining_factor(&e) - 1.0).clamp(0.0, 1e6)));
         progress(TargetProgress { spp: renderers[0].spp() * r, elapsed, estimate: latest, eta });
     }
     let seconds = start.elapsed().as_secs_f64();
@@ -168,12 +177,13 @@ pub fn render_to_target(
         film,
         rays,
         seconds,
-        reached: target.reached(&estimate),
+        reached: target.is_some_and(|t| t.reached(&estimate)),
         estimate,
         estimator,
         interrupted,
         checks,
         check_seconds,
+        history,
     })
 }
 

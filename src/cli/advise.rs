@@ -1,0 +1,195 @@
+//! `pathlab advise SCENE --target-rel-error E | --target-psnr DB`: short pilots of each method,
+//! the predicted time to the target, the winner; `--verify` renders it (the work is in
+//! `pathlab::estimate::advise`).
+
+use std::path::PathBuf;
+use std::time::Duration;
+
+use anyhow::bail;
+use clap::Args;
+use serde::Serialize;
+
+use pathlab::display::{DisplayTransform, Transfer};
+use pathlab::estimate::advise::{advise, Advice};
+use pathlab::estimate::target::{render_to_target, Target};
+use pathlab::gpu::{adapter_summary, Gpu, PathTracerPipelines};
+use pathlab::method::method_by_name;
+use pathlab::render::ctrl_c_flag;
+
+use super::{load_scene, parse_size};
+
+#[derive(Args)]
+pub struct AdviseArgs {
+    /// Scene file (TOML).
+    scene: PathBuf,
+    /// Target estimated relMSE.
+    #[arg(long, conflicts_with = "target_psnr", required_unless_present = "target_psnr", allow_negative_numbers = true)]
+    target_rel_error: Option<f64>,
+    /// Target estimated PSNR of the display image (dB).
+    #[arg(long)]
+    target_psnr: Option<f64>,
+    /// Methods to pilot, comma-separated presets (default: every preset).
+    #[arg(long, default_value = "plain,halton,cosine,phong,nee,mis,best")]
+    methods: String,
+    /// Seconds of each pilot.
+    #[arg(long, default_value_t = 2.0)]
+    pilot_seconds: f64,
+    /// Image size WxH (default: the scene's).
+    #[arg(long, value_parser = parse_size)]
+    size: Option<(u32, u32)>,
+    /// Path segments (default: the scene's).
+    #[arg(long)]
+    max_depth: Option<u32>,
+    /// Display transform of a PSNR target (default: the scene's [display], else srgb).
+    #[arg(long)]
+    display: Option<Transfer>,
+    /// Then render the winner to the target and compare predicted with achieved.
+    #[arg(long)]
+    verify: bool,
+    /// Print JSON instead of a table.
+    #[arg(long)]
+    json: bool,
+    /// Use the first adapter whose name contains this (also: PATHLAB_ADAPTER).
+    #[arg(long)]
+    adapter: Option<String>,
+}
+
+#[derive(Serialize)]
+struct Verification {
+    method: String,
+    predicted_seconds: Option<f64>,
+    seconds: f64,
+    spp: u64,
+    estimated_rel_mse: f64,
+    estimated_psnr: Option<f64>,
+    reached: bool,
+}
+
+#[derive(Serialize)]
+struct Report {
+    scene: String,
+    width: u32,
+    height: u32,
+    max_depth: u32,
+    target: Target,
+    display: String,
+    pilot_seconds: f64,
+    advice: Vec<Advice>,
+    verify: Option<Verification>,
+}
+
+pub fn run(args: AdviseArgs) -> anyhow::Result<i32> {
+    let mut scene = load_scene(&args.scene)?;
+    let target = match (args.target_rel_error, args.target_psnr) {
+        (Some(e), _) if !(e.is_finite() && e > 0.0) => bail!("--target-rel-error must be a positive relative MSE"),
+        (Some(e), _) => Target::RelMse(e),
+        (None, Some(db)) if !db.is_finite() => bail!("--target-psnr must be a number of dB"),
+        (None, Some(db)) => Target::Psnr(db),
+        (None, None) => bail!("give --target-rel-error or --target-psnr"),
+    };
+    if !(args.pilot_seconds.is_finite() && args.pilot_seconds > 0.0) {
+        bail!("--pilot-seconds must be positive");
+    }
+    if args.max_depth == Some(0) {
+        bail!("--max-depth must be at least 1");
+    }
+    let mut methods = Vec::new();
+    for name in args.methods.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+        let m = method_by_name(name).ok_or_else(|| anyhow::anyhow!("unknown method `{name}`"))?;
+        if m.is_biased() {
+            bail!("{name} is a biased demonstration: its error does not fall to any target");
+        }
+        methods.push((name.to_string(), m));
+    }
+    if methods.is_empty() {
+        bail!("--methods names no method");
+    }
+    if let Some((w, h)) = args.size {
+        scene.render.width = w;
+        scene.render.height = h;
+    }
+    scene.render.max_depth = args.max_depth.unwrap_or(scene.render.max_depth);
+    let display = match args.display {
+        Some(transfer) => DisplayTransform { transfer, ..scene.display },
+        None => scene.display,
+    };
+
+    let gpu = Gpu::new(args.adapter.as_deref())?;
+    eprintln!("adapter: {}", adapter_summary(&gpu.info));
+    let pipelines = PathTracerPipelines::new(&gpu.device);
+    let cancel = ctrl_c_flag();
+    eprintln!("piloting {} methods for {} s each", methods.len(), args.pilot_seconds);
+    let advice = advise(&gpu, &pipelines, &scene, &methods, target, &display, Duration::from_secs_f64(args.pilot_seconds), &cancel)?;
+    let mut verify = None;
+    if args.verify {
+        if let Some(winner) = advice.first().filter(|a| a.predicted_seconds.is_some()) {
+            let method = method_by_name(&winner.method).expect("piloted");
+            eprintln!("verifying: rendering {} to the target", winner.method);
+            let out = render_to_target(&gpu, &pipelines, &scene, method, 2, Some(target), &display, None, None, None, &cancel, |_| {})?;
+            verify = Some(Verification {
+                method: winner.method.clone(),
+                predicted_seconds: winner.predicted_seconds,
+                seconds: out.seconds - out.check_seconds,
+                spp: out.film.spp,
+                estimated_rel_mse: out.estimate.rel_mse,
+                estimated_psnr: out.estimate.psnr,
+                reached: out.reached,
+            });
+        }
+    }
+    let report = Report {
+        scene: args.scene.display().to_string(),
+        width: scene.render.width,
+        height: scene.render.height,
+        max_depth: scene.render.max_depth,
+        target,
+        display: display.to_string(),
+        pilot_seconds: args.pilot_seconds,
+        advice,
+        verify,
+    };
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&report)?);
+    } else {
+        print_table(&report);
+    }
+    Ok(0)
+}
+
+fn print_table(r: &Report) {
+    let target = match r.target {
+        Target::RelMse(e) => format!("relMSE <= {e:e}"),
+        Target::Psnr(db) => format!("PSNR >= {db} dB ({})", r.display),
+    };
+    println!("{} at {}x{}, max_depth {}: time to {target} (pilots of {} s)", r.scene, r.width, r.height, r.max_depth, r.pilot_seconds);
+    println!("{:<8} {:>12} {:>12} {:>7} {:>12} {:>22} {:>12} {:>9}", "method", "M samples/s", "pilot error", "slope", "seconds", "range", "spp", "vs plain");
+    let f = |x: Option<f64>, d: usize| x.map_or("-".to_string(), |v| format!("{v:.d$}"));
+    for a in &r.advice {
+        println!(
+            "{:<8} {:>12.2} {:>12.3e} {:>7} {:>12} {:>22} {:>12} {:>9}",
+            a.method,
+            a.pixel_samples_per_second / 1e6,
+            a.pilot_error,
+            f(a.slope, 2),
+            f(a.predicted_seconds, 2),
+            a.range.map_or("-".into(), |(lo, hi)| format!("{lo:.2} .. {hi:.2}")),
+            f(a.predicted_spp, 0),
+            a.speedup_vs_plain.map_or("-".into(), |s| format!("{s:.1}x"))
+        );
+    }
+    if let Some(w) = r.advice.first().filter(|a| a.predicted_seconds.is_some()) {
+        println!("winner: {} ({})", w.method, w.speedup_vs_plain.map_or("plain not piloted".into(), |s| format!("{s:.1}x faster than plain")));
+    }
+    if let Some(v) = &r.verify {
+        println!(
+            "verify: {} reached the target in {:.2} s at {} spp (predicted {} s; estimated relMSE {:.3e}{}){}",
+            v.method,
+            v.seconds,
+            v.spp,
+            v.predicted_seconds.map_or("-".into(), |p| format!("{p:.2}")),
+            v.estimated_rel_mse,
+            v.estimated_psnr.map_or(String::new(), |p| format!(", PSNR {p:.2} dB")),
+            if v.reached { "" } else { " - NOT reached" }
+        );
+    }
+}
