@@ -9,14 +9,13 @@ use anyhow::bail;
 use clap::Args;
 use serde::Serialize;
 
-use pathlab::display::{DisplayTransform, Transfer};
 use pathlab::estimate::advise::{advise, Advice};
 use pathlab::estimate::target::{render_to_target, Target};
 use pathlab::gpu::{adapter_summary, Gpu, PathTracerPipelines};
 use pathlab::method::method_by_name;
 use pathlab::render::ctrl_c_flag;
 
-use super::{load_scene, parse_size};
+use super::{load_scene, SceneOverrides};
 
 #[derive(Args)]
 pub struct AdviseArgs {
@@ -34,15 +33,9 @@ pub struct AdviseArgs {
     /// Seconds of each pilot.
     #[arg(long, default_value_t = 2.0)]
     pilot_seconds: f64,
-    /// Image size WxH (default: the scene's).
-    #[arg(long, value_parser = parse_size)]
-    size: Option<(u32, u32)>,
-    /// Path segments (default: the scene's).
-    #[arg(long)]
-    max_depth: Option<u32>,
-    /// Display transform of a PSNR target (default: the scene's [display], else srgb).
-    #[arg(long)]
-    display: Option<Transfer>,
+    // --size, --max-depth, --display (of a PSNR target).
+    #[command(flatten)]
+    overrides: SceneOverrides,
     /// Then render the winner to the target and compare predicted with achieved.
     #[arg(long)]
     verify: bool,
@@ -90,9 +83,6 @@ pub fn run(args: AdviseArgs) -> anyhow::Result<i32> {
     if !(args.pilot_seconds.is_finite() && args.pilot_seconds > 0.0) {
         bail!("--pilot-seconds must be positive");
     }
-    if args.max_depth == Some(0) {
-        bail!("--max-depth must be at least 1");
-    }
     let mut methods = Vec::new();
     for name in args.methods.split(',').map(str::trim).filter(|s| !s.is_empty()) {
         let m = method_by_name(name).ok_or_else(|| anyhow::anyhow!("unknown method `{name}`"))?;
@@ -104,15 +94,7 @@ pub fn run(args: AdviseArgs) -> anyhow::Result<i32> {
     if methods.is_empty() {
         bail!("--methods names no method");
     }
-    if let Some((w, h)) = args.size {
-        scene.render.width = w;
-        scene.render.height = h;
-    }
-    scene.render.max_depth = args.max_depth.unwrap_or(scene.render.max_depth);
-    let display = match args.display {
-        Some(transfer) => DisplayTransform { transfer, ..scene.display },
-        None => scene.display,
-    };
+    let display = args.overrides.apply(&mut scene, None)?;
 
     let gpu = Gpu::new(args.adapter.as_deref())?;
     eprintln!("adapter: {}", adapter_summary(&gpu.info));

@@ -135,3 +135,36 @@ pub(crate) fn parse_duration(s: &str) -> Result<Duration, String> {
     }
     Ok(Duration::from_secs_f64(v * scale))
 }
+
+/// Size, depth and display-transform overrides of the scene, shared by `study` and `advise`.
+#[derive(clap::Args)]
+pub(crate) struct SceneOverrides {
+    /// Image size WxH (default: the scene's).
+    #[arg(long, value_parser = parse_size)]
+    pub size: Option<(u32, u32)>,
+    /// Path segments (default: the scene's).
+    #[arg(long)]
+    pub max_depth: Option<u32>,
+    /// Display transform of PSNR, SSIM, FLIP and figures: `srgb` or `gamma:G` (default: the
+    /// scene's [display] table, else srgb).
+    #[arg(long)]
+    pub display: Option<pathlab::display::Transfer>,
+}
+
+impl SceneOverrides {
+    /// Applies size (else `fallback_size`) and depth to `scene`; returns the display transform.
+    pub fn apply(&self, scene: &mut Scene, fallback_size: Option<(u32, u32)>) -> anyhow::Result<pathlab::display::DisplayTransform> {
+        if self.max_depth == Some(0) {
+            anyhow::bail!("--max-depth must be at least 1");
+        }
+        if let Some((w, h)) = self.size.or(fallback_size) {
+            scene.render.width = w;
+            scene.render.height = h;
+        }
+        scene.render.max_depth = self.max_depth.unwrap_or(scene.render.max_depth);
+        Ok(match self.display {
+            Some(transfer) => pathlab::display::DisplayTransform { transfer, ..scene.display },
+            None => scene.display,
+        })
+    }
+}

@@ -7,12 +7,11 @@ use std::time::Duration;
 use anyhow::bail;
 use clap::Args;
 
-use pathlab::display::{DisplayTransform, Transfer};
 use pathlab::gpu::{adapter_summary, Gpu, PathTracerPipelines};
 use pathlab::render::ctrl_c_flag;
 use pathlab::study::{parse_list, ReferenceSource, Study, StudyMethod, StudyOutcome};
 
-use super::{load_scene, parse_size, EXIT_INTERRUPTED};
+use super::{load_scene, SceneOverrides, EXIT_INTERRUPTED};
 
 #[derive(Args)]
 pub struct StudyArgs {
@@ -43,16 +42,9 @@ pub struct StudyArgs {
     /// Method of the rendered reference (any preset; the study's own choice was `plain`).
     #[arg(long, default_value = "best")]
     reference_method: String,
-    /// Image size WxH (default: the scene's, or the reference file's).
-    #[arg(long, value_parser = parse_size)]
-    size: Option<(u32, u32)>,
-    /// Path segments (default: the scene's).
-    #[arg(long)]
-    max_depth: Option<u32>,
-    /// Display transform of PSNR, SSIM, FLIP and the grid: `srgb` or `gamma:G` (default: the
-    /// scene's [display] table, else srgb).
-    #[arg(long)]
-    display: Option<Transfer>,
+    // --size (default: the scene's, or the reference file's), --max-depth, --display.
+    #[command(flatten)]
+    overrides: SceneOverrides,
     /// Target relMSE for the time-to-target column (default: what plain reaches at the largest spp).
     #[arg(long)]
     target: Option<f64>,
@@ -81,9 +73,6 @@ pub fn run(args: StudyArgs) -> anyhow::Result<i32> {
     if !(args.checkpoint_every.is_finite() && args.checkpoint_every > 0.0) {
         bail!("--checkpoint-every must be a positive number of seconds");
     }
-    if args.max_depth == Some(0) {
-        bail!("--max-depth must be at least 1");
-    }
     let reference = match &args.reference {
         Some(path) => ReferenceSource::File(path.clone()),
         None => {
@@ -96,21 +85,13 @@ pub fn run(args: StudyArgs) -> anyhow::Result<i32> {
     };
     // Size: --size, else the reference file's, else --quick's, else the scene's.
     let file_size = match &args.reference {
-        Some(p) if args.size.is_none() => {
+        Some(p) if args.overrides.size.is_none() => {
             let (film, _) = pathlab::output::read_exr(p)?;
             Some((film.width, film.height))
         }
         _ => None,
     };
-    if let Some((w, h)) = args.size.or(file_size).or(q.then_some((128, 64))) {
-        scene.render.width = w;
-        scene.render.height = h;
-    }
-    scene.render.max_depth = args.max_depth.unwrap_or(scene.render.max_depth);
-    let display = match args.display {
-        Some(transfer) => DisplayTransform { transfer, exposure: scene.display.exposure },
-        None => scene.display,
-    };
+    let display = args.overrides.apply(&mut scene, file_size.or(q.then_some((128, 64))))?;
     let study = Study {
         scene,
         scene_path: args.scene.clone(),
