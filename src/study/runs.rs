@@ -166,9 +166,9 @@ pub fn execute(
         adapter: gpu.info.name.clone(),
     };
     if keep_image {
+        // The study's name for the method (a demonstration's, not "custom").
         let mut metadata: Metadata = job.metadata(&outcome, &gpu.info.name);
-        metadata.push(("method".into(), spec.method.name.clone()));
-        metadata.retain(|(k, v)| k != "method" || *v == spec.method.name);
+        metadata.iter_mut().filter(|(k, _)| k == "method").for_each(|(_, v)| *v = spec.method.name.clone());
         write_exr(&image_path(dir, &spec.method.name, outcome.stats.spp, spec.seed), &outcome.film, &metadata, true)?;
     }
     let json = serde_json::to_string_pretty(&record).map_err(|e| StudyError::Input(e.to_string()))?;
