@@ -7,6 +7,7 @@ use std::time::Instant;
 use clap::Args;
 
 use pathlab::output::{write_exr, Metadata};
+use pathlab::render::provenance;
 use pathlab::shard::merge;
 
 #[derive(Args)]
@@ -31,23 +32,15 @@ pub fn run(args: MergeArgs) -> anyhow::Result<i32> {
     let merged = merge(&args.parts, args.allow_gaps)?;
     let k = &merged.key;
     let gaps: Vec<String> = merged.gaps.iter().map(|g| format!("{}..{}", g.start, g.end)).collect();
-    let mut metadata: Metadata = [
-        ("spp", merged.spp.to_string()),
-        ("method", k.method.preset().map_or("custom", |p| p.name()).to_string()),
-        ("sampler", k.method.sampler.name().to_string()),
-        ("bsdf", k.method.bsdf.name().to_string()),
-        ("lights", k.method.lights.name().to_string()),
-        ("seed", k.seed.to_string()),
-        ("max_depth", k.max_depth.to_string()),
-        ("render_seconds", format!("{:.6}", merged.render_seconds)),
-        ("rays", merged.rays.to_string()),
-        ("scene_hash", k.scene_hash.clone()),
-        ("merged_parts", args.parts.len().to_string()),
-        ("version", pathlab::VERSION.to_string()),
-    ]
-    .into_iter()
-    .map(|(a, b)| (a.to_string(), b))
-    .collect();
+    let mut metadata: Metadata = provenance(&k.method, k.seed, k.max_depth, merged.spp, merged.rays);
+    metadata.extend(
+        [
+            ("render_seconds", format!("{:.6}", merged.render_seconds)),
+            ("scene_hash", k.scene_hash.clone()),
+            ("merged_parts", args.parts.len().to_string()),
+        ]
+        .map(|(a, b)| (a.to_string(), b)),
+    );
     if !gaps.is_empty() {
         metadata.push(("missing_samples".into(), gaps.join(",")));
     }

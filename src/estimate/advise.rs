@@ -18,7 +18,7 @@ use serde::Serialize;
 use crate::display::DisplayTransform;
 use crate::gpu::{Gpu, PathTracerPipelines};
 use crate::method::Method;
-use crate::render::{Budget, RenderError, Renderer};
+use crate::render::{warm_up, RenderError};
 use crate::scene::Scene;
 use crate::study::analysis::Fit;
 
@@ -89,13 +89,11 @@ pub fn advise(
     pilot: Duration,
     cancel: &AtomicBool,
 ) -> Result<Vec<Advice>, RenderError> {
-    let never = AtomicBool::new(false);
     let pixels = scene.render.width as f64 * scene.render.height as f64;
     let goal = target_error(target);
     let mut advice = Vec::new();
     for (name, method) in methods {
-        // Compile the pipeline (lavapipe compiles at the first dispatch) before timing.
-        Renderer::new(gpu, pipelines, scene, *method, 0)?.render(Budget::Samples(1), &never, |_| {})?;
+        warm_up(gpu, pipelines, scene, *method)?;
         // About 12 checks per pilot (their time is not counted as rendering time).
         let every = pilot.div_f64(PILOT_CHECKS);
         let run = render_to_target(gpu, pipelines, scene, *method, 1, None, display, None, Some(pilot), Some(every), cancel, |_| {})?;

@@ -111,9 +111,7 @@ pub fn render_to_target(
 ) -> Result<TargetOutcome, RenderError> {
     let estimator = Estimator::for_sampler(method.sampler);
     let r = estimator.renders() as u64;
-    let mut renderers = (0..r as u32)
-        .map(|i| Renderer::new(gpu, pipelines, scene, method, randomisation_seed(seed, i)))
-        .collect::<Result<Vec<_>, _>>()?;
+    let mut renderers = randomised_renderers(gpu, pipelines, scene, method, seed, estimator)?;
     let max_spp = max_spp.unwrap_or(MAX_SPP).min(MAX_SPP);
     let never = AtomicBool::new(false);
     let start = Instant::now();
@@ -211,13 +209,25 @@ pub fn render_randomised(
     spp: u64,
     estimator: Estimator,
 ) -> Result<Vec<Film>, RenderError> {
-    let r = estimator.renders();
+    let per = (spp / estimator.renders() as u64).max(1);
     let never = AtomicBool::new(false);
-    (0..r)
-        .map(|i| {
-            let mut rd = Renderer::new(gpu, pipelines, scene, method, randomisation_seed(seed, i))?;
-            rd.render(Budget::Samples((spp / r as u64).max(1)), &never, |_| {})?;
+    randomised_renderers(gpu, pipelines, scene, method, seed, estimator)?
+        .into_iter()
+        .map(|mut rd| {
+            rd.render(Budget::Samples(per), &never, |_| {})?;
             Ok(rd.readback()?.film)
         })
         .collect()
+}
+
+/// One renderer per randomisation `estimator` needs, seeded `randomisation_seed(seed, r)`.
+fn randomised_renderers<'g>(
+    gpu: &'g Gpu,
+    pipelines: &PathTracerPipelines,
+    scene: &Scene,
+    method: Method,
+    seed: u32,
+    estimator: Estimator,
+) -> Result<Vec<Renderer<'g>>, RenderError> {
+    (0..estimator.renders()).map(|i| Renderer::new(gpu, pipelines, scene, method, randomisation_seed(seed, i))).collect()
 }

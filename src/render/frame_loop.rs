@@ -474,13 +474,20 @@ impl<'g> Renderer<'g> {
         for band in &self.bands {
             pixels.extend(self.read_band(band)?);
         }
-        if let Some((i, p)) = pixels.iter().enumerate().find(|(_, p)| p.count as u64 != self.spp_done % (1 << 32)) {
-            return Err(RenderError::Readback(format!(
+        self.check_counts(&pixels)?;
+        Ok(pixels)
+    }
+
+    /// Every pixel must hold exactly the samples submitted: a driver that drops work is
+    /// reported, never averaged in.
+    fn check_counts(&self, pixels: &[AccumPixel]) -> Result<(), RenderError> {
+        match pixels.iter().enumerate().find(|(_, p)| p.count as u64 != self.spp_done % (1 << 32)) {
+            Some((i, p)) => Err(RenderError::Readback(format!(
                 "pixel {i} accumulated {} samples, expected {}: the device dropped work",
                 p.count, self.spp_done
-            )));
+            ))),
+            None => Ok(()),
         }
-        Ok(pixels)
     }
 
     /// Sample index of the first sample of this render.
@@ -529,9 +536,7 @@ impl<'g> Renderer<'g> {
         }
         let rows = regions.len() as u32;
         let pixels = self.read_regions(&regions)?;
-        if pixels.iter().any(|p| p.count as u64 != self.spp_done % (1 << 32)) {
-            return Err(RenderError::Readback("a pixel holds fewer samples than submitted: the device dropped work".into()));
-        }
+        self.check_counts(&pixels)?;
         Ok((pixels, rows))
     }
 

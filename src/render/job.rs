@@ -15,7 +15,9 @@ use crate::method::{Method, Preset};
 use crate::output::{write_exr, write_png, Metadata, OutputError};
 use crate::scene::Scene;
 
-use super::{render_checkpointed, Budget, CheckpointError, CheckpointKey, CheckpointPlan, Film, Progress, RenderStats, Renderer};
+use super::{
+    render_checkpointed, Budget, CheckpointError, CheckpointKey, CheckpointPlan, Film, Progress, RenderError, RenderStats, Renderer,
+};
 
 /// What to render: the scene (with any size or depth overrides applied), where it came from,
 /// the method, the seed, the budget, the first sample index, and where to checkpoint.
@@ -56,6 +58,32 @@ pub struct OutputFiles {
 /// The name a method is recorded under: its preset's, or `custom`.
 pub fn method_label(method: &Method) -> &'static str {
     method.preset().map_or("custom", Preset::name)
+}
+
+/// The header fields saying what produced an image (every EXR pathlab writes has them):
+/// spp, method (preset name or `custom`) and its parts, seed, max_depth, rays, version.
+pub fn provenance(method: &Method, seed: u32, max_depth: u32, spp: u64, rays: u64) -> Metadata {
+    [
+        ("spp", spp.to_string()),
+        ("method", method_label(method).to_string()),
+        ("sampler", method.sampler.name().to_string()),
+        ("bsdf", method.bsdf.name().to_string()),
+        ("lights", method.lights.name().to_string()),
+        ("seed", seed.to_string()),
+        ("max_depth", max_depth.to_string()),
+        ("rays", rays.to_string()),
+        ("version", crate::VERSION.to_string()),
+    ]
+    .into_iter()
+    .map(|(k, v)| (k.to_string(), v))
+    .collect()
+}
+
+/// Renders one sample per pixel of `method` and throws it away: drivers that compile at the
+/// first dispatch (lavapipe) do it now, before anything is timed.
+pub fn warm_up(gpu: &Gpu, pipelines: &PathTracerPipelines, scene: &Scene, method: Method) -> Result<(), RenderError> {
+    Renderer::new(gpu, pipelines, scene, method, 0)?.render(Budget::Samples(1), &AtomicBool::new(false), |_| {})?;
+    Ok(())
 }
 
 /// A flag set by Ctrl-C (SIGINT) for the rest of the process. The handler is installed once;
@@ -151,27 +179,19 @@ impl RenderJob {
 
     /// The EXR header of `outcome`: `pathlab:KEY` attributes.
     pub fn metadata(&self, outcome: &RenderOutcome, adapter: &str) -> Metadata {
-        let m = &self.method;
-        [
-            ("spp", outcome.stats.spp.to_string()),
-            ("method", method_label(m).to_string()),
-            ("sampler", m.sampler.name().to_string()),
-            ("bsdf", m.bsdf.name().to_string()),
-            ("lights", m.lights.name().to_string()),
-            ("seed", self.seed.to_string()),
-            ("max_depth", self.scene.render.max_depth.to_string()),
-            ("render_seconds", format!("{:.6}", outcome.stats.seconds)),
-            ("rays", outcome.rays.to_string()),
-            ("scene", self.scene_path.display().to_string()),
-            ("scene_hash", self.scene.content_hash()),
-            ("display", self.scene.display.transfer.to_string()),
-            ("exposure", self.scene.display.exposure.to_string()),
-            ("adapter", adapter.to_string()),
-            ("version", crate::VERSION.to_string()),
-        ]
-        .into_iter()
-        .map(|(k, v)| (k.to_string(), v))
-        .collect()
+        let mut metadata = provenance(&self.method, self.seed, self.scene.render.max_depth, outcome.stats.spp, outcome.rays);
+        metadata.extend(
+            [
+                ("render_seconds", format!("{:.6}", outcome.stats.seconds)),
+                ("scene", self.scene_path.display().to_string()),
+                ("scene_hash", self.scene.content_hash()),
+                ("display", self.scene.display.transfer.to_string()),
+                ("exposure", self.scene.display.exposure.to_string()),
+                ("adapter", adapter.to_string()),
+            ]
+            .map(|(k, v)| (k.to_string(), v)),
+        );
+        metadata
     }
 
     /// Writes the EXR (and PNG) of `outcome`, each atomically; `extra` joins the header.

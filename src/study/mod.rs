@@ -25,7 +25,7 @@ use crate::gpu::{Gpu, PathTracerPipelines};
 use crate::method::{method_by_name, method_names, Method};
 use crate::metrics::MetricsError;
 use crate::output::{read_exr, OutputError};
-use crate::render::{Budget, CheckpointError, RenderError, RenderJob, Renderer};
+use crate::render::{warm_up, Budget, CheckpointError, RenderError, RenderJob};
 use crate::scene::Scene;
 
 pub use reference::{Reference, ReferenceSource};
@@ -167,10 +167,9 @@ impl Study {
             (ReferenceSource::File(_), None) => unreachable!("validate loads file references"),
         };
 
-        // Every pipeline compiled before anything is timed (lavapipe compiles at the first dispatch).
-        let never = AtomicBool::new(false);
+        // Every pipeline compiled before anything is timed.
         for m in &self.methods {
-            Renderer::new(gpu, pipelines, &self.scene, m.method, 0)?.render(Budget::Samples(1), &never, |_| {})?;
+            warm_up(gpu, pipelines, &self.scene, m.method)?;
         }
 
         let mut specs: Vec<RunSpec> = Vec::new();

@@ -12,8 +12,8 @@ use std::time::Duration;
 
 use crate::gpu::{Gpu, PathTracerPipelines};
 use crate::method::Method;
-use crate::output::{read_exr_image, write_exr, Metadata};
-use crate::render::{progress_bar, render_checkpointed, show_progress, Budget, CheckpointKey, CheckpointPlan, Film, Renderer, Resume};
+use crate::output::{read_exr_image, Metadata};
+use crate::render::{progress_bar, show_progress, Budget, CheckpointKey, CheckpointPlan, Film, OutputFiles, RenderJob, Resume};
 use crate::scene::Scene;
 
 use super::StudyError;
@@ -109,15 +109,10 @@ pub fn render(
     cancel: &AtomicBool,
     quiet: bool,
 ) -> Result<Option<Reference>, StudyError> {
-    let key = CheckpointKey {
-        scene_hash: scene.content_hash(),
-        method,
-        seed: REFERENCE_SEED,
-        width: scene.render.width,
-        height: scene.render.height,
-        max_depth: scene.render.max_depth,
-    };
-    let description = rendered_description(method_name, spp, &key);
+    let checkpoint = checkpoint_path(dir);
+    let mut job = RenderJob::new(scene.clone(), scene.path.clone(), method, REFERENCE_SEED, Budget::Samples(spp));
+    job.checkpoint = Some(CheckpointPlan { path: checkpoint.clone(), every, resume: Resume::IfPresent, planned_total: None });
+    let description = rendered_description(method_name, spp, &job.checkpoint_key());
     let cached = exr_path(dir);
     if cached.exists() {
         if let Ok(image) = read_exr_image(&cached) {
@@ -133,47 +128,27 @@ pub fn render(
             }
         }
     }
-    let checkpoint = checkpoint_path(dir);
     if checkpoint.exists() {
         eprintln!("reference: continuing from {}", checkpoint.display());
     }
     eprintln!("reference: rendering {description} (checkpoint every {} s)", every.as_secs_f64());
-    let mut renderer = Renderer::new(gpu, pipelines, scene, method, REFERENCE_SEED)?;
-    let bar = progress_bar(Budget::Samples(spp), quiet);
-    let plan = CheckpointPlan { path: checkpoint.clone(), every, resume: Resume::IfPresent, planned_total: None };
-    let (saved, interrupted) = render_checkpointed(&mut renderer, &key, spp, &plan, cancel, |p| show_progress(&bar, Budget::Samples(spp), p))?;
+    let bar = progress_bar(job.budget, quiet);
+    let outcome = job.run(gpu, pipelines, cancel, |p| show_progress(&bar, job.budget, p))?;
     bar.finish_and_clear();
-    if interrupted {
-        eprintln!("reference: interrupted at {} of {spp} spp; checkpoint saved in {}", saved.spp, checkpoint.display());
+    let stats = outcome.stats;
+    if stats.interrupted {
+        eprintln!("reference: interrupted at {} of {spp} spp; checkpoint saved in {}", stats.spp, checkpoint.display());
         return Ok(None);
     }
-    let film = saved.film();
-    let metadata: Metadata = [
-        ("reference", description.clone()),
-        ("spp", saved.spp.to_string()),
-        ("method", method_name.to_string()),
-        ("sampler", method.sampler.name().to_string()),
-        ("bsdf", method.bsdf.name().to_string()),
-        ("lights", method.lights.name().to_string()),
-        ("seed", REFERENCE_SEED.to_string()),
-        ("max_depth", scene.render.max_depth.to_string()),
-        ("render_seconds", format!("{:.6}", saved.render_seconds)),
-        ("rays", saved.rays().to_string()),
-        ("scene", scene.path.display().to_string()),
-        ("scene_hash", key.scene_hash.clone()),
-        ("adapter", gpu.info.name.clone()),
-        ("version", crate::VERSION.to_string()),
-    ]
-    .into_iter()
-    .map(|(k, v)| (k.to_string(), v))
-    .collect();
-    write_exr(&cached, &film, &metadata, true)?;
-    eprintln!("reference: {} spp in {:.1} s, wrote {}", saved.spp, saved.render_seconds, cached.display());
+    let files = OutputFiles { exr: cached.clone(), png: None, display: scene.display, variance: true };
+    job.write(&outcome, &gpu.info.name, &files, &vec![("reference".to_string(), description.clone())])?;
+    eprintln!("reference: {} spp in {:.1} s, wrote {}", stats.spp, stats.seconds, cached.display());
+    let film = outcome.film;
     Ok(Some(Reference {
         expected_rel_mse: Some(expected_rel_mse(&film)),
         film,
         has_variance: true,
         description,
-        render_seconds: Some(saved.render_seconds),
+        render_seconds: Some(stats.seconds),
     }))
 }
