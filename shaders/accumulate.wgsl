@@ -6,17 +6,8 @@
 // variant lets its error term grow and drift in f32 over 10^6 samples of a constant. The state carries over between frames bit for
 // bit, so the result does not depend on how samples were split into dispatches.
 
-struct AccumPixel {
-    sum: vec3f,
-    count: u32,
-    sum_err: vec3f,
-    // Rays traced for this pixel (camera, bounce and shadow rays), as a 64-bit count.
-    rays_lo: u32,
-    sum_sq: vec3f,
-    rays_hi: u32,
-    sum_sq_err: vec3f,
-    _pad2: u32,
-}
+// AccumPixel is declared in accum_pixel.wgsl (shared with the display pass).
+
 
 @group(0) @binding(5) var<storage, read_write> accum: array<AccumPixel>;
 

@@ -13,7 +13,8 @@
 //! - `shard`: sample ranges of split renders and their exact merge;
 //! - `sequences`: the CPU twin of the WGSL samplers;
 //! - `study`: `pathlab study`: reference, tables, convergence, bias verdicts, report;
-//! - `stats`: quantiles, Šidák correction, per-pixel z-tests.
+//! - `stats`: quantiles, Šidák correction, per-pixel z-tests;
+//! - `viewer`: `pathlab view`, the egui window: progressive display, live metrics, plots.
 
 pub mod display;
 pub mod estimate;
@@ -29,6 +30,7 @@ pub mod shard;
 pub mod shaders;
 pub mod stats;
 pub mod study;
+pub mod viewer;
 
 /// pathlab's version, recorded in every output file.
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");

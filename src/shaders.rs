@@ -26,7 +26,9 @@ pub mod files {
     pub const LIGHTS: (&str, &str) = ("lights.wgsl", include_str!("../shaders/lights.wgsl"));
     pub const SCENE: (&str, &str) = ("scene.wgsl", include_str!("../shaders/scene.wgsl"));
     pub const INTERSECT: (&str, &str) = ("intersect.wgsl", include_str!("../shaders/intersect.wgsl"));
+    pub const ACCUM_PIXEL: (&str, &str) = ("accum_pixel.wgsl", include_str!("../shaders/accum_pixel.wgsl"));
     pub const ACCUMULATE: (&str, &str) = ("accumulate.wgsl", include_str!("../shaders/accumulate.wgsl"));
+    pub const DISPLAY: (&str, &str) = ("display.wgsl", include_str!("../shaders/display.wgsl"));
     pub const INTEGRATOR: (&str, &str) = ("integrator.wgsl", include_str!("../shaders/integrator.wgsl"));
 }
 
@@ -35,7 +37,7 @@ pub mod files {
 pub const LIBRARY: [(&str, &str); 5] = [files::COMMON, files::SAMPLER, files::WARP, files::BSDF, files::LIGHTS];
 
 /// Everything the path-tracing kernel (`render_main`) needs.
-pub const PATH_TRACER: [(&str, &str); 9] = [
+pub const PATH_TRACER: [(&str, &str); 10] = [
     files::COMMON,
     files::SAMPLER,
     files::WARP,
@@ -43,9 +45,21 @@ pub const PATH_TRACER: [(&str, &str); 9] = [
     files::LIGHTS,
     files::SCENE,
     files::INTERSECT,
+    files::ACCUM_PIXEL,
     files::ACCUMULATE,
     files::INTEGRATOR,
 ];
+
+/// The viewer's display pass (`display_main`): accumulator to shown texture.
+pub const DISPLAY: [(&str, &str); 2] = [files::ACCUM_PIXEL, files::DISPLAY];
+
+/// Entry point of the display pass.
+pub const DISPLAY_ENTRY: &str = "display_main";
+
+/// The display pass module.
+pub fn display_source() -> String {
+    assemble(&DISPLAY, "")
+}
 
 /// Binding of the Halton prime table (`halton_primes` in sampler.wgsl), filled with
 /// `primes(HALTON_DIMENSIONS)`.
@@ -129,6 +143,11 @@ mod tests {
     fn first_primes() {
         assert_eq!(primes(6), vec![2, 3, 5, 7, 11, 13]);
         assert_eq!(primes(HALTON_DIMENSIONS)[255], 1619);
+    }
+
+    #[test]
+    fn display_pass_is_valid_wgsl() {
+        validate(&display_source(), &[]).unwrap();
     }
 
     #[test]

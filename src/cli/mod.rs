@@ -7,6 +7,7 @@ mod compare;
 mod merge;
 mod render;
 mod study;
+mod view;
 
 use std::path::PathBuf;
 use std::time::Duration;
@@ -29,6 +30,9 @@ struct Cli {
 enum Command {
     /// Render a scene headless to an EXR file.
     Render(render::RenderArgs),
+    /// Watch a scene converge in a window: switch methods live, compare two side by side at
+    /// equal time, see error maps and relMSE against seconds.
+    View(view::ViewArgs),
     /// Validate a scene file and print what it contains.
     Check {
         /// Scene file (TOML).
@@ -61,6 +65,7 @@ pub fn run() -> i32 {
         Command::Compare(args) => compare::run(args),
         Command::Merge(args) => merge::run(args),
         Command::Study(args) => study::run(args),
+        Command::View(args) => view::run(args),
         Command::Check { scene } => check(&scene).map(|()| 0),
         Command::Adapters => {
             for a in pathlab::gpu::list_adapters() {

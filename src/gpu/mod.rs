@@ -9,5 +9,6 @@ mod scene_buffers;
 
 pub use device::{adapter_summary, list_adapters, wait_for_submission, Gpu, GpuError, ADAPTER_ENV};
 pub use kernel::KernelRun;
+pub(crate) use pipeline::{storage_entry, uniform_entry};
 pub use pipeline::{loop_iterations_per_sample, pipeline_constants, PathTracerPipelines, PipelineKey, PipelineStats};
 pub use scene_buffers::{AccumPixel, FrameParams, GpuMaterial, GpuPlane, GpuSphere, SceneBuffers};

@@ -359,8 +359,8 @@ impl<'g> Renderer<'g> {
             Budget::Samples(n) => self.spp_done + n,
             Budget::Time(_) => MAX_SPP - self.first_sample,
         };
-        let device = &self.gpu.device;
-        let queue = &self.gpu.queue;
+        let gpu = self.gpu;
+        let (device, queue) = (&gpu.device, &gpu.queue);
         let completed = Arc::new(AtomicU64::new(self.spp_done));
         // Throughput since the first completion: (time of the first completion, samples done by
         // then), and the latest (time, samples). Completion callbacks fire in batches during
@@ -370,8 +370,6 @@ impl<'g> Renderer<'g> {
         let mut submitted = self.spp_done;
         let mut frames = 0;
         let mut interrupted = false;
-        let groups_x = self.params.width.div_ceil(WORKGROUP);
-
         loop {
             if cancel.load(Ordering::Relaxed) {
                 interrupted = true;
@@ -389,33 +387,7 @@ impl<'g> Renderer<'g> {
                 break;
             }
             let count = (self.samples_per_dispatch as u64).min(target_spp - submitted) as u32;
-            self.params.sample_start = (self.first_sample + submitted) as u32;
-            self.params.sample_count = count;
-            let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
-            {
-                let timestamp_writes = self.timestamps.as_mut().filter(|t| t.frames < MAX_TIMED_FRAMES).map(|t| {
-                    t.frames += 1;
-                    wgpu::ComputePassTimestampWrites {
-                        query_set: &t.set,
-                        beginning_of_pass_write_index: Some(2 * (t.frames - 1)),
-                        end_of_pass_write_index: Some(2 * (t.frames - 1) + 1),
-                    }
-                });
-                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some("path trace"),
-                    timestamp_writes,
-                });
-                pass.set_pipeline(&self.pipeline);
-                for band in &self.bands {
-                    pass.set_bind_group(0, &band.bind_group, &[]);
-                    pass.dispatch_workgroups(groups_x, band.rows.div_ceil(WORKGROUP), 1);
-                }
-            }
-            for band in &self.bands {
-                let params = FrameParams { tile_y: band.y0, tile_height: band.rows, ..self.params };
-                queue.write_buffer(&band.params_buffer, 0, bytemuck::bytes_of(&params));
-            }
-            let index = queue.submit([encoder.finish()]);
+            let index = self.submit_frame(self.first_sample + submitted, count);
             let (done, clock) = (completed.clone(), timing.clone());
             queue.on_submitted_work_done(move || {
                 let done_now = done.fetch_add(count as u64, Ordering::Relaxed) + count as u64;
@@ -455,6 +427,106 @@ impl<'g> Renderer<'g> {
         Ok(RenderStats { spp: self.spp_done, seconds: start.elapsed().as_secs_f64(), frames, interrupted })
     }
 
+    /// Encodes one frame (a compute pass over every band) adding `count` samples per pixel from
+    /// sample index `sample_start`, and submits it without waiting.
+    fn submit_frame(&mut self, sample_start: u64, count: u32) -> wgpu::SubmissionIndex {
+        let gpu = self.gpu;
+        let (device, queue) = (&gpu.device, &gpu.queue);
+        let groups_x = self.params.width.div_ceil(WORKGROUP);
+        self.params.sample_start = sample_start as u32;
+        self.params.sample_count = count;
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
+        {
+            let timestamp_writes = self.timestamps.as_mut().filter(|t| t.frames < MAX_TIMED_FRAMES).map(|t| {
+                t.frames += 1;
+                wgpu::ComputePassTimestampWrites {
+                    query_set: &t.set,
+                    beginning_of_pass_write_index: Some(2 * (t.frames - 1)),
+                    end_of_pass_write_index: Some(2 * (t.frames - 1) + 1),
+                }
+            });
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("path trace"), timestamp_writes });
+            pass.set_pipeline(&self.pipeline);
+            for band in &self.bands {
+                pass.set_bind_group(0, &band.bind_group, &[]);
+                pass.dispatch_workgroups(groups_x, band.rows.div_ceil(WORKGROUP), 1);
+            }
+        }
+        for band in &self.bands {
+            let params = FrameParams { tile_y: band.y0, tile_height: band.rows, ..self.params };
+            queue.write_buffer(&band.params_buffer, 0, bytemuck::bytes_of(&params));
+        }
+        queue.submit([encoder.finish()])
+    }
+
+    /// Submits `count` more samples per pixel and returns at once (interactive use: the viewer
+    /// adds a few samples per UI frame). The queue runs work in order, so a display pass or
+    /// readback submitted afterwards sees these samples.
+    pub fn submit(&mut self, count: u32) -> Result<wgpu::SubmissionIndex, RenderError> {
+        let total = self.first_sample + self.spp_done + count as u64;
+        if total > MAX_SPP {
+            return Err(RenderError::TooManySamples(total));
+        }
+        let index = self.submit_frame(self.first_sample + self.spp_done, count);
+        self.spp_done += count as u64;
+        Ok(index)
+    }
+
+    /// Most samples per pixel one dispatch may take on this device (the software rasteriser's
+    /// loop limit bounds it on CPU adapters).
+    pub fn max_samples_per_dispatch(&self) -> u32 {
+        self.max_samples_per_dispatch
+    }
+
+    /// The accumulator of each band: (first row, rows, buffer of `AccumPixel`s, row-major).
+    pub fn accumulator_buffers(&self) -> impl Iterator<Item = (u32, u32, &wgpu::Buffer)> {
+        self.bands.iter().map(|b| (b.y0, b.rows, &b.accum))
+    }
+
+    /// Starts copying all accumulators back without waiting: poll the device and call
+    /// `PendingReadback::try_finish` in later frames.
+    pub fn begin_readback(&self) -> PendingReadback {
+        let regions: Vec<_> = self.bands.iter().map(|b| (&b.accum, 0, b.accum.size())).collect();
+        self.begin_regions(&regions)
+    }
+
+    /// Starts copying one pixel's accumulator back (for a mouse-over probe).
+    pub fn begin_read_pixel(&self, x: u32, y: u32) -> Option<PendingReadback> {
+        let (w, h) = self.size();
+        if x >= w || y >= h {
+            return None;
+        }
+        let size = std::mem::size_of::<AccumPixel>() as u64;
+        let band = self.bands.iter().find(|b| y >= b.y0 && y < b.y0 + b.rows)?;
+        let offset = ((y - band.y0) as u64 * w as u64 + x as u64) * size;
+        Some(self.begin_regions(&[(&band.accum, offset, size)]))
+    }
+
+    /// Copies `regions` (buffer, byte offset, bytes) one after another into a staging buffer
+    /// and starts mapping it.
+    fn begin_regions(&self, regions: &[(&wgpu::Buffer, u64, u64)]) -> PendingReadback {
+        let device = &self.gpu.device;
+        let size: u64 = regions.iter().map(|r| r.2).sum();
+        let staging = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("readback"),
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("readback") });
+        let mut at = 0;
+        for &(buffer, offset, bytes) in regions {
+            encoder.copy_buffer_to_buffer(buffer, offset, &staging, at, bytes);
+            at += bytes;
+        }
+        let submission = self.gpu.queue.submit([encoder.finish()]);
+        let (tx, rx) = std::sync::mpsc::channel();
+        staging.map_async(wgpu::MapMode::Read, .., move |r| {
+            let _ = tx.send(r);
+        });
+        PendingReadback { staging, rx, submission, spp: self.spp_done }
+    }
+
     /// Copies the accumulators back and turns them into mean and variance.
     pub fn film(&self) -> Result<Film, RenderError> {
         Ok(self.readback()?.film)
@@ -474,21 +546,9 @@ impl<'g> Renderer<'g> {
         for band in &self.bands {
             pixels.extend(self.read_band(band)?);
         }
-        self.check_counts(&pixels)?;
         Ok(pixels)
     }
 
-    /// Every pixel must hold exactly the samples submitted: a driver that drops work is
-    /// reported, never averaged in.
-    fn check_counts(&self, pixels: &[AccumPixel]) -> Result<(), RenderError> {
-        match pixels.iter().enumerate().find(|(_, p)| p.count as u64 != self.spp_done % (1 << 32)) {
-            Some((i, p)) => Err(RenderError::Readback(format!(
-                "pixel {i} accumulated {} samples, expected {}: the device dropped work",
-                p.count, self.spp_done
-            ))),
-            None => Ok(()),
-        }
-    }
 
     /// Sample index of the first sample of this render.
     pub fn first_sample(&self) -> u64 {
@@ -536,41 +596,64 @@ impl<'g> Renderer<'g> {
         }
         let rows = regions.len() as u32;
         let pixels = self.read_regions(&regions)?;
-        self.check_counts(&pixels)?;
         Ok((pixels, rows))
     }
 
-    /// Copies `regions` (buffer, byte offset, bytes) one after another into a staging buffer
-    /// and reads it back.
+    /// Copies `regions` (buffer, byte offset, bytes) back, waiting for them.
     fn read_regions(&self, regions: &[(&wgpu::Buffer, u64, u64)]) -> Result<Vec<AccumPixel>, RenderError> {
-        let device = &self.gpu.device;
-        let size: u64 = regions.iter().map(|r| r.2).sum();
-        let staging = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("readback"),
-            size,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("readback") });
-        let mut at = 0;
-        for &(buffer, offset, bytes) in regions {
-            encoder.copy_buffer_to_buffer(buffer, offset, &staging, at, bytes);
-            at += bytes;
+        let pending = self.begin_regions(regions);
+        wait_for_submission(&self.gpu.device, Some(pending.submission.clone()))?;
+        let deadline = Instant::now() + Duration::from_secs(60);
+        loop {
+            if let Some(result) = pending.try_finish() {
+                return result;
+            }
+            if Instant::now() >= deadline {
+                return Err(RenderError::Readback("the mapped buffer never became available".into()));
+            }
+            wait_for_submission(&self.gpu.device, None)?;
         }
-        let index = self.gpu.queue.submit([encoder.finish()]);
-        let (tx, rx) = std::sync::mpsc::channel();
-        staging.map_async(wgpu::MapMode::Read, .., move |r| {
-            let _ = tx.send(r);
-        });
-        wait_for_submission(device, Some(index))?;
-        rx.recv_timeout(Duration::from_secs(60))
-            .map_err(|e| RenderError::Readback(e.to_string()))?
-            .map_err(|e| RenderError::Readback(e.to_string()))?;
-        let pixels: Vec<AccumPixel> = {
-            let view = staging.get_mapped_range(..).map_err(|e| RenderError::Readback(e.to_string()))?;
-            bytemuck::pod_collect_to_vec(&view)
+    }
+}
+
+/// A copy of accumulators on its way back from the device (see `Renderer::begin_readback`).
+pub struct PendingReadback {
+    staging: wgpu::Buffer,
+    rx: std::sync::mpsc::Receiver<Result<(), wgpu::BufferAsyncError>>,
+    submission: wgpu::SubmissionIndex,
+    /// Samples per pixel submitted before the copy: every pixel read holds exactly these.
+    pub spp: u64,
+}
+
+impl PendingReadback {
+    /// The pixels once the copy is mapped, `None` while it is not (the caller polls the
+    /// device). The sample count of every pixel is checked against `spp`.
+    pub fn try_finish(&self) -> Option<Result<Vec<AccumPixel>, RenderError>> {
+        let mapped = match self.rx.try_recv() {
+            Ok(r) => r,
+            Err(std::sync::mpsc::TryRecvError::Empty) => return None,
+            Err(e) => return Some(Err(RenderError::Readback(e.to_string()))),
         };
-        staging.unmap();
-        Ok(pixels)
+        Some(mapped.map_err(|e| RenderError::Readback(e.to_string())).and_then(|()| {
+            let pixels: Vec<AccumPixel> = {
+                let view = self.staging.get_mapped_range(..).map_err(|e| RenderError::Readback(e.to_string()))?;
+                bytemuck::pod_collect_to_vec(&view)
+            };
+            self.staging.unmap();
+            check_counts(&pixels, self.spp)?;
+            Ok(pixels)
+        }))
+    }
+}
+
+/// Every pixel must hold exactly the samples submitted: a driver that drops work is
+/// reported, never averaged in.
+fn check_counts(pixels: &[AccumPixel], spp: u64) -> Result<(), RenderError> {
+    match pixels.iter().enumerate().find(|(_, p)| p.count as u64 != spp % (1 << 32)) {
+        Some((i, p)) => Err(RenderError::Readback(format!(
+            "pixel {i} accumulated {} samples, expected {spp}: the device dropped work",
+            p.count
+        ))),
+        None => Ok(()),
     }
 }

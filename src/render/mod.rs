@@ -9,7 +9,7 @@ mod job;
 
 pub use checkpoint::{render_checkpointed, Checkpoint, CheckpointError, CheckpointKey, CheckpointPlan, Resume};
 pub use film::Film;
-pub use frame_loop::{Budget, Progress, Readback, RenderError, RenderStats, Renderer, MAX_SPP};
+pub use frame_loop::{Budget, PendingReadback, Progress, Readback, RenderError, RenderStats, Renderer, MAX_SPP};
 pub use job::{
     ctrl_c_flag, default_output, method_label, progress_bar, provenance, show_progress, warm_up, OutputFiles, RenderJob, RenderOutcome,
 };

@@ -1,0 +1,140 @@
+//! `pathlab view`: the interactive window (see `pathlab::viewer`).
+
+use std::path::PathBuf;
+use std::time::Duration;
+
+use anyhow::{bail, Context};
+use clap::Args;
+
+use pathlab::method::{method_by_name, method_names, Method};
+use pathlab::output::read_exr;
+use pathlab::viewer::{View, ViewerOptions};
+
+use super::{load_scene, parse_size, SceneOverrides};
+
+fn parse_method(s: &str) -> Result<Method, String> {
+    method_by_name(s).ok_or_else(|| format!("unknown method `{s}`; one of: {}", method_names().join(", ")))
+}
+
+fn parse_view(s: &str) -> Result<View, String> {
+    match s {
+        "radiance" => Ok(View::Radiance),
+        "stderr" => Ok(View::RelStderr),
+        "abs-error" => Ok(View::AbsError),
+        "rel-error" => Ok(View::RelError),
+        _ => Err(format!("unknown view `{s}`; one of: radiance, stderr, abs-error, rel-error")),
+    }
+}
+
+#[derive(Args)]
+pub struct ViewArgs {
+    /// Scene file (TOML); edits to it are picked up while the window is open.
+    scene: PathBuf,
+    /// Method (a preset or a biased demonstration: plain, halton, cosine, phong, nee, mis, best,
+    /// phong-lobe-only, nee-double-count).
+    #[arg(long, default_value = "best", value_parser = parse_method)]
+    method: Method,
+    /// Start in the split view with this method in the right half (equal time for both).
+    #[arg(long, value_parser = parse_method)]
+    compare: Option<Method>,
+    /// Reference image (EXR of the same size) for error views, PSNR, SSIM and relMSE.
+    #[arg(long)]
+    reference: Option<PathBuf>,
+    #[command(flatten)]
+    overrides: SceneOverrides,
+    /// Seed of the first method (the second uses seed + 1).
+    #[arg(long, default_value_t = 0)]
+    seed: u32,
+    /// Initial view: radiance, stderr, abs-error, rel-error.
+    #[arg(long, default_value = "radiance", value_parser = parse_view)]
+    view: View,
+    /// Exposure in stops.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    exposure: f32,
+    /// Window size WxH (points).
+    #[arg(long, default_value = "1280x800", value_parser = parse_size)]
+    window: (u32, u32),
+    /// Exit after this many UI frames (with --screenshot: save the window's pixels first).
+    #[arg(long)]
+    frames: Option<u64>,
+    /// Save the window's framebuffer as PNG after --frames frames, then exit.
+    #[arg(long, requires = "frames")]
+    screenshot: Option<PathBuf>,
+    /// Print the final spp, frames per second and samples per second as one JSON line.
+    #[arg(long)]
+    log_stats: bool,
+    /// Directory that S (save) writes into.
+    #[arg(long, default_value = ".")]
+    save_dir: PathBuf,
+    /// Open paused (no samples until Space).
+    #[arg(long)]
+    paused: bool,
+    /// Frame time the samples per frame adapt to, in milliseconds: the renderer gets what the
+    /// UI leaves of it (45 ms: about 22 frames per second).
+    #[arg(long, default_value_t = 45)]
+    frame_ms: u64,
+    /// Adapter whose name contains this (default: the best; or PATHLAB_ADAPTER).
+    #[arg(long)]
+    adapter: Option<String>,
+}
+
+pub fn run(args: ViewArgs) -> anyhow::Result<i32> {
+    // Everything the user gave is checked before a window or a device is opened.
+    let mut scene = load_scene(&args.scene)?;
+    let mut display = args.overrides.apply(&mut scene, None)?;
+    display.exposure = args.exposure;
+    if args.frames == Some(0) {
+        bail!("--frames must be at least 1");
+    }
+    if !(5..=1000).contains(&args.frame_ms) {
+        bail!("--frame-ms must be between 5 and 1000");
+    }
+    let reference = match &args.reference {
+        Some(path) => {
+            let (film, _) = read_exr(path).with_context(|| format!("reading the reference {}", path.display()))?;
+            if (film.width, film.height) != (scene.render.width, scene.render.height) {
+                bail!(
+                    "the reference {} is {}x{}, the image {}x{}: pass --size {}x{}",
+                    path.display(),
+                    film.width,
+                    film.height,
+                    scene.render.width,
+                    scene.render.height,
+                    film.width,
+                    film.height
+                );
+            }
+            Some(film)
+        }
+        None => None,
+    };
+    if args.view.needs_reference() && reference.is_none() {
+        bail!("--view {} needs --reference", args.view.name());
+    }
+    if !args.save_dir.is_dir() {
+        bail!("--save-dir {} is not a directory", args.save_dir.display());
+    }
+    let options = ViewerOptions {
+        scene,
+        size: args.overrides.size,
+        max_depth: args.overrides.max_depth,
+        method: args.method,
+        compare: args.compare,
+        seed: args.seed,
+        reference,
+        display,
+        view: args.view,
+        window: args.window,
+        frames: args.frames,
+        screenshot: args.screenshot,
+        save_dir: args.save_dir,
+        frame_budget: Duration::from_millis(args.frame_ms),
+        paused: args.paused,
+        adapter: args.adapter,
+    };
+    let report = pathlab::viewer::run(options)?;
+    if args.log_stats {
+        println!("{}", serde_json::to_string(&report)?);
+    }
+    Ok(0)
+}

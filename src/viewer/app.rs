@@ -1,0 +1,421 @@
+//! The application: state, keyboard, and each UI frame's order of work (watch the scene, run
+//! the driver, register textures, lay out the panels, take the screenshot, report).
+
+use std::path::PathBuf;
+use std::sync::{Arc, Mutex};
+use std::time::Instant;
+
+use egui::{ColorImage, Key};
+
+use crate::display::DisplayTransform;
+use crate::gpu::Gpu;
+use crate::method::{Method, Preset};
+use crate::scene::Scene;
+
+use super::display_pass::View;
+use super::driver::{method_name, Driver, ViewSettings};
+use super::scene_watch::SceneWatch;
+use super::{image_view, panel, SlotReport, ViewerError, ViewerOptions, ViewerReport};
+
+/// A message shown in the panel for a few seconds (saves, errors of actions).
+pub struct Notice {
+    pub text: String,
+    pub error: bool,
+    pub since: Instant,
+}
+
+pub struct ViewerApp {
+    pub driver: Driver,
+    pub watch: SceneWatch,
+    /// Overrides re-applied to every reload (from the command line, then the panel).
+    pub size: Option<(u32, u32)>,
+    pub max_depth: Option<u32>,
+    pub view: View,
+    pub display: DisplayTransform,
+    pub paused: bool,
+    pub show_help: bool,
+    /// Split view: where the divider is, as a fraction of the image width.
+    pub divider: f32,
+    /// The method the right half starts with when the split view is turned on.
+    pub compare: Method,
+    /// Last failed scene reload (file:line:col: message), shown until a reload succeeds.
+    pub scene_error: Option<String>,
+    pub notice: Option<Notice>,
+    pub save_dir: PathBuf,
+    /// Width and height fields of the panel (applied with its button).
+    pub pending_size: (u32, u32),
+    // --frames / --screenshot.
+    frames_limit: Option<u64>,
+    screenshot_path: Option<PathBuf>,
+    screenshot: Arc<Mutex<Option<Arc<ColorImage>>>>,
+    screenshot_requested: bool,
+    first_frame: Option<Instant>,
+    frames_seen: u64,
+    // Layout of the last frame (points), for the report.
+    pub image_rect: egui::Rect,
+    pub divider_x: Option<f32>,
+    pub plot_rect: Option<egui::Rect>,
+    report: Arc<Mutex<ViewerReport>>,
+    failure: Arc<Mutex<Option<ViewerError>>>,
+}
+
+impl ViewerApp {
+    pub fn new(
+        cc: &eframe::CreationContext<'_>,
+        options: ViewerOptions,
+        report: Arc<Mutex<ViewerReport>>,
+        failure: Arc<Mutex<Option<ViewerError>>>,
+    ) -> Result<ViewerApp, ViewerError> {
+        let rs = cc.wgpu_render_state.as_ref().ok_or_else(|| ViewerError::Start("eframe did not start its wgpu renderer".into()))?;
+        // The path tracer runs on the window's device. The Gpu lives as long as the process
+        // (the window is the process's last act), so it is leaked rather than reference counted
+        // through every renderer.
+        let gpu: &'static Gpu = Box::leak(Box::new(Gpu {
+            device: rs.device.clone(),
+            queue: rs.queue.clone(),
+            info: rs.adapter.get_info(),
+            limits: rs.device.limits(),
+            features: rs.device.features(),
+        }));
+        if gpu.info.device_type == wgpu::DeviceType::Cpu {
+            // A software rasteriser pays per triangle: anti-aliasing feathers triple the
+            // triangles of every shape (measured on lavapipe at 1280x800: 24.8 -> 31.0 frames
+            // per second with the renderer paused). Text stays anti-aliased (font atlas).
+            cc.egui_ctx.tessellation_options_mut(|o| o.feathering = false);
+        }
+        let mut methods = vec![options.method];
+        methods.extend(options.compare);
+        let scene_path = options.scene.path.clone();
+        let pending_size = (options.scene.render.width, options.scene.render.height);
+        let driver = Driver::new(gpu, options.scene, &methods, options.seed, options.reference, options.frame_budget)
+            .map_err(|e| ViewerError::Start(e.to_string()))?;
+        let compare = options.compare.unwrap_or(if options.method == Preset::Plain.method() { Preset::Mis.method() } else { Preset::Plain.method() });
+        eprintln!(
+            "pathlab view: {} ({}x{}), {} on {}",
+            scene_path.display(),
+            pending_size.0,
+            pending_size.1,
+            methods.iter().map(method_name).collect::<Vec<_>>().join(" | "),
+            gpu.info.name
+        );
+        Ok(ViewerApp {
+            driver,
+            watch: SceneWatch::new(&scene_path),
+            size: options.size,
+            max_depth: options.max_depth,
+            view: options.view,
+            display: options.display,
+            paused: options.paused,
+            show_help: false,
+            divider: 0.5,
+            compare,
+            scene_error: None,
+            notice: None,
+            save_dir: options.save_dir,
+            pending_size,
+            frames_limit: options.frames,
+            screenshot_path: options.screenshot,
+            screenshot: Arc::new(Mutex::new(None)),
+            screenshot_requested: false,
+            first_frame: None,
+            frames_seen: 0,
+            image_rect: egui::Rect::NOTHING,
+            divider_x: None,
+            plot_rect: None,
+            report,
+            failure,
+        })
+    }
+
+    pub fn notify(&mut self, text: impl Into<String>, error: bool) {
+        let text = text.into();
+        eprintln!("pathlab view: {text}");
+        self.notice = Some(Notice { text, error, since: Instant::now() });
+    }
+
+    /// The scene with this window's overrides applied.
+    fn with_overrides(&self, mut scene: Scene) -> Scene {
+        if let Some((w, h)) = self.size {
+            scene.render.width = w;
+            scene.render.height = h;
+        }
+        if let Some(d) = self.max_depth {
+            scene.render.max_depth = d;
+        }
+        scene
+    }
+
+    /// Rebuilds with the current scene and overrides (after a change of size or depth).
+    pub fn apply_overrides(&mut self) {
+        let scene = self.with_overrides(self.driver.scene.clone());
+        if let Err(e) = self.driver.set_scene(scene) {
+            self.notify(format!("cannot render with these settings: {e}"), true);
+        }
+        self.pending_size = (self.driver.scene.render.width, self.driver.scene.render.height);
+    }
+
+    pub fn set_method(&mut self, slot: usize, method: Method) {
+        if slot < self.driver.slots.len() && self.driver.slots[slot].method != method {
+            if let Err(e) = self.driver.set_method(slot, method) {
+                self.notify(format!("cannot use {}: {e}", method_name(&method)), true);
+            }
+        }
+    }
+
+    pub fn set_split(&mut self, on: bool) {
+        let second = on.then_some(self.compare);
+        if let Err(e) = self.driver.set_split(second) {
+            self.notify(format!("cannot start the second method: {e}"), true);
+        }
+    }
+
+    pub fn reset(&mut self) {
+        if let Err(e) = self.driver.reset() {
+            self.notify(format!("reset failed: {e}"), true);
+        }
+    }
+
+    pub fn save(&mut self) {
+        match self.driver.save(&self.save_dir, self.view) {
+            Ok(files) => {
+                let names: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
+                self.notify(format!("saved {}", names.join(", ")), false);
+            }
+            Err(e) => self.notify(format!("saving failed: {e}"), true),
+        }
+    }
+
+    /// The views that make sense now (error views need a reference of the image's size).
+    pub fn available_views(&self) -> Vec<View> {
+        View::ALL.into_iter().filter(|v| !v.needs_reference() || self.driver.reference_matches()).collect()
+    }
+
+    fn keyboard(&mut self, ctx: &egui::Context) {
+        // Keys belong to a text field while one is being edited.
+        if ctx.egui_wants_keyboard_input() {
+            return;
+        }
+        let pressed = |key: Key| ctx.input_mut(|i| i.consume_key(egui::Modifiers::NONE, key));
+        if pressed(Key::Space) {
+            self.paused = !self.paused;
+        }
+        if pressed(Key::R) {
+            self.reset();
+        }
+        if pressed(Key::S) {
+            self.save();
+        }
+        if pressed(Key::V) {
+            let views = self.available_views();
+            let i = views.iter().position(|v| *v == self.view).map_or(0, |i| (i + 1) % views.len());
+            self.view = views[i];
+        }
+        if pressed(Key::H) || pressed(Key::F1) {
+            self.show_help = !self.show_help;
+        }
+        if pressed(Key::Escape) {
+            self.show_help = false;
+        }
+        const DIGITS: [Key; 7] = [Key::Num1, Key::Num2, Key::Num3, Key::Num4, Key::Num5, Key::Num6, Key::Num7];
+        for (key, preset) in DIGITS.into_iter().zip(Preset::ALL) {
+            if pressed(key) {
+                self.set_method(0, preset.method());
+            }
+        }
+    }
+
+    /// A reload of the scene file, if it changed.
+    fn watch_scene(&mut self) {
+        if let Some(result) = self.watch.poll() {
+            match result {
+                Ok(scene) => {
+                    let scene = self.with_overrides(scene);
+                    match self.driver.set_scene(scene) {
+                        Ok(()) => {
+                            self.scene_error = None;
+                            self.notify(format!("reloaded {}", self.watch.path().display()), false);
+                        }
+                        Err(e) => {
+                            self.scene_error = Some(e.to_string());
+                            eprintln!("pathlab view: reloading the scene failed: {e}");
+                        }
+                    }
+                }
+                Err(e) => {
+                    let text = e.to_string();
+                    eprintln!("pathlab view: reloading the scene failed (the last good image stays):\n{text}");
+                    self.scene_error = Some(text);
+                }
+            }
+        }
+    }
+
+    /// Points each slot's egui texture at its current shown image.
+    fn register_textures(&mut self, frame: &eframe::Frame) {
+        let Some(rs) = frame.wgpu_render_state() else { return };
+        let mut renderer = rs.renderer.write();
+        for id in self.driver.released_textures.drain(..) {
+            renderer.free_texture(&id);
+        }
+        for slot in &mut self.driver.slots {
+            if !slot.texture_stale {
+                continue;
+            }
+            match slot.texture_id {
+                Some(id) => renderer.update_egui_texture_from_wgpu_texture(&rs.device, &slot.image.view, wgpu::FilterMode::Nearest, id),
+                None => slot.texture_id = Some(renderer.register_native_texture(&rs.device, &slot.image.view, wgpu::FilterMode::Nearest)),
+            }
+            slot.texture_stale = false;
+        }
+    }
+
+    /// `--frames N`: after N frames, take the screenshot (the next frame's framebuffer), save it
+    /// and close.
+    fn frames_and_screenshot(&mut self, ctx: &egui::Context) {
+        let Some(limit) = self.frames_limit else { return };
+        if self.frames_seen < limit {
+            return;
+        }
+        match &self.screenshot_path {
+            None => self.close(ctx, None),
+            Some(path) => {
+                if !self.screenshot_requested {
+                    self.screenshot_requested = true;
+                    let slot = self.screenshot.clone();
+                    ctx.request_screenshot(move |image| {
+                        *slot.lock().unwrap_or_else(|e| e.into_inner()) = Some(image);
+                    });
+                    return;
+                }
+                let taken = self.screenshot.lock().unwrap_or_else(|e| e.into_inner()).take();
+                if let Some(image) = taken {
+                    let path = path.clone();
+                    let rgb: Vec<u8> = image.pixels.iter().flat_map(|c| [c.r(), c.g(), c.b()]).collect();
+                    let [w, h] = image.size;
+                    match crate::output::write_rgb8_png(&path, w as u32, h as u32, rgb) {
+                        Ok(()) => self.close(ctx, Some(path)),
+                        Err(e) => {
+                            *self.failure.lock().unwrap_or_else(|e| e.into_inner()) = Some(ViewerError::Screenshot(e.to_string()));
+                            ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    fn close(&mut self, ctx: &egui::Context, screenshot: Option<PathBuf>) {
+        self.write_report(ctx, screenshot);
+        ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+    }
+
+    /// Fills the shared report (read after the window closes).
+    fn write_report(&self, ctx: &egui::Context, screenshot: Option<PathBuf>) {
+        let ppp = ctx.pixels_per_point();
+        let px = |r: egui::Rect| [r.min.x * ppp, r.min.y * ppp, r.max.x * ppp, r.max.y * ppp];
+        let screen = ctx.content_rect();
+        let t = self.driver.throughput;
+        let mut report = self.report.lock().unwrap_or_else(|e| e.into_inner());
+        let screenshot = screenshot.or_else(|| report.screenshot.clone());
+        *report = ViewerReport {
+            adapter: self.driver.gpu.info.name.clone(),
+            frames: self.frames_seen,
+            frames_per_second: if t.seconds > 0.0 { t.frames as f64 / t.seconds } else { 0.0 },
+            samples_per_second: if t.seconds > 0.0 { t.pixel_samples / t.seconds } else { 0.0 },
+            width: self.driver.scene.render.width,
+            height: self.driver.scene.render.height,
+            slots: self
+                .driver
+                .slots
+                .iter()
+                .map(|s| SlotReport {
+                    method: method_name(&s.method),
+                    spp: s.spp(),
+                    render_seconds: s.seconds,
+                    samples_per_second: s.samples_per_second(),
+                    rel_mse: s.latest.map(|p| p.rel_mse),
+                    psnr: s.latest.map(|p| p.psnr),
+                    ssim: s.latest.and_then(|p| p.ssim),
+                    estimated: s.latest.is_none_or(|p| p.estimated),
+                })
+                .collect(),
+            window: [(screen.width() * ppp).round() as u32, (screen.height() * ppp).round() as u32],
+            image_rect: px(self.image_rect),
+            divider_x: self.divider_x.map(|x| x * ppp),
+            plot_rect: self.plot_rect.map(px),
+            view: self.view.name().to_string(),
+            scene_error: self.scene_error.clone(),
+            screenshot,
+        };
+    }
+}
+
+impl eframe::App for ViewerApp {
+    fn clear_color(&self, visuals: &egui::Visuals) -> [f32; 4] {
+        visuals.panel_fill.to_normalized_gamma_f32()
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
+        let ctx = ui.ctx().clone();
+        if self.driver.gpu.info.device_type == wgpu::DeviceType::Cpu {
+            ctx.tessellation_options_mut(|o| o.feathering = false);
+        }
+        self.first_frame.get_or_insert_with(Instant::now);
+        self.keyboard(&ctx);
+        self.watch_scene();
+        if !self.available_views().contains(&self.view) {
+            self.view = View::Radiance;
+        }
+        let settings = ViewSettings { view: self.view, display: self.display };
+        if let Err(e) = self.driver.frame(settings, self.paused) {
+            self.paused = true;
+            self.notify(format!("rendering stopped: {e}"), true);
+        }
+        self.register_textures(frame);
+
+        egui::Panel::left("controls").resizable(false).exact_size(300.0).frame(bare(8.0)).show(ui, |ui| panel::show(self, ui));
+        let plot = egui::Panel::bottom("plot").resizable(true).default_size(230.0).frame(bare(4.0)).show(ui, |ui| super::plot::show(ui, &self.driver.curves));
+        self.plot_rect = Some(plot.inner);
+        egui::CentralPanel::default().frame(bare(0.0)).show(ui, |ui| image_view::show(self, ui));
+        if self.show_help {
+            help_overlay(&ctx);
+        }
+
+        self.frames_seen += 1;
+        self.write_report(&ctx, None);
+        self.frames_and_screenshot(&ctx);
+        if self.paused && self.frames_limit.is_none() {
+            ctx.request_repaint_after(std::time::Duration::from_millis(100));
+        } else {
+            ctx.request_repaint();
+        }
+    }
+}
+
+/// A panel frame without a fill: the window's clear colour is the background, so a software
+/// rasteriser (lavapipe) is not asked to shade every pixel of the window once more per panel.
+fn bare(margin: f32) -> egui::Frame {
+    egui::Frame::NONE.inner_margin(margin)
+}
+
+/// The keys, over the image.
+fn help_overlay(ctx: &egui::Context) {
+    egui::Window::new("Keys").collapsible(false).resizable(false).anchor(egui::Align2::CENTER_CENTER, [0.0, 0.0]).show(ctx, |ui| {
+        egui::Grid::new("keys").num_columns(2).striped(true).show(ui, |ui| {
+            let presets: Vec<String> = Preset::ALL.iter().enumerate().map(|(i, p)| format!("{} {}", i + 1, p.name())).collect();
+            for (key, what) in [
+                ("Space", "pause / resume"),
+                ("R", "reset (a new curve per method)"),
+                ("S", "save EXR (mean, variance, spp, method, seed) and PNG of what is shown"),
+                ("V", "cycle views: radiance, relative std. error, errors vs reference"),
+                ("1-7", presets.join(", ").as_str()),
+                ("H / F1", "this help (Esc closes)"),
+                ("mouse", "hover: pixel mean, std. error, spp; drag the divider in the split view"),
+            ] {
+                ui.strong(key);
+                ui.label(what);
+                ui.end_row();
+            }
+        });
+    });
+}

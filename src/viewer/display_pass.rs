@@ -1,0 +1,283 @@
+//! The display pass: a compute kernel (`shaders/display.wgsl`) that turns a renderer's
+//! accumulators into the texture the window shows: the mean through the display transform, or a
+//! false-colour error view. It runs on the device after the frame's samples, so the image never
+//! travels through the CPU.
+
+use crate::display::{DisplayTransform, Transfer};
+use crate::figures::error_map::LOG10_RANGE;
+use crate::gpu::{storage_entry, uniform_entry};
+use crate::render::{Film, Renderer};
+use crate::shaders;
+
+/// The format egui draws user textures from: display-encoded values in plain RGBA8.
+pub const SHOWN_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+const WORKGROUP: u32 = 8;
+
+/// What the image area shows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum View {
+    /// The mean radiance through exposure and display transform.
+    Radiance,
+    /// Per-pixel relative standard error of the mean, sqrt(var / (mean^2 - var + 0.01)).
+    RelStderr,
+    /// |mean - reference|, averaged over the channels (needs a reference).
+    AbsError,
+    /// (mean - reference)^2 / (reference^2 + 0.01): the terms of relMSE (needs a reference).
+    RelError,
+}
+
+impl View {
+    pub const ALL: [View; 4] = [View::Radiance, View::RelStderr, View::AbsError, View::RelError];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            View::Radiance => "radiance",
+            View::RelStderr => "relative standard error",
+            View::AbsError => "absolute error",
+            View::RelError => "relative squared error",
+        }
+    }
+
+    pub fn needs_reference(self) -> bool {
+        matches!(self, View::AbsError | View::RelError)
+    }
+
+    /// The log10 range of a false-colour view (errors below the low end are black).
+    pub fn log10_range(self) -> (f32, f32) {
+        match self {
+            View::Radiance => (0.0, 1.0),
+            View::RelStderr => (-3.0, 0.0),
+            View::AbsError => (-4.0, 0.0),
+            View::RelError => (LOG10_RANGE.0 as f32, LOG10_RANGE.1 as f32),
+        }
+    }
+
+    /// The value of the constant `VIEW_*` in display.wgsl.
+    fn constant(self) -> u32 {
+        self as u32
+    }
+}
+
+/// `DisplayParams` in display.wgsl.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct DisplayParams {
+    width: u32,
+    y0: u32,
+    rows: u32,
+    view: u32,
+    exposure_scale: f32,
+    transfer: u32,
+    inv_gamma: f32,
+    log_lo: f32,
+    log_hi: f32,
+    _pad: [u32; 3],
+}
+
+/// The display kernel, its bind group layout, the colour map and a stand-in reference.
+pub struct DisplayPass {
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+    colour_map: wgpu::Buffer,
+    no_reference: wgpu::Buffer,
+}
+
+/// A reference image on the device (linear RGB, padded to vec4).
+pub struct GpuReference {
+    pub width: u32,
+    pub height: u32,
+    buffer: wgpu::Buffer,
+}
+
+impl GpuReference {
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, film: &Film) -> GpuReference {
+        let texels: Vec<[f32; 4]> = film.mean.iter().map(|m| [m[0], m[1], m[2], 0.0]).collect();
+        let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("reference"),
+            size: (texels.len().max(1) * 16) as u64,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        queue.write_buffer(&buffer, 0, bytemuck::cast_slice(&texels));
+        GpuReference { width: film.width, height: film.height, buffer }
+    }
+}
+
+/// One shown image: its texture and the bind groups that read one renderer's bands into it.
+pub struct ShownImage {
+    pub width: u32,
+    pub height: u32,
+    pub texture: wgpu::Texture,
+    pub view: wgpu::TextureView,
+    bands: Vec<(u32, wgpu::Buffer, wgpu::BindGroup)>,
+}
+
+impl DisplayPass {
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> DisplayPass {
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("display pass"),
+            source: wgpu::ShaderSource::Wgsl(shaders::display_source().into()),
+        });
+        let mut target = uniform_entry(4);
+        target.ty = wgpu::BindingType::StorageTexture {
+            access: wgpu::StorageTextureAccess::WriteOnly,
+            format: SHOWN_FORMAT,
+            view_dimension: wgpu::TextureViewDimension::D2,
+        };
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("display pass"),
+            entries: &[uniform_entry(0), storage_entry(1, true), storage_entry(2, true), uniform_entry(3), target],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("display pass"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("display pass"),
+            layout: Some(&pipeline_layout),
+            module: &module,
+            entry_point: Some(shaders::DISPLAY_ENTRY),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        // Magma as linear [0, 1] display values (the same table as the figures' error maps).
+        let magma: Vec<[f32; 4]> = (0..256)
+            .map(|i| {
+                let [r, g, b] = crate::figures::colormap::magma_at(i as f64 / 255.0);
+                [r as f32 / 255.0, g as f32 / 255.0, b as f32 / 255.0, 1.0]
+            })
+            .collect();
+        let colour_map = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("magma"),
+            size: 256 * 16,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        queue.write_buffer(&colour_map, 0, bytemuck::cast_slice(&magma));
+        let no_reference = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("no reference"),
+            size: 16,
+            usage: wgpu::BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        });
+        DisplayPass { pipeline, layout, colour_map, no_reference }
+    }
+
+    /// A texture of the renderer's size and the bind groups that fill it from its bands
+    /// (and read `reference` when it has the same size).
+    pub fn shown_image(&self, device: &wgpu::Device, renderer: &Renderer<'_>, reference: Option<&GpuReference>) -> ShownImage {
+        let (width, height) = renderer.size();
+        let texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("shown image"),
+            size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: SHOWN_FORMAT,
+            usage: wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        });
+        let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
+        let reference = reference.filter(|r| (r.width, r.height) == (width, height)).map_or(&self.no_reference, |r| &r.buffer);
+        let bands = renderer
+            .accumulator_buffers()
+            .map(|(_, rows, accum)| {
+                let params = device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("display params"),
+                    size: std::mem::size_of::<DisplayParams>() as u64,
+                    usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                });
+                let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("display pass"),
+                    layout: &self.layout,
+                    entries: &[
+                        wgpu::BindGroupEntry { binding: 0, resource: params.as_entire_binding() },
+                        wgpu::BindGroupEntry { binding: 1, resource: accum.as_entire_binding() },
+                        wgpu::BindGroupEntry { binding: 2, resource: reference.as_entire_binding() },
+                        wgpu::BindGroupEntry { binding: 3, resource: self.colour_map.as_entire_binding() },
+                        wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::TextureView(&view) },
+                    ],
+                });
+                (rows, params, bind_group)
+            })
+            .collect();
+        ShownImage { width, height, texture, view, bands }
+    }
+
+    /// Fills `image` from its renderer's accumulators: `view` through `display`.
+    pub fn run(&self, device: &wgpu::Device, queue: &wgpu::Queue, image: &ShownImage, view: View, display: DisplayTransform) {
+        let (transfer, inv_gamma) = match display.transfer {
+            Transfer::Srgb => (0, 1.0),
+            Transfer::Gamma(g) => (1, 1.0 / g),
+        };
+        let (log_lo, log_hi) = view.log10_range();
+        let mut y0 = 0;
+        for (rows, params, _) in &image.bands {
+            let p = DisplayParams {
+                width: image.width,
+                y0,
+                rows: *rows,
+                view: view.constant(),
+                exposure_scale: display.exposure.exp2(),
+                transfer,
+                inv_gamma,
+                log_lo,
+                log_hi,
+                _pad: [0; 3],
+            };
+            queue.write_buffer(params, 0, bytemuck::bytes_of(&p));
+            y0 += rows;
+        }
+        let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("display pass") });
+        {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("display pass"), timestamp_writes: None });
+            pass.set_pipeline(&self.pipeline);
+            for (rows, _, bind_group) in &image.bands {
+                pass.set_bind_group(0, bind_group, &[]);
+                pass.dispatch_workgroups(image.width.div_ceil(WORKGROUP), rows.div_ceil(WORKGROUP), 1);
+            }
+        }
+        queue.submit([encoder.finish()]);
+    }
+}
+
+/// Reads the shown texture back as RGB8 (for saving what is shown as PNG). Blocks.
+pub fn read_shown_rgb8(device: &wgpu::Device, queue: &wgpu::Queue, image: &ShownImage) -> Result<Vec<u8>, String> {
+    let row = image.width * 4;
+    let padded = row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+    let staging = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("shown image readback"),
+        size: padded as u64 * image.height as u64,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("shown image readback") });
+    encoder.copy_texture_to_buffer(
+        image.texture.as_image_copy(),
+        wgpu::TexelCopyBufferInfo {
+            buffer: &staging,
+            layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(padded), rows_per_image: None },
+        },
+        wgpu::Extent3d { width: image.width, height: image.height, depth_or_array_layers: 1 },
+    );
+    let index = queue.submit([encoder.finish()]);
+    let (tx, rx) = std::sync::mpsc::channel();
+    staging.map_async(wgpu::MapMode::Read, .., move |r| {
+        let _ = tx.send(r);
+    });
+    crate::gpu::wait_for_submission(device, Some(index)).map_err(|e| e.to_string())?;
+    rx.recv_timeout(std::time::Duration::from_secs(60)).map_err(|e| e.to_string())?.map_err(|e| e.to_string())?;
+    let bytes = {
+        let view = staging.get_mapped_range(..).map_err(|e| e.to_string())?;
+        let mut rgb = Vec::with_capacity(image.width as usize * image.height as usize * 3);
+        for y in 0..image.height as usize {
+            let line = &view[y * padded as usize..y * padded as usize + row as usize];
+            rgb.extend(line.chunks(4).flat_map(|p| [p[0], p[1], p[2]]));
+        }
+        rgb
+    };
+    staging.unmap();
+    Ok(bytes)
+}

@@ -1,0 +1,393 @@
+//! The render driver: one or two methods converging on the same scene, each with its own
+//! accumulator (`Slot`). Every UI frame it submits as many samples per pixel as fit the frame
+//! budget to one slot (in the split view the slots take turns, so they share the device by time,
+//! not by samples), runs the display pass into that slot's texture, and collects live metrics
+//! and mouse-over probes from asynchronous readbacks. Nothing here waits on the device.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use crate::display::DisplayTransform;
+use crate::gpu::{AccumPixel, Gpu, PathTracerPipelines};
+use crate::method::Method;
+use crate::output::{write_exr, write_rgb8_png, Metadata};
+use crate::render::{provenance, Film, PendingReadback, RenderError, Renderer};
+use crate::scene::Scene;
+
+use super::display_pass::{read_shown_rgb8, DisplayPass, GpuReference, ShownImage, View};
+use super::live_metrics::{LivePoint, MetricsTask};
+use super::plot::Curves;
+
+/// Metrics take at most about this fraction of the time between two points (they run on a
+/// worker thread, but on a software rasteriser that thread competes with the renderer).
+const METRICS_DUTY: f64 = 0.1;
+/// Longest interval between two points of a curve.
+const MAX_METRICS_INTERVAL: Duration = Duration::from_secs(3);
+/// Shortest interval between two points of a curve.
+const MIN_METRICS_INTERVAL: Duration = Duration::from_millis(400);
+
+/// The name a method is shown under: its preset's, a biased demonstration's, or its parts.
+pub fn method_name(method: &Method) -> String {
+    if let Some(p) = method.preset() {
+        return p.name().to_string();
+    }
+    if let Some((name, _)) = crate::method::biased_demonstrations().into_iter().find(|(_, m)| m == method) {
+        return name.to_string();
+    }
+    format!("{}/{}/{}", method.sampler.name(), method.bsdf.name(), method.lights.name())
+}
+
+/// What the user chose to see.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ViewSettings {
+    pub view: View,
+    pub display: DisplayTransform,
+}
+
+/// One method converging: its renderer, shown image and clock.
+pub struct Slot {
+    pub method: Method,
+    pub seed: u32,
+    renderer: Renderer<'static>,
+    pub image: ShownImage,
+    /// The egui texture showing `image` (registered by the app), and whether it must be
+    /// pointed at a new `image` (after a rebuild).
+    pub texture_id: Option<egui::TextureId>,
+    pub texture_stale: bool,
+    /// Render time this slot was given: the wall time of the frames that rendered it.
+    pub seconds: f64,
+    /// Its curve in the plot.
+    pub curve: usize,
+    /// Samples per pixel per frame, adapted to the frame budget.
+    samples_per_frame: f64,
+    /// The display pass must run (new samples or new view settings).
+    dirty: bool,
+    readback: Option<(PendingReadback, f64)>,
+    metrics: Option<MetricsTask>,
+    next_metrics: Instant,
+    pub latest: Option<LivePoint>,
+}
+
+impl Slot {
+    pub fn spp(&self) -> u64 {
+        self.renderer.spp()
+    }
+
+    /// Pixel samples per second of render time.
+    pub fn samples_per_second(&self) -> f64 {
+        let (w, h) = self.renderer.size();
+        if self.seconds > 0.0 { self.spp() as f64 * w as f64 * h as f64 / self.seconds } else { 0.0 }
+    }
+}
+
+/// A pixel's statistics under the mouse.
+#[derive(Debug, Clone, Copy)]
+pub struct Probe {
+    pub slot: usize,
+    pub x: u32,
+    pub y: u32,
+    pub spp: u64,
+    pub mean: [f32; 3],
+    /// Standard error of the mean per channel.
+    pub stderr: [f32; 3],
+}
+
+/// Throughput since the driver started (after the first frames, which compile and warm up).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Throughput {
+    pub frames: u64,
+    pub seconds: f64,
+    pub pixel_samples: f64,
+}
+
+pub struct Driver {
+    pub gpu: &'static Gpu,
+    pipelines: PathTracerPipelines,
+    display: DisplayPass,
+    pub scene: Scene,
+    reference: Option<(Arc<Film>, GpuReference)>,
+    pub slots: Vec<Slot>,
+    /// The slot that renders this frame (split view: they alternate).
+    turn: usize,
+    /// The slot that rendered the previous frame, and when that frame started.
+    last_frame: Option<(Instant, Option<usize>)>,
+    frame_target: Duration,
+    pub curves: Curves,
+    probe_pending: Option<(usize, u32, u32, PendingReadback)>,
+    pub probe: Option<Probe>,
+    last_settings: Option<ViewSettings>,
+    /// Frames run, and throughput measured from the third frame on.
+    pub frames: u64,
+    pub throughput: Throughput,
+    /// Textures of removed slots, for the app to free.
+    pub released_textures: Vec<egui::TextureId>,
+}
+
+/// Most samples per pixel one frame may add.
+const MAX_SAMPLES_PER_FRAME: f64 = 65536.0;
+
+/// Frames left out of the throughput (pipeline compilation, first texture uploads).
+const WARM_UP_FRAMES: u64 = 2;
+
+impl Driver {
+    pub fn new(gpu: &'static Gpu, scene: Scene, methods: &[Method], seed: u32, reference: Option<Film>, frame_target: Duration) -> Result<Driver, RenderError> {
+        let pipelines = PathTracerPipelines::new(&gpu.device);
+        let display = DisplayPass::new(&gpu.device, &gpu.queue);
+        let reference = reference.map(|film| {
+            let on_device = GpuReference::new(&gpu.device, &gpu.queue, &film);
+            (Arc::new(film), on_device)
+        });
+        let mut driver = Driver {
+            gpu,
+            pipelines,
+            display,
+            scene,
+            reference,
+            slots: Vec::new(),
+            turn: 0,
+            last_frame: None,
+            frame_target,
+            curves: Curves::default(),
+            probe_pending: None,
+            probe: None,
+            last_settings: None,
+            frames: 0,
+            throughput: Throughput::default(),
+            released_textures: Vec::new(),
+        };
+        for (i, &method) in methods.iter().enumerate() {
+            let slot = driver.new_slot(method, seed.wrapping_add(i as u32))?;
+            driver.slots.push(slot);
+        }
+        Ok(driver)
+    }
+
+    pub fn reference(&self) -> Option<&Film> {
+        self.reference.as_ref().map(|(f, _)| f.as_ref())
+    }
+
+    /// True when the reference has the image's size (error views and true metrics work).
+    pub fn reference_matches(&self) -> bool {
+        self.reference().is_some_and(|r| (r.width, r.height) == (self.scene.render.width, self.scene.render.height))
+    }
+
+    fn new_slot(&mut self, method: Method, seed: u32) -> Result<Slot, RenderError> {
+        let renderer = Renderer::new(self.gpu, &self.pipelines, &self.scene, method, seed)?;
+        let image = self.display.shown_image(&self.gpu.device, &renderer, self.reference.as_ref().map(|(_, r)| r));
+        let curve = self.curves.start(&method_name(&method));
+        Ok(Slot {
+            method,
+            seed,
+            renderer,
+            image,
+            texture_id: None,
+            texture_stale: true,
+            seconds: 0.0,
+            curve,
+            samples_per_frame: 1.0,
+            dirty: true,
+            readback: None,
+            metrics: None,
+            next_metrics: Instant::now(),
+            latest: None,
+        })
+    }
+
+    /// Restarts slot `i` with `method` (the pipeline comes from the cache when seen before).
+    /// On error the slot keeps converging as it was.
+    pub fn set_method(&mut self, i: usize, method: Method) -> Result<(), RenderError> {
+        let mut slot = self.new_slot(method, self.slots[i].seed)?;
+        slot.texture_id = self.slots[i].texture_id;
+        self.slots[i] = slot;
+        self.probe = None;
+        Ok(())
+    }
+
+    /// Restarts every slot (a new curve each).
+    pub fn reset(&mut self) -> Result<(), RenderError> {
+        let methods: Vec<(Method, u32)> = self.slots.iter().map(|s| (s.method, s.seed)).collect();
+        let mut slots = Vec::new();
+        for (i, (method, seed)) in methods.into_iter().enumerate() {
+            let mut slot = self.new_slot(method, seed)?;
+            slot.texture_id = self.slots[i].texture_id;
+            slots.push(slot);
+        }
+        self.slots = slots;
+        self.probe = None;
+        self.probe_pending = None;
+        Ok(())
+    }
+
+    /// Replaces the scene (a reload, or a new size or depth) and restarts every slot; on error
+    /// the previous scene stays.
+    pub fn set_scene(&mut self, scene: Scene) -> Result<(), RenderError> {
+        let previous = std::mem::replace(&mut self.scene, scene);
+        if let Err(e) = self.reset() {
+            self.scene = previous;
+            return Err(e);
+        }
+        Ok(())
+    }
+
+    /// Shows one method, or two side by side (the second starts as `second`).
+    pub fn set_split(&mut self, second: Option<Method>) -> Result<(), RenderError> {
+        match second {
+            Some(method) if self.slots.len() == 1 => {
+                let seed = self.slots[0].seed.wrapping_add(1);
+                let slot = self.new_slot(method, seed)?;
+                self.slots.push(slot);
+            }
+            None => {
+                for slot in self.slots.drain(1..) {
+                    self.released_textures.extend(slot.texture_id);
+                }
+            }
+            _ => {}
+        }
+        self.turn = 0;
+        Ok(())
+    }
+
+    /// One UI frame's work: account the time of the previous frame, submit samples to the
+    /// slot whose turn it is, run the display pass where needed, collect finished readbacks.
+    pub fn frame(&mut self, settings: ViewSettings, paused: bool) -> Result<(), RenderError> {
+        let now = Instant::now();
+        if let Some((start, rendered)) = self.last_frame {
+            let dt = (now - start).as_secs_f64();
+            if let Some(i) = rendered.filter(|&i| i < self.slots.len()) {
+                let slot = &mut self.slots[i];
+                slot.seconds += dt;
+                // Frame-budget control: scale the samples per frame by target / measured frame
+                // time (square-rooted to damp, at most x2 or /2 per frame).
+                let ratio = (self.frame_target.as_secs_f64() / dt.max(1e-4)).sqrt().clamp(0.5, 2.0);
+                slot.samples_per_frame = (slot.samples_per_frame * ratio).clamp(1.0, MAX_SAMPLES_PER_FRAME);
+            }
+            if self.frames > WARM_UP_FRAMES {
+                self.throughput.seconds += dt;
+                self.throughput.frames += 1;
+            }
+        }
+        let mut rendered = None;
+        if !paused && !self.slots.is_empty() {
+            let i = self.turn % self.slots.len();
+            self.turn = (i + 1) % self.slots.len();
+            let slot = &mut self.slots[i];
+            // One frame's samples, in dispatches the device allows (lavapipe's loop limit).
+            let count = slot.samples_per_frame.round() as u32;
+            let per_dispatch = slot.renderer.max_samples_per_dispatch().max(1);
+            let mut left = count;
+            while left > 0 {
+                let n = left.min(per_dispatch);
+                slot.renderer.submit(n)?;
+                left -= n;
+            }
+            slot.dirty = true;
+            rendered = Some(i);
+            if self.frames >= WARM_UP_FRAMES {
+                let (w, h) = slot.renderer.size();
+                self.throughput.pixel_samples += count as f64 * w as f64 * h as f64;
+            }
+        }
+        self.frames += 1;
+        self.last_frame = Some((now, rendered));
+
+        let settings_changed = self.last_settings != Some(settings);
+        self.last_settings = Some(settings);
+        for slot in &mut self.slots {
+            if slot.dirty || settings_changed {
+                self.display.run(&self.gpu.device, &self.gpu.queue, &slot.image, settings.view, settings.display);
+                slot.dirty = false;
+            }
+        }
+        self.collect(settings.display);
+        Ok(())
+    }
+
+    /// Advances readbacks and metric tasks without blocking.
+    fn collect(&mut self, display: DisplayTransform) {
+        let _ = self.gpu.device.poll(wgpu::PollType::Poll);
+        let reference = self.reference_matches().then(|| self.reference.as_ref().map(|(f, _)| f.clone())).flatten();
+        let now = Instant::now();
+        for slot in &mut self.slots {
+            if let Some(task) = &slot.metrics {
+                if let Some(done) = task.try_finish() {
+                    self.curves.push(slot.curve, done.point);
+                    slot.latest = Some(done.point);
+                    slot.metrics = None;
+                    slot.next_metrics = now + done.cost.div_f64(METRICS_DUTY).clamp(MIN_METRICS_INTERVAL, MAX_METRICS_INTERVAL);
+                }
+            }
+            if let Some((pending, seconds)) = &slot.readback {
+                match pending.try_finish() {
+                    Some(Ok(pixels)) => {
+                        slot.metrics =
+                            Some(MetricsTask::spawn(pixels, slot.renderer.size(), pending.spp, *seconds, reference.clone(), display));
+                        slot.readback = None;
+                    }
+                    Some(Err(_)) => slot.readback = None,
+                    None => {}
+                }
+            } else if slot.metrics.is_none() && now >= slot.next_metrics && slot.spp() >= 2 {
+                slot.readback = Some((slot.renderer.begin_readback(), slot.seconds));
+            }
+        }
+        if let Some((i, x, y, pending)) = &self.probe_pending {
+            if let Some(result) = pending.try_finish() {
+                if let Ok(p) = result {
+                    let film = Film::from_accumulators(1, 1, pending.spp, &p);
+                    self.probe = Some(Probe {
+                        slot: *i,
+                        x: *x,
+                        y: *y,
+                        spp: pending.spp,
+                        mean: film.mean[0],
+                        stderr: film.variance[0].map(f32::sqrt),
+                    });
+                }
+                self.probe_pending = None;
+            }
+        }
+    }
+
+    /// Asks for the statistics of pixel (x, y) of slot `i` (answered in a later frame).
+    pub fn request_probe(&mut self, i: usize, x: u32, y: u32) {
+        if self.probe_pending.is_none() {
+            if let Some(pending) = self.slots.get(i).and_then(|s| s.renderer.begin_read_pixel(x, y)) {
+                self.probe_pending = Some((i, x, y, pending));
+            }
+        }
+    }
+
+    /// Saves every slot: an EXR of the mean and variance (spp, method, seed, ... in the
+    /// header, as `pathlab render` writes) and a PNG of what is shown. Blocks for the readbacks.
+    pub fn save(&self, dir: &Path, view: View) -> Result<Vec<PathBuf>, String> {
+        let stem = self.scene.path.file_stem().and_then(|s| s.to_str()).unwrap_or("view").to_string();
+        let mut written = Vec::new();
+        for slot in &self.slots {
+            let readback = slot.renderer.readback().map_err(|e| e.to_string())?;
+            let spp = slot.spp();
+            let name = format!("{stem}-{}-{spp}spp", method_name(&slot.method).replace('/', "-"));
+            let mut metadata: Metadata = provenance(&slot.method, slot.seed, self.scene.render.max_depth, spp, readback.rays);
+            metadata.push(("scene".into(), self.scene.path.display().to_string()));
+            metadata.push(("render_seconds".into(), format!("{:.3}", slot.seconds)));
+            metadata.push(("source".into(), "pathlab view".into()));
+            let exr = dir.join(format!("{name}.exr"));
+            write_exr(&exr, &readback.film, &metadata, true).map_err(|e| e.to_string())?;
+            written.push(exr);
+            let shown = read_shown_rgb8(&self.gpu.device, &self.gpu.queue, &slot.image)?;
+            let png = match view {
+                View::Radiance => dir.join(format!("{name}.png")),
+                other => dir.join(format!("{name}-{}.png", other.name().replace(' ', "-"))),
+            };
+            write_rgb8_png(&png, slot.image.width, slot.image.height, shown).map_err(|e| e.to_string())?;
+            written.push(png);
+        }
+        Ok(written)
+    }
+
+    /// The raw accumulators of slot `i`, read back now (blocking; tests and saving).
+    pub fn accumulators(&self, i: usize) -> Result<Vec<AccumPixel>, RenderError> {
+        self.slots[i].renderer.accumulators()
+    }
+}

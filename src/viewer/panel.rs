@@ -1,0 +1,235 @@
+//! The side panel: method (preset and its parts, per half in the split view), render controls
+//! and counters, display settings with the false-colour scale, live metrics, the pixel probe,
+//! saving, and the hint to the keys.
+
+use egui::{Color32, RichText, Ui};
+
+use crate::display::Transfer;
+use crate::method::{BsdfSampling, LightSampling, Method, Preset, Sampler};
+
+use super::app::ViewerApp;
+use super::display_pass::View;
+use super::driver::method_name;
+
+const ERROR_RED: Color32 = Color32::from_rgb(255, 110, 100);
+
+pub fn show(app: &mut ViewerApp, ui: &mut Ui) {
+    egui::ScrollArea::vertical().show(ui, |ui| {
+        ui.heading("pathlab view");
+        ui.label(RichText::new("H: keys").weak());
+        ui.separator();
+        method_section(app, ui);
+        ui.separator();
+        render_section(app, ui);
+        ui.separator();
+        display_section(app, ui);
+        ui.separator();
+        metrics_section(app, ui);
+        ui.separator();
+        if ui.button("Save EXR + PNG (S)").clicked() {
+            app.save();
+        }
+        if let Some(n) = &app.notice {
+            if n.since.elapsed().as_secs_f32() < 8.0 {
+                ui.label(RichText::new(&n.text).color(if n.error { ERROR_RED } else { ui.visuals().text_color() }));
+            }
+        }
+    });
+}
+
+/// A combo box over `options`, `name` labelling each; returns the new choice if changed.
+fn choose<T: Copy + PartialEq>(ui: &mut Ui, id: impl std::hash::Hash + std::fmt::Debug, current: T, options: &[T], name: impl Fn(T) -> String) -> Option<T> {
+    let mut chosen = current;
+    egui::ComboBox::from_id_salt(id).width(180.0).selected_text(name(current)).show_ui(ui, |ui| {
+        for &o in options {
+            ui.selectable_value(&mut chosen, o, name(o));
+        }
+    });
+    (chosen != current).then_some(chosen)
+}
+
+fn biased(name: &str, is_biased: bool) -> String {
+    if is_biased { format!("{name} (BIASED demo)") } else { name.to_string() }
+}
+
+fn method_section(app: &mut ViewerApp, ui: &mut Ui) {
+    let split = app.driver.slots.len() > 1;
+    let mut want_split = split;
+    ui.checkbox(&mut want_split, "Split view: two methods at equal time");
+    if want_split != split {
+        app.set_split(want_split);
+    }
+    for i in 0..app.driver.slots.len() {
+        let method = app.driver.slots[i].method;
+        if app.driver.slots.len() > 1 {
+            ui.label(RichText::new(if i == 0 { "Left" } else { "Right" }).strong());
+        }
+        let mut next: Option<Method> = None;
+        egui::Grid::new(("method", i)).num_columns(2).show(ui, |ui| {
+            ui.label("preset");
+            let presets: Vec<Option<Preset>> = Preset::ALL.iter().copied().map(Some).chain([None]).collect();
+            let label = |p: Option<Preset>| p.map_or_else(|| "custom".to_string(), |p| p.name().to_string());
+            if let Some(Some(p)) = choose(ui, ("preset", i), method.preset(), &presets, label) {
+                next = Some(p.method());
+            }
+            ui.end_row();
+            ui.label("sampler");
+            if let Some(s) = choose(ui, ("sampler", i), method.sampler, &Sampler::ALL, |s: Sampler| s.name().to_string()) {
+                next = Some(Method { sampler: s, ..method });
+            }
+            ui.end_row();
+            ui.label("bsdf");
+            if let Some(b) = choose(ui, ("bsdf", i), method.bsdf, &BsdfSampling::ALL, |b: BsdfSampling| biased(b.name(), b.is_biased())) {
+                next = Some(Method { bsdf: b, ..method });
+            }
+            ui.end_row();
+            ui.label("lights");
+            if let Some(l) = choose(ui, ("lights", i), method.lights, &LightSampling::ALL, |l: LightSampling| biased(l.name(), l.is_biased())) {
+                next = Some(Method { lights: l, ..method });
+            }
+            ui.end_row();
+        });
+        if method.is_biased() {
+            ui.label(RichText::new("biased on purpose: it converges to the wrong image").color(ERROR_RED));
+        }
+        if let Some(m) = next {
+            app.set_method(i, m);
+            if i == 1 {
+                app.compare = m;
+            }
+        }
+    }
+}
+
+fn render_section(app: &mut ViewerApp, ui: &mut Ui) {
+    ui.horizontal(|ui| {
+        if ui.button(if app.paused { "Resume (Space)" } else { "Pause (Space)" }).clicked() {
+            app.paused = !app.paused;
+        }
+        if ui.button("Reset (R)").clicked() {
+            app.reset();
+        }
+    });
+    egui::Grid::new("counters").num_columns(2).show(ui, |ui| {
+        for slot in &app.driver.slots {
+            ui.label(RichText::new(method_name(&slot.method)).strong());
+            ui.label(format!(
+                "{} spp   {:.2} s   {:.2} M samples/s",
+                slot.spp(),
+                slot.seconds,
+                slot.samples_per_second() / 1e6
+            ));
+            ui.end_row();
+        }
+    });
+    let mut depth = app.driver.scene.render.max_depth;
+    let mut size = app.pending_size;
+    let mut apply = false;
+    egui::Grid::new("scene settings").num_columns(2).show(ui, |ui| {
+        ui.label("max_depth");
+        if ui.add(egui::DragValue::new(&mut depth).range(1..=64)).changed() {
+            app.max_depth = Some(depth);
+            apply = true;
+        }
+        ui.end_row();
+        ui.label("resolution");
+        ui.horizontal(|ui| {
+            ui.add(egui::DragValue::new(&mut size.0).range(8..=4096));
+            ui.label("x");
+            ui.add(egui::DragValue::new(&mut size.1).range(8..=4096));
+            let current = (app.driver.scene.render.width, app.driver.scene.render.height);
+            if ui.add_enabled(size != current, egui::Button::new("apply")).clicked() {
+                app.size = Some(size);
+                apply = true;
+            }
+        });
+        ui.end_row();
+    });
+    app.pending_size = size;
+    if apply {
+        app.apply_overrides();
+    }
+}
+
+fn display_section(app: &mut ViewerApp, ui: &mut Ui) {
+    egui::Grid::new("display").num_columns(2).show(ui, |ui| {
+        ui.label("view (V)");
+        let views = app.available_views();
+        if let Some(v) = choose(ui, "view", app.view, &views, |v: View| v.name().to_string()) {
+            app.view = v;
+        }
+        ui.end_row();
+        ui.label("exposure");
+        ui.add(egui::Slider::new(&mut app.display.exposure, -8.0..=8.0).suffix(" stops").step_by(0.1));
+        ui.end_row();
+        ui.label("transform");
+        ui.horizontal(|ui| {
+            let is_gamma = matches!(app.display.transfer, Transfer::Gamma(_));
+            if ui.selectable_label(!is_gamma, "sRGB").clicked() {
+                app.display.transfer = Transfer::Srgb;
+            }
+            if ui.selectable_label(is_gamma, "gamma").clicked() && !is_gamma {
+                app.display.transfer = Transfer::Gamma(2.2);
+            }
+            if let Transfer::Gamma(g) = &mut app.display.transfer {
+                ui.add(egui::DragValue::new(g).range(0.2..=5.0).speed(0.01));
+            }
+        });
+        ui.end_row();
+    });
+    if app.view != View::Radiance {
+        colour_bar(ui, app.view);
+    }
+    if app.driver.reference().is_some() && !app.driver.reference_matches() {
+        let r = app.driver.reference().map(|r| (r.width, r.height)).unwrap_or_default();
+        ui.label(RichText::new(format!("the reference is {}x{}: error views and metrics need that size", r.0, r.1)).color(ERROR_RED));
+    }
+}
+
+/// The false-colour scale of `view`: magma from 10^lo to 10^hi.
+fn colour_bar(ui: &mut Ui, view: View) {
+    let (lo, hi) = view.log10_range();
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(260.0, 14.0), egui::Sense::hover());
+    let steps = 64;
+    for k in 0..steps {
+        let t = k as f32 / (steps - 1) as f32;
+        let [r, g, b] = crate::figures::colormap::magma_at(t as f64);
+        let x0 = rect.min.x + rect.width() * k as f32 / steps as f32;
+        let x1 = rect.min.x + rect.width() * (k + 1) as f32 / steps as f32;
+        ui.painter().rect_filled(egui::Rect::from_x_y_ranges(x0..=x1, rect.y_range()), 0.0, Color32::from_rgb(r, g, b));
+    }
+    ui.horizontal(|ui| {
+        ui.label(format!("1e{lo}"));
+        ui.add_space(170.0);
+        ui.label(format!("1e{hi}"));
+    });
+    ui.label(RichText::new(format!("{} (log scale)", view.name())).weak());
+}
+
+fn metrics_section(app: &mut ViewerApp, ui: &mut Ui) {
+    let with_reference = app.driver.reference_matches();
+    ui.label(RichText::new(if with_reference { "Metrics against the reference" } else { "Estimated error (no reference)" }).strong());
+    egui::Grid::new("metrics").num_columns(2).show(ui, |ui| {
+        for slot in &app.driver.slots {
+            ui.label(method_name(&slot.method));
+            match slot.latest {
+                Some(p) if !p.estimated => {
+                    ui.label(format!("PSNR {:.2} dB  SSIM {:.4}  relMSE {:.4}", p.psnr, p.ssim.unwrap_or(f64::NAN), p.rel_mse));
+                }
+                Some(p) => {
+                    ui.label(format!("est. PSNR {:.2} dB  est. relMSE {:.4}", p.psnr, p.rel_mse));
+                }
+                None => {
+                    ui.label("…");
+                }
+            }
+            ui.end_row();
+        }
+    });
+    if let Some(p) = app.driver.probe.filter(|p| p.slot < app.driver.slots.len()) {
+        ui.separator();
+        ui.label(RichText::new(format!("pixel ({}, {}), {} spp", p.x, p.y, p.spp)).strong());
+        ui.monospace(format!("mean   {:.4} {:.4} {:.4}", p.mean[0], p.mean[1], p.mean[2]));
+        ui.monospace(format!("stderr {:.4} {:.4} {:.4}", p.stderr[0], p.stderr[1], p.stderr[2]));
+    }
+}
