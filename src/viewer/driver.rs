@@ -9,7 +9,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use crate::display::DisplayTransform;
-use crate::gpu::{AccumPixel, Gpu, PathTracerPipelines};
+use crate::gpu::{Gpu, PathTracerPipelines};
 use crate::method::Method;
 use crate::output::{write_exr, write_rgb8_png, Metadata};
 use crate::render::{provenance, Film, PendingReadback, RenderError, Renderer};
@@ -384,10 +384,5 @@ impl Driver {
             written.push(png);
         }
         Ok(written)
-    }
-
-    /// The raw accumulators of slot `i`, read back now (blocking; tests and saving).
-    pub fn accumulators(&self, i: usize) -> Result<Vec<AccumPixel>, RenderError> {
-        self.slots[i].renderer.accumulators()
     }
 }

@@ -56,12 +56,10 @@ pub fn show(app: &mut ViewerApp, ui: &mut Ui) {
         painter.line_segment([Pos2::new(x, rect.min.y), Pos2::new(x, rect.max.y)], Stroke::new(2.0, Color32::WHITE));
         painter.circle_filled(Pos2::new(x, rect.center().y), 6.0, Color32::WHITE);
         app.divider_x = Some(x);
-        let label = |pos: Pos2, align: Align2, text: String| {
-            let galley_rect = painter.text(pos, align, &text, FontId::proportional(14.0), Color32::WHITE);
-            let _ = galley_rect;
-        };
-        label(rect.left_top() + egui::vec2(6.0, 4.0), Align2::LEFT_TOP, method_name(&app.driver.slots[0].method));
-        label(rect.right_top() + egui::vec2(-6.0, 4.0), Align2::RIGHT_TOP, method_name(&app.driver.slots[1].method));
+        // Which method is which.
+        let font = FontId::proportional(14.0);
+        painter.text(rect.left_top() + egui::vec2(6.0, 4.0), Align2::LEFT_TOP, method_name(&app.driver.slots[0].method), font.clone(), Color32::WHITE);
+        painter.text(rect.right_top() + egui::vec2(-6.0, 4.0), Align2::RIGHT_TOP, method_name(&app.driver.slots[1].method), font, Color32::WHITE);
     }
 
     // Mouse-over probe: the pixel under the pointer, of the half it is in.

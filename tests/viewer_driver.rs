@@ -1,0 +1,54 @@
+//! The viewer's render driver without a window (`src/viewer/driver.rs`): frames add samples,
+//! the split view alternates between its methods, and saving writes the EXR with the header
+//! `pathlab render` writes and a PNG of what is shown.
+
+mod common;
+
+use std::time::Duration;
+
+use common::{gpu, study_scene};
+use pathlab::display::DisplayTransform;
+use pathlab::method::Preset;
+use pathlab::output::read_exr;
+use pathlab::viewer::driver::{Driver, ViewSettings};
+use pathlab::viewer::View;
+
+#[test]
+fn frames_add_samples_split_alternates_and_save_writes_exr_and_png() {
+    let mut scene = study_scene();
+    scene.render.width = 32;
+    scene.render.height = 16;
+    let methods = [Preset::Mis.method(), Preset::Plain.method()];
+    let mut driver = Driver::new(gpu(), scene, &methods, 7, None, Duration::from_millis(20)).unwrap();
+    let settings = ViewSettings { view: View::Radiance, display: DisplayTransform::default() };
+    for _ in 0..10 {
+        driver.frame(settings, false).unwrap();
+    }
+    gpu().wait_idle().unwrap();
+    // Ten frames, alternating: five for each method, at least one sample each.
+    for slot in &driver.slots {
+        assert!(slot.spp() >= 5, "{} spp", slot.spp());
+    }
+    // Paused frames add nothing.
+    let before: Vec<u64> = driver.slots.iter().map(|s| s.spp()).collect();
+    for _ in 0..3 {
+        driver.frame(settings, true).unwrap();
+    }
+    assert_eq!(before, driver.slots.iter().map(|s| s.spp()).collect::<Vec<_>>());
+
+    let dir = std::env::temp_dir().join(format!("pathlab-viewer-driver-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let files = driver.save(&dir, View::Radiance).unwrap();
+    assert_eq!(files.len(), 4, "{files:?}");
+    for (slot, name, seed) in [(0, "mis", "7"), (1, "plain", "8")] {
+        let spp = driver.slots[slot].spp();
+        let exr = dir.join(format!("study-{name}-{spp}spp.exr"));
+        let (film, meta) = read_exr(&exr).unwrap();
+        let get = |k: &str| meta.iter().find(|(key, _)| key == k).map(|(_, v)| v.clone()).unwrap_or_default();
+        assert_eq!((film.width, film.height, film.spp), (32, 16, spp));
+        assert_eq!((get("method"), get("seed"), get("spp")), (name.to_string(), seed.to_string(), spp.to_string()));
+        let png = image::open(dir.join(format!("study-{name}-{spp}spp.png"))).unwrap();
+        assert_eq!((png.width(), png.height()), (32, 16));
+    }
+}
