@@ -51,8 +51,9 @@ pub struct ViewArgs {
     /// Exposure in stops.
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     exposure: f32,
-    /// Window size WxH (points).
-    #[arg(long, default_value = "1280x800", value_parser = parse_size)]
+    /// Window size WxH (points). On a software rasteriser (lavapipe) the UI costs about 25 ms
+    /// per frame at 1024x640 and 40 ms at 1280x800 of the same cores the renderer uses.
+    #[arg(long, default_value = "1024x640", value_parser = parse_size)]
     window: (u32, u32),
     /// Exit after this many UI frames (with --screenshot: save the window's pixels first).
     #[arg(long)]

@@ -214,10 +214,10 @@ fn metrics_section(app: &mut ViewerApp, ui: &mut Ui) {
             ui.label(method_name(&slot.method));
             match slot.latest {
                 Some(p) if !p.estimated => {
-                    ui.label(format!("PSNR {:.2} dB  SSIM {:.4}  relMSE {:.4}", p.psnr, p.ssim.unwrap_or(f64::NAN), p.rel_mse));
+                    ui.label(format!("PSNR {:.2} dB  SSIM {:.4}\nrelMSE {:.3e}  ({} spp)", p.psnr, p.ssim.unwrap_or(f64::NAN), p.rel_mse, p.spp));
                 }
                 Some(p) => {
-                    ui.label(format!("est. PSNR {:.2} dB  est. relMSE {:.4}", p.psnr, p.rel_mse));
+                    ui.label(format!("est. PSNR {:.2} dB\nest. relMSE {:.3e}  ({} spp)", p.psnr, p.rel_mse, p.spp));
                 }
                 None => {
                     ui.label("…");
