@@ -188,8 +188,8 @@ fn render_main(@builtin(global_invocation_id) gid: vec3u) {
     let px = frame.tile_x + gid.x;
     let py = frame.tile_y + gid.y;
     let pixel = py * frame.width + px;
-    // The accumulator covers the tile; the sampler is addressed by the image pixel.
-    let slot = gid.y * frame.tile_width + gid.x;
+    // The accumulator holds rows from accum_row on; the sampler is addressed by the image pixel.
+    let slot = (frame.accum_row + gid.y) * frame.tile_width + gid.x;
     var acc = accum[slot];
     // Do-while: the host never dispatches zero samples, and the test at the end spares SIMD
     // CPU drivers a last iteration with every lane done.

@@ -63,7 +63,9 @@ struct FrameParams {
     tile_height: u32,
     // Always 0; see opaque() in accumulate.wgsl.
     opaque_zero: u32,
-    _pad1: u32,
+    // Row of the bound accumulator that the tile's first row goes to (0 unless the dispatch
+    // covers only part of the accumulator's rows: the viewer's partial passes).
+    accum_row: u32,
     _pad2: u32,
 }
 

@@ -62,7 +62,9 @@ pub struct FrameParams {
     pub tile_height: u32,
     /// Always 0: lets the kernel build identities the compiler cannot simplify away.
     pub opaque_zero: u32,
-    pub _pad: [u32; 2],
+    /// Row of the bound accumulator that the tile's first row goes to.
+    pub accum_row: u32,
+    pub _pad: u32,
 }
 
 /// Per-pixel accumulator (`AccumPixel` in accumulate.wgsl).
@@ -132,7 +134,8 @@ impl FrameParams {
             tile_width: scene.render.width,
             tile_height: scene.render.height,
             opaque_zero: 0,
-            _pad: [0; 2],
+            accum_row: 0,
+            _pad: 0,
         }
     }
 }

@@ -45,6 +45,8 @@ pub enum RenderError {
     Readback(String),
     #[error("cannot resume from the saved accumulators: {0}")]
     Restore(String),
+    #[error("a pass spread over several submissions is in progress: finish it (submit_partial) first")]
+    PassInProgress,
     #[error("at most 2^32 samples per pixel are supported (asked for {0})")]
     TooManySamples(u64),
     #[error(
@@ -131,6 +133,8 @@ pub struct Renderer<'g> {
     /// Cap on samples per dispatch for this device and pipeline.
     max_samples_per_dispatch: u32,
     timestamps: Option<Timestamps>,
+    /// A pass of `submit_partial` in progress: (next row, its samples per pixel).
+    partial: Option<(u32, u32)>,
     _scene_buffers: SceneBuffers,
 }
 
@@ -246,6 +250,7 @@ impl<'g> Renderer<'g> {
             samples_per_dispatch: 1,
             max_samples_per_dispatch,
             timestamps: None,
+            partial: None,
             _scene_buffers: scene_buffers,
         })
     }
@@ -430,11 +435,26 @@ impl<'g> Renderer<'g> {
     /// Encodes one frame (a compute pass over every band) adding `count` samples per pixel from
     /// sample index `sample_start`, and submits it without waiting.
     fn submit_frame(&mut self, sample_start: u64, count: u32) -> wgpu::SubmissionIndex {
+        self.submit_rows(sample_start, count, 0..self.params.height)
+    }
+
+    /// Like `submit_frame` for image rows `rows` only (dispatched band by band).
+    fn submit_rows(&mut self, sample_start: u64, count: u32, rows: std::ops::Range<u32>) -> wgpu::SubmissionIndex {
         let gpu = self.gpu;
         let (device, queue) = (&gpu.device, &gpu.queue);
         let groups_x = self.params.width.div_ceil(WORKGROUP);
         self.params.sample_start = sample_start as u32;
         self.params.sample_count = count;
+        // The part of each band inside `rows`: (band, first image row, rows).
+        let tiles: Vec<(usize, u32, u32)> = self
+            .bands
+            .iter()
+            .enumerate()
+            .filter_map(|(i, b)| {
+                let (y0, y1) = (b.y0.max(rows.start), (b.y0 + b.rows).min(rows.end));
+                (y1 > y0).then_some((i, y0, y1 - y0))
+            })
+            .collect();
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
         {
             let timestamp_writes = self.timestamps.as_mut().filter(|t| t.frames < MAX_TIMED_FRAMES).map(|t| {
@@ -447,22 +467,60 @@ impl<'g> Renderer<'g> {
             });
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("path trace"), timestamp_writes });
             pass.set_pipeline(&self.pipeline);
-            for band in &self.bands {
-                pass.set_bind_group(0, &band.bind_group, &[]);
-                pass.dispatch_workgroups(groups_x, band.rows.div_ceil(WORKGROUP), 1);
+            for &(i, _, tile_rows) in &tiles {
+                pass.set_bind_group(0, &self.bands[i].bind_group, &[]);
+                pass.dispatch_workgroups(groups_x, tile_rows.div_ceil(WORKGROUP), 1);
             }
         }
-        for band in &self.bands {
-            let params = FrameParams { tile_y: band.y0, tile_height: band.rows, ..self.params };
+        for &(i, y0, tile_rows) in &tiles {
+            let band = &self.bands[i];
+            let params = FrameParams { tile_y: y0, tile_height: tile_rows, accum_row: y0 - band.y0, ..self.params };
             queue.write_buffer(&band.params_buffer, 0, bytemuck::bytes_of(&params));
         }
         queue.submit([encoder.finish()])
+    }
+
+    /// Adds `count` samples per pixel to at most `rows` more rows of the image and returns at
+    /// once: a sample pass spread over several calls, so that a caller with a time budget per
+    /// call (the viewer's UI frames) is never held up by a whole image's dispatch. The pass in
+    /// progress keeps its own count; returns true when it has covered every row (then `spp`
+    /// includes it). Every pixel gets the same samples as with `submit`. Returns the rows
+    /// dispatched.
+    pub fn submit_partial(&mut self, count: u32, rows: u32) -> Result<u32, RenderError> {
+        let (next_row, count) = match self.partial {
+            Some(pass) => pass,
+            None => {
+                let total = self.first_sample + self.spp_done + count as u64;
+                if total > MAX_SPP {
+                    return Err(RenderError::TooManySamples(total));
+                }
+                (0, count)
+            }
+        };
+        let end = next_row.saturating_add(rows.max(1)).min(self.params.height);
+        self.submit_rows(self.first_sample + self.spp_done, count, next_row..end);
+        if end == self.params.height {
+            self.partial = None;
+            self.spp_done += count as u64;
+        } else {
+            self.partial = Some((end, count));
+        }
+        Ok(end - next_row)
+    }
+
+    /// True while a pass of `submit_partial` has not covered every row: pixels then hold
+    /// different sample counts, and full readbacks wait.
+    pub fn pass_in_progress(&self) -> bool {
+        self.partial.is_some()
     }
 
     /// Submits `count` more samples per pixel and returns at once (interactive use: the viewer
     /// adds a few samples per UI frame). The queue runs work in order, so a display pass or
     /// readback submitted afterwards sees these samples.
     pub fn submit(&mut self, count: u32) -> Result<wgpu::SubmissionIndex, RenderError> {
+        if self.partial.is_some() {
+            return Err(RenderError::PassInProgress);
+        }
         let total = self.first_sample + self.spp_done + count as u64;
         if total > MAX_SPP {
             return Err(RenderError::TooManySamples(total));
@@ -484,7 +542,8 @@ impl<'g> Renderer<'g> {
     }
 
     /// Starts copying all accumulators back without waiting: poll the device and call
-    /// `PendingReadback::try_finish` in later frames.
+    /// `PendingReadback::try_finish` in later frames. Not while a partial pass is in progress
+    /// (its sample-count check would fail).
     pub fn begin_readback(&self) -> PendingReadback {
         let regions: Vec<_> = self.bands.iter().map(|b| (&b.accum, 0, b.accum.size())).collect();
         self.begin_regions(&regions)
@@ -499,7 +558,10 @@ impl<'g> Renderer<'g> {
         let size = std::mem::size_of::<AccumPixel>() as u64;
         let band = self.bands.iter().find(|b| y >= b.y0 && y < b.y0 + b.rows)?;
         let offset = ((y - band.y0) as u64 * w as u64 + x as u64) * size;
-        Some(self.begin_regions(&[(&band.accum, offset, size)]))
+        let mut pending = self.begin_regions(&[(&band.accum, offset, size)]);
+        // Mid-pass, the pixel may hold this pass's samples already: it reports its own count.
+        pending.spp = None;
+        Some(pending)
     }
 
     /// Copies `regions` (buffer, byte offset, bytes) one after another into a staging buffer
@@ -524,7 +586,7 @@ impl<'g> Renderer<'g> {
         staging.map_async(wgpu::MapMode::Read, .., move |r| {
             let _ = tx.send(r);
         });
-        PendingReadback { staging, rx, submission, spp: self.spp_done }
+        PendingReadback { staging, rx, submission, spp: Some(self.spp_done) }
     }
 
     /// Copies the accumulators back and turns them into mean and variance.
@@ -621,8 +683,9 @@ pub struct PendingReadback {
     staging: wgpu::Buffer,
     rx: std::sync::mpsc::Receiver<Result<(), wgpu::BufferAsyncError>>,
     submission: wgpu::SubmissionIndex,
-    /// Samples per pixel submitted before the copy: every pixel read holds exactly these.
-    pub spp: u64,
+    /// Samples per pixel submitted before the copy: every pixel read holds exactly these
+    /// (`None` for a single-pixel probe, which reports the pixel's own count).
+    pub spp: Option<u64>,
 }
 
 impl PendingReadback {
@@ -640,7 +703,9 @@ impl PendingReadback {
                 bytemuck::pod_collect_to_vec(&view)
             };
             self.staging.unmap();
-            check_counts(&pixels, self.spp)?;
+            if let Some(spp) = self.spp {
+                check_counts(&pixels, spp)?;
+            }
             Ok(pixels)
         }))
     }

@@ -59,7 +59,8 @@ pub struct Slot {
     pub seconds: f64,
     /// Its curve in the plot.
     pub curve: usize,
-    /// Samples per pixel per frame, adapted to the frame budget.
+    /// Samples per pixel per frame, adapted to the frame budget; below 1, the share of the
+    /// rows one frame renders.
     samples_per_frame: f64,
     /// The display pass must run (new samples or new view settings).
     dirty: bool,
@@ -261,7 +262,9 @@ impl Driver {
                 // Frame-budget control: scale the samples per frame by target / measured frame
                 // time (square-rooted to damp, at most x2 or /2 per frame).
                 let ratio = (self.frame_target.as_secs_f64() / dt.max(1e-4)).sqrt().clamp(0.5, 2.0);
-                slot.samples_per_frame = (slot.samples_per_frame * ratio).clamp(1.0, MAX_SAMPLES_PER_FRAME);
+                // Below one sample per pixel, a frame renders a share of the rows (at least 8).
+                let fewest = (8.0 / slot.renderer.size().1 as f64).min(1.0);
+                slot.samples_per_frame = (slot.samples_per_frame * ratio).clamp(fewest, MAX_SAMPLES_PER_FRAME);
             }
             if self.frames > WARM_UP_FRAMES {
                 self.throughput.seconds += dt;
@@ -273,20 +276,29 @@ impl Driver {
             let i = self.turn % self.slots.len();
             self.turn = (i + 1) % self.slots.len();
             let slot = &mut self.slots[i];
-            // One frame's samples, in dispatches the device allows (lavapipe's loop limit).
-            let count = slot.samples_per_frame.round() as u32;
-            let per_dispatch = slot.renderer.max_samples_per_dispatch().max(1);
-            let mut left = count;
-            while left > 0 {
-                let n = left.min(per_dispatch);
-                slot.renderer.submit(n)?;
-                left -= n;
+            let (w, h) = slot.renderer.size();
+            let k = slot.samples_per_frame;
+            let mut pixel_samples = 0.0;
+            if k < 1.0 || slot.renderer.pass_in_progress() {
+                // Less than a sample per pixel fits the frame: a share of the rows (a pass
+                // spread over frames), or the rest of a pass in progress.
+                let rows = if k < 1.0 { (k * h as f64).ceil() as u32 } else { h };
+                pixel_samples += slot.renderer.submit_partial(1, rows)? as f64 * w as f64;
+            } else {
+                // Whole passes, in dispatches the device allows (lavapipe's loop limit).
+                let mut left = k.round() as u32;
+                let per_dispatch = slot.renderer.max_samples_per_dispatch().max(1);
+                while left > 0 {
+                    let n = left.min(per_dispatch);
+                    slot.renderer.submit(n)?;
+                    left -= n;
+                }
+                pixel_samples += k.round() * w as f64 * h as f64;
             }
             slot.dirty = true;
             rendered = Some(i);
             if self.frames >= WARM_UP_FRAMES {
-                let (w, h) = slot.renderer.size();
-                self.throughput.pixel_samples += count as f64 * w as f64 * h as f64;
+                self.throughput.pixel_samples += pixel_samples;
             }
         }
         self.frames += 1;
@@ -321,26 +333,27 @@ impl Driver {
             if let Some((pending, seconds)) = &slot.readback {
                 match pending.try_finish() {
                     Some(Ok(pixels)) => {
-                        slot.metrics =
-                            Some(MetricsTask::spawn(pixels, slot.renderer.size(), pending.spp, *seconds, reference.clone(), display));
+                        let spp = pending.spp.unwrap_or_default();
+                        slot.metrics = Some(MetricsTask::spawn(pixels, slot.renderer.size(), spp, *seconds, reference.clone(), display));
                         slot.readback = None;
                     }
                     Some(Err(_)) => slot.readback = None,
                     None => {}
                 }
-            } else if slot.metrics.is_none() && now >= slot.next_metrics && slot.spp() >= 2 {
+            } else if slot.metrics.is_none() && now >= slot.next_metrics && slot.spp() >= 2 && !slot.renderer.pass_in_progress() {
                 slot.readback = Some((slot.renderer.begin_readback(), slot.seconds));
             }
         }
         if let Some((i, x, y, pending)) = &self.probe_pending {
             if let Some(result) = pending.try_finish() {
-                if let Ok(p) = result {
-                    let film = Film::from_accumulators(1, 1, pending.spp, &p);
+                if let Some(p) = result.ok().filter(|p| p.len() == 1) {
+                    let spp = p[0].count as u64;
+                    let film = Film::from_accumulators(1, 1, spp, &p);
                     self.probe = Some(Probe {
                         slot: *i,
                         x: *x,
                         y: *y,
-                        spp: pending.spp,
+                        spp,
                         mean: film.mean[0],
                         stderr: film.variance[0].map(f32::sqrt),
                     });
@@ -361,7 +374,14 @@ impl Driver {
 
     /// Saves every slot: an EXR of the mean and variance (spp, method, seed, ... in the
     /// header, as `pathlab render` writes) and a PNG of what is shown. Blocks for the readbacks.
-    pub fn save(&self, dir: &Path, view: View) -> Result<Vec<PathBuf>, String> {
+    pub fn save(&mut self, dir: &Path, view: View) -> Result<Vec<PathBuf>, String> {
+        // A pass spread over frames is finished first: every pixel then has the same count.
+        for slot in &mut self.slots {
+            if slot.renderer.pass_in_progress() {
+                let h = slot.renderer.size().1;
+                slot.renderer.submit_partial(1, h).map_err(|e| e.to_string())?;
+            }
+        }
         let stem = self.scene.path.file_stem().and_then(|s| s.to_str()).unwrap_or("view").to_string();
         let mut written = Vec::new();
         for slot in &self.slots {
