@@ -1,4 +1,4 @@
-// display.wgsl — the viewer's display pass: one band of accumulators to the shown texture, on the
+// display.wgsl — the viewer's display pass: one band of accumulators to the shown image, on the
 // device (no readback). Per pixel: the mean of the samples, then either the display transform
 // (exposure, clip, sRGB or gamma encoding: src/display.rs) or a false-colour error value on a
 // log10 scale through the magma colour map (src/figures/colormap.rs, the same table).
@@ -28,7 +28,8 @@ struct DisplayParams {
     // The log10 range of the false colour: lo maps to the first entry of the map, hi to the last.
     log_lo: f32,
     log_hi: f32,
-    _pad0: u32,
+    // Texels between the starts of two rows of `shown` (the width, padded for the copy).
+    row_stride: u32,
     _pad1: u32,
     _pad2: u32,
 }
@@ -39,7 +40,9 @@ struct DisplayParams {
 @group(0) @binding(2) var<storage, read> reference: array<vec4f>;
 // Magma, 256 entries of linear [0, 1] display values.
 @group(0) @binding(3) var<uniform> colour_map: array<vec4f, 256>;
-@group(0) @binding(4) var shown: texture_storage_2d<rgba8unorm, write>;
+// The shown image as packed RGBA8 (copied into the texture egui draws; a storage buffer, not a
+// storage texture: llvmpipe writes buffers vectorised, texels one by one).
+@group(0) @binding(4) var<storage, read_write> shown: array<u32>;
 
 // sRGB transfer function (IEC 61966-2-1) of a value in [0, 1].
 fn srgb_encode(x: vec3f) -> vec3f {
@@ -73,20 +76,23 @@ fn display_main(@builtin(global_invocation_id) id: vec3u) {
     if id.x >= display.width || id.y >= display.rows {
         return;
     }
-    let p = band[id.y * display.width + id.x];
+    // Fields are read one by one, not the whole 64-byte struct: only what the view needs
+    // (a software rasteriser gathers every loaded word lane by lane).
+    let i = id.y * display.width + id.x;
+    let count = band[i].count;
     let y = display.y0 + id.y;
     var colour = vec3f(0.0);
-    if p.count > 0u {
-        let n = f32(p.count);
+    if count > 0u {
+        let n = f32(count);
         // Mean of the samples, from the compensated sum.
-        let mean = (p.sum - p.sum_err) / n;
+        let mean = (band[i].sum - band[i].sum_err) / n;
         switch display.view {
             case VIEW_REL_STDERR: {
                 // Variance of the mean: unbiased sample variance / n; relative to the squared
                 // mean with its own variance removed (as the relMSE estimate does, src/estimate).
                 var variance = vec3f(0.0);
-                if p.count > 1u {
-                    let s2 = max(((p.sum_sq - p.sum_sq_err) - n * mean * mean) / (n - 1.0), vec3f(0.0));
+                if count > 1u {
+                    let s2 = max(((band[i].sum_sq - band[i].sum_sq_err) - n * mean * mean) / (n - 1.0), vec3f(0.0));
                     variance = s2 / n;
                 }
                 let rel = variance / (max(mean * mean - variance, vec3f(0.0)) + REL_EPSILON);
@@ -107,5 +113,5 @@ fn display_main(@builtin(global_invocation_id) id: vec3u) {
             }
         }
     }
-    textureStore(shown, vec2u(id.x, y), vec4f(colour, 1.0));
+    shown[y * display.row_stride + id.x] = pack4x8unorm(vec4f(colour, 1.0));
 }

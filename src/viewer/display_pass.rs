@@ -1,5 +1,5 @@
 //! The display pass: a compute kernel (`shaders/display.wgsl`) that turns a renderer's
-//! accumulators into the texture the window shows: the mean through the display transform, or a
+//! accumulators into the texture the window shows (through a packed buffer and a copy): the mean through the display transform, or a
 //! false-colour error view. It runs on the device after the frame's samples, so the image never
 //! travels through the CPU.
 
@@ -12,6 +12,8 @@ use crate::shaders;
 /// The format egui draws user textures from: display-encoded values in plain RGBA8.
 pub const SHOWN_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 const WORKGROUP: u32 = 8;
+/// Rows of a buffer-to-texture copy start at multiples of 256 bytes: 64 RGBA8 texels.
+const TEXELS_PER_ROW_ALIGNMENT: u32 = wgpu::COPY_BYTES_PER_ROW_ALIGNMENT / 4;
 
 /// What the image area shows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -71,7 +73,8 @@ struct DisplayParams {
     inv_gamma: f32,
     log_lo: f32,
     log_hi: f32,
-    _pad: [u32; 3],
+    row_stride: u32,
+    _pad: [u32; 2],
 }
 
 /// The display kernel, its bind group layout, the colour map and a stand-in reference.
@@ -103,12 +106,16 @@ impl GpuReference {
     }
 }
 
-/// One shown image: its texture and the bind groups that read one renderer's bands into it.
+/// One shown image: its texture, the packed RGBA8 buffer the kernel writes (rows of `stride`
+/// texels, as a buffer-to-texture copy wants them) and the bind groups that read one renderer's
+/// bands into it.
 pub struct ShownImage {
     pub width: u32,
     pub height: u32,
     pub texture: wgpu::Texture,
     pub view: wgpu::TextureView,
+    packed: wgpu::Buffer,
+    stride: u32,
     bands: Vec<(u32, wgpu::Buffer, wgpu::BindGroup)>,
 }
 
@@ -118,12 +125,7 @@ impl DisplayPass {
             label: Some("display pass"),
             source: wgpu::ShaderSource::Wgsl(shaders::display_source().into()),
         });
-        let mut target = uniform_entry(4);
-        target.ty = wgpu::BindingType::StorageTexture {
-            access: wgpu::StorageTextureAccess::WriteOnly,
-            format: SHOWN_FORMAT,
-            view_dimension: wgpu::TextureViewDimension::D2,
-        };
+        let target = storage_entry(4, false);
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("display pass"),
             entries: &[uniform_entry(0), storage_entry(1, true), storage_entry(2, true), uniform_entry(3), target],
@@ -175,10 +177,17 @@ impl DisplayPass {
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
             format: SHOWN_FORMAT,
-            usage: wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST | wgpu::TextureUsages::COPY_SRC,
             view_formats: &[],
         });
         let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
+        let stride = width.div_ceil(TEXELS_PER_ROW_ALIGNMENT) * TEXELS_PER_ROW_ALIGNMENT;
+        let packed = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("shown image (packed)"),
+            size: stride as u64 * height as u64 * 4,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
         let reference = reference.filter(|r| (r.width, r.height) == (width, height)).map_or(&self.no_reference, |r| &r.buffer);
         let bands = renderer
             .accumulator_buffers()
@@ -197,13 +206,13 @@ impl DisplayPass {
                         wgpu::BindGroupEntry { binding: 1, resource: accum.as_entire_binding() },
                         wgpu::BindGroupEntry { binding: 2, resource: reference.as_entire_binding() },
                         wgpu::BindGroupEntry { binding: 3, resource: self.colour_map.as_entire_binding() },
-                        wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::TextureView(&view) },
+                        wgpu::BindGroupEntry { binding: 4, resource: packed.as_entire_binding() },
                     ],
                 });
                 (rows, params, bind_group)
             })
             .collect();
-        ShownImage { width, height, texture, view, bands }
+        ShownImage { width, height, texture, view, packed, stride, bands }
     }
 
     /// Fills `image` from its renderer's accumulators: `view` through `display`.
@@ -225,7 +234,8 @@ impl DisplayPass {
                 inv_gamma,
                 log_lo,
                 log_hi,
-                _pad: [0; 3],
+                row_stride: image.stride,
+                _pad: [0; 2],
             };
             queue.write_buffer(params, 0, bytemuck::bytes_of(&p));
             y0 += rows;
@@ -239,6 +249,14 @@ impl DisplayPass {
                 pass.dispatch_workgroups(image.width.div_ceil(WORKGROUP), rows.div_ceil(WORKGROUP), 1);
             }
         }
+        encoder.copy_buffer_to_texture(
+            wgpu::TexelCopyBufferInfo {
+                buffer: &image.packed,
+                layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(image.stride * 4), rows_per_image: None },
+            },
+            image.texture.as_image_copy(),
+            wgpu::Extent3d { width: image.width, height: image.height, depth_or_array_layers: 1 },
+        );
         queue.submit([encoder.finish()]);
     }
 }

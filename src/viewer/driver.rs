@@ -15,6 +15,7 @@ use crate::output::{write_exr, write_rgb8_png, Metadata};
 use crate::render::{provenance, Film, PendingReadback, RenderError, Renderer};
 use crate::scene::Scene;
 
+use super::frame_budget::FrameBudget;
 use super::display_pass::{read_shown_rgb8, DisplayPass, GpuReference, ShownImage, View};
 use super::live_metrics::{LivePoint, MetricsTask};
 use super::plot::Curves;
@@ -61,9 +62,13 @@ pub struct Slot {
     pub curve: usize,
     /// Samples per pixel per frame, adapted to the frame budget; below 1, the share of the
     /// rows one frame renders.
-    samples_per_frame: f64,
+    budget: FrameBudget,
     /// The display pass must run (new samples or new view settings).
     dirty: bool,
+    /// What one display pass of this image costs (measured once), and when it last ran: the
+    /// image is refreshed at most so often that the pass takes `DISPLAY_SHARE` of the time.
+    display_cost: Duration,
+    last_display: Instant,
     readback: Option<(PendingReadback, f64)>,
     metrics: Option<MetricsTask>,
     next_metrics: Instant,
@@ -125,6 +130,11 @@ pub struct Driver {
     pub released_textures: Vec<egui::TextureId>,
 }
 
+/// The display pass may take at most this share of the time: on a software rasteriser a large
+/// image is refreshed less often than the UI (1024x512 on lavapipe: a 32 ms pass, ~4 times a
+/// second), on a GPU every frame.
+const DISPLAY_SHARE: f64 = 0.15;
+
 /// Most samples per pixel one frame may add.
 const MAX_SAMPLES_PER_FRAME: f64 = 65536.0;
 
@@ -176,6 +186,12 @@ impl Driver {
     fn new_slot(&mut self, method: Method, seed: u32) -> Result<Slot, RenderError> {
         let renderer = Renderer::new(self.gpu, &self.pipelines, &self.scene, method, seed)?;
         let image = self.display.shown_image(&self.gpu.device, &renderer, self.reference.as_ref().map(|(_, r)| r));
+        // One display pass, timed (it also compiles the display pipeline on first use).
+        self.gpu.wait_idle()?;
+        let start = Instant::now();
+        self.display.run(&self.gpu.device, &self.gpu.queue, &image, View::Radiance, DisplayTransform::default());
+        self.gpu.wait_idle()?;
+        let display_cost = start.elapsed();
         let curve = self.curves.start(&method_name(&method));
         Ok(Slot {
             method,
@@ -186,8 +202,15 @@ impl Driver {
             texture_stale: true,
             seconds: 0.0,
             curve,
-            samples_per_frame: 1.0,
+            budget: FrameBudget::new(
+                self.frame_target,
+                self.scene.render.height,
+                (8.0 / self.scene.render.height as f64).min(1.0),
+                MAX_SAMPLES_PER_FRAME,
+            ),
             dirty: true,
+            display_cost,
+            last_display: Instant::now(),
             readback: None,
             metrics: None,
             next_metrics: Instant::now(),
@@ -259,12 +282,7 @@ impl Driver {
             if let Some(i) = rendered.filter(|&i| i < self.slots.len()) {
                 let slot = &mut self.slots[i];
                 slot.seconds += dt;
-                // Frame-budget control: scale the samples per frame by target / measured frame
-                // time (square-rooted to damp, at most x2 or /2 per frame).
-                let ratio = (self.frame_target.as_secs_f64() / dt.max(1e-4)).sqrt().clamp(0.5, 2.0);
-                // Below one sample per pixel, a frame renders a share of the rows (at least 8).
-                let fewest = (8.0 / slot.renderer.size().1 as f64).min(1.0);
-                slot.samples_per_frame = (slot.samples_per_frame * ratio).clamp(fewest, MAX_SAMPLES_PER_FRAME);
+                slot.budget.record(dt);
             }
             if self.frames > WARM_UP_FRAMES {
                 self.throughput.seconds += dt;
@@ -277,13 +295,17 @@ impl Driver {
             self.turn = (i + 1) % self.slots.len();
             let slot = &mut self.slots[i];
             let (w, h) = slot.renderer.size();
-            let k = slot.samples_per_frame;
+            let k = slot.budget.next();
             let mut pixel_samples = 0.0;
-            if k < 1.0 || slot.renderer.pass_in_progress() {
+            if k == 0.0 {
+                // A frame that measures the UI alone.
+            } else if k < 1.0 || slot.renderer.pass_in_progress() {
                 // Less than a sample per pixel fits the frame: a share of the rows (a pass
                 // spread over frames), or the rest of a pass in progress.
-                let rows = if k < 1.0 { (k * h as f64).ceil() as u32 } else { h };
-                pixel_samples += slot.renderer.submit_partial(1, rows)? as f64 * w as f64;
+                let rows = if k < 1.0 { (k * h as f64).round() as u32 } else { h };
+                let done = slot.renderer.submit_partial(1, rows)?;
+                slot.budget.rendered_instead(done as f64 / h as f64);
+                pixel_samples += done as f64 * w as f64;
             } else {
                 // Whole passes, in dispatches the device allows (lavapipe's loop limit).
                 let mut left = k.round() as u32;
@@ -295,7 +317,7 @@ impl Driver {
                 }
                 pixel_samples += k.round() * w as f64 * h as f64;
             }
-            slot.dirty = true;
+            slot.dirty |= k > 0.0;
             rendered = Some(i);
             if self.frames >= WARM_UP_FRAMES {
                 self.throughput.pixel_samples += pixel_samples;
@@ -307,9 +329,11 @@ impl Driver {
         let settings_changed = self.last_settings != Some(settings);
         self.last_settings = Some(settings);
         for slot in &mut self.slots {
-            if slot.dirty || settings_changed {
+            let due = now.duration_since(slot.last_display) >= slot.display_cost.div_f64(DISPLAY_SHARE);
+            if settings_changed || (slot.dirty && due) {
                 self.display.run(&self.gpu.device, &self.gpu.queue, &slot.image, settings.view, settings.display);
                 slot.dirty = false;
+                slot.last_display = now;
             }
         }
         self.collect(settings.display);

@@ -5,7 +5,8 @@
 //! - `app`: the application state, keyboard, and what happens each frame;
 //! - `panel`: the side panel's layout (method, render, display, metrics, save);
 //! - `image_view`: the image area (fit, split divider, mouse-over pixel probe, error banner);
-//! - `driver`: the render driver (frame budget, equal-time sharing, asynchronous readbacks);
+//! - `driver`: the render driver (equal-time sharing, asynchronous readbacks);
+//! - `frame_budget`: how many samples per pixel a frame may add (UI cost vs sample cost);
 //! - `display_pass`: accumulators to the shown texture on the device (`shaders/display.wgsl`);
 //! - `live_metrics`: PSNR, SSIM, relMSE (or their estimates) off the UI thread;
 //! - `plot`: relMSE against seconds, log-log, one curve per method run;
@@ -14,6 +15,7 @@
 mod app;
 pub mod display_pass;
 pub mod driver;
+pub mod frame_budget;
 mod image_view;
 pub mod live_metrics;
 mod panel;
@@ -173,6 +175,9 @@ pub fn run(options: ViewerOptions) -> Result<ViewerReport, ViewerError> {
         dithering: false,
         wgpu_options: eframe::egui_wgpu::WgpuConfiguration {
             wgpu_setup: wgpu_setup(options.adapter.clone()),
+            // One frame queued at most: a frame's time is its own work (the budget control
+            // measures it), and input is answered by the next frame.
+            surface: eframe::egui_wgpu::SurfaceConfig::LOW_LATENCY,
             ..Default::default()
         },
         ..Default::default()
