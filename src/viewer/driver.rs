@@ -63,6 +63,9 @@ pub struct Slot {
     /// Samples per pixel per frame, adapted to the frame budget; below 1, the share of the
     /// rows one frame renders.
     budget: FrameBudget,
+    /// Samples per pixel of a pass spread over frames (several per invocation amortise the
+    /// kernel's per-pixel work).
+    pass: u32,
     /// The display pass must run (new samples or new view settings).
     dirty: bool,
     /// What one display pass of this image costs (measured once), and when it last ran: the
@@ -135,6 +138,9 @@ pub struct Driver {
 /// second), on a GPU every frame.
 const DISPLAY_SHARE: f64 = 0.15;
 
+/// Samples per pixel of a pass spread over frames.
+const PARTIAL_PASS_SAMPLES: u32 = 8;
+
 /// Most samples per pixel one frame may add.
 const MAX_SAMPLES_PER_FRAME: f64 = 65536.0;
 
@@ -185,6 +191,8 @@ impl Driver {
 
     fn new_slot(&mut self, method: Method, seed: u32) -> Result<Slot, RenderError> {
         let renderer = Renderer::new(self.gpu, &self.pipelines, &self.scene, method, seed)?;
+        let pass = PARTIAL_PASS_SAMPLES.min(renderer.max_samples_per_dispatch()).max(1);
+        let rows = self.scene.render.height;
         let image = self.display.shown_image(&self.gpu.device, &renderer, self.reference.as_ref().map(|(_, r)| r));
         // One display pass, timed (it also compiles the display pipeline on first use).
         self.gpu.wait_idle()?;
@@ -202,12 +210,8 @@ impl Driver {
             texture_stale: true,
             seconds: 0.0,
             curve,
-            budget: FrameBudget::new(
-                self.frame_target,
-                self.scene.render.height,
-                (8.0 / self.scene.render.height as f64).min(1.0),
-                MAX_SAMPLES_PER_FRAME,
-            ),
+            budget: FrameBudget::new(self.frame_target, rows, pass, pass as f64 * (8.0 / rows as f64).min(1.0), MAX_SAMPLES_PER_FRAME),
+            pass,
             dirty: true,
             display_cost,
             last_display: Instant::now(),
@@ -299,13 +303,14 @@ impl Driver {
             let mut pixel_samples = 0.0;
             if k == 0.0 {
                 // A frame that measures the UI alone.
-            } else if k < 1.0 || slot.renderer.pass_in_progress() {
-                // Less than a sample per pixel fits the frame: a share of the rows (a pass
-                // spread over frames), or the rest of a pass in progress.
-                let rows = if k < 1.0 { (k * h as f64).round() as u32 } else { h };
-                let done = slot.renderer.submit_partial(1, rows)?;
-                slot.budget.rendered_instead(done as f64 / h as f64);
-                pixel_samples += done as f64 * w as f64;
+            } else if k < slot.pass as f64 || slot.renderer.pass_in_progress() {
+                // Less than a pass fits the frame: a share of the rows of a pass spread over
+                // frames, or the rest of a pass in progress.
+                let pass = slot.pass as f64;
+                let rows = if k < pass { (k / pass * h as f64).round() as u32 } else { h };
+                let done = slot.renderer.submit_partial(slot.pass, rows)?;
+                slot.budget.rendered_instead(done as f64 / h as f64 * pass);
+                pixel_samples += done as f64 * w as f64 * pass;
             } else {
                 // Whole passes, in dispatches the device allows (lavapipe's loop limit).
                 let mut left = k.round() as u32;

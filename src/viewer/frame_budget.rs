@@ -21,8 +21,10 @@ const SMOOTHING: f64 = 0.2;
 
 pub struct FrameBudget {
     target: f64,
-    /// Image rows: below one sample per pixel, a frame renders whole rows.
+    /// Image rows, and the samples per pixel of a pass spread over frames: below that many
+    /// samples per pixel per frame, a frame renders whole rows of such a pass.
     rows: u32,
+    pass: f64,
     fewest: f64,
     most: f64,
     /// Set point (samples per pixel per frame).
@@ -40,15 +42,16 @@ fn smooth(avg: Option<f64>, x: f64) -> f64 {
 }
 
 impl FrameBudget {
-    /// A budget of `target` per frame for an image of `rows` rows; k stays within
-    /// [fewest, most].
-    pub fn new(target: Duration, rows: u32, fewest: f64, most: f64) -> FrameBudget {
+    /// A budget of `target` per frame for an image of `rows` rows whose partial passes take
+    /// `pass` samples per pixel; k stays within [fewest, most].
+    pub fn new(target: Duration, rows: u32, pass: u32, fewest: f64, most: f64) -> FrameBudget {
         FrameBudget {
             target: target.as_secs_f64(),
             rows: rows.max(1),
+            pass: pass.max(1) as f64,
             fewest,
             most,
-            k: fewest.max(1.0).min(most),
+            k: fewest.min(most),
             frames: 0,
             in_flight: 0.0,
             ui: None,
@@ -57,7 +60,7 @@ impl FrameBudget {
     }
 
     /// Samples per pixel for the next frame: 0 on the frames that measure the UI alone, whole
-    /// samples from 1 on, whole rows below (k = rows / image rows).
+    /// samples from `pass` on, whole rows of a pass below (k = pass x rows / image rows).
     pub fn next(&mut self) -> f64 {
         self.frames += 1;
         let phase = self.frames % PROBE_EVERY;
@@ -66,7 +69,7 @@ impl FrameBudget {
             0.0
         } else {
             let rows = self.rows as f64;
-            if self.k >= 1.0 { self.k.round() } else { (self.k * rows).ceil().min(rows) / rows }
+            if self.k >= self.pass { self.k.round() } else { (self.k / self.pass * rows).ceil().min(rows) / rows * self.pass }
         };
         self.in_flight
     }
@@ -121,7 +124,7 @@ mod tests {
     /// Runs frames of cost ui + per_sample * k (with +-2 ms of deterministic jitter) and returns
     /// the settled set point and the mean frame time of the last 200 frames.
     fn settle(ui: f64, per_sample: f64, target_ms: u64) -> (f64, f64) {
-        let mut b = FrameBudget::new(Duration::from_millis(target_ms), 512, 8.0 / 512.0, 1e4);
+        let mut b = FrameBudget::new(Duration::from_millis(target_ms), 512, 1, 8.0 / 512.0, 1e4);
         let mut state = 12345u64;
         let mut total = 0.0;
         for i in 0..800 {
