@@ -52,9 +52,15 @@ const PALETTE: [egui::Color32; 7] = [
     egui::Color32::from_rgb(204, 121, 167),
 ];
 
-/// Labels a log10 axis value as the power of ten it stands for.
+/// Labels a log10 axis value with the number it stands for, at 1, 2 and 5 times powers of ten
+/// only (the grid has lines in between).
 fn power_of_ten(log10: f64) -> String {
-    let v = 10f64.powf(log10);
+    let decade = 10f64.powf(log10.floor());
+    let mantissa = 10f64.powf(log10) / decade;
+    let Some(m) = [1.0, 2.0, 5.0, 10.0].into_iter().find(|m| (mantissa / m - 1.0).abs() < 0.01) else {
+        return String::new();
+    };
+    let v = m * decade;
     if (0.01..1000.0).contains(&v) { format!("{}", (v * 1000.0).round() / 1000.0) } else { format!("{v:.0e}") }
 }
 
