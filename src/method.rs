@@ -214,6 +214,18 @@ pub fn method_by_name(name: &str) -> Option<Method> {
         .or_else(|| biased_demonstrations().into_iter().find(|(n, _)| *n == name).map(|(_, m)| m))
 }
 
+/// The name a method is shown under (the inverse of `method_by_name` where it has one): its
+/// preset's, a biased demonstration's, or its parts.
+pub fn method_name(method: &Method) -> String {
+    if let Some(p) = method.preset() {
+        return p.name().to_string();
+    }
+    if let Some((name, _)) = biased_demonstrations().into_iter().find(|(_, m)| m == method) {
+        return name.to_string();
+    }
+    format!("{}/{}/{}", method.sampler.name(), method.bsdf.name(), method.lights.name())
+}
+
 /// Every name `method_by_name` knows.
 pub fn method_names() -> Vec<&'static str> {
     Preset::ALL.iter().map(|p| p.name()).chain(biased_demonstrations().map(|(n, _)| n)).collect()

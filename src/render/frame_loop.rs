@@ -340,6 +340,12 @@ impl<'g> Renderer<'g> {
         Ok(())
     }
 
+    /// Sample indices are u32: `n` more samples per pixel must stay below 2^32 in all.
+    fn check_room(&self, n: u64) -> Result<(), RenderError> {
+        let total = self.first_sample + self.spp_done + n;
+        if total > MAX_SPP { Err(RenderError::TooManySamples(total)) } else { Ok(()) }
+    }
+
     /// Adds samples until `budget` is met or `cancel` is set, then waits for the device.
     pub fn render(&mut self, budget: Budget, cancel: &AtomicBool, progress: impl FnMut(Progress)) -> Result<RenderStats, RenderError> {
         self.render_until(budget, None, cancel, progress)
@@ -355,9 +361,7 @@ impl<'g> Renderer<'g> {
         mut progress: impl FnMut(Progress),
     ) -> Result<RenderStats, RenderError> {
         if let Budget::Samples(n) = budget {
-            if self.first_sample + self.spp_done + n > MAX_SPP {
-                return Err(RenderError::TooManySamples(self.first_sample + self.spp_done + n));
-            }
+            self.check_room(n)?;
         }
         let start = Instant::now();
         let target_spp = match budget {
@@ -490,10 +494,7 @@ impl<'g> Renderer<'g> {
         let (next_row, count) = match self.partial {
             Some(pass) => pass,
             None => {
-                let total = self.first_sample + self.spp_done + count as u64;
-                if total > MAX_SPP {
-                    return Err(RenderError::TooManySamples(total));
-                }
+                self.check_room(count as u64)?;
                 (0, count)
             }
         };
@@ -521,10 +522,7 @@ impl<'g> Renderer<'g> {
         if self.partial.is_some() {
             return Err(RenderError::PassInProgress);
         }
-        let total = self.first_sample + self.spp_done + count as u64;
-        if total > MAX_SPP {
-            return Err(RenderError::TooManySamples(total));
-        }
+        self.check_room(count as u64)?;
         let index = self.submit_frame(self.first_sample + self.spp_done, count);
         self.spp_done += count as u64;
         Ok(index)

@@ -13,7 +13,8 @@ use crate::method::{Method, Preset};
 use crate::scene::Scene;
 
 use super::display_pass::View;
-use super::driver::{method_name, Driver, ViewSettings};
+use crate::method::method_name;
+use super::driver::{Driver, ViewSettings};
 use super::scene_watch::SceneWatch;
 use super::{image_view, panel, SlotReport, ViewerError, ViewerOptions, ViewerReport};
 
@@ -49,12 +50,13 @@ pub struct ViewerApp {
     screenshot_path: Option<PathBuf>,
     screenshot: Arc<Mutex<Option<Arc<ColorImage>>>>,
     screenshot_requested: bool,
-    first_frame: Option<Instant>,
     frames_seen: u64,
     // Layout of the last frame (points), for the report.
     pub image_rect: egui::Rect,
     pub divider_x: Option<f32>,
     pub plot_rect: Option<egui::Rect>,
+    pixels_per_point: f32,
+    screen: egui::Rect,
     report: Arc<Mutex<ViewerReport>>,
     failure: Arc<Mutex<Option<ViewerError>>>,
 }
@@ -77,12 +79,6 @@ impl ViewerApp {
             limits: rs.device.limits(),
             features: rs.device.features(),
         }));
-        if gpu.info.device_type == wgpu::DeviceType::Cpu {
-            // A software rasteriser pays per triangle: anti-aliasing feathers triple the
-            // triangles of every shape (measured on lavapipe at 1280x800: 24.8 -> 31.0 frames
-            // per second with the renderer paused). Text stays anti-aliased (font atlas).
-            cc.egui_ctx.tessellation_options_mut(|o| o.feathering = false);
-        }
         let mut methods = vec![options.method];
         methods.extend(options.compare);
         let scene_path = options.scene.path.clone();
@@ -117,11 +113,12 @@ impl ViewerApp {
             screenshot_path: options.screenshot,
             screenshot: Arc::new(Mutex::new(None)),
             screenshot_requested: false,
-            first_frame: None,
             frames_seen: 0,
             image_rect: egui::Rect::NOTHING,
             divider_x: None,
             plot_rect: None,
+            pixels_per_point: 1.0,
+            screen: egui::Rect::NOTHING,
             report,
             failure,
         })
@@ -305,15 +302,15 @@ impl ViewerApp {
     }
 
     fn close(&mut self, ctx: &egui::Context, screenshot: Option<PathBuf>) {
-        self.write_report(ctx, screenshot);
+        self.write_report(screenshot);
         ctx.send_viewport_cmd(egui::ViewportCommand::Close);
     }
 
-    /// Fills the shared report (read after the window closes).
-    fn write_report(&self, ctx: &egui::Context, screenshot: Option<PathBuf>) {
-        let ppp = ctx.pixels_per_point();
+    /// Fills the shared report (read after the window closes) from the last frame's state.
+    fn write_report(&self, screenshot: Option<PathBuf>) {
+        let ppp = self.pixels_per_point;
         let px = |r: egui::Rect| [r.min.x * ppp, r.min.y * ppp, r.max.x * ppp, r.max.y * ppp];
-        let screen = ctx.content_rect();
+        let screen = self.screen;
         let t = self.driver.throughput;
         let mut report = self.report.lock().unwrap_or_else(|e| e.into_inner());
         let screenshot = screenshot.or_else(|| report.screenshot.clone());
@@ -351,6 +348,12 @@ impl ViewerApp {
 }
 
 impl eframe::App for ViewerApp {
+    fn on_exit(&mut self) {
+        // A window closed by the user (the --frames path has reported already; this keeps its
+        // screenshot path).
+        self.write_report(None);
+    }
+
     fn clear_color(&self, visuals: &egui::Visuals) -> [f32; 4] {
         visuals.panel_fill.to_normalized_gamma_f32()
     }
@@ -358,9 +361,14 @@ impl eframe::App for ViewerApp {
     fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
         let ctx = ui.ctx().clone();
         if self.driver.gpu.info.device_type == wgpu::DeviceType::Cpu {
+            // A software rasteriser pays per triangle: anti-aliasing feathers triple the
+            // triangles of every shape (measured on lavapipe at 1280x800: 24.8 -> 31.0 frames
+            // per second with the renderer paused). Text stays anti-aliased (font atlas). Set
+            // every frame: set once at creation, it did not hold.
             ctx.tessellation_options_mut(|o| o.feathering = false);
         }
-        self.first_frame.get_or_insert_with(Instant::now);
+        self.pixels_per_point = ctx.pixels_per_point();
+        self.screen = ctx.content_rect();
         self.keyboard(&ctx);
         self.watch_scene();
         if !self.available_views().contains(&self.view) {
@@ -382,7 +390,6 @@ impl eframe::App for ViewerApp {
         }
 
         self.frames_seen += 1;
-        self.write_report(&ctx, None);
         self.frames_and_screenshot(&ctx);
         if self.paused && self.frames_limit.is_none() {
             ctx.request_repaint_after(std::time::Duration::from_millis(100));

@@ -116,7 +116,8 @@ pub struct ShownImage {
     pub view: wgpu::TextureView,
     packed: wgpu::Buffer,
     stride: u32,
-    bands: Vec<(u32, wgpu::Buffer, wgpu::BindGroup)>,
+    /// Per band: first row, rows, its parameters and bind group.
+    bands: Vec<(u32, u32, wgpu::Buffer, wgpu::BindGroup)>,
 }
 
 impl DisplayPass {
@@ -191,7 +192,7 @@ impl DisplayPass {
         let reference = reference.filter(|r| (r.width, r.height) == (width, height)).map_or(&self.no_reference, |r| &r.buffer);
         let bands = renderer
             .accumulator_buffers()
-            .map(|(_, rows, accum)| {
+            .map(|(y0, rows, accum)| {
                 let params = device.create_buffer(&wgpu::BufferDescriptor {
                     label: Some("display params"),
                     size: std::mem::size_of::<DisplayParams>() as u64,
@@ -209,7 +210,7 @@ impl DisplayPass {
                         wgpu::BindGroupEntry { binding: 4, resource: packed.as_entire_binding() },
                     ],
                 });
-                (rows, params, bind_group)
+                (y0, rows, params, bind_group)
             })
             .collect();
         ShownImage { width, height, texture, view, packed, stride, bands }
@@ -222,12 +223,11 @@ impl DisplayPass {
             Transfer::Gamma(g) => (1, 1.0 / g),
         };
         let (log_lo, log_hi) = view.log10_range();
-        let mut y0 = 0;
-        for (rows, params, _) in &image.bands {
+        for &(y0, rows, ref params, _) in &image.bands {
             let p = DisplayParams {
                 width: image.width,
                 y0,
-                rows: *rows,
+                rows,
                 view: view.constant(),
                 exposure_scale: display.exposure.exp2(),
                 transfer,
@@ -238,13 +238,12 @@ impl DisplayPass {
                 _pad: [0; 2],
             };
             queue.write_buffer(params, 0, bytemuck::bytes_of(&p));
-            y0 += rows;
         }
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("display pass") });
         {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("display pass"), timestamp_writes: None });
             pass.set_pipeline(&self.pipeline);
-            for (rows, _, bind_group) in &image.bands {
+            for (_, rows, _, bind_group) in &image.bands {
                 pass.set_bind_group(0, bind_group, &[]);
                 pass.dispatch_workgroups(image.width.div_ceil(WORKGROUP), rows.div_ceil(WORKGROUP), 1);
             }

@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 
 use crate::display::DisplayTransform;
 use crate::gpu::{Gpu, PathTracerPipelines};
-use crate::method::Method;
+use crate::method::{method_name, Method};
 use crate::output::{write_exr, write_rgb8_png, Metadata};
 use crate::render::{provenance, Film, PendingReadback, RenderError, Renderer};
 use crate::scene::Scene;
@@ -27,17 +27,6 @@ const METRICS_DUTY: f64 = 0.1;
 const MAX_METRICS_INTERVAL: Duration = Duration::from_secs(3);
 /// Shortest interval between two points of a curve.
 const MIN_METRICS_INTERVAL: Duration = Duration::from_millis(400);
-
-/// The name a method is shown under: its preset's, a biased demonstration's, or its parts.
-pub fn method_name(method: &Method) -> String {
-    if let Some(p) = method.preset() {
-        return p.name().to_string();
-    }
-    if let Some((name, _)) = crate::method::biased_demonstrations().into_iter().find(|(_, m)| m == method) {
-        return name.to_string();
-    }
-    format!("{}/{}/{}", method.sampler.name(), method.bsdf.name(), method.lights.name())
-}
 
 /// What the user chose to see.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -5,7 +5,7 @@
 use egui::{Align2, Color32, FontId, Pos2, Rect, Sense, Stroke, Ui};
 
 use super::app::ViewerApp;
-use super::driver::method_name;
+use crate::method::method_name;
 
 /// Background of the reload-error banner.
 pub const BANNER_RED: Color32 = Color32::from_rgb(150, 20, 20);

@@ -9,7 +9,7 @@ use crate::method::{BsdfSampling, LightSampling, Method, Preset, Sampler};
 
 use super::app::ViewerApp;
 use super::display_pass::View;
-use super::driver::method_name;
+use crate::method::method_name;
 
 const ERROR_RED: Color32 = Color32::from_rgb(255, 110, 100);
 
