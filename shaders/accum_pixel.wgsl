@@ -1,4 +1,4 @@
-// accum_pixel.wgsl — the per-pixel accumulator layout (`AccumPixel` in src/gpu/scene_buffers.rs),
+// accum_pixel.wgsl — the per-pixel accumulator layout (`AccumPixel` in src/film/accum_pixel.rs),
 // shared by the path tracer (accumulate.wgsl writes it) and the viewer's display pass (reads it).
 //
 // `sum` and `sum_sq` are Kahan-compensated sums of the radiance samples and of their squares;

@@ -9,7 +9,7 @@
 // AccumPixel is declared in accum_pixel.wgsl (shared with the display pass).
 
 
-@group(0) @binding(5) var<storage, read_write> accum: array<AccumPixel>;
+@group(0) @binding(BINDING_ACCUM) var<storage, read_write> accum: array<AccumPixel>;
 
 // An identity the compiler cannot see through: XOR with a uniform that is always 0. Without it,
 // shader compilers may simplify (s - (s + x)) + x to 0 under relaxed float rules (Mesa's NIR

@@ -34,15 +34,15 @@ struct DisplayParams {
     _pad2: u32,
 }
 
-@group(0) @binding(0) var<uniform> display: DisplayParams;
-@group(0) @binding(1) var<storage, read> band: array<AccumPixel>;
+@group(0) @binding(BINDING_DISPLAY_PARAMS) var<uniform> display: DisplayParams;
+@group(0) @binding(BINDING_DISPLAY_BAND) var<storage, read> band: array<AccumPixel>;
 // The reference image's linear RGB (w unused), row-major; one dummy texel without a reference.
-@group(0) @binding(2) var<storage, read> reference: array<vec4f>;
+@group(0) @binding(BINDING_DISPLAY_REFERENCE) var<storage, read> reference: array<vec4f>;
 // Magma, 256 entries of linear [0, 1] display values.
-@group(0) @binding(3) var<uniform> colour_map: array<vec4f, 256>;
+@group(0) @binding(BINDING_DISPLAY_COLOUR_MAP) var<uniform> colour_map: array<vec4f, 256>;
 // The shown image as packed RGBA8 (copied into the texture egui draws; a storage buffer, not a
 // storage texture: llvmpipe writes buffers vectorised, texels one by one).
-@group(0) @binding(4) var<storage, read_write> shown: array<u32>;
+@group(0) @binding(BINDING_DISPLAY_SHOWN) var<storage, read_write> shown: array<u32>;
 
 // sRGB transfer function (IEC 61966-2-1) of a value in [0, 1].
 fn srgb_encode(x: vec3f) -> vec3f {

@@ -1,4 +1,5 @@
-// scene.wgsl — the scene as the path-tracing kernel sees it: layouts mirror src/gpu/scene_buffers.rs.
+// scene.wgsl — the scene as the path-tracing kernel sees it: layouts mirror src/gpu/scene_buffers.rs and
+// src/gpu/frame_params.rs (checked by tests/shader_layouts.rs); binding numbers are generated.
 
 // Scene features, fixed per pipeline (set through pipeline constants).
 override NUM_SPHERES: u32 = 0u;
@@ -73,10 +74,10 @@ struct FrameParams {
 // refuses larger scenes). Uniform, not storage: the loops over spheres and planes read them at
 // an index that is the same in every lane, which uniform buffers serve as one broadcast load
 // (GPUs: the constant cache; lavapipe: a scalar load, where a storage read is a per-lane loop).
-@group(0) @binding(0) var<uniform> frame: FrameParams;
-@group(0) @binding(1) var<uniform> spheres: array<Sphere, MAX_SPHERES>;
-@group(0) @binding(2) var<uniform> planes: array<Plane, MAX_PLANES>;
-@group(0) @binding(3) var<uniform> materials: array<Material, MAX_MATERIALS>;
+@group(0) @binding(BINDING_FRAME) var<uniform> frame: FrameParams;
+@group(0) @binding(BINDING_SPHERES) var<uniform> spheres: array<Sphere, MAX_SPHERES>;
+@group(0) @binding(BINDING_PLANES) var<uniform> planes: array<Plane, MAX_PLANES>;
+@group(0) @binding(BINDING_MATERIALS) var<uniform> materials: array<Material, MAX_MATERIALS>;
 
 fn material_phong(m: Material) -> Phong {
     return Phong(m.diffuse, m.specular, m.glossiness, m.p_spec);

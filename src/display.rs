@@ -7,7 +7,7 @@
 use std::fmt;
 use std::str::FromStr;
 
-use crate::render::Film;
+use crate::film::Film;
 
 /// How linear radiance is encoded for display.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -1,35 +1,48 @@
 //! pathlab: a GPU path tracer for studying Monte Carlo rendering.
 //!
-//! - `scene`: the TOML scene format, parsed and validated before any GPU work;
+//! From the bottom layer up (a module uses only those above it in this list):
+//!
+//! - `names`: one spelling per named choice (`named_enum!`), and `progress`: how long
+//!   operations report to their front-end (the library prints nothing);
+//! - `film`: the per-pixel accumulator and the film (mean, variance of the mean) made of it;
 //! - `method`: samplers, BSDF sampling, light sampling and the study's presets;
-//! - `shaders`: assembly and naga validation of the WGSL kernels in `shaders/`;
-//! - `gpu`: device, specialised pipelines, scene buffers;
-//! - `render`: the frame loop, accumulation and readback;
-//! - `output`: EXR and PNG files, written atomically;
+//! - `scene`: the TOML scene format, parsed and validated before any GPU work, and its
+//!   canonical content hash;
 //! - `display`: the display transform (sRGB or gamma, exposure) of PNGs, figures and metrics;
-//! - `estimate`: error estimates without a reference, and rendering to a target error;
+//! - `output`: EXR and PNG files, written atomically;
+//! - `stats`: quantiles, Šidák correction, per-pixel z-tests, power-law fits;
 //! - `metrics`: MSE, relative MSE, bias, PSNR, SSIM, FLIP;
+//! - `estimate`: error estimates without a reference, and target errors;
 //! - `figures`: error maps, plots and image grids with an embedded font;
-//! - `shard`: sample ranges of split renders and their exact merge;
 //! - `sequences`: the CPU twin of the WGSL samplers;
+//! - `shaders`: assembly and naga validation of the WGSL kernels in `shaders/`, with the
+//!   constants and bindings generated from the Rust definitions;
+//! - `gpu`: device, specialised pipelines, scene buffers;
+//! - `render`: the renderer, checkpoints, rendering to a target, one `RenderJob` for every command;
+//! - `shard`: sample ranges of split renders and their exact merge;
+//! - `advise`: which method reaches a target error first;
 //! - `study`: `pathlab study`: reference, tables, convergence, bias verdicts, report;
-//! - `stats`: quantiles, Šidák correction, per-pixel z-tests;
-//! - `viewer`: `pathlab view`, the egui window: progressive display, live metrics, plots.
+//! - `viewer` (feature `viewer`): `pathlab view`, the egui window.
 
+pub mod advise;
 pub mod display;
 pub mod estimate;
 pub mod figures;
+pub mod film;
 pub mod gpu;
-pub mod metrics;
 pub mod method;
+pub mod metrics;
+pub mod names;
 pub mod output;
+pub mod progress;
 pub mod render;
 pub mod scene;
 pub mod sequences;
-pub mod shard;
 pub mod shaders;
+pub mod shard;
 pub mod stats;
 pub mod study;
+#[cfg(feature = "viewer")]
 pub mod viewer;
 
 /// pathlab's version, recorded in every output file.

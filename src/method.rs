@@ -1,65 +1,75 @@
 //! Sampling methods: which sampler, BSDF sampling and light sampling a pipeline uses, and the
-//! named presets of the study. Each choice is a WGSL `override` constant (see `gpu::pipeline`).
+//! named presets of the study. Each choice is a WGSL `override` constant (see `gpu::pipeline`);
+//! its values are generated into the WGSL from these enums (`shaders::generated_constants`).
 
 use std::fmt;
 
-use clap::ValueEnum;
+use crate::names::{named_enum, Named, UnknownName};
 
-/// Where the random numbers come from (`shaders/sampler.wgsl`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, ValueEnum)]
-#[value(rename_all = "kebab-case")]
-pub enum Sampler {
-    /// Counter-based hash of (pixel, sample index, dimension).
-    Independent,
-    /// The study's Halton: radical inverses with a per-pixel Cranley-Patterson rotation.
-    Halton,
-    /// Halton with Owen-scrambled digits per pixel and dimension (pbrt-v4).
-    HaltonScrambled,
-    /// Owen-scrambled Sobol' (Burley 2020), dimensions padded in shuffled pairs.
-    Sobol,
+named_enum! {
+    /// Where the random numbers come from (`shaders/sampler.wgsl`).
+    pub enum Sampler("sampler") {
+        /// Counter-based hash of (pixel, sample index, dimension).
+        Independent = "independent",
+        /// The study's Halton: radical inverses with a per-pixel Cranley-Patterson rotation.
+        Halton = "halton",
+        /// Halton with Owen-scrambled digits per pixel and dimension (pbrt-v4).
+        HaltonScrambled = "halton-scrambled",
+        /// Owen-scrambled Sobol' (Burley 2020), dimensions padded in shuffled pairs.
+        Sobol = "sobol",
+    }
 }
 
-/// How scattering directions are sampled (`shaders/bsdf.wgsl`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, ValueEnum)]
-#[value(rename_all = "kebab-case")]
-pub enum BsdfSampling {
-    /// Uniform over the sphere (the study's plain method): half the samples are wasted.
-    UniformSphere,
-    /// Uniform over the hemisphere of the shading normal.
-    UniformHemisphere,
-    /// Cosine-weighted hemisphere.
-    Cosine,
-    /// One-sample mixture of the cosine lobe and the Phong lobe, picked by luminance.
-    Phong,
-    /// BIASED, for demonstration: only the Phong lobe is sampled while diffuse + specular is
-    /// evaluated (the study's darker specular result).
-    PhongLobeOnly,
+named_enum! {
+    /// How scattering directions are sampled (`shaders/bsdf.wgsl`).
+    pub enum BsdfSampling("BSDF sampling") {
+        /// Uniform over the sphere (the study's plain method): half the samples are wasted.
+        UniformSphere = "uniform-sphere",
+        /// Uniform over the hemisphere of the shading normal.
+        UniformHemisphere = "uniform-hemisphere",
+        /// Cosine-weighted hemisphere.
+        Cosine = "cosine",
+        /// One-sample mixture of the cosine lobe and the Phong lobe, picked by luminance.
+        Phong = "phong",
+        /// BIASED, for demonstration: only the Phong lobe is sampled while diffuse + specular
+        /// is evaluated (the study's darker specular result).
+        PhongLobeOnly = "phong-lobe-only",
+    }
 }
 
-/// How light sources are sampled (`shaders/integrator.wgsl`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, ValueEnum)]
-pub enum LightSampling {
-    /// Emission is found only by BSDF-sampled rays.
-    None,
-    /// Next event estimation: one shadow ray to each spherical light at every vertex.
-    Nee,
-    /// NEE and BSDF sampling combined with the power heuristic.
-    Mis,
-    /// BIASED, for demonstration: NEE plus the full emission of lights hit by BSDF-sampled
-    /// rays, counting direct light twice (the study's extra reflections).
-    NeeDoubleCount,
+named_enum! {
+    /// How light sources are sampled (`shaders/integrator.wgsl`).
+    pub enum LightSampling("light sampling") {
+        /// Emission is found only by BSDF-sampled rays.
+        None = "none",
+        /// Next event estimation: one shadow ray to each spherical light at every vertex.
+        Nee = "nee",
+        /// NEE and BSDF sampling combined with the power heuristic.
+        Mis = "mis",
+        /// BIASED, for demonstration: NEE plus the full emission of lights hit by BSDF-sampled
+        /// rays, counting direct light twice (the study's extra reflections).
+        NeeDoubleCount = "nee-double-count",
+    }
 }
 
-/// The named methods of the study.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, ValueEnum)]
-pub enum Preset {
-    Plain,
-    Halton,
-    Cosine,
-    Phong,
-    Nee,
-    Mis,
-    Best,
+named_enum! {
+    /// The named methods of the study.
+    pub enum Preset("method") {
+        /// Independent samples, uniform sphere sampling, no light sampling (the study's plain).
+        Plain = "plain",
+        /// The study's Halton sampler, otherwise plain.
+        Halton = "halton",
+        /// Cosine-weighted hemisphere sampling.
+        Cosine = "cosine",
+        /// Sampling the Phong BRDF (cosine and Phong lobes).
+        Phong = "phong",
+        /// Next event estimation, uniform sphere sampling.
+        Nee = "nee",
+        /// Phong sampling and NEE combined by the power heuristic.
+        Mis = "mis",
+        /// mis with Owen-scrambled Sobol' samples.
+        Best = "best",
+    }
 }
 
 /// A complete sampling method.
@@ -71,10 +81,7 @@ pub struct Method {
 }
 
 impl Preset {
-    pub const ALL: [Preset; 7] =
-        [Preset::Plain, Preset::Halton, Preset::Cosine, Preset::Phong, Preset::Nee, Preset::Mis, Preset::Best];
-
-    pub fn method(self) -> Method {
+    pub const fn method(self) -> Method {
         use BsdfSampling as B;
         use LightSampling as L;
         use Sampler as S;
@@ -89,108 +96,26 @@ impl Preset {
         };
         Method { sampler, bsdf, lights }
     }
-
-    /// The command-line spelling.
-    pub fn name(self) -> &'static str {
-        match self {
-            Preset::Plain => "plain",
-            Preset::Halton => "halton",
-            Preset::Cosine => "cosine",
-            Preset::Phong => "phong",
-            Preset::Nee => "nee",
-            Preset::Mis => "mis",
-            Preset::Best => "best",
-        }
-    }
-}
-
-impl Sampler {
-    pub const ALL: [Sampler; 4] = [Sampler::Independent, Sampler::Halton, Sampler::HaltonScrambled, Sampler::Sobol];
-    pub fn name(self) -> &'static str {
-        match self {
-            Sampler::Independent => "independent",
-            Sampler::Halton => "halton",
-            Sampler::HaltonScrambled => "halton-scrambled",
-            Sampler::Sobol => "sobol",
-        }
-    }
-    /// Value of the WGSL constant `SAMPLER`.
-    pub fn constant(self) -> u32 {
-        self as u32
-    }
 }
 
 impl BsdfSampling {
-    /// Every strategy, the biased demonstration included.
-    pub const ALL: [BsdfSampling; 5] = [
-        BsdfSampling::UniformSphere,
-        BsdfSampling::UniformHemisphere,
-        BsdfSampling::Cosine,
-        BsdfSampling::Phong,
-        BsdfSampling::PhongLobeOnly,
-    ];
     /// True for the deliberately biased demonstration strategy.
     pub fn is_biased(self) -> bool {
         self == BsdfSampling::PhongLobeOnly
     }
-    pub fn name(self) -> &'static str {
-        match self {
-            BsdfSampling::UniformSphere => "uniform-sphere",
-            BsdfSampling::UniformHemisphere => "uniform-hemisphere",
-            BsdfSampling::Cosine => "cosine",
-            BsdfSampling::Phong => "phong",
-            BsdfSampling::PhongLobeOnly => "phong-lobe-only",
-        }
-    }
-    /// Value of the WGSL constant `BSDF_SAMPLING`.
-    pub fn constant(self) -> u32 {
-        self as u32
-    }
 }
 
 impl LightSampling {
-    /// Every strategy, the biased demonstration included.
-    pub const ALL: [LightSampling; 4] =
-        [LightSampling::None, LightSampling::Nee, LightSampling::Mis, LightSampling::NeeDoubleCount];
     /// True for the deliberately biased demonstration strategy.
     pub fn is_biased(self) -> bool {
         self == LightSampling::NeeDoubleCount
     }
-    pub fn name(self) -> &'static str {
-        match self {
-            LightSampling::None => "none",
-            LightSampling::Nee => "nee",
-            LightSampling::Mis => "mis",
-            LightSampling::NeeDoubleCount => "nee-double-count",
-        }
-    }
-    /// Value of the WGSL constant `LIGHT_SAMPLING`.
-    pub fn constant(self) -> u32 {
-        self as u32
-    }
 }
 
+/// `sampler=… bsdf=… lights=…`.
 impl fmt::Display for Method {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(
-            f,
-            "sampler={} bsdf={} lights={}",
-            self.sampler.name(),
-            self.bsdf.name(),
-            self.lights.name()
-        )
-    }
-}
-
-impl Method {
-    /// True when a deliberately biased demonstration strategy is part of the method.
-    pub fn is_biased(&self) -> bool {
-        self.bsdf.is_biased() || self.lights.is_biased()
-    }
-
-    /// The preset with exactly these settings, if any.
-    pub fn preset(&self) -> Option<Preset> {
-        Preset::ALL.into_iter().find(|p| p.method() == *self)
+        write!(f, "sampler={} bsdf={} lights={}", self.sampler, self.bsdf, self.lights)
     }
 }
 
@@ -205,28 +130,92 @@ pub fn biased_demonstrations() -> [(&'static str, Method); 2] {
     ]
 }
 
-/// A preset or a biased demonstration by its command-line name.
-pub fn method_by_name(name: &str) -> Option<Method> {
-    Preset::ALL
-        .iter()
-        .find(|p| p.name() == name)
-        .map(|p| p.method())
-        .or_else(|| biased_demonstrations().into_iter().find(|(n, _)| *n == name).map(|(_, m)| m))
+impl Method {
+    /// True when a deliberately biased demonstration strategy is part of the method.
+    pub fn is_biased(&self) -> bool {
+        self.bsdf.is_biased() || self.lights.is_biased()
+    }
+
+    /// The preset with exactly these settings, if any.
+    pub fn preset(&self) -> Option<Preset> {
+        Preset::ALL.into_iter().find(|p| p.method() == *self)
+    }
+
+    /// The one name a method is shown and recorded under (the inverse of `from_name`): its
+    /// preset's, a biased demonstration's, or its parts `sampler/bsdf/lights`.
+    pub fn name(&self) -> String {
+        if let Some(p) = self.preset() {
+            return p.name().to_string();
+        }
+        if let Some((name, _)) = biased_demonstrations().into_iter().find(|(_, m)| m == self) {
+            return name.to_string();
+        }
+        format!("{}/{}/{}", self.sampler, self.bsdf, self.lights)
+    }
+
+    /// A preset, a biased demonstration or `sampler/bsdf/lights` by name.
+    pub fn from_name(name: &str) -> Result<Method, UnknownName> {
+        if let Some(p) = Preset::from_name(name) {
+            return Ok(p.method());
+        }
+        if let Some((_, m)) = biased_demonstrations().into_iter().find(|(n, _)| *n == name) {
+            return Ok(m);
+        }
+        let unknown = || UnknownName { what: "method", name: name.to_string(), known: method_names().join(", ") };
+        let mut parts = name.split('/');
+        match (parts.next(), parts.next(), parts.next(), parts.next()) {
+            (Some(s), Some(b), Some(l), None) => Ok(Method {
+                sampler: s.parse()?,
+                bsdf: b.parse()?,
+                lights: l.parse()?,
+            }),
+            _ => Err(unknown()),
+        }
+    }
 }
 
-/// The name a method is shown under (the inverse of `method_by_name` where it has one): its
-/// preset's, a biased demonstration's, or its parts.
-pub fn method_name(method: &Method) -> String {
-    if let Some(p) = method.preset() {
-        return p.name().to_string();
-    }
-    if let Some((name, _)) = biased_demonstrations().into_iter().find(|(_, m)| m == method) {
-        return name.to_string();
-    }
-    format!("{}/{}/{}", method.sampler.name(), method.bsdf.name(), method.lights.name())
-}
-
-/// Every name `method_by_name` knows.
+/// Every named method (presets, then the biased demonstrations).
 pub fn method_names() -> Vec<&'static str> {
     Preset::ALL.iter().map(|p| p.name()).chain(biased_demonstrations().map(|(n, _)| n)).collect()
+}
+
+impl serde::Serialize for Method {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(&self.name())
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for Method {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let s = <String as serde::Deserialize>::deserialize(d)?;
+        Method::from_name(&s).map_err(serde::de::Error::custom)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_method_name_reads_back_as_the_method() {
+        for sampler in Sampler::ALL {
+            for bsdf in BsdfSampling::ALL {
+                for lights in LightSampling::ALL {
+                    let m = Method { sampler, bsdf, lights };
+                    assert_eq!(Method::from_name(&m.name()), Ok(m), "{}", m.name());
+                }
+            }
+        }
+        assert_eq!(Method::from_name("best"), Ok(Preset::Best.method()));
+        assert!(Method::from_name("fastest").is_err());
+        assert!(Method::from_name("sobol/phong").is_err());
+    }
+
+    #[test]
+    fn names_are_those_of_the_command_line() {
+        assert_eq!(Sampler::HaltonScrambled.name(), "halton-scrambled");
+        assert_eq!("nee-double-count".parse::<LightSampling>(), Ok(LightSampling::NeeDoubleCount));
+        assert!("phong".parse::<Sampler>().is_err());
+        assert_eq!(crate::names::wgsl_constants::<Sampler>("SAMPLER").lines().nth(2), Some("const SAMPLER_HALTON_SCRAMBLED: u32 = 2u;"));
+    }
 }

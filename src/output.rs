@@ -12,7 +12,7 @@ use exr::prelude::*;
 use std::result::Result;
 
 use crate::display::DisplayImage;
-use crate::render::Film;
+use crate::film::Film;
 
 #[derive(Debug, thiserror::Error)]
 pub enum OutputError {

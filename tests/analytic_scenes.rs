@@ -6,7 +6,7 @@ mod common;
 
 use common::*;
 use pathlab::method::{BsdfSampling, Method, Preset};
-use pathlab::render::Film;
+use pathlab::film::Film;
 use pathlab::stats::{image_mean_and_error, z_test, z_threshold};
 
 /// pbrt-v4's analytic scene: the camera inside a sphere with kd = 0.5, ks = 0 and emission 0.5

@@ -72,7 +72,7 @@ fn same_seed_gives_identical_exr_pixels() {
         read_exr(&dir.join(name)).unwrap().0
     };
     let (a, b, c) = (run("a.exr", "1"), run("b.exr", "1"), run("c.exr", "2"));
-    let bits = |f: &pathlab::render::Film| f.mean.iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>();
+    let bits = |f: &pathlab::film::Film| f.mean.iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>();
     assert_eq!(bits(&a), bits(&b));
     assert_ne!(bits(&a), bits(&c));
 }

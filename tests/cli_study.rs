@@ -121,7 +121,7 @@ fn killed_study_resumes_its_reference_bit_for_bit() {
     assert!(r.status.success());
     let (a, _) = read_exr(&out.join("reference.exr")).unwrap();
     let (b, _) = read_exr(&single).unwrap();
-    let bits = |f: &pathlab::render::Film| f.mean.iter().chain(&f.variance).flatten().map(|x| x.to_bits()).collect::<Vec<_>>();
+    let bits = |f: &pathlab::film::Film| f.mean.iter().chain(&f.variance).flatten().map(|x| x.to_bits()).collect::<Vec<_>>();
     assert_eq!(a.spp, 40000);
     assert!(bits(&a) == bits(&b), "resumed reference differs from an uninterrupted render");
 }
@@ -157,7 +157,7 @@ fn bad_input_is_refused_before_any_gpu_work() {
     assert!(err.contains("--time") && err.contains("abc"), "{err}");
     // A reference of another size than --size.
     let small = dir.path().join("small.exr");
-    let film = pathlab::render::Film { width: 8, height: 8, spp: 1, mean: vec![[0.5; 3]; 64], variance: vec![[0.0; 3]; 64] };
+    let film = pathlab::film::Film { width: 8, height: 8, spp: 1, mean: vec![[0.5; 3]; 64], variance: vec![[0.0; 3]; 64] };
     pathlab::output::write_exr(&small, &film, &Vec::new(), false).unwrap();
     let (code, err) = run(&["--reference", small.to_str().unwrap(), "--size", "16x8"], &out);
     assert_eq!(code, Some(1));

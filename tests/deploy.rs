@@ -2,6 +2,8 @@
 //! stopped by `tests/slurm/single_node_cluster.sh`), and its merged image equals a single run;
 //! the Kubernetes manifests parse as Indexed Jobs whose completion index selects the shard.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -51,7 +53,7 @@ fn slurm_job_array_and_merge_equal_a_single_run() {
     if Command::new("sbatch").arg("--version").output().is_err() {
         // CI installs slurm-wlm (.ci/run); elsewhere the test says why it did not run.
         assert!(std::env::var("CI").is_err(), "CI must have Slurm: .ci/run installs slurm-wlm and munge");
-        eprintln!("skipped: Slurm is not installed (apt-get install slurm-wlm munge)");
+        common::not_run("slurm_job_array_and_merge_equal_a_single_run", "Slurm is not installed (sudo apt-get install slurm-wlm munge)");
         return;
     }
     let dir = tempfile::tempdir().unwrap();

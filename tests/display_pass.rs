@@ -11,7 +11,8 @@ use pathlab::display::{DisplayTransform, Transfer};
 use pathlab::figures::colormap::magma_at;
 use pathlab::method::Preset;
 use pathlab::metrics::linear::rel_mse_map;
-use pathlab::render::{Budget, Film, Renderer};
+use pathlab::render::{Budget, Renderer};
+use pathlab::film::Film;
 use pathlab::viewer::display_pass::{read_shown_rgb8, DisplayPass, GpuReference, View};
 
 const W: u32 = 48;
@@ -25,15 +26,15 @@ fn scene() -> pathlab::scene::Scene {
 }
 
 /// Renders `spp` samples into a renderer whose accumulators are bands of 5 rows.
-fn rendered(seed: u32, spp: u64) -> Renderer<'static> {
-    let bytes = 5 * W as u64 * std::mem::size_of::<pathlab::gpu::AccumPixel>() as u64;
+fn rendered(seed: u32, spp: u64) -> Renderer {
+    let bytes = 5 * W as u64 * std::mem::size_of::<pathlab::film::AccumPixel>() as u64;
     let mut r = Renderer::with_band_bytes(gpu(), pipelines(), &scene(), Preset::Nee.method(), seed, bytes).unwrap();
     assert!(r.bands() > 1);
     r.render(Budget::Samples(spp), &std::sync::atomic::AtomicBool::new(false), |_| {}).unwrap();
     r
 }
 
-fn shown(renderer: &Renderer<'_>, reference: Option<&Film>, view: View, display: DisplayTransform) -> Vec<u8> {
+fn shown(renderer: &Renderer, reference: Option<&Film>, view: View, display: DisplayTransform) -> Vec<u8> {
     let g = gpu();
     let pass = DisplayPass::new(&g.device, &g.queue);
     let reference = reference.map(|f| GpuReference::new(&g.device, &g.queue, f));

@@ -8,11 +8,11 @@
 mod common;
 
 use common::*;
-use pathlab::estimate::target::render_randomised;
+use pathlab::render::to_target::render_randomised;
 use pathlab::estimate::{estimate_films, within_pixel, Estimator};
 use pathlab::method::{Method, Preset, Sampler};
 use pathlab::metrics::rel_mse;
-use pathlab::render::Film;
+use pathlab::film::Film;
 
 /// Estimated / true relMSE must lie in [1 / FACTOR, FACTOR] (averaged over SEEDS).
 const FACTOR: f64 = 1.25;

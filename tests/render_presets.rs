@@ -70,7 +70,7 @@ fn banded_accumulator_equals_single_band() {
     scene.render.height = 20;
     let method = Preset::Best.method();
     let whole = render(&scene, method, 6, 9);
-    let row_bytes = 40 * std::mem::size_of::<pathlab::gpu::AccumPixel>() as u64;
+    let row_bytes = 40 * std::mem::size_of::<pathlab::film::AccumPixel>() as u64;
     let mut r = Renderer::with_band_bytes(gpu(), pipelines(), &scene, method, 9, 3 * row_bytes).unwrap();
     assert_eq!(r.bands(), 7);
     r.render(Budget::Samples(6), &AtomicBool::new(false), |_| {}).unwrap();

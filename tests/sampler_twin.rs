@@ -9,7 +9,7 @@ use common::gpu;
 use pathlab::gpu::KernelRun;
 use pathlab::method::Sampler;
 use pathlab::sequences;
-use pathlab::shaders::{self, HALTON_PRIMES_BINDING};
+use pathlab::shaders::{self, bindings};
 
 const KERNEL: &str = r#"
 struct Query { pixel: u32, index: u32, dim: u32, seed: u32 }
@@ -46,7 +46,7 @@ fn gpu_samples(sampler: Sampler, queries: &[[u32; 4]]) -> Vec<f32> {
         entry: "sample_kernel",
         constants: &[("SAMPLER", sampler.constant() as f64)],
         inputs: vec![(0, bytemuck::cast_slice(queries).to_vec())],
-        uniforms: vec![(HALTON_PRIMES_BINDING, shaders::halton_primes_bytes())],
+        uniforms: vec![(bindings::HALTON_PRIMES.number, shaders::halton_primes_bytes())],
         output: (1, (queries.len() * 4) as u64),
         workgroups: (queries.len() as u32).div_ceil(64),
     };

@@ -38,7 +38,7 @@ fn merge(parts: &[PathBuf], out: &Path, extra: &[&str]) -> Output {
 }
 
 /// Largest |a - b| / max(|b|, 1e-3) over every mean value, and the same for variances.
-fn max_rel_diff(a: &pathlab::render::Film, b: &pathlab::render::Film) -> (f64, f64) {
+fn max_rel_diff(a: &pathlab::film::Film, b: &pathlab::film::Film) -> (f64, f64) {
     let rel = |x: &[[f32; 3]], y: &[[f32; 3]]| {
         x.iter().flatten().zip(y.iter().flatten()).map(|(&p, &q)| (p as f64 - q as f64).abs() / (q as f64).abs().max(1e-3)).fold(0.0, f64::max)
     };

@@ -17,7 +17,7 @@ mod common;
 
 use common::*;
 use pathlab::method::{BsdfSampling, LightSampling, Method, Preset};
-use pathlab::render::Film;
+use pathlab::film::Film;
 use pathlab::stats::{z_test, ZTest};
 
 const ALPHA: f64 = 0.01;

@@ -5,6 +5,8 @@
 //! Needs `Xvfb` (Debian package `xvfb`); without it the tests say so and pass, except under CI
 //! (`CI` set), where they fail. The viewer tests run one at a time (they share two cores).
 
+mod common;
+
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
@@ -50,7 +52,7 @@ fn xvfb(name: &str) -> Option<Xvfb> {
     let installed = Command::new("sh").args(["-c", "command -v Xvfb"]).output().is_ok_and(|o| o.status.success());
     if !installed {
         assert!(std::env::var_os("CI").is_none(), "Xvfb is required in CI (apt-get install xvfb)");
-        eprintln!("skipping: Xvfb is not installed (apt-get install xvfb)");
+        common::not_run(name, "Xvfb is not installed (sudo apt-get install xvfb)");
         return None;
     }
     let number = (100..400)

@@ -19,7 +19,7 @@ fn frames_add_samples_split_alternates_and_save_writes_exr_and_png() {
     scene.render.width = 32;
     scene.render.height = 16;
     let methods = [Preset::Mis.method(), Preset::Plain.method()];
-    let mut driver = Driver::new(gpu(), scene, &methods, 7, None, Duration::from_millis(20)).unwrap();
+    let mut driver = Driver::new(gpu().clone(), scene, &methods, 7, None, Duration::from_millis(20)).unwrap();
     let settings = ViewSettings { view: View::Radiance, display: DisplayTransform::default() };
     for _ in 0..10 {
         driver.frame(settings, false).unwrap();
@@ -62,7 +62,7 @@ fn partial_passes_equal_whole_passes_bit_for_bit() {
     let mut scene = study_scene();
     scene.render.width = 24;
     scene.render.height = 20;
-    let band_bytes = 6 * 24 * std::mem::size_of::<pathlab::gpu::AccumPixel>() as u64;
+    let band_bytes = 6 * 24 * std::mem::size_of::<pathlab::film::AccumPixel>() as u64;
     let method = Preset::Best.method();
     let mut whole = Renderer::with_band_bytes(gpu(), common::pipelines(), &scene, method, 3, band_bytes).unwrap();
     whole.render(Budget::Samples(5), &std::sync::atomic::AtomicBool::new(false), |_| {}).unwrap();

@@ -9,11 +9,11 @@ use anyhow::bail;
 use clap::Args;
 use serde::Serialize;
 
-use pathlab::estimate::advise::{advise, Advice};
-use pathlab::estimate::target::{render_to_target, Target};
+use pathlab::advise::{advise, Advice};
+use pathlab::estimate::target::Target;
 use pathlab::gpu::{adapter_summary, Gpu, PathTracerPipelines};
-use pathlab::method::method_by_name;
-use pathlab::render::ctrl_c_flag;
+use pathlab::method::Method;
+use pathlab::render::{ctrl_c_flag, Budget, ErrorPlan, RenderJob, MAX_SPP};
 
 use super::{load_scene, SceneOverrides};
 
@@ -49,7 +49,7 @@ pub struct AdviseArgs {
 
 #[derive(Serialize)]
 struct Verification {
-    method: String,
+    method: Method,
     predicted_seconds: Option<f64>,
     seconds: f64,
     spp: u64,
@@ -85,11 +85,11 @@ pub fn run(args: AdviseArgs) -> anyhow::Result<i32> {
     }
     let mut methods = Vec::new();
     for name in args.methods.split(',').map(str::trim).filter(|s| !s.is_empty()) {
-        let m = method_by_name(name).ok_or_else(|| anyhow::anyhow!("unknown method `{name}`"))?;
+        let m = Method::from_name(name)?;
         if m.is_biased() {
             bail!("{name} is a biased demonstration: its error does not fall to any target");
         }
-        methods.push((name.to_string(), m));
+        methods.push(m);
     }
     if methods.is_empty() {
         bail!("--methods names no method");
@@ -105,14 +105,16 @@ pub fn run(args: AdviseArgs) -> anyhow::Result<i32> {
     let mut verify = None;
     if args.verify {
         if let Some(winner) = advice.first().filter(|a| a.predicted_seconds.is_some()) {
-            let method = method_by_name(&winner.method).expect("piloted");
-            eprintln!("verifying: rendering {} to the target", winner.method);
-            let out = render_to_target(&gpu, &pipelines, &scene, method, 2, Some(target), &display, None, None, None, &cancel, |_| {})?;
+            eprintln!("verifying: rendering {} to the target", winner.method.name());
+            let mut job = RenderJob::new(scene.clone(), args.scene.clone(), winner.method, 2, Budget::Samples(MAX_SPP));
+            job.error = Some(ErrorPlan { target: Some(target), every: None, display });
+            let outcome = job.run(&gpu, &pipelines, &cancel, |_| {})?;
+            let out = outcome.error.as_ref().expect("a job with an error plan tracks its error");
             verify = Some(Verification {
-                method: winner.method.clone(),
+                method: winner.method,
                 predicted_seconds: winner.predicted_seconds,
-                seconds: out.seconds - out.check_seconds,
-                spp: out.film.spp,
+                seconds: outcome.stats.seconds - out.check_seconds,
+                spp: outcome.film.spp,
                 estimated_rel_mse: out.estimate.rel_mse,
                 estimated_psnr: out.estimate.psnr,
                 reached: out.reached,
@@ -149,7 +151,7 @@ fn print_table(r: &Report) {
     for a in &r.advice {
         println!(
             "{:<8} {:>12.2} {:>12.3e} {:>7} {:>12} {:>22} {:>12} {:>9}",
-            a.method,
+            a.method.name(),
             a.pixel_samples_per_second / 1e6,
             a.pilot_error,
             f(a.slope, 2),
@@ -160,12 +162,12 @@ fn print_table(r: &Report) {
         );
     }
     if let Some(w) = r.advice.first().filter(|a| a.predicted_seconds.is_some()) {
-        println!("winner: {} ({})", w.method, w.speedup_vs_plain.map_or("plain not piloted".into(), |s| format!("{s:.1}x faster than plain")));
+        println!("winner: {} ({})", w.method.name(), w.speedup_vs_plain.map_or("plain not piloted".into(), |s| format!("{s:.1}x faster than plain")));
     }
     if let Some(v) = &r.verify {
         println!(
             "verify: {} reached the target in {:.2} s at {} spp (predicted {} s; estimated relMSE {:.3e}{}){}",
-            v.method,
+            v.method.name(),
             v.seconds,
             v.spp,
             v.predicted_seconds.map_or("-".into(), |p| format!("{p:.2}")),

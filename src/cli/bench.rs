@@ -16,7 +16,7 @@ use pathlab::method::Preset;
 use pathlab::render::{Budget, Renderer};
 use pathlab::scene::Scene;
 
-use super::{load_scene, parse_size};
+use super::{load_scene, named, parse_size};
 
 #[derive(Args)]
 pub struct BenchArgs {
@@ -24,7 +24,7 @@ pub struct BenchArgs {
     #[arg(default_value = "assets/scenes/study.toml")]
     scene: PathBuf,
     /// Presets to measure (default: all).
-    #[arg(long, value_enum, value_delimiter = ',')]
+    #[arg(long, value_parser = named::<Preset>(), value_delimiter = ',')]
     methods: Vec<Preset>,
     /// Image sizes, WxH (default: 256x128 and 1024x512).
     #[arg(long = "size", value_parser = parse_size)]

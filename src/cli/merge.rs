@@ -6,8 +6,8 @@ use std::time::Instant;
 
 use clap::Args;
 
-use pathlab::output::{write_exr, Metadata};
-use pathlab::render::provenance;
+use pathlab::output::write_exr;
+use pathlab::render::ImageHeader;
 use pathlab::shard::merge;
 
 #[derive(Args)]
@@ -32,18 +32,23 @@ pub fn run(args: MergeArgs) -> anyhow::Result<i32> {
     let merged = merge(&args.parts, args.allow_gaps)?;
     let k = &merged.key;
     let gaps: Vec<String> = merged.gaps.iter().map(|g| format!("{}..{}", g.start, g.end)).collect();
-    let mut metadata: Metadata = provenance(&k.method, k.seed, k.max_depth, merged.spp, merged.rays);
-    metadata.extend(
-        [
-            ("render_seconds", format!("{:.6}", merged.render_seconds)),
-            ("scene_hash", k.scene_hash.clone()),
-            ("merged_parts", args.parts.len().to_string()),
-        ]
-        .map(|(a, b)| (a.to_string(), b)),
-    );
+    let header = ImageHeader {
+        method: k.method,
+        seed: k.seed,
+        max_depth: k.max_depth,
+        spp: merged.spp,
+        rays: merged.rays,
+        render_seconds: merged.render_seconds,
+        scene_hash: k.scene_hash.clone(),
+        scene: None,
+        display: None,
+        adapter: None,
+    };
+    let mut extra = vec![("merged_parts", args.parts.len().to_string())];
     if !gaps.is_empty() {
-        metadata.push(("missing_samples".into(), gaps.join(",")));
+        extra.push(("missing_samples", gaps.join(",")));
     }
+    let metadata = header.metadata(&extra);
     write_exr(&args.output, &merged.film, &metadata, args.variance)?;
     eprintln!(
         "wrote {} ({}x{}, {} spp from {} parts, {:.3} s to merge){}",

@@ -5,15 +5,19 @@ mod advise;
 mod bench;
 mod compare;
 mod merge;
+mod progress;
 mod render;
 mod study;
+#[cfg(feature = "viewer")]
 mod view;
 
 use std::path::PathBuf;
 use std::time::Duration;
 
+use clap::builder::TypedValueParser as _;
 use clap::{Parser, Subcommand};
 
+use pathlab::names::Named;
 use pathlab::scene::Scene;
 
 /// Exit status of a render stopped by Ctrl-C (after writing what it had).
@@ -32,6 +36,7 @@ enum Command {
     Render(render::RenderArgs),
     /// Watch a scene converge in a window: switch methods live, compare two side by side at
     /// equal time, see error maps and relMSE against seconds.
+    #[cfg(feature = "viewer")]
     View(view::ViewArgs),
     /// Validate a scene file and print what it contains.
     Check {
@@ -65,6 +70,7 @@ pub fn run() -> i32 {
         Command::Compare(args) => compare::run(args),
         Command::Merge(args) => merge::run(args),
         Command::Study(args) => study::run(args),
+        #[cfg(feature = "viewer")]
         Command::View(args) => view::run(args),
         Command::Check { scene } => check(&scene).map(|()| 0),
         Command::Adapters => {
@@ -101,7 +107,7 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
     let f = scene.features();
     println!(
         "{}: valid; {}x{}, max_depth {}, {} materials, {} spheres ({} lights), {} planes ({} can shadow a light), \
-         specular {}, environment {}, light interiors reachable {}",
+         specular {}, environment {}, light interiors reachable {}; scene hash {}",
         path.display(),
         scene.render.width,
         scene.render.height,
@@ -114,8 +120,19 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
         if f.has_specular { "yes" } else { "no" },
         if f.has_environment { "yes" } else { "no" },
         if f.light_interiors_reachable { "yes" } else { "no" },
+        scene.content_hash(),
     );
     Ok(())
+}
+
+/// The parser of a `Named` choice: its names as clap's possible values (each with its
+/// description in `--help`), parsed into the value.
+pub(crate) fn named<T: Named + Clone + Send + Sync>() -> impl clap::builder::TypedValueParser<Value = T> {
+    let values = T::all().iter().map(|v| {
+        let help = v.description().split_whitespace().collect::<Vec<_>>().join(" ");
+        clap::builder::PossibleValue::new(v.name()).help(help)
+    });
+    clap::builder::PossibleValuesParser::new(values).map(|s| T::from_name(&s).expect("a possible value"))
 }
 
 /// Parses an image size `WxH`.

@@ -7,17 +7,16 @@ use anyhow::bail;
 use clap::Args;
 
 use pathlab::display::{DisplayTransform, Transfer};
+use pathlab::estimate::target::Target;
 use pathlab::gpu::{adapter_summary, Gpu, PathTracerPipelines};
 use pathlab::method::{BsdfSampling, LightSampling, Method, Preset, Sampler};
-use pathlab::render::{
-    ctrl_c_flag, default_output, method_label, progress_bar, show_progress, Budget, CheckpointPlan, OutputFiles, RenderJob, Resume,
-};
-use pathlab::estimate::target::{render_to_target, Target};
-use pathlab::output::Metadata;
-use pathlab::render::{RenderOutcome, RenderStats};
+use pathlab::render::{ctrl_c_flag, default_output, Budget, CheckpointPlan, ErrorPlan, OutputFiles, RenderJob, Resume, MAX_SPP};
 use pathlab::shard::{default_part_name, shard_range};
 
-use super::{load_scene, parse_duration, EXIT_INTERRUPTED};
+use pathlab::progress::Reporter as _;
+
+use super::progress::Terminal;
+use super::{load_scene, named, parse_duration, EXIT_INTERRUPTED};
 
 /// Samples per pixel when neither `--spp`, `--time` nor the scene's `render.spp` says.
 const DEFAULT_SPP: u64 = 64;
@@ -27,16 +26,16 @@ pub struct RenderArgs {
     /// Scene file (TOML).
     scene: PathBuf,
     /// Sampling method preset.
-    #[arg(long, value_enum, default_value = "best")]
+    #[arg(long, value_parser = named::<Preset>(), default_value = "best")]
     method: Preset,
     /// Override the preset's sampler.
-    #[arg(long, value_enum)]
+    #[arg(long, value_parser = named::<Sampler>())]
     sampler: Option<Sampler>,
     /// Override the preset's BSDF sampling.
-    #[arg(long, value_enum)]
+    #[arg(long, value_parser = named::<BsdfSampling>())]
     bsdf: Option<BsdfSampling>,
     /// Override the preset's light sampling.
-    #[arg(long, value_enum)]
+    #[arg(long, value_parser = named::<LightSampling>())]
     lights: Option<LightSampling>,
     /// Samples per pixel (default: the scene's render.spp, else 64).
     #[arg(long, conflicts_with = "time")]
@@ -183,7 +182,6 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
         }
         job.checkpoint = Some(CheckpointPlan { path, every: args.checkpoint_every, resume, planned_total: None });
     }
-    let budget = job.budget;
     let target = match (args.target_rel_error, args.target_psnr) {
         (Some(e), _) if !(e.is_finite() && e > 0.0) => bail!("--target-rel-error must be a positive relative MSE"),
         (Some(e), _) => Some(Target::RelMse(e)),
@@ -192,16 +190,24 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
         (None, None) => None,
     };
     if let Some(target) = target {
+        // --spp and --time are upper bounds of a render to a target (none: up to 2^32 spp).
+        job.budget = match args.time {
+            Some(t) => Budget::Time(Duration::from_secs_f64(t)),
+            None => Budget::Samples(args.spp.unwrap_or(MAX_SPP)),
+        };
+        job.error = Some(ErrorPlan { target: Some(target), every: None, display: files.display });
         return render_target(&args, &job, target, &files);
     }
+    let budget = job.budget;
 
     let gpu = Gpu::new(args.adapter.as_deref())?;
     eprintln!("adapter: {}", adapter_summary(&gpu.info));
     let pipelines = PathTracerPipelines::new(&gpu.device);
     let cancel = ctrl_c_flag();
-    let bar = progress_bar(budget, args.quiet);
-    let outcome = job.run(&gpu, &pipelines, &cancel, |p| show_progress(&bar, budget, p))?;
-    bar.finish_and_clear();
+    let terminal = Terminal::new(args.quiet);
+    terminal.begin_budget(budget);
+    let outcome = job.run(&gpu, &pipelines, &cancel, |p| terminal.frame(p))?;
+    terminal.end();
     let (film, stats) = (&outcome.film, &outcome.stats);
     if let (Some((range, _)), Some(plan)) = (&part, &job.checkpoint) {
         eprintln!(
@@ -211,7 +217,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
             range.start + stats.spp,
             film.width,
             film.height,
-            method_label(&method),
+            method.name(),
             stats.seconds
         );
         if stats.interrupted {
@@ -229,7 +235,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
         film.width,
         film.height,
         stats.spp,
-        method_label(&method),
+        method.name(),
         method,
         stats.seconds,
         rate / 1e6,
@@ -248,7 +254,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
     Ok(0)
 }
 
-/// `--target-rel-error` / `--target-psnr`: render until the estimate meets the target.
+/// `--target-rel-error` / `--target-psnr`: the job renders until its estimate meets the target.
 fn render_target(args: &RenderArgs, job: &RenderJob, target: Target, files: &OutputFiles) -> anyhow::Result<i32> {
     let gpu = Gpu::new(args.adapter.as_deref())?;
     eprintln!("adapter: {}", adapter_summary(&gpu.info));
@@ -258,54 +264,35 @@ fn render_target(args: &RenderArgs, job: &RenderJob, target: Target, files: &Out
     if args.quiet || !std::io::IsTerminal::is_terminal(&std::io::stderr()) {
         bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());
     }
-    let max_time = args.time.map(Duration::from_secs_f64);
-    let out = render_to_target(&gpu, &pipelines, &job.scene, job.method, job.seed, Some(target), &files.display, args.spp, max_time, None, &cancel, |p| {
+    let outcome = job.run(&gpu, &pipelines, &cancel, |p| {
         let est = p.estimate.map_or("estimating".to_string(), |e| match target {
             Target::RelMse(t) => format!("relMSE ~{:.3e} (target {t:.3e})", e.rel_mse),
             Target::Psnr(db) => format!("PSNR ~{:.2} dB (target {db} dB)", e.psnr.unwrap_or(0.0)),
         });
         let eta = p.eta.map_or(String::new(), |d| format!(", ETA {:.1} s", d.as_secs_f64()));
-        bar.set_message(format!("{} spp, {:.1} s, {est}{eta}", p.spp, p.elapsed.as_secs_f64()));
+        bar.set_message(format!("{} spp, {:.1} s, {est}{eta}", p.spp_done, p.elapsed.as_secs_f64()));
         bar.tick();
     })?;
     bar.finish_and_clear();
-    let outcome = RenderOutcome {
-        stats: RenderStats { spp: out.film.spp, seconds: out.seconds, frames: 0, interrupted: out.interrupted },
-        film: out.film,
-        rays: out.rays,
-    };
-    let (target_key, target_value) = match target {
-        Target::RelMse(t) => ("target_rel_mse", t),
-        Target::Psnr(db) => ("target_psnr", db),
-    };
-    let extra: Metadata = [
-        (target_key, target_value.to_string()),
-        ("estimated_rel_mse", format!("{:.6e}", out.estimate.rel_mse)),
-        ("estimated_psnr", out.estimate.psnr.map_or("-".into(), |p| format!("{p:.4}"))),
-        ("estimator", out.estimator.describe()),
-        ("target_reached", out.reached.to_string()),
-    ]
-    .into_iter()
-    .map(|(k, v)| (k.to_string(), v))
-    .collect();
-    job.write(&outcome, &gpu.info.name, files, &extra)?;
+    let out = outcome.error.as_ref().expect("a job with an error plan tracks its error");
+    job.write(&outcome, &gpu.info.name, files, &Vec::new())?;
     eprintln!(
         "wrote {} ({} spp, {:.2} s; estimated relMSE {:.3e}, PSNR {} under {}; {}; target {}; {} checks took {:.2}% of the time)",
         files.exr.display(),
         outcome.stats.spp,
-        out.seconds,
+        outcome.stats.seconds,
         out.estimate.rel_mse,
         out.estimate.psnr.map_or("-".into(), |p| format!("{p:.2} dB")),
         files.display,
         out.estimator.describe(),
         if out.reached { "reached" } else { "NOT reached (an upper bound stopped it)" },
         out.checks,
-        100.0 * out.check_seconds / out.seconds.max(1e-9)
+        100.0 * out.check_seconds / outcome.stats.seconds.max(1e-9)
     );
     if let Some(png) = &files.png {
         eprintln!("wrote {}", png.display());
     }
-    if out.interrupted {
+    if outcome.stats.interrupted {
         eprintln!("interrupted: the image holds the {} spp finished before Ctrl-C", outcome.stats.spp);
         return Ok(EXIT_INTERRUPTED);
     }

@@ -11,6 +11,7 @@ use pathlab::gpu::{adapter_summary, Gpu, PathTracerPipelines};
 use pathlab::render::ctrl_c_flag;
 use pathlab::study::{parse_list, ReferenceSource, Study, StudyMethod, StudyOutcome};
 
+use super::progress::Terminal;
 use super::{load_scene, SceneOverrides, EXIT_INTERRUPTED};
 
 #[derive(Args)]
@@ -80,7 +81,7 @@ pub fn run(args: StudyArgs) -> anyhow::Result<i32> {
             if m.biased {
                 bail!("--reference-method {} is a biased demonstration; a reference must be unbiased", m.name);
             }
-            ReferenceSource::Render { method_name: m.name, method: m.method, spp: args.reference_spp.unwrap_or(if q { 4096 } else { 100_000 }) }
+            ReferenceSource::Render { method: m.method, spp: args.reference_spp.unwrap_or(if q { 4096 } else { 100_000 }) }
         }
     };
     // Size: --size, else the reference file's, else --quick's, else the scene's.
@@ -105,7 +106,6 @@ pub fn run(args: StudyArgs) -> anyhow::Result<i32> {
         target: args.target,
         checkpoint_every: Duration::from_secs_f64(args.checkpoint_every),
         command: std::env::args().map(|a| if a.contains(' ') { format!("'{a}'") } else { a }).collect::<Vec<_>>().join(" "),
-        quiet: args.quiet,
     };
     let loaded = study.validate()?;
 
@@ -113,7 +113,7 @@ pub fn run(args: StudyArgs) -> anyhow::Result<i32> {
     eprintln!("adapter: {}", adapter_summary(&gpu.info));
     let pipelines = PathTracerPipelines::new(&gpu.device);
     let cancel = ctrl_c_flag();
-    match study.run(loaded, &gpu, &pipelines, &cancel)? {
+    match study.run(loaded, &gpu, &pipelines, &cancel, &Terminal::new(args.quiet))? {
         StudyOutcome::Finished { report } => {
             eprintln!("wrote {}", report.display());
             Ok(0)

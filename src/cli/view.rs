@@ -6,24 +6,14 @@ use std::time::Duration;
 use anyhow::{bail, Context};
 use clap::Args;
 
-use pathlab::method::{method_by_name, method_names, Method};
+use pathlab::method::Method;
 use pathlab::output::read_exr;
 use pathlab::viewer::{View, ViewerOptions};
 
-use super::{load_scene, parse_size, SceneOverrides};
+use super::{load_scene, parse_size, SceneOverrides, named};
 
 fn parse_method(s: &str) -> Result<Method, String> {
-    method_by_name(s).ok_or_else(|| format!("unknown method `{s}`; one of: {}", method_names().join(", ")))
-}
-
-fn parse_view(s: &str) -> Result<View, String> {
-    match s {
-        "radiance" => Ok(View::Radiance),
-        "stderr" => Ok(View::RelStderr),
-        "abs-error" => Ok(View::AbsError),
-        "rel-error" => Ok(View::RelError),
-        _ => Err(format!("unknown view `{s}`; one of: radiance, stderr, abs-error, rel-error")),
-    }
+    Method::from_name(s).map_err(|e| e.to_string())
 }
 
 #[derive(Args)]
@@ -46,7 +36,7 @@ pub struct ViewArgs {
     #[arg(long, default_value_t = 0)]
     seed: u32,
     /// Initial view: radiance, stderr, abs-error, rel-error.
-    #[arg(long, default_value = "radiance", value_parser = parse_view)]
+    #[arg(long, default_value = "radiance", value_parser = named::<View>())]
     view: View,
     /// Exposure in stops.
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]

@@ -1,5 +1,5 @@
-//! Honest error estimates of a render in progress, without a reference, and rendering until a
-//! target error is reached (`target`).
+//! Honest error estimates of a render in progress, without a reference, and the targets a
+//! render can be asked to reach (`target`; the loop is `render::to_target`).
 //!
 //! The estimated relMSE is the study's relMSE with the unknown (x - ref)^2 replaced by its
 //! expectation, the variance of the pixel mean: mean over pixels and channels of
@@ -18,7 +18,6 @@
 //! through the display transform g: E[(g(X) - g(mu))^2] ~ ((g(m + s) - g(m - s)) / 2)^2 with
 //! s the standard error (the secant form of the delta method, which also handles clipping).
 
-pub mod advise;
 pub mod target;
 
 use serde::Serialize;
@@ -26,7 +25,7 @@ use serde::Serialize;
 use crate::display::DisplayTransform;
 use crate::metrics::linear::REL_MSE_EPSILON;
 use crate::method::Sampler;
-use crate::render::Film;
+use crate::film::Film;
 
 /// Randomisations of a low-discrepancy render.
 pub const RANDOMISATIONS: u32 = 4;

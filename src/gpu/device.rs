@@ -31,7 +31,9 @@ pub enum GpuError {
     Device(String),
 }
 
-/// An open device with what we know about it.
+/// An open device with what we know about it. Cloning is cheap (wgpu's device and queue are
+/// shared handles): every `Renderer` owns its clone, so nothing borrows the device.
+#[derive(Clone)]
 pub struct Gpu {
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,

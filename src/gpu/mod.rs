@@ -1,14 +1,16 @@
 //! Everything that talks to wgpu: the device (`device`), the path-tracing pipelines and their
-//! specialisation constants (`pipeline`), the scene's GPU buffers (`scene_buffers`), and a
-//! harness for small single-dispatch kernels (`kernel`).
+//! specialisation constants (`pipeline`), the per-dispatch uniform and camera (`frame_params`),
+//! the scene's GPU buffers (`scene_buffers`), and a harness for small single-dispatch kernels
+//! (`kernel`).
 
 mod device;
+mod frame_params;
 mod kernel;
 mod pipeline;
 mod scene_buffers;
 
 pub use device::{adapter_summary, list_adapters, wait_for_submission, Gpu, GpuError, ADAPTER_ENV};
 pub use kernel::KernelRun;
-pub(crate) use pipeline::{storage_entry, uniform_entry};
 pub use pipeline::{loop_iterations_per_sample, pipeline_constants, PathTracerPipelines, PipelineKey, PipelineStats};
-pub use scene_buffers::{AccumPixel, FrameParams, GpuMaterial, GpuPlane, GpuSphere, SceneBuffers};
+pub use frame_params::FrameParams;
+pub use scene_buffers::{GpuMaterial, GpuPlane, GpuSphere, SceneBuffers};

@@ -9,7 +9,7 @@ use wgpu::util::DeviceExt;
 
 use crate::method::Method;
 use crate::scene::SceneFeatures;
-use crate::shaders;
+use crate::shaders::{self, bindings};
 
 /// What a pipeline is specialised to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -64,39 +64,11 @@ pub struct PipelineStats {
 /// The path tracer's shader module, bind group layout and a cache of specialised pipelines.
 pub struct PathTracerPipelines {
     module: wgpu::ShaderModule,
-    /// The Halton bases, bound at `shaders::HALTON_PRIMES_BINDING`.
+    /// The Halton bases, bound at `bindings::HALTON_PRIMES`.
     pub halton_primes: wgpu::Buffer,
     pub bind_group_layout: wgpu::BindGroupLayout,
     layout: wgpu::PipelineLayout,
     cache: Mutex<HashMap<PipelineKey, (Arc<wgpu::ComputePipeline>, PipelineStats)>>,
-}
-
-/// A compute-stage uniform buffer binding.
-pub(crate) fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
-}
-
-/// A compute-stage storage buffer binding.
-pub(crate) fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
 }
 
 impl PathTracerPipelines {
@@ -107,16 +79,7 @@ impl PathTracerPipelines {
         });
         let bind_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("path tracer"),
-            entries: &[
-                // Frame parameters, then spheres, planes, materials (scene.wgsl).
-                uniform_entry(0),
-                uniform_entry(1),
-                uniform_entry(2),
-                uniform_entry(3),
-                // The accumulator (accumulate.wgsl).
-                storage_entry(5, false),
-                uniform_entry(shaders::HALTON_PRIMES_BINDING),
-            ],
+            entries: &bindings::layout_entries(&bindings::PATH_TRACER),
         });
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("path tracer"),

@@ -6,7 +6,7 @@
 
 use serde::Serialize;
 
-use crate::render::Film;
+use crate::film::Film;
 use crate::stats::normal_quantile;
 
 /// The constant added to ref^2 in the relative MSE's denominator.

@@ -14,7 +14,7 @@ pub mod ssim;
 use serde::Serialize;
 
 use crate::display::DisplayTransform;
-use crate::render::Film;
+use crate::film::Film;
 use crate::stats::{z_test, ZTest};
 
 pub use flip::flip;

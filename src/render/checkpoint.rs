@@ -7,7 +7,8 @@
 //!
 //! Channels: `sum.{R,G,B}`, `sum_err.*`, `sum_sq.*`, `sum_sq_err.*` (f32), `count`, `rays_lo`,
 //! `rays_hi` (u32). Header: `pathlab:kind = accumulator`, `scene_hash`, `sampler`, `bsdf`,
-//! `lights`, `seed`, `max_depth`, `first_sample`, `spp`, `render_seconds` (all sessions),
+//! `scene_hash_encoding`, `lights`, `seed`, `max_depth`, `first_sample`, `spp`, `render_seconds`
+//! (all sessions),
 //! `version`. Written through a temporary file and renamed, so a checkpoint on disk is always
 //! complete: a `kill -9` loses at most the samples since the last one.
 
@@ -16,15 +17,16 @@ use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
 
 use bytemuck::Zeroable;
-use clap::ValueEnum;
 use exr::prelude::*;
 use std::result::Result;
 
-use crate::gpu::AccumPixel;
+use crate::film::AccumPixel;
 use crate::method::Method;
 use crate::output::{read_exr_layer, write_exr_layer, Metadata, OutputError};
+use crate::scene::hash::SCENE_HASH_ENCODING;
 
-use super::{Budget, Film, Progress, RenderError, RenderStats, Renderer};
+use super::{Budget, Progress, RenderError, RenderStats, Renderer};
+use crate::film::Film;
 
 /// What must match for a checkpoint to be continued: scene content, method, seed, size, depth.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -77,9 +79,9 @@ impl CheckpointKey {
             ("width", self.width.to_string()),
             ("height", self.height.to_string()),
             ("max_depth", self.max_depth.to_string()),
-            ("sampler", self.method.sampler.name().to_string()),
-            ("bsdf", self.method.bsdf.name().to_string()),
-            ("lights", self.method.lights.name().to_string()),
+            ("sampler", self.method.sampler.to_string()),
+            ("bsdf", self.method.bsdf.to_string()),
+            ("lights", self.method.lights.to_string()),
             ("seed", self.seed.to_string()),
             ("scene_hash", self.scene_hash.clone()),
         ]
@@ -134,6 +136,7 @@ impl Checkpoint {
         let mut header = self.key.fields();
         header.extend([
             ("kind", "accumulator".to_string()),
+            ("scene_hash_encoding", SCENE_HASH_ENCODING.to_string()),
             ("first_sample", self.first_sample.to_string()),
             ("spp", self.spp.to_string()),
             ("render_seconds", format!("{:.6}", self.render_seconds)),
@@ -156,11 +159,24 @@ impl Checkpoint {
         if get("kind")? != "accumulator" {
             return Err(invalid("pathlab:kind is not `accumulator`".into()));
         }
+        // Files made before the scene hash had a stable encoding carry a hash of the scene's
+        // debug text, which no later version can reproduce or compare.
+        match header.get("scene_hash_encoding").map(String::as_str) {
+            Some(v) if v == SCENE_HASH_ENCODING.to_string() => {}
+            Some(v) => return Err(invalid(format!("its scene hash uses encoding {v}; this pathlab knows encoding {SCENE_HASH_ENCODING}"))),
+            None => {
+                return Err(invalid(format!(
+                    "it was made by pathlab {} (before 0.2.0), whose scene hash is not stable across versions, so the scene it \
+                     belongs to cannot be checked; render it again, or merge/resume it with the version that made it",
+                    header.get("version").map_or("?", String::as_str)
+                )))
+            }
+        }
         let num = |k: &str| -> Result<u64, CheckpointError> { get(k)?.parse().map_err(|_| invalid(format!("pathlab:{k} is not a number"))) };
         let method = Method {
-            sampler: ValueEnum::from_str(&get("sampler")?, false).map_err(|_| invalid("unknown sampler".into()))?,
-            bsdf: ValueEnum::from_str(&get("bsdf")?, false).map_err(|_| invalid("unknown bsdf".into()))?,
-            lights: ValueEnum::from_str(&get("lights")?, false).map_err(|_| invalid("unknown lights".into()))?,
+            sampler: get("sampler")?.parse().map_err(|e| invalid(format!("pathlab:sampler: {e}")))?,
+            bsdf: get("bsdf")?.parse().map_err(|e| invalid(format!("pathlab:bsdf: {e}")))?,
+            lights: get("lights")?.parse().map_err(|e| invalid(format!("pathlab:lights: {e}")))?,
         };
         let key = CheckpointKey {
             scene_hash: get("scene_hash")?,

@@ -1,37 +1,68 @@
-//! One render from a scene to its files, shared by `pathlab render`, the study and (later) the
-//! viewer and the cluster commands: the renderer for a method and seed, the budget, progress,
-//! cancellation (Ctrl-C), the EXR header and the files written atomically.
+//! One render from a scene to its files, the one way every command renders (`render`, the
+//! study's runs and reference, `advise`'s pilots, the viewer's saves share its header): the
+//! renderer for a method and seed, the stop rules (a sample count or a time, a target error,
+//! Ctrl-C through the cancel flag), the checkpoint plan, and the files written atomically.
 
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, OnceLock};
-
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::time::Duration;
 
 use crate::display::DisplayTransform;
+use crate::estimate::target::Target;
+use crate::estimate::{ErrorEstimate, Estimator};
+use crate::film::Film;
 use crate::gpu::{Gpu, PathTracerPipelines};
-use crate::method::{Method, Preset};
+use crate::method::Method;
 use crate::output::{write_exr, write_png, Metadata, OutputError};
 use crate::scene::Scene;
 
+use super::to_target::render_to_target;
 use super::{
-    render_checkpointed, Budget, CheckpointError, CheckpointKey, CheckpointPlan, Film, Progress, RenderError, RenderStats, Renderer,
+    render_checkpointed, Budget, CheckpointError, CheckpointKey, CheckpointPlan, ImageHeader, Progress, RenderError, RenderStats, Renderer,
+    MAX_SPP,
 };
 
+/// Estimating the error while rendering, without a reference (`estimate`): to stop once a
+/// target is reached, or (no target) to record the estimates as a pilot does.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ErrorPlan {
+    pub target: Option<Target>,
+    /// Check every so often; `None`: as often as the checks' own cost allows (~2% of the time).
+    pub every: Option<Duration>,
+    /// The display transform of a PSNR estimate.
+    pub display: DisplayTransform,
+}
+
 /// What to render: the scene (with any size or depth overrides applied), where it came from,
-/// the method, the seed, the budget, the first sample index, and where to checkpoint.
+/// the method, the seed, when to stop, the first sample index, and where to checkpoint.
 #[derive(Debug, Clone)]
 pub struct RenderJob {
     pub scene: Scene,
     pub scene_path: PathBuf,
     pub method: Method,
     pub seed: u32,
+    /// Samples per pixel or wall time; with an error plan, the upper bound.
     pub budget: Budget,
+    /// Stop at a target error (or record estimates): renders in randomisations, see `estimate`.
+    pub error: Option<ErrorPlan>,
     /// Sample index of the first sample (0 except for a sample range of a split render).
     pub first_sample: u64,
     /// Save the accumulators during the render (needs a sample budget).
     pub checkpoint: Option<CheckpointPlan>,
+}
+
+/// The error estimates of a render with an error plan.
+#[derive(Debug, Clone)]
+pub struct ErrorTrack {
+    pub estimate: ErrorEstimate,
+    pub estimator: Estimator,
+    pub reached: bool,
+    /// Estimates made along the way, and the wall time they took.
+    pub checks: u32,
+    pub check_seconds: f64,
+    /// Every check: (seconds of rendering so far, spp, estimate).
+    pub history: Vec<(f64, u64, ErrorEstimate)>,
 }
 
 /// A finished (or interrupted) render.
@@ -41,6 +72,8 @@ pub struct RenderOutcome {
     /// Rays traced (camera, bounce and shadow), counted by the kernel.
     pub rays: u64,
     pub stats: RenderStats,
+    /// With an error plan: the estimates.
+    pub error: Option<ErrorTrack>,
 }
 
 /// Where a render's files go.
@@ -53,30 +86,6 @@ pub struct OutputFiles {
     pub display: DisplayTransform,
     /// Add variance-of-the-mean channels to the EXR.
     pub variance: bool,
-}
-
-/// The name a method is recorded under: its preset's, or `custom`.
-pub fn method_label(method: &Method) -> &'static str {
-    method.preset().map_or("custom", Preset::name)
-}
-
-/// The header fields saying what produced an image (every EXR pathlab writes has them):
-/// spp, method (preset name or `custom`) and its parts, seed, max_depth, rays, version.
-pub fn provenance(method: &Method, seed: u32, max_depth: u32, spp: u64, rays: u64) -> Metadata {
-    [
-        ("spp", spp.to_string()),
-        ("method", method_label(method).to_string()),
-        ("sampler", method.sampler.name().to_string()),
-        ("bsdf", method.bsdf.name().to_string()),
-        ("lights", method.lights.name().to_string()),
-        ("seed", seed.to_string()),
-        ("max_depth", max_depth.to_string()),
-        ("rays", rays.to_string()),
-        ("version", crate::VERSION.to_string()),
-    ]
-    .into_iter()
-    .map(|(k, v)| (k.to_string(), v))
-    .collect()
 }
 
 /// Renders one sample per pixel of `method` and throws it away: drivers that compile at the
@@ -103,39 +112,10 @@ pub fn ctrl_c_flag() -> Arc<AtomicBool> {
     .clone()
 }
 
-/// A progress bar for `budget` on stderr, hidden when `quiet` or stderr is not a terminal.
-pub fn progress_bar(budget: Budget, quiet: bool) -> ProgressBar {
-    let bar = match budget {
-        Budget::Samples(n) => ProgressBar::new(n).with_style(
-            ProgressStyle::with_template("{bar:40} {pos}/{len} spp  {per_sec}  ETA {eta}")
-                .unwrap_or_else(|_| ProgressStyle::default_bar()),
-        ),
-        Budget::Time(t) => ProgressBar::new(t.as_millis() as u64).with_style(
-            ProgressStyle::with_template("{bar:40} {msg}  {elapsed} / {duration}")
-                .unwrap_or_else(|_| ProgressStyle::default_bar()),
-        ),
-    };
-    if quiet || !std::io::stderr().is_terminal() {
-        bar.set_draw_target(ProgressDrawTarget::hidden());
-    }
-    bar
-}
-
-/// Moves `bar` (made by `progress_bar` for `budget`) to `p`.
-pub fn show_progress(bar: &ProgressBar, budget: Budget, p: Progress) {
-    match budget {
-        Budget::Samples(_) => bar.set_position(p.spp_done),
-        Budget::Time(_) => {
-            bar.set_position(p.elapsed.as_millis() as u64);
-            bar.set_message(format!("{} spp", p.spp_done));
-        }
-    }
-}
-
 impl RenderJob {
-    /// A job of `budget` from sample index 0, without checkpoints.
+    /// A job of `budget` from sample index 0, without checkpoints or error plan.
     pub fn new(scene: Scene, scene_path: PathBuf, method: Method, seed: u32, budget: Budget) -> RenderJob {
-        RenderJob { scene, scene_path, method, seed, budget, first_sample: 0, checkpoint: None }
+        RenderJob { scene, scene_path, method, seed, budget, error: None, first_sample: 0, checkpoint: None }
     }
 
     /// What a checkpoint of this job must match.
@@ -150,23 +130,26 @@ impl RenderJob {
         }
     }
 
-    /// Renders until the budget is met or `cancel` is set (saving checkpoints when planned),
-    /// and reads the film back.
+    /// Renders until a stop rule holds (budget, target, `cancel`), saving checkpoints when
+    /// planned, and reads the film back.
     pub fn run(
         &self,
         gpu: &Gpu,
         pipelines: &PathTracerPipelines,
         cancel: &AtomicBool,
-        progress: impl FnMut(Progress),
+        mut progress: impl FnMut(Progress),
     ) -> Result<RenderOutcome, CheckpointError> {
+        if let Some(plan) = &self.error {
+            return self.run_to_target(plan, gpu, pipelines, cancel, progress);
+        }
         let mut renderer = Renderer::new(gpu, pipelines, &self.scene, self.method, self.seed)?;
         if self.first_sample > 0 {
             renderer.start_at_sample(self.first_sample)?;
         }
         let Some(plan) = &self.checkpoint else {
-            let stats = renderer.render(self.budget, cancel, progress)?;
+            let stats = renderer.render(self.budget, cancel, &mut progress)?;
             let readback = renderer.readback()?;
-            return Ok(RenderOutcome { film: readback.film, rays: readback.rays, stats });
+            return Ok(RenderOutcome { film: readback.film, rays: readback.rays, stats, error: None });
         };
         let Budget::Samples(spp) = self.budget else {
             return Err(CheckpointError::Invalid { path: plan.path.clone(), message: "checkpoints need a sample budget (--spp), not a time".into() });
@@ -174,24 +157,87 @@ impl RenderJob {
         let (saved, interrupted) = render_checkpointed(&mut renderer, &self.checkpoint_key(), spp, plan, cancel, progress)?;
         // Seconds of every session that rendered these samples.
         let stats = RenderStats { spp: saved.spp, seconds: saved.render_seconds, frames: 0, interrupted };
-        Ok(RenderOutcome { film: saved.film(), rays: saved.rays(), stats })
+        Ok(RenderOutcome { film: saved.film(), rays: saved.rays(), stats, error: None })
     }
 
-    /// The EXR header of `outcome`: `pathlab:KEY` attributes.
+    /// The randomised loop of `to_target`, bounded by the budget.
+    fn run_to_target(
+        &self,
+        plan: &ErrorPlan,
+        gpu: &Gpu,
+        pipelines: &PathTracerPipelines,
+        cancel: &AtomicBool,
+        progress: impl FnMut(Progress),
+    ) -> Result<RenderOutcome, CheckpointError> {
+        if self.checkpoint.is_some() || self.first_sample > 0 {
+            return Err(RenderError::Unsupported("a target error cannot be combined with checkpoints or sample ranges").into());
+        }
+        let (max_spp, max_time) = match self.budget {
+            Budget::Samples(n) => (Some(n.min(MAX_SPP)), None),
+            Budget::Time(t) => (None, Some(t)),
+        };
+        let out = render_to_target(
+            gpu,
+            pipelines,
+            &self.scene,
+            self.method,
+            self.seed,
+            plan.target,
+            &plan.display,
+            max_spp,
+            max_time,
+            plan.every,
+            cancel,
+            progress,
+        )?;
+        Ok(RenderOutcome {
+            stats: RenderStats { spp: out.film.spp, seconds: out.seconds, frames: 0, interrupted: out.interrupted },
+            film: out.film,
+            rays: out.rays,
+            error: Some(ErrorTrack {
+                estimate: out.estimate,
+                estimator: out.estimator,
+                reached: out.reached,
+                checks: out.checks,
+                check_seconds: out.check_seconds,
+                history: out.history,
+            }),
+        })
+    }
+
+    /// The header of `outcome`'s image.
+    pub fn header(&self, outcome: &RenderOutcome, adapter: &str) -> ImageHeader {
+        ImageHeader {
+            method: self.method,
+            seed: self.seed,
+            max_depth: self.scene.render.max_depth,
+            spp: outcome.stats.spp,
+            rays: outcome.rays,
+            render_seconds: outcome.stats.seconds,
+            scene_hash: self.scene.content_hash(),
+            scene: Some(self.scene_path.clone()),
+            display: Some(self.scene.display),
+            adapter: Some(adapter.to_string()),
+        }
+    }
+
+    /// The EXR header of `outcome`, with the error plan's results when there was one.
     pub fn metadata(&self, outcome: &RenderOutcome, adapter: &str) -> Metadata {
-        let mut metadata = provenance(&self.method, self.seed, self.scene.render.max_depth, outcome.stats.spp, outcome.rays);
-        metadata.extend(
-            [
-                ("render_seconds", format!("{:.6}", outcome.stats.seconds)),
-                ("scene", self.scene_path.display().to_string()),
-                ("scene_hash", self.scene.content_hash()),
-                ("display", self.scene.display.transfer.to_string()),
-                ("exposure", self.scene.display.exposure.to_string()),
-                ("adapter", adapter.to_string()),
-            ]
-            .map(|(k, v)| (k.to_string(), v)),
-        );
-        metadata
+        let mut extra: Vec<(&str, String)> = Vec::new();
+        if let (Some(plan), Some(track)) = (&self.error, &outcome.error) {
+            match plan.target {
+                Some(Target::RelMse(t)) => extra.push(("target_rel_mse", t.to_string())),
+                Some(Target::Psnr(db)) => extra.push(("target_psnr", db.to_string())),
+                None => {}
+            }
+            extra.extend([
+                ("estimated_rel_mse", format!("{:.6e}", track.estimate.rel_mse)),
+                ("estimated_psnr", track.estimate.psnr.map_or("-".into(), |p| format!("{p:.4}"))),
+                ("estimator", track.estimator.describe()),
+                ("target_reached", track.reached.to_string()),
+            ]);
+        }
+        self.header(outcome, adapter).metadata(&extra)
     }
 
     /// Writes the EXR (and PNG) of `outcome`, each atomically; `extra` joins the header.

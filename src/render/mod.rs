@@ -1,15 +1,23 @@
-//! Rendering: the frame loop (`frame_loop`), per-pixel accumulation on the GPU, the readback
-//! into a `Film` (`film`), one render from scene to files (`job`), and checkpoints of the raw
-//! accumulators for long renders that must survive interruption (`checkpoint`).
+//! Rendering: the `renderer` and its parts (`band`, `batch`, `interactive`, `readback`,
+//! `timestamps`), the `controller` that sizes sample counts to time spans, the loop that renders
+//! to a target error (`to_target`), checkpoints of the raw accumulators for long renders that
+//! must survive interruption (`checkpoint`), the image header (`header`), and one render from
+//! scene to files (`job`).
 
+mod band;
+mod batch;
 mod checkpoint;
-mod film;
-mod frame_loop;
+pub mod controller;
+mod header;
+mod interactive;
 mod job;
+mod readback;
+mod renderer;
+mod timestamps;
+pub mod to_target;
 
 pub use checkpoint::{render_checkpointed, Checkpoint, CheckpointError, CheckpointKey, CheckpointPlan, Resume};
-pub use film::Film;
-pub use frame_loop::{Budget, PendingReadback, Progress, Readback, RenderError, RenderStats, Renderer, MAX_SPP};
-pub use job::{
-    ctrl_c_flag, default_output, method_label, progress_bar, provenance, show_progress, warm_up, OutputFiles, RenderJob, RenderOutcome,
-};
+pub use header::ImageHeader;
+pub use job::{ctrl_c_flag, default_output, warm_up, ErrorPlan, ErrorTrack, OutputFiles, RenderJob, RenderOutcome};
+pub use readback::{PendingReadback, Readback};
+pub use renderer::{Budget, Progress, RenderError, RenderStats, Renderer, MAX_SPP};

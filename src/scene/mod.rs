@@ -1,9 +1,11 @@
-//! Scenes: the TOML format (`raw`), its validation (`validate`) and the validated model.
+//! Scenes: the TOML format (`raw`), its validation (`validate`), the validated model, and its
+//! identity (`hash`).
 //!
 //! A `Scene` has passed every check: all numbers are finite and in range, every material name
 //! resolves, planes do not emit. Nothing here touches the GPU.
 
 mod diagnostic;
+pub mod hash;
 mod raw;
 mod validate;
 
@@ -118,16 +120,12 @@ impl Scene {
         validate::parse_and_validate(text, path.as_ref())
     }
 
-    /// SHA-256 (first 16 hex digits) of everything that determines the image: camera, render
-    /// settings (size and depth overrides included), materials, spheres and planes; not the
-    /// file's path, comments or formatting. Checkpoints and cached references are keyed by it.
+    /// The scene's identity: SHA-256 (first 16 hex digits) of the canonical encoding of
+    /// everything that determines its image (`hash`: camera, render settings with size and
+    /// depth overrides, materials, spheres, planes; not the path, names, comments or the
+    /// default spp). Checkpoints, split-render parts and the study's cache are keyed by it.
     pub fn content_hash(&self) -> String {
-        use sha2::{Digest, Sha256};
-        // The default sample count does not change the image.
-        let render = RenderSettings { spp: None, ..self.render.clone() };
-        let canonical = format!("{:?}|{:?}|{:?}|{:?}|{:?}", self.camera, render, self.materials, self.spheres, self.planes);
-        let digest = Sha256::digest(canonical.as_bytes());
-        digest.iter().take(8).map(|b| format!("{b:02x}")).collect()
+        hash::content_hash(self)
     }
 
     /// Indices of the spheres that emit: the lights.

@@ -11,7 +11,8 @@
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
-use crate::render::{Checkpoint, CheckpointError, CheckpointKey, Film};
+use crate::render::{Checkpoint, CheckpointError, CheckpointKey};
+use crate::film::Film;
 
 /// `START..END`: sample indices START (inclusive) to END (exclusive).
 pub fn parse_range(s: &str) -> Result<Range<u64>, String> {

@@ -18,13 +18,12 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-
 use crate::display::DisplayTransform;
 use crate::gpu::{Gpu, PathTracerPipelines};
-use crate::method::{method_by_name, method_names, Method};
+use crate::method::Method;
 use crate::metrics::MetricsError;
 use crate::output::{read_exr, OutputError};
+use crate::progress::{Reporter, Task};
 use crate::render::{warm_up, Budget, CheckpointError, RenderError, RenderJob};
 use crate::scene::Scene;
 
@@ -62,9 +61,8 @@ pub struct StudyMethod {
 
 impl StudyMethod {
     pub fn by_name(name: &str) -> Result<StudyMethod, StudyError> {
-        let method = method_by_name(name)
-            .ok_or_else(|| StudyError::Input(format!("unknown method `{name}`; known: {}", method_names().join(", "))))?;
-        Ok(StudyMethod { name: name.to_string(), method, biased: method.is_biased() })
+        let method = Method::from_name(name).map_err(|e| StudyError::Input(e.to_string()))?;
+        Ok(StudyMethod { name: method.name(), method, biased: method.is_biased() })
     }
 }
 
@@ -86,7 +84,6 @@ pub struct Study {
     pub checkpoint_every: Duration,
     /// The command line, for the report.
     pub command: String,
-    pub quiet: bool,
 }
 
 /// How a study ended.
@@ -152,14 +149,15 @@ impl Study {
         gpu: &Gpu,
         pipelines: &PathTracerPipelines,
         cancel: &AtomicBool,
+        reporter: &dyn Reporter,
     ) -> Result<StudyOutcome, StudyError> {
         let dir = &self.out;
         let started = std::time::Instant::now();
-        eprintln!("[1/4] reference");
+        reporter.stage("[1/4] reference");
         let reference = match (&self.reference, loaded) {
             (_, Some(r)) => r,
-            (ReferenceSource::Render { method_name, method, spp }, None) => {
-                match reference::render(dir, &self.scene, method_name, *method, *spp, self.checkpoint_every, gpu, pipelines, cancel, self.quiet)? {
+            (ReferenceSource::Render { method, spp }, None) => {
+                match reference::render(dir, &self.scene, *method, *spp, self.checkpoint_every, gpu, pipelines, cancel, reporter)? {
                     Some(r) => r,
                     None => return Ok(StudyOutcome::Interrupted),
                 }
@@ -187,24 +185,19 @@ impl Study {
                 }
             }
         }
-        eprintln!(
+        reporter.stage(&format!(
             "[2/4] {} runs: {} methods x ({} spp budgets + {} time budgets) x {} seeds",
             specs.len(),
             self.methods.len(),
             self.spp.len(),
             self.times.len(),
             self.seeds
-        );
-        let bar = ProgressBar::new(specs.len() as u64).with_style(
-            ProgressStyle::with_template("{bar:40} {pos}/{len} runs  {msg}  ETA {eta}").unwrap_or_else(|_| ProgressStyle::default_bar()),
-        );
-        if self.quiet || !std::io::IsTerminal::is_terminal(&std::io::stderr()) {
-            bar.set_draw_target(ProgressDrawTarget::hidden());
-        }
+        ));
+        reporter.begin(Task::Runs(specs.len() as u64));
         let mut records: Vec<RunRecord> = Vec::new();
         let mut reused = 0;
-        for spec in &specs {
-            bar.set_message(spec.stem());
+        for (done, spec) in specs.iter().enumerate() {
+            reporter.update(done as f64, &spec.stem());
             let job = self.job(spec.method, spec.budget, spec.seed);
             let record = match runs::cached(dir, spec, &job, &reference, &self.display) {
                 Some(r) if self.image_present(spec) => {
@@ -214,24 +207,23 @@ impl Study {
                 _ => match runs::execute(dir, spec, &job, &reference, &self.display, self.keep_image(spec), gpu, pipelines, cancel)? {
                     Some(r) => r,
                     None => {
-                        bar.finish_and_clear();
+                        reporter.end();
                         return Ok(StudyOutcome::Interrupted);
                     }
                 },
             };
             records.push(record);
-            bar.inc(1);
             if cancel.load(Ordering::Relaxed) {
-                bar.finish_and_clear();
+                reporter.end();
                 return Ok(StudyOutcome::Interrupted);
             }
         }
-        bar.finish_and_clear();
+        reporter.end();
         if reused > 0 {
-            eprintln!("      {reused} runs reused from {}", dir.join("runs").display());
+            reporter.note(&format!("      {reused} runs reused from {}", dir.join("runs").display()));
         }
 
-        eprintln!("[3/4] bias verdicts at {} spp x {} seeds", self.top_spp(), self.seeds);
+        reporter.stage(&format!("[3/4] bias verdicts at {} spp x {} seeds", self.top_spp(), self.seeds));
         let mut verdicts = Vec::new();
         for m in &self.methods {
             let films = (1..=self.seeds)
@@ -240,8 +232,8 @@ impl Study {
             verdicts.push(verdict::verdict(m, &films, &reference.film, self.methods.len()));
         }
 
-        eprintln!("[4/4] report");
-        let report = report::write(self, &reference, &records, &verdicts, gpu, started.elapsed().as_secs_f64())?;
+        reporter.stage("[4/4] report");
+        let report = report::write(self, &reference, &records, &verdicts, gpu, started.elapsed().as_secs_f64(), reporter)?;
         Ok(StudyOutcome::Finished { report })
     }
 

@@ -13,7 +13,9 @@ use std::time::Duration;
 use crate::gpu::{Gpu, PathTracerPipelines};
 use crate::method::Method;
 use crate::output::{read_exr_image, Metadata};
-use crate::render::{progress_bar, show_progress, Budget, CheckpointKey, CheckpointPlan, Film, OutputFiles, RenderJob, Resume};
+use crate::progress::{Reporter, Task};
+use crate::render::{Budget, CheckpointKey, CheckpointPlan, OutputFiles, RenderJob, Resume};
+use crate::film::Film;
 use crate::scene::Scene;
 
 use super::StudyError;
@@ -27,7 +29,7 @@ pub enum ReferenceSource {
     /// An EXR made elsewhere (another renderer, a cluster, an earlier study).
     File(PathBuf),
     /// Rendered by the study.
-    Render { method_name: String, method: Method, spp: u64 },
+    Render { method: Method, spp: u64 },
 }
 
 /// The reference as the study uses it.
@@ -87,10 +89,15 @@ pub fn load_file(path: &Path, width: u32, height: u32) -> Result<Reference, Stud
 }
 
 /// The rendered reference's identity: what must match for a cached one to be reused.
-fn rendered_description(method_name: &str, spp: u64, key: &CheckpointKey) -> String {
+fn rendered_description(method: &Method, spp: u64, key: &CheckpointKey) -> String {
     format!(
-        "{method_name} at {spp} spp, seed {}, {}x{}, max_depth {}, scene {}",
-        key.seed, key.width, key.height, key.max_depth, key.scene_hash
+        "{} at {spp} spp, seed {}, {}x{}, max_depth {}, scene {}",
+        method.name(),
+        key.seed,
+        key.width,
+        key.height,
+        key.max_depth,
+        key.scene_hash
     )
 }
 
@@ -100,24 +107,23 @@ fn rendered_description(method_name: &str, spp: u64, key: &CheckpointKey) -> Str
 pub fn render(
     dir: &Path,
     scene: &Scene,
-    method_name: &str,
     method: Method,
     spp: u64,
     every: Duration,
     gpu: &Gpu,
     pipelines: &PathTracerPipelines,
     cancel: &AtomicBool,
-    quiet: bool,
+    reporter: &dyn Reporter,
 ) -> Result<Option<Reference>, StudyError> {
     let checkpoint = checkpoint_path(dir);
     let mut job = RenderJob::new(scene.clone(), scene.path.clone(), method, REFERENCE_SEED, Budget::Samples(spp));
     job.checkpoint = Some(CheckpointPlan { path: checkpoint.clone(), every, resume: Resume::IfPresent, planned_total: None });
-    let description = rendered_description(method_name, spp, &job.checkpoint_key());
+    let description = rendered_description(&method, spp, &job.checkpoint_key());
     let cached = exr_path(dir);
     if cached.exists() {
         if let Ok(image) = read_exr_image(&cached) {
             if meta(&image.metadata, "reference") == Some(description.as_str()) && image.has_variance {
-                eprintln!("reference: reusing {} ({description})", cached.display());
+                reporter.note(&format!("reference: reusing {} ({description})", cached.display()));
                 return Ok(Some(Reference {
                     expected_rel_mse: Some(expected_rel_mse(&image.film)),
                     render_seconds: meta(&image.metadata, "render_seconds").and_then(|s| s.parse().ok()),
@@ -129,20 +135,20 @@ pub fn render(
         }
     }
     if checkpoint.exists() {
-        eprintln!("reference: continuing from {}", checkpoint.display());
+        reporter.note(&format!("reference: continuing from {}", checkpoint.display()));
     }
-    eprintln!("reference: rendering {description} (checkpoint every {} s)", every.as_secs_f64());
-    let bar = progress_bar(job.budget, quiet);
-    let outcome = job.run(gpu, pipelines, cancel, |p| show_progress(&bar, job.budget, p))?;
-    bar.finish_and_clear();
+    reporter.note(&format!("reference: rendering {description} (checkpoint every {} s)", every.as_secs_f64()));
+    reporter.begin(Task::Samples(spp));
+    let outcome = job.run(gpu, pipelines, cancel, |p| reporter.update(p.spp_done as f64, ""))?;
+    reporter.end();
     let stats = outcome.stats;
     if stats.interrupted {
-        eprintln!("reference: interrupted at {} of {spp} spp; checkpoint saved in {}", stats.spp, checkpoint.display());
+        reporter.note(&format!("reference: interrupted at {} of {spp} spp; checkpoint saved in {}", stats.spp, checkpoint.display()));
         return Ok(None);
     }
     let files = OutputFiles { exr: cached.clone(), png: None, display: scene.display, variance: true };
     job.write(&outcome, &gpu.info.name, &files, &vec![("reference".to_string(), description.clone())])?;
-    eprintln!("reference: {} spp in {:.1} s, wrote {}", stats.spp, stats.seconds, cached.display());
+    reporter.note(&format!("reference: {} spp in {:.1} s, wrote {}", stats.spp, stats.seconds, cached.display()));
     let film = outcome.film;
     Ok(Some(Reference {
         expected_rel_mse: Some(expected_rel_mse(&film)),

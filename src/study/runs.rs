@@ -12,25 +12,20 @@ use serde::{Deserialize, Serialize};
 use crate::display::DisplayTransform;
 use crate::gpu::{Gpu, PathTracerPipelines};
 use crate::metrics::compare;
-use crate::output::{write_atomically, write_exr, Metadata};
+use crate::names::named_enum;
+use crate::method::{BsdfSampling, LightSampling, Method, Sampler};
+use crate::output::{write_atomically, write_exr};
 use crate::render::{Budget, RenderJob, RenderOutcome};
 
 use super::{Reference, StudyError, StudyMethod};
 
-/// Which table a run belongs to.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Table {
-    EqualSamples,
-    EqualTime,
-}
-
-impl Table {
-    pub fn name(self) -> &'static str {
-        match self {
-            Table::EqualSamples => "equal-samples",
-            Table::EqualTime => "equal-time",
-        }
+named_enum! {
+    /// Which table a run belongs to.
+    pub enum Table("table") {
+        /// Every method at the same samples per pixel.
+        EqualSamples = "equal-samples",
+        /// Every method for the same wall time.
+        EqualTime = "equal-time",
     }
 }
 
@@ -39,10 +34,11 @@ impl Table {
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 pub struct RunRecord {
     pub table: Table,
-    pub method: String,
-    pub sampler: String,
-    pub bsdf: String,
-    pub lights: String,
+    /// The method by its one name (`Method::name`), and its parts.
+    pub method: Method,
+    pub sampler: Sampler,
+    pub bsdf: BsdfSampling,
+    pub lights: LightSampling,
     /// A deliberately biased demonstration method.
     pub biased: bool,
     pub scene: String,
@@ -132,10 +128,10 @@ pub fn execute(
     let m = &spec.method.method;
     let record = RunRecord {
         table: spec.table,
-        method: spec.method.name.clone(),
-        sampler: m.sampler.name().into(),
-        bsdf: m.bsdf.name().into(),
-        lights: m.lights.name().into(),
+        method: *m,
+        sampler: m.sampler,
+        bsdf: m.bsdf,
+        lights: m.lights,
         biased: spec.method.biased,
         scene: job.scene_path.display().to_string(),
         scene_hash: job.scene.content_hash(),
@@ -166,9 +162,7 @@ pub fn execute(
         adapter: gpu.info.name.clone(),
     };
     if keep_image {
-        // The study's name for the method (a demonstration's, not "custom").
-        let mut metadata: Metadata = job.metadata(&outcome, &gpu.info.name);
-        metadata.iter_mut().filter(|(k, _)| k == "method").for_each(|(_, v)| *v = spec.method.name.clone());
+        let metadata = job.metadata(&outcome, &gpu.info.name);
         write_exr(&image_path(dir, &spec.method.name, outcome.stats.spp, spec.seed), &outcome.film, &metadata, true)?;
     }
     let json = serde_json::to_string_pretty(&record).map_err(|e| StudyError::Input(e.to_string()))?;

@@ -16,9 +16,9 @@
 
 use serde::Serialize;
 
-use crate::method::LightSampling;
+use crate::method::{LightSampling, Method};
 use crate::metrics::{mean_bias, ChannelBias, Z_TEST_MIN_PASS};
-use crate::render::Film;
+use crate::film::Film;
 use crate::stats::{sidak, z_test, z_threshold};
 
 use super::StudyMethod;
@@ -31,7 +31,7 @@ pub const CONFIDENCE: f64 = 0.99;
 /// One method's verdict.
 #[derive(Debug, Clone, Serialize)]
 pub struct Verdict {
-    pub method: String,
+    pub method: Method,
     /// A deliberately biased demonstration method (expected to be flagged).
     pub biased_demonstration: bool,
     /// Samples per pixel per seed, and seeds averaged.
@@ -114,7 +114,7 @@ pub fn verdict(method: &StudyMethod, films: &[Film], reference: &Film, methods_i
         )
     };
     Verdict {
-        method: method.name.clone(),
+        method: method.method,
         biased_demonstration: method.biased,
         spp: films[0].spp,
         seeds: films.len(),

@@ -13,17 +13,10 @@ use crate::method::{Method, Preset};
 use crate::scene::Scene;
 
 use super::display_pass::View;
-use crate::method::method_name;
 use super::driver::{Driver, ViewSettings};
 use super::scene_watch::SceneWatch;
+use super::panel::{Action, Notice, PanelState};
 use super::{image_view, panel, SlotReport, ViewerError, ViewerOptions, ViewerReport};
-
-/// A message shown in the panel for a few seconds (saves, errors of actions).
-pub struct Notice {
-    pub text: String,
-    pub error: bool,
-    pub since: Instant,
-}
 
 pub struct ViewerApp {
     pub driver: Driver,
@@ -69,19 +62,21 @@ impl ViewerApp {
         failure: Arc<Mutex<Option<ViewerError>>>,
     ) -> Result<ViewerApp, ViewerError> {
         let rs = cc.wgpu_render_state.as_ref().ok_or_else(|| ViewerError::Start("eframe did not start its wgpu renderer".into()))?;
-        // The path tracer runs on the window's device. The Gpu lives as long as the process
-        // (the window is the process's last act), so it is leaked rather than reference counted
-        // through every renderer.
-        let gpu: &'static Gpu = Box::leak(Box::new(Gpu {
+        // The path tracer runs on the window's device (shared handles: every renderer owns a clone).
+        let gpu = Gpu {
             device: rs.device.clone(),
             queue: rs.queue.clone(),
             info: rs.adapter.get_info(),
             limits: rs.device.limits(),
             features: rs.device.features(),
-        }));
+        };
+        let adapter_name = gpu.info.name.clone();
         let mut methods = vec![options.method];
         methods.extend(options.compare);
         let scene_path = options.scene.path.clone();
+        // Stamped before anything is announced: a change made once the window says it is up
+        // is always seen as a change.
+        let watch = SceneWatch::new(&scene_path);
         let pending_size = (options.scene.render.width, options.scene.render.height);
         let driver = Driver::new(gpu, options.scene, &methods, options.seed, options.reference, options.frame_budget)
             .map_err(|e| ViewerError::Start(e.to_string()))?;
@@ -91,12 +86,12 @@ impl ViewerApp {
             scene_path.display(),
             pending_size.0,
             pending_size.1,
-            methods.iter().map(method_name).collect::<Vec<_>>().join(" | "),
-            gpu.info.name
+            methods.iter().map(Method::name).collect::<Vec<_>>().join(" | "),
+            adapter_name
         );
         Ok(ViewerApp {
             driver,
-            watch: SceneWatch::new(&scene_path),
+            watch,
             size: options.size,
             max_depth: options.max_depth,
             view: options.view,
@@ -154,7 +149,7 @@ impl ViewerApp {
     pub fn set_method(&mut self, slot: usize, method: Method) {
         if slot < self.driver.slots.len() && self.driver.slots[slot].method != method {
             if let Err(e) = self.driver.set_method(slot, method) {
-                self.notify(format!("cannot use {}: {e}", method_name(&method)), true);
+                self.notify(format!("cannot use {}: {e}", method.name()), true);
             }
         }
     }
@@ -185,6 +180,33 @@ impl ViewerApp {
     /// The views that make sense now (error views need a reference of the image's size).
     pub fn available_views(&self) -> Vec<View> {
         View::ALL.into_iter().filter(|v| !v.needs_reference() || self.driver.reference_matches()).collect()
+    }
+
+    /// Carries out what the user did in the panel.
+    fn apply(&mut self, action: Action) {
+        match action {
+            Action::TogglePause => self.paused = !self.paused,
+            Action::Reset => self.reset(),
+            Action::Save => self.save(),
+            Action::Split(on) => self.set_split(on),
+            Action::Method(slot, method) => {
+                self.set_method(slot, method);
+                if slot == 1 {
+                    self.compare = method;
+                }
+            }
+            Action::MaxDepth(d) => {
+                self.max_depth = Some(d);
+                self.apply_overrides();
+            }
+            Action::Size(size) => {
+                self.size = Some(size);
+                self.apply_overrides();
+            }
+            Action::PendingSize(size) => self.pending_size = size,
+            Action::View(v) => self.view = v,
+            Action::Display(d) => self.display = d,
+        }
     }
 
     fn keyboard(&mut self, ctx: &egui::Context) {
@@ -326,7 +348,7 @@ impl ViewerApp {
                 .slots
                 .iter()
                 .map(|s| SlotReport {
-                    method: method_name(&s.method),
+                    method: s.method.name(),
                     spp: s.spp(),
                     render_seconds: s.seconds,
                     samples_per_second: s.samples_per_second(),
@@ -381,10 +403,31 @@ impl eframe::App for ViewerApp {
         }
         self.register_textures(frame);
 
-        egui::Panel::left("controls").resizable(false).exact_size(300.0).frame(bare(8.0)).show(ui, |ui| panel::show(self, ui));
+        let state = PanelState {
+            driver: &self.driver,
+            paused: self.paused,
+            view: self.view,
+            views: self.available_views(),
+            display: self.display,
+            pending_size: self.pending_size,
+            notice: self.notice.as_ref(),
+        };
+        let actions = egui::Panel::left("controls").resizable(false).exact_size(300.0).frame(bare(8.0)).show(ui, |ui| panel::show(&state, ui)).inner;
+        for action in actions {
+            self.apply(action);
+        }
         let plot = egui::Panel::bottom("plot").resizable(true).default_size(230.0).frame(bare(4.0)).show(ui, |ui| super::plot::show(ui, &self.driver.curves));
         self.plot_rect = Some(plot.inner);
-        egui::CentralPanel::default().frame(bare(0.0)).show(ui, |ui| image_view::show(self, ui));
+        let shown = egui::CentralPanel::default()
+            .frame(bare(0.0))
+            .show(ui, |ui| image_view::show(&self.driver, self.divider, self.scene_error.as_deref(), ui))
+            .inner;
+        self.image_rect = shown.image_rect;
+        self.divider = shown.divider;
+        self.divider_x = shown.divider_x;
+        if let Some((slot, x, y)) = shown.probe {
+            self.driver.request_probe(slot, x, y);
+        }
         if self.show_help {
             help_overlay(&ctx);
         }

@@ -4,9 +4,11 @@
 //! travels through the CPU.
 
 use crate::display::{DisplayTransform, Transfer};
+use crate::names::named_enum;
 use crate::figures::error_map::LOG10_RANGE;
-use crate::gpu::{storage_entry, uniform_entry};
-use crate::render::{Film, Renderer};
+use crate::shaders::bindings::{self, entry};
+use crate::render::Renderer;
+use crate::film::Film;
 use crate::shaders;
 
 /// The format egui draws user textures from: display-encoded values in plain RGBA8.
@@ -15,23 +17,24 @@ const WORKGROUP: u32 = 8;
 /// Rows of a buffer-to-texture copy start at multiples of 256 bytes: 64 RGBA8 texels.
 const TEXELS_PER_ROW_ALIGNMENT: u32 = wgpu::COPY_BYTES_PER_ROW_ALIGNMENT / 4;
 
-/// What the image area shows.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum View {
-    /// The mean radiance through exposure and display transform.
-    Radiance,
-    /// Per-pixel relative standard error of the mean, sqrt(var / (mean^2 - var + 0.01)).
-    RelStderr,
-    /// |mean - reference|, averaged over the channels (needs a reference).
-    AbsError,
-    /// (mean - reference)^2 / (reference^2 + 0.01): the terms of relMSE (needs a reference).
-    RelError,
+named_enum! {
+    /// What the image area shows. The values of the constants `VIEW_*` in display.wgsl are
+    /// checked against these by `tests/shader_layouts.rs`.
+    pub enum View("view") {
+        /// The mean radiance through exposure and display transform.
+        Radiance = "radiance",
+        /// Per-pixel relative standard error of the mean, sqrt(var / (mean^2 - var + 0.01)).
+        RelStderr = "stderr",
+        /// |mean - reference|, averaged over the channels (needs a reference).
+        AbsError = "abs-error",
+        /// (mean - reference)^2 / (reference^2 + 0.01): the terms of relMSE (needs a reference).
+        RelError = "rel-error",
+    }
 }
 
 impl View {
-    pub const ALL: [View; 4] = [View::Radiance, View::RelStderr, View::AbsError, View::RelError];
-
-    pub fn name(self) -> &'static str {
+    /// What the panel calls it.
+    pub fn label(self) -> &'static str {
         match self {
             View::Radiance => "radiance",
             View::RelStderr => "relative standard error",
@@ -54,10 +57,6 @@ impl View {
         }
     }
 
-    /// The value of the constant `VIEW_*` in display.wgsl.
-    fn constant(self) -> u32 {
-        self as u32
-    }
 }
 
 /// `DisplayParams` in display.wgsl.
@@ -126,10 +125,10 @@ impl DisplayPass {
             label: Some("display pass"),
             source: wgpu::ShaderSource::Wgsl(shaders::display_source().into()),
         });
-        let target = storage_entry(4, false);
+
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("display pass"),
-            entries: &[uniform_entry(0), storage_entry(1, true), storage_entry(2, true), uniform_entry(3), target],
+            entries: &bindings::layout_entries(&bindings::DISPLAY),
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("display pass"),
@@ -169,7 +168,7 @@ impl DisplayPass {
 
     /// A texture of the renderer's size and the bind groups that fill it from its bands
     /// (and read `reference` when it has the same size).
-    pub fn shown_image(&self, device: &wgpu::Device, renderer: &Renderer<'_>, reference: Option<&GpuReference>) -> ShownImage {
+    pub fn shown_image(&self, device: &wgpu::Device, renderer: &Renderer, reference: Option<&GpuReference>) -> ShownImage {
         let (width, height) = renderer.size();
         let texture = device.create_texture(&wgpu::TextureDescriptor {
             label: Some("shown image"),
@@ -203,11 +202,11 @@ impl DisplayPass {
                     label: Some("display pass"),
                     layout: &self.layout,
                     entries: &[
-                        wgpu::BindGroupEntry { binding: 0, resource: params.as_entire_binding() },
-                        wgpu::BindGroupEntry { binding: 1, resource: accum.as_entire_binding() },
-                        wgpu::BindGroupEntry { binding: 2, resource: reference.as_entire_binding() },
-                        wgpu::BindGroupEntry { binding: 3, resource: self.colour_map.as_entire_binding() },
-                        wgpu::BindGroupEntry { binding: 4, resource: packed.as_entire_binding() },
+                        entry(bindings::DISPLAY_PARAMS, &params),
+                        entry(bindings::DISPLAY_BAND, accum),
+                        entry(bindings::DISPLAY_REFERENCE, reference),
+                        entry(bindings::DISPLAY_COLOUR_MAP, &self.colour_map),
+                        entry(bindings::DISPLAY_SHOWN, &packed),
                     ],
                 });
                 (y0, rows, params, bind_group)

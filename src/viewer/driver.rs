@@ -10,9 +10,10 @@ use std::time::{Duration, Instant};
 
 use crate::display::DisplayTransform;
 use crate::gpu::{Gpu, PathTracerPipelines};
-use crate::method::{method_name, Method};
-use crate::output::{write_exr, write_rgb8_png, Metadata};
-use crate::render::{provenance, Film, PendingReadback, RenderError, Renderer};
+use crate::method::Method;
+use crate::output::{write_exr, write_rgb8_png};
+use crate::render::{ImageHeader, PendingReadback, RenderError, Renderer};
+use crate::film::Film;
 use crate::scene::Scene;
 
 use super::frame_budget::FrameBudget;
@@ -39,7 +40,7 @@ pub struct ViewSettings {
 pub struct Slot {
     pub method: Method,
     pub seed: u32,
-    renderer: Renderer<'static>,
+    renderer: Renderer,
     pub image: ShownImage,
     /// The egui texture showing `image` (registered by the app), and whether it must be
     /// pointed at a new `image` (after a rebuild).
@@ -100,7 +101,7 @@ pub struct Throughput {
 }
 
 pub struct Driver {
-    pub gpu: &'static Gpu,
+    pub gpu: Gpu,
     pipelines: PathTracerPipelines,
     display: DisplayPass,
     pub scene: Scene,
@@ -137,7 +138,7 @@ const MAX_SAMPLES_PER_FRAME: f64 = 65536.0;
 const WARM_UP_FRAMES: u64 = 2;
 
 impl Driver {
-    pub fn new(gpu: &'static Gpu, scene: Scene, methods: &[Method], seed: u32, reference: Option<Film>, frame_target: Duration) -> Result<Driver, RenderError> {
+    pub fn new(gpu: Gpu, scene: Scene, methods: &[Method], seed: u32, reference: Option<Film>, frame_target: Duration) -> Result<Driver, RenderError> {
         let pipelines = PathTracerPipelines::new(&gpu.device);
         let display = DisplayPass::new(&gpu.device, &gpu.queue);
         let reference = reference.map(|film| {
@@ -179,7 +180,7 @@ impl Driver {
     }
 
     fn new_slot(&mut self, method: Method, seed: u32) -> Result<Slot, RenderError> {
-        let renderer = Renderer::new(self.gpu, &self.pipelines, &self.scene, method, seed)?;
+        let renderer = Renderer::new(&self.gpu, &self.pipelines, &self.scene, method, seed)?;
         let pass = PARTIAL_PASS_SAMPLES.min(renderer.max_samples_per_dispatch()).max(1);
         let rows = self.scene.render.height;
         let image = self.display.shown_image(&self.gpu.device, &renderer, self.reference.as_ref().map(|(_, r)| r));
@@ -189,7 +190,7 @@ impl Driver {
         self.display.run(&self.gpu.device, &self.gpu.queue, &image, View::Radiance, DisplayTransform::default());
         self.gpu.wait_idle()?;
         let display_cost = start.elapsed();
-        let curve = self.curves.start(&method_name(&method));
+        let curve = self.curves.start(&method.name());
         Ok(Slot {
             method,
             seed,
@@ -405,18 +406,27 @@ impl Driver {
         for slot in &self.slots {
             let readback = slot.renderer.readback().map_err(|e| e.to_string())?;
             let spp = slot.spp();
-            let name = format!("{stem}-{}-{spp}spp", method_name(&slot.method).replace('/', "-"));
-            let mut metadata: Metadata = provenance(&slot.method, slot.seed, self.scene.render.max_depth, spp, readback.rays);
-            metadata.push(("scene".into(), self.scene.path.display().to_string()));
-            metadata.push(("render_seconds".into(), format!("{:.3}", slot.seconds)));
-            metadata.push(("source".into(), "pathlab view".into()));
+            let name = format!("{stem}-{}-{spp}spp", slot.method.name().replace('/', "-"));
+            let header = ImageHeader {
+                method: slot.method,
+                seed: slot.seed,
+                max_depth: self.scene.render.max_depth,
+                spp,
+                rays: readback.rays,
+                render_seconds: slot.seconds,
+                scene_hash: self.scene.content_hash(),
+                scene: Some(self.scene.path.clone()),
+                display: Some(self.scene.display),
+                adapter: Some(self.gpu.info.name.clone()),
+            };
+            let metadata = header.metadata(&[("source", "pathlab view".into())]);
             let exr = dir.join(format!("{name}.exr"));
             write_exr(&exr, &readback.film, &metadata, true).map_err(|e| e.to_string())?;
             written.push(exr);
             let shown = read_shown_rgb8(&self.gpu.device, &self.gpu.queue, &slot.image)?;
             let png = match view {
                 View::Radiance => dir.join(format!("{name}.png")),
-                other => dir.join(format!("{name}-{}.png", other.name().replace(' ', "-"))),
+                other => dir.join(format!("{name}-{}.png", other.name())),
             };
             write_rgb8_png(&png, slot.image.width, slot.image.height, shown).map_err(|e| e.to_string())?;
             written.push(png);

@@ -8,9 +8,9 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use crate::display::DisplayTransform;
-use crate::gpu::AccumPixel;
+use crate::film::AccumPixel;
 use crate::metrics::{linear::rel_mse, psnr::psnr, ssim::ssim};
-use crate::render::Film;
+use crate::film::Film;
 
 /// One point of a convergence curve.
 #[derive(Debug, Clone, Copy)]

@@ -30,7 +30,7 @@ use serde::Serialize;
 
 use crate::display::DisplayTransform;
 use crate::method::Method;
-use crate::render::Film;
+use crate::film::Film;
 use crate::scene::Scene;
 
 pub use display_pass::View;

@@ -2,39 +2,82 @@
 //! and counters, display settings with the false-colour scale, live metrics, the pixel probe,
 //! saving, and the hint to the keys.
 
+use std::time::Instant;
+
 use egui::{Color32, RichText, Ui};
 
-use crate::display::Transfer;
+use crate::display::{DisplayTransform, Transfer};
 use crate::method::{BsdfSampling, LightSampling, Method, Preset, Sampler};
 
-use super::app::ViewerApp;
 use super::display_pass::View;
-use crate::method::method_name;
+use super::driver::Driver;
 
 const ERROR_RED: Color32 = Color32::from_rgb(255, 110, 100);
 
-pub fn show(app: &mut ViewerApp, ui: &mut Ui) {
+/// A message shown in the panel for a few seconds (saves, errors of actions).
+pub struct Notice {
+    pub text: String,
+    pub error: bool,
+    pub since: Instant,
+}
+
+/// What the panel shows: the driver's slots and scene, and the window's settings.
+pub struct PanelState<'a> {
+    pub driver: &'a Driver,
+    pub paused: bool,
+    pub view: View,
+    /// The views that make sense now (error views need a reference of the image's size).
+    pub views: Vec<View>,
+    pub display: DisplayTransform,
+    /// Width and height fields (applied with their button).
+    pub pending_size: (u32, u32),
+    pub notice: Option<&'a Notice>,
+}
+
+/// What the user did in the panel this frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Action {
+    TogglePause,
+    Reset,
+    Save,
+    Split(bool),
+    /// A new method for a slot (slot 1: also the split view's second method from now on).
+    Method(usize, Method),
+    MaxDepth(u32),
+    Size((u32, u32)),
+    PendingSize((u32, u32)),
+    View(View),
+    Display(DisplayTransform),
+}
+
+/// Draws the panel of `state` and returns the user's actions.
+pub fn show(state: &PanelState, ui: &mut Ui) -> Vec<Action> {
+    let mut actions = Vec::new();
+    let app = state;
+    let actions_ref = &mut actions;
     egui::ScrollArea::vertical().show(ui, |ui| {
+        let actions = actions_ref;
         ui.heading("pathlab view");
         ui.label(RichText::new("H: keys").weak());
         ui.separator();
-        method_section(app, ui);
+        method_section(app, ui, actions);
         ui.separator();
-        render_section(app, ui);
+        render_section(app, ui, actions);
         ui.separator();
-        display_section(app, ui);
+        display_section(app, ui, actions);
         ui.separator();
         metrics_section(app, ui);
         ui.separator();
         if ui.button("Save EXR + PNG (S)").clicked() {
-            app.save();
+            actions.push(Action::Save);
         }
-        if let Some(n) = &app.notice {
+        if let Some(n) = app.notice {
             if n.since.elapsed().as_secs_f32() < 8.0 {
                 ui.label(RichText::new(&n.text).color(if n.error { ERROR_RED } else { ui.visuals().text_color() }));
             }
         }
     });
+    actions
 }
 
 /// A combo box over `options`, `name` labelling each; returns the new choice if changed.
@@ -52,12 +95,12 @@ fn biased(name: &str, is_biased: bool) -> String {
     if is_biased { format!("{name} (BIASED demo)") } else { name.to_string() }
 }
 
-fn method_section(app: &mut ViewerApp, ui: &mut Ui) {
+fn method_section(app: &PanelState, ui: &mut Ui, actions: &mut Vec<Action>) {
     let split = app.driver.slots.len() > 1;
     let mut want_split = split;
     ui.checkbox(&mut want_split, "Split view: two methods at equal time");
     if want_split != split {
-        app.set_split(want_split);
+        actions.push(Action::Split(want_split));
     }
     for i in 0..app.driver.slots.len() {
         let method = app.driver.slots[i].method;
@@ -93,26 +136,23 @@ fn method_section(app: &mut ViewerApp, ui: &mut Ui) {
             ui.label(RichText::new("biased on purpose: it converges to the wrong image").color(ERROR_RED));
         }
         if let Some(m) = next {
-            app.set_method(i, m);
-            if i == 1 {
-                app.compare = m;
-            }
+            actions.push(Action::Method(i, m));
         }
     }
 }
 
-fn render_section(app: &mut ViewerApp, ui: &mut Ui) {
+fn render_section(app: &PanelState, ui: &mut Ui, actions: &mut Vec<Action>) {
     ui.horizontal(|ui| {
         if ui.button(if app.paused { "Resume (Space)" } else { "Pause (Space)" }).clicked() {
-            app.paused = !app.paused;
+            actions.push(Action::TogglePause);
         }
         if ui.button("Reset (R)").clicked() {
-            app.reset();
+            actions.push(Action::Reset);
         }
     });
     egui::Grid::new("counters").num_columns(2).show(ui, |ui| {
         for slot in &app.driver.slots {
-            ui.label(RichText::new(method_name(&slot.method)).strong());
+            ui.label(RichText::new(slot.method.name()).strong());
             ui.label(format!(
                 "{} spp   {:.2} s   {:.2} M samples/s",
                 slot.spp(),
@@ -124,12 +164,10 @@ fn render_section(app: &mut ViewerApp, ui: &mut Ui) {
     });
     let mut depth = app.driver.scene.render.max_depth;
     let mut size = app.pending_size;
-    let mut apply = false;
     egui::Grid::new("scene settings").num_columns(2).show(ui, |ui| {
         ui.label("max_depth");
         if ui.add(egui::DragValue::new(&mut depth).range(1..=64)).changed() {
-            app.max_depth = Some(depth);
-            apply = true;
+            actions.push(Action::MaxDepth(depth));
         }
         ui.end_row();
         ui.label("resolution");
@@ -139,43 +177,44 @@ fn render_section(app: &mut ViewerApp, ui: &mut Ui) {
             ui.add(egui::DragValue::new(&mut size.1).range(8..=4096));
             let current = (app.driver.scene.render.width, app.driver.scene.render.height);
             if ui.add_enabled(size != current, egui::Button::new("apply")).clicked() {
-                app.size = Some(size);
-                apply = true;
+                actions.push(Action::Size(size));
             }
         });
         ui.end_row();
     });
-    app.pending_size = size;
-    if apply {
-        app.apply_overrides();
+    if size != app.pending_size {
+        actions.push(Action::PendingSize(size));
     }
 }
 
-fn display_section(app: &mut ViewerApp, ui: &mut Ui) {
+fn display_section(app: &PanelState, ui: &mut Ui, actions: &mut Vec<Action>) {
     egui::Grid::new("display").num_columns(2).show(ui, |ui| {
         ui.label("view (V)");
-        let views = app.available_views();
-        if let Some(v) = choose(ui, "view", app.view, &views, |v: View| v.name().to_string()) {
-            app.view = v;
+        if let Some(v) = choose(ui, "view", app.view, &app.views, |v: View| v.label().to_string()) {
+            actions.push(Action::View(v));
         }
         ui.end_row();
         ui.label("exposure");
-        ui.add(egui::Slider::new(&mut app.display.exposure, -8.0..=8.0).suffix(" stops").step_by(0.1));
+        let mut display = app.display;
+        ui.add(egui::Slider::new(&mut display.exposure, -8.0..=8.0).suffix(" stops").step_by(0.1));
         ui.end_row();
         ui.label("transform");
         ui.horizontal(|ui| {
-            let is_gamma = matches!(app.display.transfer, Transfer::Gamma(_));
+            let is_gamma = matches!(display.transfer, Transfer::Gamma(_));
             if ui.selectable_label(!is_gamma, "sRGB").clicked() {
-                app.display.transfer = Transfer::Srgb;
+                display.transfer = Transfer::Srgb;
             }
             if ui.selectable_label(is_gamma, "gamma").clicked() && !is_gamma {
-                app.display.transfer = Transfer::Gamma(2.2);
+                display.transfer = Transfer::Gamma(2.2);
             }
-            if let Transfer::Gamma(g) = &mut app.display.transfer {
+            if let Transfer::Gamma(g) = &mut display.transfer {
                 ui.add(egui::DragValue::new(g).range(0.2..=5.0).speed(0.01));
             }
         });
         ui.end_row();
+        if display != app.display {
+            actions.push(Action::Display(display));
+        }
     });
     if app.view != View::Radiance {
         colour_bar(ui, app.view);
@@ -203,15 +242,15 @@ fn colour_bar(ui: &mut Ui, view: View) {
         ui.add_space(170.0);
         ui.label(format!("1e{hi}"));
     });
-    ui.label(RichText::new(format!("{} (log scale)", view.name())).weak());
+    ui.label(RichText::new(format!("{} (log scale)", view.label())).weak());
 }
 
-fn metrics_section(app: &mut ViewerApp, ui: &mut Ui) {
+fn metrics_section(app: &PanelState, ui: &mut Ui) {
     let with_reference = app.driver.reference_matches();
     ui.label(RichText::new(if with_reference { "Metrics against the reference" } else { "Estimated error (no reference)" }).strong());
     egui::Grid::new("metrics").num_columns(2).show(ui, |ui| {
         for slot in &app.driver.slots {
-            ui.label(method_name(&slot.method));
+            ui.label(slot.method.name());
             match slot.latest {
                 Some(p) if !p.estimated => {
                     ui.label(format!("PSNR {:.2} dB  SSIM {:.4}\nrelMSE {:.3e}  ({} spp)", p.psnr, p.ssim.unwrap_or(f64::NAN), p.rel_mse, p.spp));

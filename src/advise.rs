@@ -1,6 +1,6 @@
 //! `pathlab advise`: which method reaches a target error first, and how long it takes.
 //!
-//! Each method runs a short pilot (`render_to_target` without a target) that records its
+//! Each method runs a short pilot (a `RenderJob` whose error plan has no target) that records its
 //! estimated error (no reference needed, see `estimate`) as it renders. The error of a Monte
 //! Carlo render falls as a power of the samples, error = a N^b: b = -1 exactly for independent
 //! samples (the variance of their mean is sigma^2 / N); for randomised QMC the slope of a
@@ -16,14 +16,13 @@ use std::time::Duration;
 use serde::Serialize;
 
 use crate::display::DisplayTransform;
+use crate::estimate::target::Target;
+use crate::estimate::{ErrorEstimate, Estimator};
 use crate::gpu::{Gpu, PathTracerPipelines};
-use crate::method::Method;
-use crate::render::{warm_up, RenderError};
+use crate::method::{Method, Preset};
+use crate::render::{warm_up, Budget, CheckpointError, ErrorPlan, RenderJob};
 use crate::scene::Scene;
-use crate::study::analysis::Fit;
-
-use super::target::{render_to_target, Target};
-use super::{ErrorEstimate, Estimator};
+use crate::stats::Fit;
 
 /// The pilot's checks before this share of its time are not fitted.
 const SKIP_SHARE: f64 = 0.5;
@@ -42,7 +41,7 @@ const PILOT_CHECKS: f64 = 12.0;
 /// One method's pilot and prediction.
 #[derive(Debug, Clone, Serialize)]
 pub struct Advice {
-    pub method: String,
+    pub method: Method,
     pub estimator: String,
     /// Pilot: seconds rendered, spp reached, pixel samples per second.
     pub pilot_seconds: f64,
@@ -83,26 +82,29 @@ pub fn advise(
     gpu: &Gpu,
     pipelines: &PathTracerPipelines,
     scene: &Scene,
-    methods: &[(String, Method)],
+    methods: &[Method],
     target: Target,
     display: &DisplayTransform,
     pilot: Duration,
     cancel: &AtomicBool,
-) -> Result<Vec<Advice>, RenderError> {
+) -> Result<Vec<Advice>, CheckpointError> {
     let pixels = scene.render.width as f64 * scene.render.height as f64;
     let goal = target_error(target);
     let mut advice = Vec::new();
-    for (name, method) in methods {
+    for method in methods {
         warm_up(gpu, pipelines, scene, *method)?;
         // About 12 checks per pilot (their time is not counted as rendering time).
         let every = pilot.div_f64(PILOT_CHECKS);
-        let run = render_to_target(gpu, pipelines, scene, *method, 1, None, display, None, Some(pilot), Some(every), cancel, |_| {})?;
-        let seconds = run.seconds - run.check_seconds;
+        let mut job = RenderJob::new(scene.clone(), scene.path.clone(), *method, 1, Budget::Time(pilot));
+        job.error = Some(ErrorPlan { target: None, every: Some(every), display: *display });
+        let outcome = job.run(gpu, pipelines, cancel, |_| {})?;
+        let run = outcome.error.as_ref().expect("a job with an error plan tracks its error");
+        let seconds = outcome.stats.seconds - run.check_seconds;
         // The pilot's second half: dispatches have grown to their steady size.
         let late: Vec<&(f64, u64, ErrorEstimate)> = run.history.iter().filter(|(t, _, _)| *t >= SKIP_SHARE * seconds).collect();
         let fit = Fit::log_log(&late.iter().map(|(_, n, e)| (*n as f64, error_of(target, e))).collect::<Vec<_>>());
         let last = error_of(target, &run.estimate);
-        let spp = run.film.spp as f64;
+        let spp = outcome.film.spp as f64;
         // Steady throughput over the second half (spp per second), else over the whole pilot.
         let steady = match (late.first(), late.last()) {
             (Some(a), Some(b)) if b.0 > a.0 && b.1 > a.1 => (b.1 - a.1) as f64 / (b.0 - a.0),
@@ -127,10 +129,10 @@ pub fn advise(
             (p.min(a), p.max(a))
         });
         advice.push(Advice {
-            method: name.clone(),
+            method: *method,
             estimator: estimator.describe(),
             pilot_seconds: seconds,
-            pilot_spp: run.film.spp,
+            pilot_spp: outcome.film.spp,
             pixel_samples_per_second: steady * pixels,
             pilot_error: last,
             slope: fit.map(|f| f.slope),
@@ -139,11 +141,11 @@ pub fn advise(
             predicted_spp,
             speedup_vs_plain: None,
         });
-        if run.interrupted {
+        if outcome.stats.interrupted {
             break;
         }
     }
-    let plain = advice.iter().find(|a| a.method == "plain").and_then(|a| a.predicted_seconds);
+    let plain = advice.iter().find(|a| a.method == Preset::Plain.method()).and_then(|a| a.predicted_seconds);
     for a in &mut advice {
         a.speedup_vs_plain = plain.zip(a.predicted_seconds).map(|(p, t)| p / t);
     }

@@ -1,6 +1,10 @@
-//! The result of a render read back from the GPU: per-pixel mean and variance of the mean.
+//! Images as estimates: the per-pixel accumulator the GPU fills (`accum_pixel`) and the film
+//! made from it, per-pixel mean and variance of the mean. The lowest layer of the library: the
+//! renderer, files, display transform, metrics and statistics all speak in films.
 
-use crate::gpu::AccumPixel;
+mod accum_pixel;
+
+pub use accum_pixel::AccumPixel;
 
 /// Linear RGB image estimate, row-major, top row first.
 #[derive(Debug, Clone, PartialEq)]
@@ -18,14 +22,7 @@ pub struct Film {
 impl Film {
     /// Mean and variance of the mean from compensated sums (computed in f64).
     pub fn from_accumulators(width: u32, height: u32, spp: u64, pixels: &[AccumPixel]) -> Film {
-        // Kahan's err holds minus the part of the sum not yet in `sum`.
-        let sums = pixels.iter().map(|p| {
-            (
-                std::array::from_fn(|c| p.sum[c] as f64 - p.sum_err[c] as f64),
-                std::array::from_fn(|c| p.sum_sq[c] as f64 - p.sum_sq_err[c] as f64),
-            )
-        });
-        Film::from_sums(width, height, spp, sums)
+        Film::from_sums(width, height, spp, pixels.iter().map(AccumPixel::exact_sums))
     }
 
     /// Mean and variance of the mean from per-pixel (sum, sum of squares) of `spp` samples.

@@ -1,10 +1,15 @@
 //! Statistics for the correctness suite and the study: normal quantiles, the Šidák correction,
 //! the per-pixel z-test between two renders (Mitsuba 3's `test_renders.py` protocol), and the
-//! chi-square distribution. The distributions themselves come from `statrs`.
+//! chi-square distribution, and power-law fits (`fit`). The distributions themselves come from
+//! `statrs`.
+
+mod fit;
+
+pub use fit::{Fit, MAX_EXTRAPOLATION};
 
 use statrs::distribution::{ChiSquared, ContinuousCDF, Normal, StudentsT};
 
-use crate::render::Film;
+use crate::film::Film;
 
 /// Φ⁻¹(p): the standard normal quantile (statrs).
 pub fn normal_quantile(p: f64) -> f64 {

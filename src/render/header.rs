@@ -1,0 +1,61 @@
+//! The header of every image pathlab writes (`pathlab:KEY` text attributes of the EXR), built
+//! in one place for `render`, `merge`, the study and the viewer: what produced the image
+//! (method and its parts, seed, depth, samples, rays, time, version) and of what (scene path
+//! and content hash, display transform, adapter).
+
+use std::path::PathBuf;
+
+use crate::display::DisplayTransform;
+use crate::method::Method;
+use crate::output::Metadata;
+
+/// What an image's header records.
+#[derive(Debug, Clone)]
+pub struct ImageHeader {
+    pub method: Method,
+    pub seed: u32,
+    pub max_depth: u32,
+    pub spp: u64,
+    /// Rays traced (camera, bounce and shadow), counted by the kernel.
+    pub rays: u64,
+    /// Rendering time, over every session and part that contributed.
+    pub render_seconds: f64,
+    /// `Scene::content_hash` of the scene as rendered.
+    pub scene_hash: String,
+    /// The scene file, when the writer knows it (a merge knows only the parts).
+    pub scene: Option<PathBuf>,
+    /// The display transform of the scene's `[display]` table (how the image is meant to be shown).
+    pub display: Option<DisplayTransform>,
+    pub adapter: Option<String>,
+}
+
+impl ImageHeader {
+    /// The attributes, in a fixed order; `extra` follows (a target's estimate, a merge's parts).
+    pub fn metadata(&self, extra: &[(&str, String)]) -> Metadata {
+        let mut m: Vec<(&str, String)> = vec![
+            ("spp", self.spp.to_string()),
+            ("method", self.method.name()),
+            ("sampler", self.method.sampler.to_string()),
+            ("bsdf", self.method.bsdf.to_string()),
+            ("lights", self.method.lights.to_string()),
+            ("seed", self.seed.to_string()),
+            ("max_depth", self.max_depth.to_string()),
+            ("rays", self.rays.to_string()),
+            ("version", crate::VERSION.to_string()),
+            ("render_seconds", format!("{:.6}", self.render_seconds)),
+            ("scene_hash", self.scene_hash.clone()),
+        ];
+        if let Some(scene) = &self.scene {
+            m.push(("scene", scene.display().to_string()));
+        }
+        if let Some(d) = &self.display {
+            m.push(("display", d.transfer.to_string()));
+            m.push(("exposure", d.exposure.to_string()));
+        }
+        if let Some(a) = &self.adapter {
+            m.push(("adapter", a.clone()));
+        }
+        m.extend(extra.iter().cloned());
+        m.into_iter().map(|(k, v)| (k.to_string(), v)).collect()
+    }
+}

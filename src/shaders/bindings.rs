@@ -1,0 +1,92 @@
+//! The bind groups of the kernels, defined once: each binding's number, its WGSL name and its
+//! kind. The numbers are generated into the assembled WGSL (`@binding(BINDING_FRAME)`), the
+//! pipelines' layouts are built from the same tables, and the host binds buffers by these
+//! constants.
+
+/// What a binding holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kind {
+    Uniform,
+    /// A storage buffer, read-only or read-write.
+    Storage { read_only: bool },
+}
+
+/// One binding of group 0: number, the WGSL constant's suffix (`BINDING_<NAME>`), kind.
+#[derive(Debug, Clone, Copy)]
+pub struct Binding {
+    pub number: u32,
+    pub name: &'static str,
+    pub kind: Kind,
+}
+
+/// Per-dispatch uniform: camera, sample range, tile (`FrameParams`, scene.wgsl).
+pub const FRAME: Binding = Binding { number: 0, name: "FRAME", kind: Kind::Uniform };
+/// The scene's spheres, planes and materials (scene.wgsl).
+pub const SPHERES: Binding = Binding { number: 1, name: "SPHERES", kind: Kind::Uniform };
+pub const PLANES: Binding = Binding { number: 2, name: "PLANES", kind: Kind::Uniform };
+pub const MATERIALS: Binding = Binding { number: 3, name: "MATERIALS", kind: Kind::Uniform };
+/// One band's accumulator (accumulate.wgsl).
+pub const ACCUM: Binding = Binding { number: 5, name: "ACCUM", kind: Kind::Storage { read_only: false } };
+/// The Halton bases, `primes(HALTON_DIMENSIONS)` (sampler.wgsl).
+pub const HALTON_PRIMES: Binding = Binding { number: 6, name: "HALTON_PRIMES", kind: Kind::Uniform };
+
+/// The path tracer's bind group.
+pub const PATH_TRACER: [Binding; 6] = [FRAME, SPHERES, PLANES, MATERIALS, ACCUM, HALTON_PRIMES];
+
+/// The display pass's parameters (`DisplayParams`, display.wgsl).
+pub const DISPLAY_PARAMS: Binding = Binding { number: 0, name: "DISPLAY_PARAMS", kind: Kind::Uniform };
+/// One band's accumulator, read.
+pub const DISPLAY_BAND: Binding = Binding { number: 1, name: "DISPLAY_BAND", kind: Kind::Storage { read_only: true } };
+/// The reference image (rgb + pad per pixel).
+pub const DISPLAY_REFERENCE: Binding = Binding { number: 2, name: "DISPLAY_REFERENCE", kind: Kind::Storage { read_only: true } };
+/// The magma table of the false-colour views.
+pub const DISPLAY_COLOUR_MAP: Binding = Binding { number: 3, name: "DISPLAY_COLOUR_MAP", kind: Kind::Uniform };
+/// The shown image, packed RGBA8.
+pub const DISPLAY_SHOWN: Binding = Binding { number: 4, name: "DISPLAY_SHOWN", kind: Kind::Storage { read_only: false } };
+
+/// The display pass's bind group.
+pub const DISPLAY: [Binding; 5] = [DISPLAY_PARAMS, DISPLAY_BAND, DISPLAY_REFERENCE, DISPLAY_COLOUR_MAP, DISPLAY_SHOWN];
+
+/// `const BINDING_<NAME>: u32 = N;` for every binding of `group`.
+pub fn wgsl(group: &[Binding]) -> String {
+    group.iter().map(|b| format!("const BINDING_{}: u32 = {}u;\n", b.name, b.number)).collect()
+}
+
+/// A bind group layout entry of the compute stage for `b`.
+pub fn layout_entry(b: Binding) -> wgpu::BindGroupLayoutEntry {
+    let ty = match b.kind {
+        Kind::Uniform => wgpu::BufferBindingType::Uniform,
+        Kind::Storage { read_only } => wgpu::BufferBindingType::Storage { read_only },
+    };
+    wgpu::BindGroupLayoutEntry {
+        binding: b.number,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None },
+        count: None,
+    }
+}
+
+/// The layout entries of a whole group.
+pub fn layout_entries(group: &[Binding]) -> Vec<wgpu::BindGroupLayoutEntry> {
+    group.iter().copied().map(layout_entry).collect()
+}
+
+/// `buffer` bound at `b`.
+pub fn entry(b: Binding, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+    wgpu::BindGroupEntry { binding: b.number, resource: buffer.as_entire_binding() }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_are_unique_within_a_group() {
+        for group in [&PATH_TRACER[..], &DISPLAY[..]] {
+            let mut numbers: Vec<u32> = group.iter().map(|b| b.number).collect();
+            numbers.sort_unstable();
+            numbers.dedup();
+            assert_eq!(numbers.len(), group.len());
+        }
+    }
+}

@@ -1,0 +1,141 @@
+//! The structs the host shares with the kernels, checked against naga's reflection of the
+//! assembled WGSL: size, alignment (the host's size must be a multiple of it, so arrays have the
+//! same stride) and the offset of every named field; the `override` constants the host sets
+//! are exactly those the module declares; the generated values and bindings are those of the
+//! Rust definitions. A field added, moved or re-padded on one side only fails here.
+
+use std::mem::{offset_of, size_of};
+
+use naga::proc::Layouter;
+
+use pathlab::film::AccumPixel;
+use pathlab::gpu::{pipeline_constants, FrameParams, GpuMaterial, GpuPlane, GpuSphere, PipelineKey};
+use pathlab::method::{BsdfSampling, LightSampling, Preset, Sampler};
+use pathlab::names::Named;
+use pathlab::scene::SceneFeatures;
+use pathlab::shaders::{self, bindings};
+
+fn module(source: &str) -> naga::Module {
+    naga::front::wgsl::parse_str(source).unwrap_or_else(|e| panic!("{}", e.emit_to_string(source)))
+}
+
+/// Checks the WGSL struct `name` against the host's `size` and named field offsets.
+fn check_struct(module: &naga::Module, name: &str, size: usize, fields: &[(&str, usize)]) {
+    let mut layouter = Layouter::default();
+    layouter.update(module.to_ctx()).expect("layout");
+    let (handle, ty) = module.types.iter().find(|(_, t)| t.name.as_deref() == Some(name)).unwrap_or_else(|| panic!("no struct {name} in the WGSL"));
+    let naga::TypeInner::Struct { members, span } = &ty.inner else { panic!("{name} is not a struct") };
+    let layout = layouter[handle];
+    assert_eq!(*span as usize, size, "{name}: WGSL size {span}, host size {size}");
+    assert!(layout.alignment.is_aligned(size as u32), "{name}: host size {size} is not a multiple of the WGSL alignment");
+    assert_eq!(layout.to_stride() as usize, size, "{name}: array stride differs");
+    let named: Vec<(&str, u32)> =
+        members.iter().filter_map(|m| m.name.as_deref().filter(|n| !n.starts_with('_')).map(|n| (n, m.offset))).collect();
+    assert_eq!(named.len(), fields.len(), "{name}: WGSL fields {named:?}, host fields {fields:?}");
+    for (&(wgsl_name, wgsl_offset), &(host_name, host_offset)) in named.iter().zip(fields) {
+        assert_eq!(wgsl_name, host_name, "{name}: field order differs");
+        assert_eq!(wgsl_offset as usize, host_offset, "{name}.{host_name}: WGSL offset {wgsl_offset}, host offset {host_offset}");
+    }
+}
+
+macro_rules! fields {
+    ($t:ty: $($f:ident),+) => { &[$((stringify!($f), offset_of!($t, $f))),+] };
+}
+
+#[test]
+fn shared_structs_match_the_wgsl() {
+    let pt = module(&shaders::path_tracer_source());
+    check_struct(&pt, "FrameParams", size_of::<FrameParams>(), fields!(FrameParams: camera_origin, width, camera_forward, height,
+        camera_right, sample_start, camera_up, sample_count, environment, seed, max_depth, tile_x, tile_y, tile_width, tile_height,
+        opaque_zero, accum_row));
+    check_struct(&pt, "AccumPixel", size_of::<AccumPixel>(), fields!(AccumPixel: sum, count, sum_err, rays_lo, sum_sq, rays_hi, sum_sq_err));
+    check_struct(&pt, "Sphere", size_of::<GpuSphere>(), fields!(GpuSphere: center, radius, material));
+    check_struct(&pt, "Plane", size_of::<GpuPlane>(), fields!(GpuPlane: normal, offset, material));
+    check_struct(&pt, "Material", size_of::<GpuMaterial>(), fields!(GpuMaterial: diffuse, glossiness, specular, p_spec, emission, is_emissive));
+    let display = module(&shaders::display_source());
+    check_struct(&display, "AccumPixel", size_of::<AccumPixel>(), fields!(AccumPixel: sum, count, sum_err, rays_lo, sum_sq, rays_hi, sum_sq_err));
+}
+
+/// The value of the module-scope `const NAME: u32`.
+fn const_u32(module: &naga::Module, name: &str) -> Option<u32> {
+    let (_, c) = module.constants.iter().find(|(_, c)| c.name.as_deref() == Some(name))?;
+    match module.global_expressions[c.init] {
+        naga::Expression::Literal(naga::Literal::U32(v)) => Some(v),
+        ref other => panic!("{name} is {other:?}"),
+    }
+}
+
+#[test]
+fn overrides_set_by_the_host_are_those_the_module_declares() {
+    let pt = module(&shaders::path_tracer_source());
+    let mut declared: Vec<&str> = pt.overrides.iter().filter_map(|(_, o)| o.name.as_deref()).collect();
+    let features = SceneFeatures {
+        num_spheres: 2,
+        num_planes: 1,
+        num_lights: 1,
+        num_occluding_planes: 1,
+        has_specular: true,
+        has_environment: true,
+        light_interiors_reachable: true,
+    };
+    let key = PipelineKey { method: Preset::Best.method(), features };
+    let mut set: Vec<&str> = pipeline_constants(&key).into_iter().map(|(n, _)| n).collect();
+    declared.sort_unstable();
+    set.sort_unstable();
+    assert_eq!(declared, set);
+}
+
+#[test]
+fn generated_values_and_bindings_are_the_rust_ones() {
+    let pt = module(&shaders::path_tracer_source());
+    for (prefix, names, values) in [
+        ("SAMPLER", Sampler::names(), Sampler::ALL.map(Sampler::constant).to_vec()),
+        ("BSDF", BsdfSampling::names(), BsdfSampling::ALL.map(BsdfSampling::constant).to_vec()),
+        ("LIGHTS", LightSampling::names(), LightSampling::ALL.map(LightSampling::constant).to_vec()),
+    ] {
+        for (name, value) in names.iter().zip(values) {
+            let wgsl = format!("{prefix}_{}", name.to_uppercase().replace('-', "_"));
+            assert_eq!(const_u32(&pt, &wgsl), Some(value), "{wgsl}");
+        }
+    }
+    // Every resource of the path tracer sits at the binding the host binds it to.
+    let by_name = |m: &naga::Module, var: &str| {
+        m.global_variables.iter().find(|(_, g)| g.name.as_deref() == Some(var)).and_then(|(_, g)| g.binding.as_ref()).map(|b| b.binding)
+    };
+    for (var, b) in [
+        ("frame", bindings::FRAME),
+        ("spheres", bindings::SPHERES),
+        ("planes", bindings::PLANES),
+        ("materials", bindings::MATERIALS),
+        ("accum", bindings::ACCUM),
+        ("halton_primes", bindings::HALTON_PRIMES),
+    ] {
+        assert_eq!(by_name(&pt, var), Some(b.number), "{var}");
+    }
+    let display = module(&shaders::display_source());
+    for (var, b) in [
+        ("display", bindings::DISPLAY_PARAMS),
+        ("band", bindings::DISPLAY_BAND),
+        ("reference", bindings::DISPLAY_REFERENCE),
+        ("colour_map", bindings::DISPLAY_COLOUR_MAP),
+        ("shown", bindings::DISPLAY_SHOWN),
+    ] {
+        assert_eq!(by_name(&display, var), Some(b.number), "{var}");
+    }
+}
+
+#[cfg(feature = "viewer")]
+#[test]
+fn display_view_constants_are_the_rust_ones() {
+    use pathlab::viewer::View;
+    let display = module(&shaders::display_source());
+    for view in View::ALL {
+        let wgsl = format!("VIEW_{}", match view {
+            View::Radiance => "RADIANCE",
+            View::RelStderr => "REL_STDERR",
+            View::AbsError => "ABS_ERROR",
+            View::RelError => "REL_ERROR",
+        });
+        assert_eq!(const_u32(&display, &wgsl), Some(view.constant()), "{wgsl}");
+    }
+}
