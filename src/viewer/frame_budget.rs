@@ -11,6 +11,8 @@
 
 use std::time::Duration;
 
+use crate::render::controller::SampleCount;
+
 /// The renderer's least share of a frame (with the 45 ms default target, the UI may take up to
 /// 31 ms before frames get longer).
 pub const MIN_RENDER_SHARE: f64 = 0.3;
@@ -102,8 +104,9 @@ impl FrameBudget {
             // Until the UI has been measured: scale by aim / measured.
             None => k * aim / dt,
         };
-        // Damped: at most doubling or halving per frame.
-        self.k = (self.k * (wanted / self.k).sqrt().clamp(0.5, 2.0)).clamp(self.fewest, self.most);
+        // Damped (a single frame's time is noisy): the geometric middle, at most doubling or
+        // halving per frame.
+        self.k = SampleCount::new(self.k, self.fewest, self.most).damped(0.5).towards(wanted);
     }
 
     /// The estimated UI seconds per frame and render seconds per sample per pixel.
