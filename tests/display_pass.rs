@@ -13,7 +13,8 @@ use pathlab::method::Preset;
 use pathlab::metrics::linear::rel_mse_map;
 use pathlab::render::{Budget, Renderer};
 use pathlab::film::Film;
-use pathlab::viewer::display_pass::{read_shown_rgb8, DisplayPass, GpuReference, View};
+use pathlab::display::View;
+use pathlab::viewer::display_pass::{read_shown_rgb8, DisplayPass, GpuReference};
 
 const W: u32 = 48;
 const H: u32 = 24;

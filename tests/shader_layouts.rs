@@ -124,18 +124,23 @@ fn generated_values_and_bindings_are_the_rust_ones() {
     }
 }
 
-#[cfg(feature = "viewer")]
 #[test]
-fn display_view_constants_are_the_rust_ones() {
-    use pathlab::viewer::View;
+fn display_constants_are_the_rust_ones() {
+    use pathlab::display::{Transfer, View};
     let display = module(&shaders::display_source());
     for view in View::ALL {
-        let wgsl = format!("VIEW_{}", match view {
-            View::Radiance => "RADIANCE",
-            View::RelStderr => "REL_STDERR",
-            View::AbsError => "ABS_ERROR",
-            View::RelError => "REL_ERROR",
-        });
+        let wgsl = format!("VIEW_{}", view.name().to_uppercase().replace('-', "_"));
         assert_eq!(const_u32(&display, &wgsl), Some(view.constant()), "{wgsl}");
     }
+    assert_eq!(const_u32(&display, "TRANSFER_SRGB"), Some(Transfer::Srgb.code()));
+    assert_eq!(const_u32(&display, "TRANSFER_GAMMA"), Some(Transfer::Gamma(2.0).code()));
+}
+
+#[cfg(feature = "viewer")]
+#[test]
+fn display_params_match_the_wgsl() {
+    use pathlab::viewer::display_pass::DisplayParams;
+    let display = module(&shaders::display_source());
+    check_struct(&display, "DisplayParams", size_of::<DisplayParams>(), fields!(DisplayParams: width, y0, rows, view,
+        exposure_scale, transfer, inv_gamma, log_lo, log_hi, row_stride));
 }

@@ -122,6 +122,7 @@ pub fn run(args: ViewArgs) -> anyhow::Result<i32> {
         frame_budget: Duration::from_millis(args.frame_ms),
         paused: args.paused,
         adapter: args.adapter,
+        reporter: std::sync::Arc::new(super::progress::Terminal::new(false)),
     };
     let report = pathlab::viewer::run(options)?;
     if args.log_stats {

@@ -3,13 +3,12 @@
 
 use std::path::Path;
 
+use crate::display::LOG10_RANGE;
 use crate::output::{write_rgb8_png, OutputError};
 
 use super::colormap::magma_at;
 use super::text::Canvas;
 
-/// The log10 range shown: errors at or below 10^LOW are black, at or above 10^HIGH white-ish.
-pub const LOG10_RANGE: (f64, f64) = (-4.0, 1.0);
 
 /// The false-colour tile of `values` (w x h, row-major) without a colour bar, RGB8.
 pub fn false_colour(values: &[f64]) -> Vec<u8> {

@@ -2,6 +2,8 @@
 //! two sides cannot drift apart: buffer capacities, the Halton table's size, the values of the
 //! method choices that `override` constants select, and the binding numbers.
 
+use crate::display::{Transfer, View};
+use crate::metrics::linear::REL_MSE_EPSILON;
 use crate::method::{BsdfSampling, LightSampling, Sampler};
 use crate::names::wgsl_constants;
 use crate::scene::{MAX_MATERIALS, MAX_PLANES, MAX_SPHERES};
@@ -18,13 +20,23 @@ pub fn generated_constants() -> String {
          const MAX_SPHERES: u32 = {MAX_SPHERES}u;\n\
          const MAX_PLANES: u32 = {MAX_PLANES}u;\n\
          const MAX_MATERIALS: u32 = {MAX_MATERIALS}u;\n\
-         // Values of the `override` choices SAMPLER, BSDF_SAMPLING, LIGHT_SAMPLING (src/method.rs).\n\
-         {}{}{}\
+         // Values of the `override` choices SAMPLER, BSDF_SAMPLING, LIGHT_SAMPLING (src/method.rs),\n\
+         // and of the display pass's view (src/display/view.rs).\n\
+         {}{}{}{}\
+         // Transfer functions of the display pass (src/display/mod.rs) and the epsilon of relMSE\n\
+         // (src/metrics/linear.rs).\n\
+         const TRANSFER_SRGB: u32 = {}u;\n\
+         const TRANSFER_GAMMA: u32 = {}u;\n\
+         const REL_EPSILON: f32 = {:?};\n\
          // Binding numbers of group 0 (src/shaders/bindings.rs).\n\
          {}{}",
         wgsl_constants::<Sampler>("SAMPLER"),
         wgsl_constants::<BsdfSampling>("BSDF"),
         wgsl_constants::<LightSampling>("LIGHTS"),
+        wgsl_constants::<View>("VIEW"),
+        Transfer::Srgb.code(),
+        Transfer::Gamma(1.0).code(),
+        REL_MSE_EPSILON,
         bindings::wgsl(&bindings::PATH_TRACER),
         bindings::wgsl(&bindings::DISPLAY),
     )

@@ -1,22 +1,26 @@
 //! The application: state, keyboard, and each UI frame's order of work (watch the scene, run
-//! the driver, register textures, lay out the panels, take the screenshot, report).
+//! the driver, register textures, lay out the panels, then the script (`script`) and the report
+//! (`report`)).
 
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
-use egui::{ColorImage, Key};
+use egui::Key;
 
 use crate::display::DisplayTransform;
 use crate::gpu::Gpu;
 use crate::method::{Method, Preset};
 use crate::scene::Scene;
 
-use super::display_pass::View;
+use crate::display::View;
 use super::driver::{Driver, ViewSettings};
 use super::scene_watch::SceneWatch;
 use super::panel::{Action, Notice, PanelState};
-use super::{image_view, panel, SlotReport, ViewerError, ViewerOptions, ViewerReport};
+use super::report::Layout;
+use super::script::{Script, Step};
+use super::{image_view, panel, ViewerError, ViewerOptions, ViewerReport};
+use crate::progress::Reporter;
 
 pub struct ViewerApp {
     pub driver: Driver,
@@ -38,18 +42,12 @@ pub struct ViewerApp {
     pub save_dir: PathBuf,
     /// Width and height fields of the panel (applied with its button).
     pub pending_size: (u32, u32),
-    // --frames / --screenshot.
-    frames_limit: Option<u64>,
-    screenshot_path: Option<PathBuf>,
-    screenshot: Arc<Mutex<Option<Arc<ColorImage>>>>,
-    screenshot_requested: bool,
+    /// `--frames` / `--screenshot`.
+    script: Script,
     frames_seen: u64,
-    // Layout of the last frame (points), for the report.
-    pub image_rect: egui::Rect,
-    pub divider_x: Option<f32>,
-    pub plot_rect: Option<egui::Rect>,
-    pixels_per_point: f32,
-    screen: egui::Rect,
+    /// Where things were in the last frame, for the report.
+    layout: Layout,
+    reporter: Arc<dyn Reporter + Send + Sync>,
     report: Arc<Mutex<ViewerReport>>,
     failure: Arc<Mutex<Option<ViewerError>>>,
 }
@@ -81,14 +79,14 @@ impl ViewerApp {
         let driver = Driver::new(gpu, options.scene, &methods, options.seed, options.reference, options.frame_budget)
             .map_err(|e| ViewerError::Start(e.to_string()))?;
         let compare = options.compare.unwrap_or(if options.method == Preset::Plain.method() { Preset::Mis.method() } else { Preset::Plain.method() });
-        eprintln!(
+        options.reporter.note(&format!(
             "pathlab view: {} ({}x{}), {} on {}",
             scene_path.display(),
             pending_size.0,
             pending_size.1,
             methods.iter().map(Method::name).collect::<Vec<_>>().join(" | "),
             adapter_name
-        );
+        ));
         Ok(ViewerApp {
             driver,
             watch,
@@ -104,16 +102,10 @@ impl ViewerApp {
             notice: None,
             save_dir: options.save_dir,
             pending_size,
-            frames_limit: options.frames,
-            screenshot_path: options.screenshot,
-            screenshot: Arc::new(Mutex::new(None)),
-            screenshot_requested: false,
+            script: Script::new(options.frames, options.screenshot),
             frames_seen: 0,
-            image_rect: egui::Rect::NOTHING,
-            divider_x: None,
-            plot_rect: None,
-            pixels_per_point: 1.0,
-            screen: egui::Rect::NOTHING,
+            layout: Layout::default(),
+            reporter: options.reporter,
             report,
             failure,
         })
@@ -121,7 +113,7 @@ impl ViewerApp {
 
     pub fn notify(&mut self, text: impl Into<String>, error: bool) {
         let text = text.into();
-        eprintln!("pathlab view: {text}");
+        self.reporter.note(&format!("pathlab view: {text}"));
         self.notice = Some(Notice { text, error, since: Instant::now() });
     }
 
@@ -256,13 +248,13 @@ impl ViewerApp {
                         }
                         Err(e) => {
                             self.scene_error = Some(e.to_string());
-                            eprintln!("pathlab view: reloading the scene failed: {e}");
+                            self.reporter.note(&format!("pathlab view: reloading the scene failed: {e}"));
                         }
                     }
                 }
                 Err(e) => {
                     let text = e.to_string();
-                    eprintln!("pathlab view: reloading the scene failed (the last good image stays):\n{text}");
+                    self.reporter.note(&format!("pathlab view: reloading the scene failed (the last good image stays):\n{text}"));
                     self.scene_error = Some(text);
                 }
             }
@@ -288,41 +280,6 @@ impl ViewerApp {
         }
     }
 
-    /// `--frames N`: after N frames, take the screenshot (the next frame's framebuffer), save it
-    /// and close.
-    fn frames_and_screenshot(&mut self, ctx: &egui::Context) {
-        let Some(limit) = self.frames_limit else { return };
-        if self.frames_seen < limit {
-            return;
-        }
-        match &self.screenshot_path {
-            None => self.close(ctx, None),
-            Some(path) => {
-                if !self.screenshot_requested {
-                    self.screenshot_requested = true;
-                    let slot = self.screenshot.clone();
-                    ctx.request_screenshot(move |image| {
-                        *slot.lock().unwrap_or_else(|e| e.into_inner()) = Some(image);
-                    });
-                    return;
-                }
-                let taken = self.screenshot.lock().unwrap_or_else(|e| e.into_inner()).take();
-                if let Some(image) = taken {
-                    let path = path.clone();
-                    let rgb: Vec<u8> = image.pixels.iter().flat_map(|c| [c.r(), c.g(), c.b()]).collect();
-                    let [w, h] = image.size;
-                    match crate::output::write_rgb8_png(&path, w as u32, h as u32, rgb) {
-                        Ok(()) => self.close(ctx, Some(path)),
-                        Err(e) => {
-                            *self.failure.lock().unwrap_or_else(|e| e.into_inner()) = Some(ViewerError::Screenshot(e.to_string()));
-                            ctx.send_viewport_cmd(egui::ViewportCommand::Close);
-                        }
-                    }
-                }
-            }
-        }
-    }
-
     fn close(&mut self, ctx: &egui::Context, screenshot: Option<PathBuf>) {
         self.write_report(screenshot);
         ctx.send_viewport_cmd(egui::ViewportCommand::Close);
@@ -330,42 +287,9 @@ impl ViewerApp {
 
     /// Fills the shared report (read after the window closes) from the last frame's state.
     fn write_report(&self, screenshot: Option<PathBuf>) {
-        let ppp = self.pixels_per_point;
-        let px = |r: egui::Rect| [r.min.x * ppp, r.min.y * ppp, r.max.x * ppp, r.max.y * ppp];
-        let screen = self.screen;
-        let t = self.driver.throughput;
         let mut report = self.report.lock().unwrap_or_else(|e| e.into_inner());
         let screenshot = screenshot.or_else(|| report.screenshot.clone());
-        *report = ViewerReport {
-            adapter: self.driver.gpu.info.name.clone(),
-            frames: self.frames_seen,
-            frames_per_second: if t.seconds > 0.0 { t.frames as f64 / t.seconds } else { 0.0 },
-            samples_per_second: if t.seconds > 0.0 { t.pixel_samples / t.seconds } else { 0.0 },
-            width: self.driver.scene.render.width,
-            height: self.driver.scene.render.height,
-            slots: self
-                .driver
-                .slots
-                .iter()
-                .map(|s| SlotReport {
-                    method: s.method.name(),
-                    spp: s.spp(),
-                    render_seconds: s.seconds,
-                    samples_per_second: s.samples_per_second(),
-                    rel_mse: s.latest.map(|p| p.rel_mse),
-                    psnr: s.latest.map(|p| p.psnr),
-                    ssim: s.latest.and_then(|p| p.ssim),
-                    estimated: s.latest.is_none_or(|p| p.estimated),
-                })
-                .collect(),
-            window: [(screen.width() * ppp).round() as u32, (screen.height() * ppp).round() as u32],
-            image_rect: px(self.image_rect),
-            divider_x: self.divider_x.map(|x| x * ppp),
-            plot_rect: self.plot_rect.map(px),
-            view: self.view.name().to_string(),
-            scene_error: self.scene_error.clone(),
-            screenshot,
-        };
+        *report = super::report::report(&self.driver, &self.layout, self.frames_seen, self.view.name(), self.scene_error.clone(), screenshot);
     }
 }
 
@@ -389,8 +313,8 @@ impl eframe::App for ViewerApp {
             // every frame: set once at creation, it did not hold.
             ctx.tessellation_options_mut(|o| o.feathering = false);
         }
-        self.pixels_per_point = ctx.pixels_per_point();
-        self.screen = ctx.content_rect();
+        self.layout.pixels_per_point = ctx.pixels_per_point();
+        self.layout.screen = ctx.content_rect();
         self.keyboard(&ctx);
         self.watch_scene();
         if !self.available_views().contains(&self.view) {
@@ -417,14 +341,14 @@ impl eframe::App for ViewerApp {
             self.apply(action);
         }
         let plot = egui::Panel::bottom("plot").resizable(true).default_size(230.0).frame(bare(4.0)).show(ui, |ui| super::plot::show(ui, &self.driver.curves));
-        self.plot_rect = Some(plot.inner);
+        self.layout.plot_rect = Some(plot.inner);
         let shown = egui::CentralPanel::default()
             .frame(bare(0.0))
             .show(ui, |ui| image_view::show(&self.driver, self.divider, self.scene_error.as_deref(), ui))
             .inner;
-        self.image_rect = shown.image_rect;
+        self.layout.image_rect = shown.image_rect;
         self.divider = shown.divider;
-        self.divider_x = shown.divider_x;
+        self.layout.divider_x = shown.divider_x;
         if let Some((slot, x, y)) = shown.probe {
             self.driver.request_probe(slot, x, y);
         }
@@ -433,8 +357,15 @@ impl eframe::App for ViewerApp {
         }
 
         self.frames_seen += 1;
-        self.frames_and_screenshot(&ctx);
-        if self.paused && self.frames_limit.is_none() {
+        match self.script.after_frame(&ctx, self.frames_seen) {
+            Step::Continue => {}
+            Step::Close(screenshot) => self.close(&ctx, screenshot),
+            Step::Failed(e) => {
+                *self.failure.lock().unwrap_or_else(|e| e.into_inner()) = Some(e);
+                ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+            }
+        }
+        if self.paused && !self.script.is_scripted() {
             ctx.request_repaint_after(std::time::Duration::from_millis(100));
         } else {
             ctx.request_repaint();

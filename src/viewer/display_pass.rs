@@ -3,9 +3,7 @@
 //! false-colour error view. It runs on the device after the frame's samples, so the image never
 //! travels through the CPU.
 
-use crate::display::{DisplayTransform, Transfer};
-use crate::names::named_enum;
-use crate::figures::error_map::LOG10_RANGE;
+use crate::display::{DisplayTransform, Transfer, View};
 use crate::shaders::bindings::{self, entry};
 use crate::render::Renderer;
 use crate::film::Film;
@@ -17,63 +15,21 @@ const WORKGROUP: u32 = 8;
 /// Rows of a buffer-to-texture copy start at multiples of 256 bytes: 64 RGBA8 texels.
 const TEXELS_PER_ROW_ALIGNMENT: u32 = wgpu::COPY_BYTES_PER_ROW_ALIGNMENT / 4;
 
-named_enum! {
-    /// What the image area shows. The values of the constants `VIEW_*` in display.wgsl are
-    /// checked against these by `tests/shader_layouts.rs`.
-    pub enum View("view") {
-        /// The mean radiance through exposure and display transform.
-        Radiance = "radiance",
-        /// Per-pixel relative standard error of the mean, sqrt(var / (mean^2 - var + 0.01)).
-        RelStderr = "stderr",
-        /// |mean - reference|, averaged over the channels (needs a reference).
-        AbsError = "abs-error",
-        /// (mean - reference)^2 / (reference^2 + 0.01): the terms of relMSE (needs a reference).
-        RelError = "rel-error",
-    }
-}
-
-impl View {
-    /// What the panel calls it.
-    pub fn label(self) -> &'static str {
-        match self {
-            View::Radiance => "radiance",
-            View::RelStderr => "relative standard error",
-            View::AbsError => "absolute error",
-            View::RelError => "relative squared error",
-        }
-    }
-
-    pub fn needs_reference(self) -> bool {
-        matches!(self, View::AbsError | View::RelError)
-    }
-
-    /// The log10 range of a false-colour view (errors below the low end are black).
-    pub fn log10_range(self) -> (f32, f32) {
-        match self {
-            View::Radiance => (0.0, 1.0),
-            View::RelStderr => (-3.0, 0.0),
-            View::AbsError => (-4.0, 0.0),
-            View::RelError => (LOG10_RANGE.0 as f32, LOG10_RANGE.1 as f32),
-        }
-    }
-
-}
-
-/// `DisplayParams` in display.wgsl.
+/// `DisplayParams` in display.wgsl (layout checked by `tests/shader_layouts.rs`).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct DisplayParams {
-    width: u32,
-    y0: u32,
-    rows: u32,
-    view: u32,
-    exposure_scale: f32,
-    transfer: u32,
-    inv_gamma: f32,
-    log_lo: f32,
-    log_hi: f32,
-    row_stride: u32,
-    _pad: [u32; 2],
+pub struct DisplayParams {
+    pub width: u32,
+    pub y0: u32,
+    pub rows: u32,
+    pub view: u32,
+    pub exposure_scale: f32,
+    pub transfer: u32,
+    pub inv_gamma: f32,
+    pub log_lo: f32,
+    pub log_hi: f32,
+    pub row_stride: u32,
+    pub _pad: [u32; 2],
 }
 
 /// The display kernel, its bind group layout, the colour map and a stand-in reference.
@@ -217,10 +173,11 @@ impl DisplayPass {
 
     /// Fills `image` from its renderer's accumulators: `view` through `display`.
     pub fn run(&self, device: &wgpu::Device, queue: &wgpu::Queue, image: &ShownImage, view: View, display: DisplayTransform) {
-        let (transfer, inv_gamma) = match display.transfer {
-            Transfer::Srgb => (0, 1.0),
-            Transfer::Gamma(g) => (1, 1.0 / g),
+        let inv_gamma = match display.transfer {
+            Transfer::Srgb => 1.0,
+            Transfer::Gamma(g) => 1.0 / g,
         };
+        let transfer = display.transfer.code();
         let (log_lo, log_hi) = view.log10_range();
         for &(y0, rows, ref params, _) in &image.bands {
             let p = DisplayParams {

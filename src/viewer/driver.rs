@@ -17,7 +17,8 @@ use crate::film::Film;
 use crate::scene::Scene;
 
 use super::frame_budget::FrameBudget;
-use super::display_pass::{read_shown_rgb8, DisplayPass, GpuReference, ShownImage, View};
+use super::display_pass::{read_shown_rgb8, DisplayPass, GpuReference, ShownImage};
+use crate::display::View;
 use super::live_metrics::{LivePoint, MetricsTask};
 use super::plot::Curves;
 

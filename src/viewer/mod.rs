@@ -10,7 +10,8 @@
 //! - `display_pass`: accumulators to the shown texture on the device (`shaders/display.wgsl`);
 //! - `live_metrics`: PSNR, SSIM, relMSE (or their estimates) off the UI thread;
 //! - `plot`: relMSE against seconds, log-log, one curve per method run;
-//! - `scene_watch`: reloading the scene file when it changes.
+//! - `scene_watch`: reloading the scene file when it changes;
+//! - `script`: `--frames N --screenshot`; `report`: what `--log-stats` prints.
 
 mod app;
 pub mod display_pass;
@@ -20,23 +21,24 @@ mod image_view;
 pub mod live_metrics;
 mod panel;
 pub mod plot;
+pub mod report;
 pub mod scene_watch;
+mod script;
 
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
-use serde::Serialize;
 
 use crate::display::DisplayTransform;
 use crate::method::Method;
 use crate::film::Film;
 use crate::scene::Scene;
 
-pub use display_pass::View;
+pub use crate::display::View;
 
 /// Everything `pathlab view` was asked for.
-#[derive(Debug, Clone)]
+#[derive(Clone)]
 pub struct ViewerOptions {
     /// The scene as loaded (overrides applied) and the overrides, re-applied on every reload.
     pub scene: Scene,
@@ -63,46 +65,11 @@ pub struct ViewerOptions {
     pub paused: bool,
     /// Adapter name filter (as `--adapter` / PATHLAB_ADAPTER).
     pub adapter: Option<String>,
+    /// Where the window's notices go (saves, reloads, errors of actions).
+    pub reporter: Arc<dyn crate::progress::Reporter + Send + Sync>,
 }
 
-/// What a method reached, for `--log-stats`.
-#[derive(Debug, Clone, Serialize)]
-pub struct SlotReport {
-    pub method: String,
-    pub spp: u64,
-    pub render_seconds: f64,
-    /// Pixel samples per second of the render time this method was given.
-    pub samples_per_second: f64,
-    pub rel_mse: Option<f64>,
-    pub psnr: Option<f64>,
-    pub ssim: Option<f64>,
-    /// True when rel_mse and psnr are estimates from the sample variance (no reference).
-    pub estimated: bool,
-}
-
-/// The window's final state (`--log-stats` prints it as one JSON line). Rectangles are in
-/// physical pixels of the window: x0, y0, x1, y1.
-#[derive(Debug, Clone, Serialize, Default)]
-pub struct ViewerReport {
-    pub adapter: String,
-    pub frames: u64,
-    /// UI frames per second, and pixel samples per second of all methods together, both over
-    /// the frames after the first two (which compile pipelines and upload fonts).
-    pub frames_per_second: f64,
-    pub samples_per_second: f64,
-    pub width: u32,
-    pub height: u32,
-    pub slots: Vec<SlotReport>,
-    pub window: [u32; 2],
-    pub image_rect: [f32; 4],
-    /// The split view's divider (x in physical pixels), when split.
-    pub divider_x: Option<f32>,
-    pub plot_rect: Option<[f32; 4]>,
-    pub view: String,
-    /// The error of the last failed scene reload, if it has not been fixed since.
-    pub scene_error: Option<String>,
-    pub screenshot: Option<PathBuf>,
-}
+pub use report::{SlotReport, ViewerReport};
 
 #[derive(Debug, thiserror::Error)]
 pub enum ViewerError {

@@ -9,7 +9,7 @@ use egui::{Color32, RichText, Ui};
 use crate::display::{DisplayTransform, Transfer};
 use crate::method::{BsdfSampling, LightSampling, Method, Preset, Sampler};
 
-use super::display_pass::View;
+use crate::display::View;
 use super::driver::Driver;
 
 const ERROR_RED: Color32 = Color32::from_rgb(255, 110, 100);

@@ -2,7 +2,7 @@
 
 use std::fmt::Write as _;
 
-use crate::figures::error_map::LOG10_RANGE;
+use crate::display::LOG10_RANGE;
 
 use super::super::analysis::Stat;
 use super::super::verdict::Verdict;

@@ -1,11 +1,16 @@
 //! The display transform: linear radiance to the [0, 1] values a screen shows. One place for
-//! PNG previews, image grids and the display-referred metrics (PSNR, SSIM, FLIP).
+//! PNG previews, image grids and the display-referred metrics (PSNR, SSIM, FLIP); and what an
+//! image area shows (`view`).
 //!
 //! `v = encode(clip(x * 2^exposure, 0, 1))`, with `encode` the sRGB transfer function or a
 //! plain power `x^(1/G)` (the study displayed its images through gamma 1.6).
 
+mod view;
+
 use std::fmt;
 use std::str::FromStr;
+
+pub use view::{View, LOG10_RANGE};
 
 use crate::film::Film;
 
@@ -46,6 +51,16 @@ impl FromStr for Transfer {
                 let g: f32 = other.strip_prefix("gamma:").ok_or_else(bad)?.trim().parse().map_err(|_| bad())?;
                 if g.is_finite() && g > 0.0 { Ok(Transfer::Gamma(g)) } else { Err(bad()) }
             }
+        }
+    }
+}
+
+impl Transfer {
+    /// The display pass's code of this transfer function (`TRANSFER_*` in display.wgsl).
+    pub const fn code(self) -> u32 {
+        match self {
+            Transfer::Srgb => 0,
+            Transfer::Gamma(_) => 1,
         }
     }
 }
