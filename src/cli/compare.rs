@@ -42,11 +42,36 @@ pub fn run(args: CompareArgs) -> anyhow::Result<i32> {
     }
     let test = read_exr_image(&args.test)?;
     let reference = read_exr_image(&args.reference)?;
+    // The reference's recorded display transform, used unless overridden: a value that does not
+    // parse is refused where it would be used, and named with a warning where it is not.
     let recorded = |key: &str| reference.metadata.iter().find(|(k, _)| k == key).map(|(_, v)| v.clone());
-    let display = DisplayTransform {
-        transfer: args.display.or_else(|| recorded("display").and_then(|t| t.parse().ok())).unwrap_or(Transfer::Srgb),
-        exposure: args.exposure.or_else(|| recorded("exposure").and_then(|e| e.parse().ok())).unwrap_or(0.0),
+    let refuse = |key: &str, value: &str, why: String| -> anyhow::Error {
+        anyhow::anyhow!("{}: pathlab:{key} is `{value}`: {why} (or give --{key})", args.reference.display())
     };
+    let recorded_transfer = recorded("display").map(|t| t.parse::<Transfer>().map_err(|e| refuse("display", &t, e.to_string())));
+    let recorded_exposure = recorded("exposure").map(|e| match e.trim().parse::<f32>() {
+        Ok(x) if x.is_finite() => Ok(x),
+        _ => Err(refuse("exposure", &e, "not a finite number of stops".into())),
+    });
+    let transfer = match (args.display, recorded_transfer) {
+        (Some(t), Some(Err(e))) => {
+            eprintln!("warning: {e:#}; using --display {t}");
+            t
+        }
+        (Some(t), _) => t,
+        (None, Some(r)) => r?,
+        (None, None) => Transfer::Srgb,
+    };
+    let exposure = match (args.exposure, recorded_exposure) {
+        (Some(x), Some(Err(e))) => {
+            eprintln!("warning: {e:#}; using --exposure {x}");
+            x
+        }
+        (Some(x), _) => x,
+        (None, Some(r)) => r?,
+        (None, None) => 0.0,
+    };
+    let display = DisplayTransform { transfer, exposure };
     let result = compare_blocks(&test.film, &reference.film, display, test.has_variance && reference.has_variance, args.block)
         .with_context(|| format!("comparing {} with {}", args.test.display(), args.reference.display()))?;
     if let Some(path) = &args.error_map {

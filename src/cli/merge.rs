@@ -31,7 +31,7 @@ pub fn run(args: MergeArgs) -> anyhow::Result<i32> {
     let start = Instant::now();
     let merged = merge(&args.parts, args.allow_gaps)?;
     let k = &merged.key;
-    let gaps: Vec<String> = merged.gaps.iter().map(|g| format!("{}..{}", g.start, g.end)).collect();
+    let gaps: Vec<String> = merged.gaps.iter().map(|g| format!("{}..{}", g.range.start, g.range.end)).collect();
     let header = ImageHeader {
         method: k.method,
         seed: k.seed,

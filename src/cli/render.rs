@@ -199,6 +199,8 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
         return render_target(&args, &job, target, &files);
     }
     let budget = job.budget;
+    // A file to continue is checked before any GPU work.
+    job.check_saved()?;
 
     let gpu = Gpu::new(args.adapter.as_deref())?;
     eprintln!("adapter: {}", adapter_summary(&gpu.info));

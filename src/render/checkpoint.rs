@@ -7,7 +7,7 @@
 //!
 //! Channels: `sum.{R,G,B}`, `sum_err.*`, `sum_sq.*`, `sum_sq_err.*` (f32), `count`, `rays_lo`,
 //! `rays_hi` (u32). Header: `pathlab:kind = accumulator`, `scene_hash`, `sampler`, `bsdf`,
-//! `scene_hash_encoding`, `lights`, `seed`, `max_depth`, `first_sample`, `spp`, `render_seconds`
+//! `scene_hash_encoding`, `data_sha256` (see `output::content_sha256`), `lights`, `seed`, `max_depth`, `first_sample`, `spp`, `render_seconds`
 //! (all sessions),
 //! `version`. Written through a temporary file and renamed, so a checkpoint on disk is always
 //! complete: a `kill -9` loses at most the samples since the last one.
@@ -22,10 +22,11 @@ use std::result::Result;
 
 use crate::film::AccumPixel;
 use crate::method::Method;
-use crate::output::{read_exr_layer, write_exr_layer, Metadata, OutputError};
+use crate::output::attributes::AttributeError;
+use crate::output::{read_exr_layer, write_exr_layer, Metadata, OutputError, CHECKSUM_KEY};
 use crate::scene::hash::SCENE_HASH_ENCODING;
 
-use super::{Budget, Progress, RenderError, RenderStats, Renderer};
+use super::{Budget, Progress, RenderError, RenderStats, Renderer, MAX_SPP};
 use crate::film::Film;
 
 /// What must match for a checkpoint to be continued: scene content, method, seed, size, depth.
@@ -149,45 +150,72 @@ impl Checkpoint {
         write_exr_layer(path, (self.key.width as usize, self.key.height as usize), list, &metadata)
     }
 
-    /// Reads a checkpoint, checking that it is complete and consistent.
+    /// Reads a checkpoint, checking that it is complete, consistent and intact: every header
+    /// number parsed as what it is and range-checked, the sample range within 2^32, every sum
+    /// finite and non-negative (radiance is), sums of squares consistent with the sums, every
+    /// pixel's count equal to the header's spp, and the data's SHA-256 equal to the header's.
     pub fn read(path: &Path) -> Result<Checkpoint, CheckpointError> {
         let invalid = |message: String| CheckpointError::Invalid { path: path.to_path_buf(), message };
-        let (layer, metadata) = read_exr_layer(path).map_err(|e| invalid(format!("cannot read it as OpenEXR ({e})")))?;
+        let (layer, header) = read_exr_layer(path).map_err(|e| match e {
+            OutputError::Attribute(a) => invalid(a.message),
+            OutputError::NotExr { message, .. } => invalid(format!("cannot read it as OpenEXR ({message})")),
+            OutputError::Read { message, .. } => invalid(message),
+            other => invalid(other.to_string()),
+        })?;
+        let attr = |e: AttributeError| invalid(e.message);
         let (w, h) = (layer.size.width(), layer.size.height());
-        let header: std::collections::HashMap<String, String> = metadata.into_iter().collect();
-        let get = |k: &str| header.get(k).cloned().ok_or_else(|| invalid(format!("header attribute pathlab:{k} missing")));
-        if get("kind")? != "accumulator" {
+        if header.text("kind").map_err(attr)? != "accumulator" {
             return Err(invalid("pathlab:kind is not `accumulator`".into()));
         }
         // Files made before the scene hash had a stable encoding carry a hash of the scene's
         // debug text, which no later version can reproduce or compare.
-        match header.get("scene_hash_encoding").map(String::as_str) {
+        match header.get("scene_hash_encoding") {
             Some(v) if v == SCENE_HASH_ENCODING.to_string() => {}
             Some(v) => return Err(invalid(format!("its scene hash uses encoding {v}; this pathlab knows encoding {SCENE_HASH_ENCODING}"))),
             None => {
                 return Err(invalid(format!(
                     "it was made by pathlab {} (before 0.2.0), whose scene hash is not stable across versions, so the scene it \
                      belongs to cannot be checked; render it again, or merge/resume it with the version that made it",
-                    header.get("version").map_or("?", String::as_str)
+                    header.get("version").unwrap_or("?")
                 )))
             }
         }
-        let num = |k: &str| -> Result<u64, CheckpointError> { get(k)?.parse().map_err(|_| invalid(format!("pathlab:{k} is not a number"))) };
+        let u32_max = u32::MAX as u64;
         let method = Method {
-            sampler: get("sampler")?.parse().map_err(|e| invalid(format!("pathlab:sampler: {e}")))?,
-            bsdf: get("bsdf")?.parse().map_err(|e| invalid(format!("pathlab:bsdf: {e}")))?,
-            lights: get("lights")?.parse().map_err(|e| invalid(format!("pathlab:lights: {e}")))?,
+            sampler: header.text("sampler").map_err(attr)?.parse().map_err(|e| invalid(format!("pathlab:sampler: {e}")))?,
+            bsdf: header.text("bsdf").map_err(attr)?.parse().map_err(|e| invalid(format!("pathlab:bsdf: {e}")))?,
+            lights: header.text("lights").map_err(attr)?.parse().map_err(|e| invalid(format!("pathlab:lights: {e}")))?,
         };
+        let scene_hash = header.text("scene_hash").map_err(attr)?.to_string();
+        if scene_hash.len() != 16 || !scene_hash.bytes().all(|b| b.is_ascii_hexdigit() && !b.is_ascii_uppercase()) {
+            return Err(invalid(format!("pathlab:scene_hash is `{scene_hash}`, not 16 hex digits")));
+        }
         let key = CheckpointKey {
-            scene_hash: get("scene_hash")?,
+            scene_hash,
             method,
-            seed: num("seed")? as u32,
-            width: num("width")? as u32,
-            height: num("height")? as u32,
-            max_depth: num("max_depth")? as u32,
+            seed: header.whole("seed", u32_max).map_err(attr)? as u32,
+            width: header.whole("width", u32_max).map_err(attr)? as u32,
+            height: header.whole("height", u32_max).map_err(attr)? as u32,
+            max_depth: header.whole("max_depth", u32_max).map_err(attr)? as u32,
         };
         if (key.width as usize, key.height as usize) != (w, h) {
             return Err(invalid(format!("header says {}x{}, the data is {w}x{h}", key.width, key.height)));
+        }
+        // Sample indices are u32: a range ends at 2^32 at the latest.
+        let first_sample = header.whole("first_sample", MAX_SPP - 1).map_err(attr)?;
+        let spp = header.whole("spp", MAX_SPP).map_err(attr)?;
+        if first_sample + spp > MAX_SPP {
+            return Err(invalid(format!("samples {first_sample}..{} go beyond 2^32, where sample indices end", first_sample + spp)));
+        }
+        let planned_total = header.whole_opt("planned_total", MAX_SPP).map_err(attr)?;
+        let render_seconds = header.real("render_seconds", 0.0).map_err(attr)?;
+        let expected: Vec<String> = F32_CHANNELS
+            .iter()
+            .flat_map(|n| RGB.iter().map(move |c| format!("{n}.{c}")))
+            .chain(["count", "rays_lo", "rays_hi"].map(String::from))
+            .collect();
+        if let Some(extra) = layer.channel_data.list.iter().find(|c| !expected.iter().any(|e| c.name == Text::from(e.as_str()))) {
+            return Err(invalid(format!("unexpected channel {}", extra.name)));
         }
         let channel = |name: &str| layer.channel_data.list.iter().find(|c| c.name == Text::from(name));
         let f32s = |name: &str| -> Result<Vec<f32>, CheckpointError> {
@@ -218,17 +246,44 @@ impl Checkpoint {
         for (p, ((count, lo), hi)) in pixels.iter_mut().zip(u32s("count")?.into_iter().zip(u32s("rays_lo")?).zip(u32s("rays_hi")?)) {
             (p.count, p.rays_lo, p.rays_hi) = (count, lo, hi);
         }
-        let spp = num("spp")?;
+        let at = |i: usize| format!("pixel ({}, {})", i % w.max(1), i / w.max(1));
         if let Some(i) = pixels.iter().position(|p| p.count as u64 != spp % (1 << 32)) {
-            return Err(invalid(format!("pixel {i} holds {} samples, the header says {spp}", pixels[i].count)));
+            return Err(invalid(format!("{} holds {} samples, the header says {spp}", at(i), pixels[i].count)));
         }
-        let render_seconds = get("render_seconds")?.parse().map_err(|_| invalid("pathlab:render_seconds is not a number".into()))?;
-        let planned_total = match header.get("planned_total") {
-            Some(t) => Some(t.parse().map_err(|_| invalid("pathlab:planned_total is not a number".into()))?),
-            None => None,
-        };
-        Ok(Checkpoint { key, first_sample: num("first_sample")?, spp, render_seconds, planned_total, pixels })
+        for (i, p) in pixels.iter().enumerate() {
+            if let Some(problem) = accumulator_problem(p, spp) {
+                return Err(invalid(format!("{}: {problem}", at(i))));
+            }
+        }
+        // read_exr_layer verified the checksum of a file that has one; every 0.2 file has one.
+        if header.get(CHECKSUM_KEY).is_none() {
+            return Err(invalid(format!("header attribute pathlab:{CHECKSUM_KEY} missing (every pathlab 0.2 accumulator file has one)")));
+        }
+        Ok(Checkpoint { key, first_sample, spp, render_seconds, planned_total, pixels })
     }
+}
+
+/// What is impossible about one pixel's accumulator of `spp` non-negative radiance samples:
+/// a non-finite value, a negative sum or sum of squares, or a sum of squares below what the sum
+/// implies (sum^2 / n, Cauchy-Schwarz; the variance would be negative).
+fn accumulator_problem(p: &AccumPixel, spp: u64) -> Option<String> {
+    const RGB: [&str; 3] = ["R", "G", "B"];
+    let (sum, sum_sq) = p.exact_sums();
+    for c in 0..3 {
+        let values = [("sum", p.sum[c]), ("sum_err", p.sum_err[c]), ("sum_sq", p.sum_sq[c]), ("sum_sq_err", p.sum_sq_err[c])];
+        if let Some((name, v)) = values.iter().find(|(_, v)| !v.is_finite()) {
+            return Some(format!("{name}.{} is {v}", RGB[c]));
+        }
+        if sum[c] < 0.0 || sum_sq[c] < 0.0 {
+            return Some(format!("a negative sum ({} = {:e}, sum_sq.{} = {:e}): radiance samples are not negative", RGB[c], sum[c], RGB[c], sum_sq[c]));
+        }
+        // n sum_sq >= sum^2, with room for the rounding of f32 compensated sums.
+        let n = spp as f64;
+        if n > 0.0 && n * sum_sq[c] < sum[c] * sum[c] * (1.0 - 1e-4) - 1e-30 {
+            return Some(format!("sum_sq.{} = {:e} is below sum^2 / spp = {:e}: a negative variance", RGB[c], sum_sq[c], sum[c] * sum[c] / n));
+        }
+    }
+    None
 }
 
 /// What to do with an accumulator file that already exists when a render starts.
@@ -252,6 +307,33 @@ pub struct CheckpointPlan {
     pub planned_total: Option<u64>,
 }
 
+impl CheckpointPlan {
+    /// The saved accumulators this plan continues from, checked against `key`, a render
+    /// starting at sample `first_sample` and at most `total_spp` samples: `None` when the plan
+    /// starts afresh. Needs no GPU: `render --resume` calls it before opening one.
+    pub fn saved(&self, key: &CheckpointKey, first_sample: u64, total_spp: u64) -> Result<Option<Checkpoint>, CheckpointError> {
+        let path = self.path.as_path();
+        let exists = path.exists();
+        if self.resume == Resume::Required && !exists {
+            return Err(CheckpointError::Invalid { path: path.to_path_buf(), message: "no such file to resume from".into() });
+        }
+        if !exists || self.resume == Resume::Never {
+            return Ok(None);
+        }
+        let saved = Checkpoint::read(path)?;
+        key.check(&saved.key, path)?;
+        if saved.first_sample != first_sample || saved.spp > total_spp {
+            return Err(CheckpointError::Mismatch {
+                path: path.to_path_buf(),
+                field: "samples",
+                found: format!("{}..{}", saved.first_sample, saved.first_sample + saved.spp),
+                expected: format!("a start at {first_sample} and at most {total_spp} spp"),
+            });
+        }
+        Ok(Some(saved))
+    }
+}
+
 /// Renders until the renderer holds `total_spp` samples per pixel (fresh, for `key`, its first
 /// sample index already set), saving the accumulators to `plan.path` every `plan.every` and at
 /// the end. A saved file of another key is refused naming the field. Returns the final
@@ -264,26 +346,12 @@ pub fn render_checkpointed(
     cancel: &AtomicBool,
     mut progress: impl FnMut(Progress),
 ) -> Result<(Checkpoint, bool), CheckpointError> {
-    let path = plan.path.as_path();
     let mut seconds_before = 0.0;
-    let exists = path.exists();
-    if plan.resume == Resume::Required && !exists {
-        return Err(CheckpointError::Invalid { path: path.to_path_buf(), message: "no such file to resume from".into() });
-    }
-    if exists && plan.resume != Resume::Never {
-        let saved = Checkpoint::read(path)?;
-        key.check(&saved.key, path)?;
-        if saved.first_sample != renderer.first_sample() || saved.spp > total_spp {
-            return Err(CheckpointError::Mismatch {
-                path: path.to_path_buf(),
-                field: "samples",
-                found: format!("{}..{}", saved.first_sample, saved.first_sample + saved.spp),
-                expected: format!("a start at {} and at most {total_spp} spp", renderer.first_sample()),
-            });
-        }
+    if let Some(saved) = plan.saved(key, renderer.first_sample(), total_spp)? {
         renderer.restore(saved.first_sample, saved.spp, &saved.pixels)?;
         seconds_before = saved.render_seconds;
     }
+    let path = plan.path.as_path();
     let start = Instant::now();
     let mut interrupted = false;
     loop {

@@ -130,6 +130,15 @@ impl RenderJob {
         }
     }
 
+    /// Checks the accumulators this job would continue from (`render --resume`, a part's
+    /// existing file) without a GPU, so that a bad file is refused before any GPU work.
+    pub fn check_saved(&self) -> Result<(), CheckpointError> {
+        if let (Some(plan), Budget::Samples(spp)) = (&self.checkpoint, self.budget) {
+            plan.saved(&self.checkpoint_key(), self.first_sample, spp)?;
+        }
+        Ok(())
+    }
+
     /// Renders until a stop rule holds (budget, target, `cancel`), saving checkpoints when
     /// planned, and reads the film back.
     pub fn run(

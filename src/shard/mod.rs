@@ -56,11 +56,39 @@ pub enum MergeError {
     #[error("{} (samples {}..{}) overlaps {} (samples {}..{})", a.display(), ra.start, ra.end, b.display(), rb.start, rb.end)]
     Overlap { a: PathBuf, ra: Range<u64>, b: PathBuf, rb: Range<u64> },
     #[error("samples missing: {}; render them, or merge what is there with --allow-gaps", fmt_gaps(.0))]
-    Gaps(Vec<Range<u64>>),
+    Gaps(Vec<Gap>),
 }
 
-fn fmt_gaps(gaps: &[Range<u64>]) -> String {
-    gaps.iter().map(|g| format!("{}..{}", g.start, g.end)).collect::<Vec<_>>().join(", ")
+/// Sample indices no part holds, and the parts around them (whose declared ranges leave it).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Gap {
+    pub range: Range<u64>,
+    /// The part that ends where the gap starts, and the one that starts where it ends.
+    pub after: Option<(PathBuf, Range<u64>)>,
+    pub before: Option<(PathBuf, Range<u64>)>,
+    /// At the end: the part whose planned total (`--shard`) the ranges fall short of.
+    pub planned_by: Option<(PathBuf, u64)>,
+}
+
+impl std::fmt::Display for Gap {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let part = |(p, r): &(PathBuf, Range<u64>)| format!("{} ({}..{})", p.display(), r.start, r.end);
+        write!(f, "{}..{}", self.range.start, self.range.end)?;
+        match (&self.after, &self.before) {
+            (Some(a), Some(b)) => write!(f, " (between {} and {})", part(a), part(b))?,
+            (None, Some(b)) => write!(f, " (before {})", part(b))?,
+            (Some(a), None) => write!(f, " (after {})", part(a))?,
+            (None, None) => {}
+        }
+        if let Some((p, total)) = &self.planned_by {
+            write!(f, " of the {total} samples {} plans", p.display())?;
+        }
+        Ok(())
+    }
+}
+
+fn fmt_gaps(gaps: &[Gap]) -> String {
+    gaps.iter().map(Gap::to_string).collect::<Vec<_>>().join(", ")
 }
 
 /// What a merge produced.
@@ -74,7 +102,7 @@ pub struct Merged {
     /// Rendering time of all parts together.
     pub render_seconds: f64,
     /// Sample ranges missing (only with `allow_gaps`).
-    pub gaps: Vec<Range<u64>>,
+    pub gaps: Vec<Gap>,
     /// The parts' ranges, in order.
     pub ranges: Vec<Range<u64>>,
 }
@@ -98,6 +126,7 @@ pub fn merge(paths: &[PathBuf], allow_gaps: bool) -> Result<Merged, MergeError> 
     let range = |c: &Checkpoint| c.first_sample..c.first_sample + c.spp;
     let mut gaps = Vec::new();
     let mut covered = 0u64;
+    let named = |w: usize| (parts[w].0.clone(), range(&parts[w].1));
     for w in 0..parts.len() {
         let r = range(&parts[w].1);
         if w > 0 && r.start < range(&parts[w - 1].1).end {
@@ -105,13 +134,20 @@ pub fn merge(paths: &[PathBuf], allow_gaps: bool) -> Result<Merged, MergeError> 
             return Err(MergeError::Overlap { a: a.0.clone(), ra: range(&a.1), b: b.0.clone(), rb: r });
         }
         if r.start > covered {
-            gaps.push(covered..r.start);
+            gaps.push(Gap { range: covered..r.start, after: (w > 0).then(|| named(w - 1)), before: Some(named(w)), planned_by: None });
         }
         covered = r.end;
     }
-    let planned = parts.iter().filter_map(|(_, c)| c.planned_total).max().unwrap_or(0);
-    if planned > covered {
-        gaps.push(covered..planned);
+    // Part ranges are validated by `Checkpoint::read` (they end at 2^32 at the latest).
+    if let Some((path, planned)) = parts.iter().filter_map(|(p, c)| c.planned_total.map(|t| (p, t))).max_by_key(|(_, t)| *t) {
+        if planned > covered {
+            gaps.push(Gap {
+                range: covered..planned,
+                after: Some(named(parts.len() - 1)),
+                before: None,
+                planned_by: Some((path.clone(), planned)),
+            });
+        }
     }
     if !gaps.is_empty() && !allow_gaps {
         return Err(MergeError::Gaps(gaps));

@@ -128,7 +128,7 @@ impl Study {
         std::fs::write(&probe, b"").map_err(|source| StudyError::Dir { path: self.out.clone(), source })?;
         let _ = std::fs::remove_file(probe);
         match &self.reference {
-            ReferenceSource::File(path) => Ok(Some(reference::load_file(path, w, h)?)),
+            ReferenceSource::File(path) => Ok(Some(reference::load_file(path, &self.scene)?)),
             ReferenceSource::Render { .. } => Ok(None),
         }
     }
@@ -164,6 +164,9 @@ impl Study {
             }
             (ReferenceSource::File(_), None) => unreachable!("validate loads file references"),
         };
+        for w in &reference.warnings {
+            reporter.warn(w);
+        }
 
         // Every pipeline compiled before anything is timed.
         for m in &self.methods {

@@ -44,6 +44,8 @@ pub struct Reference {
     pub render_seconds: Option<f64>,
     /// Its own expected relMSE: mean over pixels of var / (ref^2 + 0.01), from its variance.
     pub expected_rel_mse: Option<f64>,
+    /// What the user should know about it (told when the study starts).
+    pub warnings: Vec<String>,
 }
 
 /// The reference's own expected relMSE: its per-pixel variance of the mean over
@@ -64,9 +66,42 @@ fn meta<'a>(metadata: &'a Metadata, key: &str) -> Option<&'a str> {
     metadata.iter().find(|(k, _)| k == key).map(|(_, v)| v.as_str())
 }
 
-/// Loads a reference file, checking its size against the study's (before any GPU work).
-pub fn load_file(path: &Path, width: u32, height: u32) -> Result<Reference, StudyError> {
+/// Loads a reference file (before any GPU work), refusing one of another size, one that
+/// pathlab made of another scene or max_depth (its header says so), and one with a non-finite
+/// pixel (`read_exr_image`). A file from elsewhere (no pathlab header) is taken as it is.
+pub fn load_file(path: &Path, scene: &Scene) -> Result<Reference, StudyError> {
+    let (width, height) = (scene.render.width, scene.render.height);
     let image = read_exr_image(path)?;
+    let recorded = |key: &str| meta(&image.metadata, key);
+    let mut warnings = Vec::new();
+    if let Some(depth) = recorded("max_depth") {
+        if depth != scene.render.max_depth.to_string() {
+            return Err(StudyError::Input(format!(
+                "the reference {} was rendered with max_depth {depth}, the study renders max_depth {} (use --max-depth {depth})",
+                path.display(),
+                scene.render.max_depth
+            )));
+        }
+    }
+    if let Some(hash) = recorded("scene_hash") {
+        let current = scene.content_hash();
+        // 0.1.0 hashed the scene's debug text: its hashes cannot be compared with today's.
+        let comparable = recorded("version").is_some_and(|v| v != "0.1.0");
+        if !comparable {
+            warnings.push(format!(
+                "the reference {} was made by pathlab 0.1.0, whose scene hash cannot be compared with this scene's: \
+                 make sure it is of this scene",
+                path.display()
+            ));
+        }
+        if comparable && hash != current && (image.film.width, image.film.height) == (width, height) {
+            return Err(StudyError::Input(format!(
+                "the reference {} was rendered from another scene (its pathlab:scene_hash is {hash}, this scene's is {current}): \
+                 a reference must be of the scene it scores",
+                path.display()
+            )));
+        }
+    }
     let film = image.film;
     if (film.width, film.height) != (width, height) {
         return Err(StudyError::Input(format!(
@@ -80,6 +115,7 @@ pub fn load_file(path: &Path, width: u32, height: u32) -> Result<Reference, Stud
     }
     let expected = image.has_variance.then(|| expected_rel_mse(&film));
     Ok(Reference {
+        warnings,
         description: format!("{} ({} spp, loaded)", path.display(), film.spp),
         render_seconds: meta(&image.metadata, "render_seconds").and_then(|s| s.parse().ok()),
         has_variance: image.has_variance,
@@ -125,6 +161,7 @@ pub fn render(
             if meta(&image.metadata, "reference") == Some(description.as_str()) && image.has_variance {
                 reporter.note(&format!("reference: reusing {} ({description})", cached.display()));
                 return Ok(Some(Reference {
+                    warnings: Vec::new(),
                     expected_rel_mse: Some(expected_rel_mse(&image.film)),
                     render_seconds: meta(&image.metadata, "render_seconds").and_then(|s| s.parse().ok()),
                     film: image.film,
@@ -151,6 +188,7 @@ pub fn render(
     reporter.note(&format!("reference: {} spp in {:.1} s, wrote {}", stats.spp, stats.seconds, cached.display()));
     let film = outcome.film;
     Ok(Some(Reference {
+        warnings: Vec::new(),
         expected_rel_mse: Some(expected_rel_mse(&film)),
         film,
         has_variance: true,
