@@ -243,3 +243,105 @@ fn a_study_refuses_a_bad_reference_before_rendering() {
         assert!(start.elapsed() < Duration::from_secs(10));
     }
 }
+
+/// Each corruption the mutation study found passing into a wrong result, reproduced with 16x8
+/// parts of the study scene: now refused, naming the file (and the pixel or the attribute).
+#[test]
+fn the_reported_findings_are_refused() {
+    use pathlab::output::mutation::{duplicated, rewritten, with_value};
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let render = |extra: &[&str], out: &Path| {
+        let mut c = pathlab();
+        c.arg("render").arg(study()).args(SIZE).args(extra).arg("--quiet").arg("-o").arg(out);
+        ok(run(c));
+    };
+    let (p0, p1) = (d.join("p0.exr"), d.join("p1.exr"));
+    render(&["--spp", "8", "--shard", "0/2"], &p0);
+    render(&["--spp", "8", "--shard", "1/2"], &p1);
+    let (reference, test) = (d.join("ref.exr"), d.join("test.exr"));
+    render(&["--spp", "16", "--variance", "--seed", "1"], &reference);
+    render(&["--spp", "4", "--variance", "--seed", "2"], &test);
+    let write = |name: &str, bytes: Vec<u8>| {
+        let p = d.join(name);
+        std::fs::write(&p, bytes).unwrap();
+        p
+    };
+    let merge_of = |part: &Path| {
+        let mut c = pathlab();
+        c.arg("merge").arg(&p0).arg(part).arg("-o").arg(d.join("out.exr"));
+        c
+    };
+    let merge_refuses = |what: &str, part: &Path, words: &[&str]| {
+        let r = run(merge_of(part));
+        assert_ne!(r.code, Some(0), "{what}: accepted: {}", r.stderr);
+        assert!(r.stderr.contains(part.file_name().unwrap().to_str().unwrap()), "{what}: {}", r.stderr);
+        for w in words {
+            assert!(r.stderr.contains(w), "{what}: `{w}` missing from: {}", r.stderr);
+        }
+    };
+    // Non-finite or impossible sums.
+    merge_refuses("NaN sum", &write("nan.exr", with_value(&p1, "sum.R", 5, f32::NAN).unwrap()), &["pixel (5, 0)", "sum.R is NaN"]);
+    merge_refuses("infinite sum", &write("inf.exr", with_value(&p1, "sum.G", 9, f32::INFINITY).unwrap()), &["pixel (9, 0)", "inf"]);
+    merge_refuses("negative sum", &write("neg.exr", with_value(&p1, "sum.B", 3, -1.0).unwrap()), &["negative"]);
+    merge_refuses("negative sum_sq", &write("negsq.exr", with_value(&p1, "sum_sq.R", 3, -1.0).unwrap()), &["negative"]);
+    // Header numbers cut to 32 bits.
+    merge_refuses("spp 2^32 + 2", &write("spp.exr", rewritten(&p1, &[("spp", "4294967298")]).unwrap()), &["pathlab:spp", "4294967298"]);
+    merge_refuses("width 2^32 + 16", &write("width.exr", rewritten(&p1, &[("width", "4294967312")]).unwrap()), &["pathlab:width"]);
+    merge_refuses("max_depth 2^32 + 2", &write("depth.exr", rewritten(&p1, &[("max_depth", "4294967298")]).unwrap()), &["pathlab:max_depth"]);
+    // first_sample + spp past 2^64, and past 2^32.
+    merge_refuses("first_sample 2^64 - 1", &write("wrap.exr", rewritten(&p1, &[("first_sample", "18446744073709551615")]).unwrap()), &["pathlab:first_sample"]);
+    merge_refuses("range past 2^32", &write("past.exr", rewritten(&p1, &[("first_sample", "4294967293")]).unwrap()), &["beyond 2^32"]);
+    // A single part's header: a second seed, an empty or a 100 kB scene_hash.
+    let single = |what: &str, file: &Path, words: &[&str]| {
+        let mut c = pathlab();
+        c.arg("merge").arg(file).arg("-o").arg(d.join("single.exr"));
+        let r = run(c);
+        assert_ne!(r.code, Some(0), "{what}: accepted");
+        assert!(r.stderr.contains(file.file_name().unwrap().to_str().unwrap()), "{what}: {}", r.stderr);
+        for w in words {
+            assert!(r.stderr.contains(w), "{what}: `{w}` missing from: {}", r.stderr);
+        }
+    };
+    single("second seed", &write("seed2.exr", duplicated(&p0, "seed", "7").unwrap()), &["pathlab:seed appears more than once"]);
+    single("empty scene_hash", &write("hash0.exr", rewritten(&p0, &[("scene_hash", " ")]).unwrap()), &["pathlab:scene_hash"]);
+    let long = "a".repeat(100_000);
+    single("100 kB scene_hash", &write("hashlong.exr", rewritten(&p0, &[("scene_hash", long.as_str())]).unwrap()), &["pathlab:scene_hash", "100000 bytes"]);
+    // A part altered in transit, checksum unchanged: one flipped bit in the data.
+    let mut bytes = std::fs::read(&p1).unwrap();
+    let at = bytes.len() - 40;
+    bytes[at] ^= 0x10;
+    merge_refuses("flipped bit", &write("flip.exr", bytes), &["checksum"]);
+    // Gaps name the part around them.
+    let r = run({
+        let mut c = pathlab();
+        c.arg("merge").arg(&p1).arg("-o").arg(d.join("gap.exr"));
+        c
+    });
+    assert!(r.stderr.contains("0..4") && r.stderr.contains("before") && r.stderr.contains("p1.exr"), "{}", r.stderr);
+    // compare: a NaN pixel in either image, a NaN exposure, a garbage display.
+    let compare = |t: &Path, r: &Path| {
+        let mut c = pathlab();
+        c.arg("compare").arg(t).arg(r).arg("--json");
+        c
+    };
+    let nan_ref = write("nan-ref.exr", with_value(&reference, "G", 17, f32::NAN).unwrap());
+    let nan_test = write("nan-test.exr", with_value(&test, "R", 33, f32::NAN).unwrap());
+    for (what, t, r, file, words) in [
+        ("NaN in the reference", &test, &nan_ref, &nan_ref, vec!["pixel (1, 1)", "non-finite G"]),
+        ("NaN in the test image", &nan_test, &reference, &nan_test, vec!["pixel (1, 2)", "non-finite R"]),
+    ] {
+        let out = run(compare(t, r));
+        assert_ne!(out.code, Some(0), "{what}: {}", out.stdout);
+        assert!(out.stderr.contains(file.file_name().unwrap().to_str().unwrap()), "{what}: {}", out.stderr);
+        for w in words {
+            assert!(out.stderr.contains(w), "{what}: `{w}` missing from {}", out.stderr);
+        }
+    }
+    for (name, key, value) in [("exposure.exr", "exposure", "nan"), ("gamma-abc.exr", "display", "gamma:abc"), ("gamma0.exr", "display", "gamma:0")] {
+        let file = write(name, rewritten(&reference, &[(key, value)]).unwrap());
+        let out = run(compare(&test, &file));
+        assert_ne!(out.code, Some(0), "{name}: {}", out.stdout);
+        assert!(out.stderr.contains(name) && out.stderr.contains(&format!("pathlab:{key}")), "{name}: {}", out.stderr);
+    }
+}

@@ -95,6 +95,68 @@ fn write(parsed: &Parsed, channels: Vec<AnyChannel<FlatSamples>>, metadata: &[(S
     Some(cursor.into_inner())
 }
 
+/// `bytes` with the values of the attributes named in `replace` replaced and the attribute
+/// records `append` added at the end of the header, spliced into the header as written (the
+/// `exr` crate will not write duplicate names or texts longer than its limits), the chunk
+/// offsets that follow the header shifted to match.
+fn splice(bytes: &[u8], replace: &[(String, Vec<u8>)], append: &[(String, String, Vec<u8>)], chunks: usize) -> Option<Vec<u8>> {
+    let mut out = bytes[..8].to_vec();
+    let mut at = 8;
+    let cstr = |at: &mut usize| -> Option<Vec<u8>> {
+        let len = bytes.get(*at..)?.iter().position(|&b| b == 0)?;
+        let s = bytes[*at..*at + len].to_vec();
+        *at += len + 1;
+        Some(s)
+    };
+    let record = |out: &mut Vec<u8>, name: &[u8], kind: &[u8], value: &[u8]| {
+        out.extend(name);
+        out.push(0);
+        out.extend(kind);
+        out.push(0);
+        out.extend((value.len() as i32).to_le_bytes());
+        out.extend(value);
+    };
+    loop {
+        let name = cstr(&mut at)?;
+        if name.is_empty() {
+            for (n, k, v) in append {
+                record(&mut out, n.as_bytes(), k.as_bytes(), v);
+            }
+            out.push(0);
+            break;
+        }
+        let kind = cstr(&mut at)?;
+        let size = i32::from_le_bytes(bytes.get(at..at + 4)?.try_into().ok()?) as usize;
+        at += 4;
+        let old = bytes.get(at..at + size)?;
+        at += size;
+        let new = replace.iter().find(|(n, _)| n.as_bytes() == name.as_slice()).map_or(old, |(_, v)| v.as_slice());
+        record(&mut out, &name, &kind, new);
+    }
+    let delta = out.len() as i64 - at as i64;
+    for k in 0..chunks {
+        let offset = u64::from_le_bytes(bytes.get(at + 8 * k..at + 8 * k + 8)?.try_into().ok()?);
+        out.extend(((offset as i64 + delta) as u64).to_le_bytes());
+    }
+    out.extend(bytes.get(at + 8 * chunks..)?);
+    Some(out)
+}
+
+/// `bytes` with `pathlab:KEY` set to `value` and the checksum to `checksum`, spliced.
+fn splice_text(bytes: &[u8], key: &str, value: &str, checksum: &str, chunks: usize) -> Option<Vec<u8>> {
+    let replace = [(format!("pathlab:{key}"), value.as_bytes().to_vec()), (format!("pathlab:{CHECKSUM_KEY}"), checksum.as_bytes().to_vec())];
+    splice(bytes, &replace, &[], chunks)
+}
+
+/// Chunks of the file's first part (the length of its offset table).
+fn chunk_count(path: &Path) -> Option<usize> {
+    exr::meta::MetaData::read_from_file(path, false).ok()?.headers.first().map(|h| h.chunk_count)
+}
+
+fn unwritable(path: &Path, what: &str) -> OutputError {
+    OutputError::Encode { path: path.to_path_buf(), message: format!("cannot write a mutant with {what}") }
+}
+
 /// The byte where the header ends (after its terminating null), found by scanning it.
 fn header_end(bytes: &[u8]) -> usize {
     let mut at = 8;
@@ -192,11 +254,18 @@ pub fn mutants(path: &Path, seed: u64, plan: Plan) -> Result<Vec<Mutant>, Output
             let shown: String = bad.chars().take(24).collect();
             // Damaged: the checksum no longer matches. Forged: the checksum matches, and the
             // value must be refused where it is read (or change nothing where it is not).
-            if let Some(b) = write(&parsed, same_channels(), &metadata, &[], false) {
+            let original = parsed.metadata.iter().find(|(k, _)| k == CHECKSUM_KEY).map_or(String::new(), |(_, v)| v.clone());
+            let forged = content_sha256(&metadata.iter().filter(|(k, _)| k != CHECKSUM_KEY).cloned().collect::<Vec<_>>(), &AnyChannels::sort(same_channels().into()));
+            // Through the exr crate, else (a text too long for it) spliced into the header.
+            let rewrite = |forge: bool| {
+                write(&parsed, same_channels(), &metadata, &[], forge)
+                    .or_else(|| splice_text(&bytes, key, &bad, if forge { &forged } else { &original }, chunk_count(path)?))
+            };
+            if let Some(b) = rewrite(false) {
                 out.push(Mutant { label: format!("pathlab:{key} = `{shown}` (damaged)"), bytes: b, expect: Expect::Refuse });
             }
             if !legitimately_different(key, &bad) {
-                if let Some(b) = write(&parsed, same_channels(), &metadata, &[], true) {
+                if let Some(b) = rewrite(true) {
                     out.push(Mutant { label: format!("pathlab:{key} = `{shown}` (forged)"), bytes: b, expect: Expect::RefuseOrSame });
                 }
             }
@@ -204,15 +273,14 @@ pub fn mutants(path: &Path, seed: u64, plan: Plan) -> Result<Vec<Mutant>, Output
         let without: Vec<(String, String)> = parsed.metadata.iter().filter(|(k, _)| k != key).cloned().collect();
         // Without a recorded display transform, a reference is shown in sRGB: valid, different.
         let optional = ["display", "exposure"].contains(&key.as_str());
-        if let Some(b) = write(&parsed, same_channels(), &without, &[], true).filter(|_| !optional) {
+        if let Some(b) = Some(write(&parsed, same_channels(), &without, &[], true).ok_or_else(|| unwritable(path, "a rewrite"))?).filter(|_| !optional) {
             out.push(Mutant { label: format!("pathlab:{key} removed (forged)"), bytes: b, expect: Expect::RefuseOrSame });
         }
-        let dup = [(key.clone(), AttributeValue::Text(Text::from(format!("{value}0").as_str())))];
-        if let Some(b) = write(&parsed, same_channels(), &parsed.metadata, &dup, true) {
-            out.push(Mutant { label: format!("pathlab:{key} twice (forged)"), bytes: b, expect: Expect::Refuse });
-        }
+        let dup = [(format!("pathlab:{key}"), "string".to_string(), format!("{value}0").into_bytes())];
+        let b = chunk_count(path).and_then(|chunks| splice(&bytes, &[], &dup, chunks));
+        out.push(Mutant { label: format!("pathlab:{key} twice"), bytes: b.ok_or_else(|| unwritable(path, "a duplicate"))?, expect: Expect::Refuse });
         let typed = [(key.clone(), AttributeValue::I32(7))];
-        if let Some(b) = write(&parsed, same_channels(), &without, &typed, true) {
+        if let Some(b) = Some(write(&parsed, same_channels(), &without, &typed, true).ok_or_else(|| unwritable(path, "a rewrite"))?) {
             out.push(Mutant { label: format!("pathlab:{key} as an integer attribute (forged)"), bytes: b, expect: Expect::Refuse });
         }
     }
@@ -229,7 +297,7 @@ pub fn mutants(path: &Path, seed: u64, plan: Plan) -> Result<Vec<Mutant>, Output
         };
         for (what, channels) in [("removed", removed), ("of another sample type", retyped)] {
             for forge in [false, true] {
-                if let Some(b) = write(&parsed, channels.clone(), &parsed.metadata, &[], forge) {
+                if let Some(b) = Some(write(&parsed, channels.clone(), &parsed.metadata, &[], forge).ok_or_else(|| unwritable(path, "a rewrite"))?) {
                     out.push(Mutant { label: format!("channel {name} {what} ({})", if forge { "forged" } else { "damaged" }), bytes: b, expect: Expect::Refuse });
                 }
             }
@@ -239,7 +307,7 @@ pub fn mutants(path: &Path, seed: u64, plan: Plan) -> Result<Vec<Mutant>, Output
     let n = parsed.size.0 * parsed.size.1;
     extra.push(AnyChannel::new("junk", FlatSamples::F32(vec![0.5; n])));
     for forge in [false, true] {
-        if let Some(b) = write(&parsed, extra.clone(), &parsed.metadata, &[], forge) {
+        if let Some(b) = Some(write(&parsed, extra.clone(), &parsed.metadata, &[], forge).ok_or_else(|| unwritable(path, "a rewrite"))?) {
             // A forged image may carry channels nothing reads; accumulator files may not.
             let expect = if forge { Expect::RefuseOrSame } else { Expect::Refuse };
             out.push(Mutant { label: format!("extra channel junk ({})", if forge { "forged" } else { "damaged" }), bytes: b, expect });
@@ -263,7 +331,7 @@ pub fn mutants(path: &Path, seed: u64, plan: Plan) -> Result<Vec<Mutant>, Output
                 v[at] = x;
             }
             for forge in [false, true] {
-                if let Some(b) = write(&parsed, channels.clone(), &parsed.metadata, &[], forge) {
+                if let Some(b) = Some(write(&parsed, channels.clone(), &parsed.metadata, &[], forge).ok_or_else(|| unwritable(path, "a rewrite"))?) {
                     out.push(Mutant {
                         label: format!("{name}[{at}] = {x} ({})", if forge { "forged" } else { "damaged" }),
                         bytes: b,
@@ -285,10 +353,54 @@ pub fn mutants(path: &Path, seed: u64, plan: Plan) -> Result<Vec<Mutant>, Output
                     _ => (k.clone(), v.clone()),
                 })
                 .collect();
-            if let Some(b) = write(&parsed, same_channels(), &metadata, &[], true) {
+            if let Some(b) = Some(write(&parsed, same_channels(), &metadata, &[], true).ok_or_else(|| unwritable(path, "a rewrite"))?) {
                 out.push(Mutant { label: format!("first_sample {first}, spp {} (forged)", spp.unwrap_or("as before")), bytes: b, expect: Expect::Refuse });
             }
         }
     }
     Ok(out)
+}
+
+/// `path` with the pathlab attributes `changes` set (a new key is added, an empty value removes
+/// it) and its checksum recomputed: a file as a careless writer would leave it.
+pub fn rewritten(path: &Path, changes: &[(&str, &str)]) -> Result<Vec<u8>, OutputError> {
+    let parsed = parse(path)?;
+    let mut metadata = parsed.metadata.clone();
+    for (key, value) in changes {
+        metadata.retain(|(k, _)| k != key);
+        if !value.is_empty() {
+            metadata.push((key.to_string(), value.to_string()));
+        }
+    }
+    let fail = || OutputError::Encode { path: path.to_path_buf(), message: "cannot write the mutant".into() };
+    if let Some(b) = write(&parsed, parsed.channels.clone(), &metadata, &[], true) {
+        return Ok(b);
+    }
+    // A text too long for the exr crate: spliced into the header as written (one change).
+    let [(key, value)] = changes else { return Err(fail()) };
+    let bytes = std::fs::read(path).map_err(|source| OutputError::Io { path: path.to_path_buf(), source })?;
+    let checksum = content_sha256(&metadata.iter().filter(|(k, _)| k != CHECKSUM_KEY).cloned().collect::<Vec<_>>(), &AnyChannels::sort(parsed.channels.clone().into()));
+    splice_text(&bytes, key, value, &checksum, chunk_count(path).ok_or_else(fail)?).ok_or_else(fail)
+}
+
+/// `path` with value `index` of float channel `channel` set to `x`, checksum recomputed.
+pub fn with_value(path: &Path, channel: &str, index: usize, x: f32) -> Result<Vec<u8>, OutputError> {
+    let parsed = parse(path)?;
+    let mut channels = parsed.channels.clone();
+    for c in &mut channels {
+        if c.name == Text::from(channel) {
+            if let FlatSamples::F32(v) = &mut c.sample_data {
+                v[index] = x;
+            }
+        }
+    }
+    write(&parsed, channels, &parsed.metadata, &[], true).ok_or_else(|| OutputError::Encode { path: path.to_path_buf(), message: "cannot write the mutant".into() })
+}
+
+/// `path` with a second `pathlab:KEY` of `value` in its header, checksum recomputed.
+pub fn duplicated(path: &Path, key: &str, value: &str) -> Result<Vec<u8>, OutputError> {
+    let fail = || OutputError::Encode { path: path.to_path_buf(), message: "cannot write the mutant".into() };
+    let bytes = std::fs::read(path).map_err(|source| OutputError::Io { path: path.to_path_buf(), source })?;
+    let append = [(format!("pathlab:{key}"), "string".to_string(), value.as_bytes().to_vec())];
+    splice(&bytes, &[], &append, chunk_count(path).ok_or_else(fail)?).ok_or_else(fail)
 }
