@@ -104,7 +104,10 @@ fn print_table(r: &Comparison) {
             _ => println!("bias {name}    {:+.4e}   {:+.3}%", b.bias, 100.0 * b.relative()),
         }
     }
-    println!("PSNR      {:.4} dB   (display: {})", r.psnr, r.display);
+    println!("PSNR      {:.4} dB   (display: {}; display MSE {:.4e})", r.psnr, r.display, r.display_mse);
+    if let (Some(mse), Some(p)) = (r.expected_display_mse, r.expected_psnr) {
+        println!("noise     {p:.4} dB   (display MSE {mse:.4e}: what the two images' variances alone give; a PSNR near it is their noise floor, not a bias test)");
+    }
     println!("SSIM      {:.5}", r.ssim);
     println!("FLIP      {:.5}", r.flip);
     match &r.z_test {

@@ -15,14 +15,16 @@
 //!   var = sum_r (m_r - m)^2 / (R (R - 1)).
 //!
 //! The display-referred estimate (for `--target-psnr`) propagates each pixel's standard error
-//! through the display transform g: E[(g(X) - g(mu))^2] ~ ((g(m + s) - g(m - s)) / 2)^2 with
-//! s the standard error (the secant form of the delta method, which also handles clipping).
+//! through the display transform g (`metrics::expected`: E[(g(X) - g(mu))^2] ~
+//! ((g(m + s) - g(m - s)) / 2)^2 with s the standard error, the secant form of the delta method,
+//! which also handles clipping).
 
 pub mod target;
 
 use serde::Serialize;
 
 use crate::display::DisplayTransform;
+use crate::metrics::expected::display_mse_from_variance;
 use crate::metrics::linear::REL_MSE_EPSILON;
 use crate::method::Sampler;
 use crate::film::Film;
@@ -89,27 +91,11 @@ pub fn rel_mse_from_variance(mean: &[[f32; 3]], variance: &[[f64; 3]]) -> f64 {
     total / (3 * mean.len()).max(1) as f64
 }
 
-/// Estimated display MSE (peak 1) of `mean` with variances of the mean `variance`.
-fn display_mse(mean: &[[f32; 3]], variance: &[[f64; 3]], display: &DisplayTransform) -> f64 {
-    let total: f64 = mean
-        .iter()
-        .zip(variance)
-        .flat_map(|(m, v)| {
-            (0..3).map(move |c| {
-                let (x, s) = (m[c], v[c].max(0.0).sqrt() as f32);
-                let half = (display.apply(x + s) - display.apply(x - s)) as f64 / 2.0;
-                half * half
-            })
-        })
-        .sum();
-    total / (3 * mean.len()).max(1) as f64
-}
-
 /// The estimate from per-pixel variances of the mean.
 fn estimate(mean: &[[f32; 3]], variance: &[[f64; 3]], spp: u64, display: Option<&DisplayTransform>) -> ErrorEstimate {
     ErrorEstimate {
         rel_mse: rel_mse_from_variance(mean, variance),
-        psnr: display.map(|d| 10.0 * (1.0 / display_mse(mean, variance, d).max(1e-30)).log10()),
+        psnr: display.map(|d| 10.0 * (1.0 / display_mse_from_variance(mean, variance, d).max(1e-30)).log10()),
         spp,
     }
 }

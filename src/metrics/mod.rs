@@ -4,8 +4,10 @@
 //! - `psnr`, `ssim`, `flip`: on the display image (see `display`), matching scikit-image and
 //!   NVIDIA's FLIP (tested against values those libraries computed, `tests/metrics_fixtures.rs`);
 //! - `compare`: all of them for a pair of films, with the z-test verdict of the correctness
-//!   suite when both carry variances.
+//!   suite when both carry variances, and (`expected`) the display MSE and PSNR their noise
+//!   alone would give.
 
+pub mod expected;
 pub mod flip;
 pub mod linear;
 pub mod psnr;
@@ -81,6 +83,12 @@ pub struct Comparison {
     pub psnr: f64,
     pub ssim: f64,
     pub flip: f64,
+    /// The display MSE (peak 1: the study's L2 on the display image) and PSNR.
+    pub display_mse: f64,
+    /// When both images carry variances: the display MSE and PSNR their noise alone would give
+    /// (two independent unbiased renders reach these; `expected`).
+    pub expected_display_mse: Option<f64>,
+    pub expected_psnr: Option<f64>,
     /// Per-pixel z-test, when both images carry variances.
     pub z_test: Option<ZTestSummary>,
 }
@@ -111,7 +119,11 @@ pub fn compare_blocks(test: &Film, reference: &Film, display: DisplayTransform, 
         return Err(MetricsError::Block(block, test.width, test.height));
     }
     let (t, r) = (display.film(test), display.film(reference));
+    let expected = with_variance.then(|| expected::expected_noise_error(test, reference, &display));
     Ok(Comparison {
+        display_mse: psnr::display_mse(&r, &t),
+        expected_display_mse: expected.map(|e| e.0),
+        expected_psnr: expected.map(|e| e.1),
         width: test.width,
         height: test.height,
         mse: mse(test, reference),
