@@ -105,24 +105,39 @@ fn pixels(film: &pathlab::film::Film) -> Vec<u32> {
     film.mean.iter().chain(&film.variance).flatten().map(|x| x.to_bits()).collect()
 }
 
+/// Renders `extra` of the study scene at 16x8 to `out`.
+fn render_to(extra: &[&str], out: &Path) {
+    let mut c = pathlab();
+    c.arg("render").arg(study()).args(SIZE).args(extra).arg("--quiet").arg("-o").arg(out);
+    ok(run(c));
+}
+
+/// The files the mutations start from, in `d`: two shards of 8 spp, a reference (16 spp) and a
+/// test image (4 spp), both with variance.
+struct Originals {
+    p0: PathBuf,
+    p1: PathBuf,
+    reference: PathBuf,
+    test: PathBuf,
+}
+
+fn originals(d: &Path) -> Originals {
+    let o = Originals { p0: d.join("p0.exr"), p1: d.join("p1.exr"), reference: d.join("ref.exr"), test: d.join("test.exr") };
+    render_to(&["--spp", "8", "--shard", "0/2"], &o.p0);
+    render_to(&["--spp", "8", "--shard", "1/2"], &o.p1);
+    render_to(&["--spp", "16", "--variance", "--seed", "1"], &o.reference);
+    render_to(&["--spp", "4", "--variance", "--seed", "2"], &o.test);
+    o
+}
+
 #[test]
 fn corrupted_parts_checkpoints_and_references_are_refused_by_name_or_change_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let render = |extra: &[&str], out: &Path| {
-        let mut c = pathlab();
-        c.arg("render").arg(study()).args(SIZE).args(extra).arg("--quiet").arg("-o").arg(out);
-        ok(run(c));
-    };
     // The originals: two shards, a finished checkpoint, a reference and a test image.
-    let (p0, p1) = (d.join("p0.exr"), d.join("p1.exr"));
-    render(&["--spp", "8", "--shard", "0/2"], &p0);
-    render(&["--spp", "8", "--shard", "1/2"], &p1);
+    let Originals { p0, p1, reference, test } = originals(d);
     let checkpoint = d.join("c.exr");
-    render(&["--spp", "8", "--checkpoint", checkpoint.to_str().unwrap()], &d.join("c-image.exr"));
-    let (reference, test) = (d.join("ref.exr"), d.join("test.exr"));
-    render(&["--spp", "16", "--variance", "--seed", "1"], &reference);
-    render(&["--spp", "4", "--variance", "--seed", "2"], &test);
+    render_to(&["--spp", "8", "--checkpoint", checkpoint.to_str().unwrap()], &d.join("c-image.exr"));
 
     let merge = |part: &Path, out: &Path| {
         let mut c = pathlab();
@@ -251,17 +266,7 @@ fn the_reported_findings_are_refused() {
     use pathlab::output::mutation::{duplicated, rewritten, with_value};
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let render = |extra: &[&str], out: &Path| {
-        let mut c = pathlab();
-        c.arg("render").arg(study()).args(SIZE).args(extra).arg("--quiet").arg("-o").arg(out);
-        ok(run(c));
-    };
-    let (p0, p1) = (d.join("p0.exr"), d.join("p1.exr"));
-    render(&["--spp", "8", "--shard", "0/2"], &p0);
-    render(&["--spp", "8", "--shard", "1/2"], &p1);
-    let (reference, test) = (d.join("ref.exr"), d.join("test.exr"));
-    render(&["--spp", "16", "--variance", "--seed", "1"], &reference);
-    render(&["--spp", "4", "--variance", "--seed", "2"], &test);
+    let Originals { p0, p1, reference, test } = originals(d);
     let write = |name: &str, bytes: Vec<u8>| {
         let p = d.join(name);
         std::fs::write(&p, bytes).unwrap();
