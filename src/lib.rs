@@ -17,6 +17,8 @@
 //! - `sequences`: the CPU twin of the WGSL samplers;
 //! - `shaders`: assembly and naga validation of the WGSL kernels in `shaders/`, with the
 //!   constants and bindings generated from the Rust definitions;
+//! - `accel`: the watertight ray-triangle test and the BVH over triangles (CPU side, flat for
+//!   the GPU);
 //! - `gpu`: device, specialised pipelines, scene buffers;
 //! - `render`: the renderer, checkpoints, rendering to a target, one `RenderJob` for every command;
 //! - `shard`: sample ranges of split renders and their exact merge;
@@ -24,6 +26,7 @@
 //! - `study`: `pathlab study`: reference, tables, convergence, bias verdicts, report;
 //! - `viewer` (feature `viewer`): `pathlab view`, the egui window.
 
+pub mod accel;
 pub mod advise;
 pub mod display;
 pub mod estimate;

@@ -1,0 +1,245 @@
+//! A bounding volume hierarchy over triangles, built on the CPU with a binned surface area
+//! heuristic (12 bins along the widest axis of the centroids, as pbrt-v4's `BVHAggregate`),
+//! laid out flat for the GPU: 32-byte nodes whose two children are adjacent, and a leaf's
+//! triangles a contiguous range of `order`. Traversal (here the CPU twin of the kernel's) visits
+//! the nearer child first with a stack of at most `MAX_DEPTH` entries: the builder makes a leaf
+//! rather than a node deeper than that, so the stack can never overflow.
+
+use bytemuck::{Pod, Zeroable};
+use glam::Vec3;
+
+use super::triangle::ShearedRay;
+
+/// Deepest node the builder makes (the traversal stack's size).
+pub const MAX_DEPTH: usize = 48;
+/// Bins of the SAH split search.
+const BINS: usize = 12;
+/// Triangles a leaf holds at most where splitting is possible and pays.
+const MAX_LEAF: usize = 4;
+/// Cost of visiting a node, relative to one triangle test: on a GPU a node visit pays for the
+/// stack and the divergence about as much as a test.
+const NODE_COST: f32 = 1.0;
+
+/// One node. `count == 0`: an interior node whose children are nodes `first` and `first + 1`;
+/// else a leaf of triangles `order[first .. first + count]`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct BvhNode {
+    pub min: [f32; 3],
+    pub first: u32,
+    pub max: [f32; 3],
+    pub count: u32,
+}
+
+/// The hierarchy: nodes (the root is node 0) and the triangle order the leaves index.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Bvh {
+    pub nodes: Vec<BvhNode>,
+    pub order: Vec<u32>,
+    /// Depth of the deepest leaf.
+    pub depth: usize,
+}
+
+#[derive(Debug, Clone, Copy)]
+struct Aabb {
+    min: Vec3,
+    max: Vec3,
+}
+
+impl Aabb {
+    const EMPTY: Aabb = Aabb { min: Vec3::splat(f32::INFINITY), max: Vec3::splat(f32::NEG_INFINITY) };
+
+    fn grow(self, p: Vec3) -> Aabb {
+        Aabb { min: self.min.min(p), max: self.max.max(p) }
+    }
+
+    fn union(self, o: Aabb) -> Aabb {
+        Aabb { min: self.min.min(o.min), max: self.max.max(o.max) }
+    }
+
+    /// Half the surface area (the SAH only compares ratios).
+    fn half_area(self) -> f32 {
+        let d = (self.max - self.min).max(Vec3::ZERO);
+        d.x * d.y + d.y * d.z + d.z * d.x
+    }
+}
+
+/// The triangles `[a, b, c]` as the BVH sees them.
+pub type Triangle = [Vec3; 3];
+
+fn bounds(t: &Triangle) -> Aabb {
+    Aabb::EMPTY.grow(t[0]).grow(t[1]).grow(t[2])
+}
+
+impl Bvh {
+    /// Builds the hierarchy of `triangles` (at least one).
+    pub fn build(triangles: &[Triangle]) -> Bvh {
+        let boxes: Vec<Aabb> = triangles.iter().map(bounds).collect();
+        let centroids: Vec<Vec3> = boxes.iter().map(|b| (b.min + b.max) * 0.5).collect();
+        let mut order: Vec<u32> = (0..triangles.len() as u32).collect();
+        let mut nodes = vec![BvhNode::zeroed()];
+        let mut depth = 0;
+        // (node, first, count, depth) still to build.
+        let mut work = vec![(0usize, 0usize, triangles.len(), 0usize)];
+        while let Some((node, first, count, d)) = work.pop() {
+            depth = depth.max(d);
+            let range = &mut order[first..first + count];
+            let bb = range.iter().fold(Aabb::EMPTY, |b, &i| b.union(boxes[i as usize]));
+            nodes[node].min = bb.min.to_array();
+            nodes[node].max = bb.max.to_array();
+            let split = if d + 1 < MAX_DEPTH && count > 1 { sah_split(range, &boxes, &centroids, bb) } else { None };
+            match split {
+                Some(left) => {
+                    let child = nodes.len();
+                    nodes.push(BvhNode::zeroed());
+                    nodes.push(BvhNode::zeroed());
+                    nodes[node].first = child as u32;
+                    nodes[node].count = 0;
+                    work.push((child, first, left, d + 1));
+                    work.push((child + 1, first + left, count - left, d + 1));
+                }
+                None => {
+                    nodes[node].first = first as u32;
+                    nodes[node].count = count as u32;
+                }
+            }
+        }
+        Bvh { nodes, order, depth }
+    }
+
+    /// The nearest hit of the ray (origin, direction) closer than `t_max`: (t, triangle).
+    pub fn closest(&self, triangles: &[Triangle], origin: Vec3, direction: Vec3, t_max: f32) -> Option<(f32, u32)> {
+        self.traverse(triangles, origin, direction, t_max, false)
+    }
+
+    /// Whether anything lies on the ray closer than `t_max` (shadow rays stop at the first hit).
+    pub fn any(&self, triangles: &[Triangle], origin: Vec3, direction: Vec3, t_max: f32) -> bool {
+        self.traverse(triangles, origin, direction, t_max, true).is_some()
+    }
+
+    fn traverse(&self, triangles: &[Triangle], origin: Vec3, direction: Vec3, t_max: f32, any: bool) -> Option<(f32, u32)> {
+        let ray = ShearedRay::new(origin, direction);
+        let inv = direction.recip();
+        let mut best: Option<(f32, u32)> = None;
+        let mut t_far = t_max;
+        let mut stack = [0u32; MAX_DEPTH];
+        let mut top = 0;
+        let mut node = 0u32;
+        loop {
+            let n = &self.nodes[node as usize];
+            if n.count > 0 {
+                for &i in &self.order[n.first as usize..(n.first + n.count) as usize] {
+                    let [a, b, c] = triangles[i as usize];
+                    if let Some((t, _, _)) = ray.hit(a, b, c, t_far) {
+                        best = Some((t, i));
+                        t_far = t;
+                        if any {
+                            return best;
+                        }
+                    }
+                }
+            } else {
+                // The nearer child next, the farther one on the stack.
+                let (l, r) = (n.first, n.first + 1);
+                let tl = slab(&self.nodes[l as usize], origin, inv, t_far);
+                let tr = slab(&self.nodes[r as usize], origin, inv, t_far);
+                match (tl, tr) {
+                    (Some(a), Some(b)) => {
+                        let (near, far) = if a <= b { (l, r) } else { (r, l) };
+                        stack[top] = far;
+                        top += 1;
+                        node = near;
+                        continue;
+                    }
+                    (Some(_), None) => {
+                        node = l;
+                        continue;
+                    }
+                    (None, Some(_)) => {
+                        node = r;
+                        continue;
+                    }
+                    (None, None) => {}
+                }
+            }
+            if top == 0 {
+                return best;
+            }
+            top -= 1;
+            node = stack[top];
+        }
+    }
+}
+
+/// The entry distance of the ray into `node`'s box if it enters before `t_max`. Conservative:
+/// the exit distance is widened by 1 + 2 gamma(3) (Ize 2013, "Robust BVH Ray Traversal"), so a
+/// triangle the watertight test hits is never culled by its box's rounding.
+fn slab(node: &BvhNode, origin: Vec3, inv: Vec3, t_max: f32) -> Option<f32> {
+    const GAMMA3: f32 = 3.0 * f32::EPSILON * 0.5 / (1.0 - 3.0 * f32::EPSILON * 0.5);
+    let (mut enter, mut exit) = (0.0f32, t_max);
+    for k in 0..3 {
+        let (lo, hi, o) = (node.min[k], node.max[k], origin[k]);
+        if inv[k].is_infinite() {
+            // Parallel to this slab: inside it all along, or never.
+            if o < lo || o > hi {
+                return None;
+            }
+            continue;
+        }
+        let (t0, t1) = ((lo - o) * inv[k], (hi - o) * inv[k]);
+        enter = enter.max(t0.min(t1));
+        exit = exit.min(t0.max(t1) * (1.0 + 2.0 * GAMMA3));
+    }
+    (enter <= exit).then_some(enter)
+}
+
+/// The SAH split of `range` (reordered in place): the number of triangles that go left, or
+/// `None` when a leaf is cheaper (or nothing separates the centroids).
+fn sah_split(range: &mut [u32], boxes: &[Aabb], centroids: &[Vec3], bb: Aabb) -> Option<usize> {
+    let cb = range.iter().fold(Aabb::EMPTY, |b, &i| b.grow(centroids[i as usize]));
+    let extent = cb.max - cb.min;
+    let axis = if extent.x >= extent.y && extent.x >= extent.z { 0 } else if extent.y >= extent.z { 1 } else { 2 };
+    if !(extent[axis] > 0.0) {
+        // Every centroid in one point: no plane separates them.
+        return None;
+    }
+    let bin_of = |i: u32| (((centroids[i as usize][axis] - cb.min[axis]) / extent[axis] * BINS as f32) as usize).min(BINS - 1);
+    let mut bins = [(Aabb::EMPTY, 0usize); BINS];
+    for &i in range.iter() {
+        let b = &mut bins[bin_of(i)];
+        *b = (b.0.union(boxes[i as usize]), b.1 + 1);
+    }
+    // Cost of splitting after bin k: sweep from both ends.
+    let mut left = [(Aabb::EMPTY, 0usize); BINS - 1];
+    let mut acc = (Aabb::EMPTY, 0);
+    for k in 0..BINS - 1 {
+        acc = (acc.0.union(bins[k].0), acc.1 + bins[k].1);
+        left[k] = acc;
+    }
+    let mut acc = (Aabb::EMPTY, 0);
+    let mut best = (f32::INFINITY, 0);
+    for k in (0..BINS - 1).rev() {
+        acc = (acc.0.union(bins[k + 1].0), acc.1 + bins[k + 1].1);
+        let (l, r) = (left[k], acc);
+        if l.1 == 0 || r.1 == 0 {
+            continue;
+        }
+        let cost = NODE_COST + (l.0.half_area() * l.1 as f32 + r.0.half_area() * r.1 as f32) / bb.half_area().max(f32::MIN_POSITIVE);
+        if cost < best.0 {
+            best = (cost, k);
+        }
+    }
+    let leaf_cost = range.len() as f32;
+    if !best.0.is_finite() || (range.len() <= MAX_LEAF && leaf_cost <= best.0) {
+        return None;
+    }
+    // Partition: bins 0..=k to the left.
+    let mut i = 0;
+    for j in 0..range.len() {
+        if bin_of(range[j]) <= best.1 {
+            range.swap(i, j);
+            i += 1;
+        }
+    }
+    Some(i)
+}

@@ -1,0 +1,172 @@
+//! The BVH (CPU side, `pathlab::accel`) against brute force: the closest hit and the any-hit of
+//! every ray agree with testing every triangle, on random soups and on the nasty cases:
+//! coplanar, axis-aligned, huge and tiny triangles, a mesh far from the origin; and rays aimed
+//! exactly at the shared edges and vertices of a closed mesh, from inside, all hit (watertight:
+//! not one escapes). Deterministic (fixed seeds); exact agreement is required (the BVH runs the
+//! same triangle test, so its box culling must never drop a hit).
+
+use glam::Vec3;
+
+use pathlab::accel::{Bvh, ShearedRay, Triangle};
+
+/// SplitMix64.
+struct Rng(u64);
+
+impl Rng {
+    fn u(&mut self) -> f32 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
+    }
+    fn range(&mut self, lo: f32, hi: f32) -> f32 {
+        lo + (hi - lo) * self.u()
+    }
+    fn vec(&mut self, lo: f32, hi: f32) -> Vec3 {
+        Vec3::new(self.range(lo, hi), self.range(lo, hi), self.range(lo, hi))
+    }
+    fn dir(&mut self) -> Vec3 {
+        loop {
+            let v = self.vec(-1.0, 1.0);
+            if v.length_squared() > 1e-4 && v.length_squared() <= 1.0 {
+                return v;
+            }
+        }
+    }
+}
+
+fn brute(tris: &[Triangle], o: Vec3, d: Vec3, t_max: f32) -> Option<f32> {
+    let ray = ShearedRay::new(o, d);
+    tris.iter().filter_map(|[a, b, c]| ray.hit(*a, *b, *c, t_max).map(|h| h.0)).fold(None, |best, t| Some(best.map_or(t, |b: f32| b.min(t))))
+}
+
+/// Every ray's closest and any hit through the BVH equal brute force's; returns the hits.
+fn agree(name: &str, tris: &[Triangle], rays: &[(Vec3, Vec3)]) -> usize {
+    let bvh = Bvh::build(tris);
+    assert!(bvh.depth < pathlab::accel::bvh::MAX_DEPTH, "{name}: depth {}", bvh.depth);
+    let mut hits = 0;
+    for (k, &(o, d)) in rays.iter().enumerate() {
+        let expected = brute(tris, o, d, f32::INFINITY);
+        let got = bvh.closest(tris, o, d, f32::INFINITY).map(|h| h.0);
+        assert_eq!(got, expected, "{name}: ray {k} ({o:?} + t {d:?}): closest");
+        let shadow_max = expected.map_or(10.0, |t| t * 1.5);
+        assert_eq!(bvh.any(tris, o, d, shadow_max), brute(tris, o, d, shadow_max).is_some(), "{name}: ray {k}: any");
+        hits += expected.is_some() as usize;
+    }
+    hits
+}
+
+fn soup(rng: &mut Rng, n: usize, size: (f32, f32), spread: f32, offset: Vec3) -> Vec<Triangle> {
+    (0..n)
+        .map(|_| {
+            let c = offset + rng.vec(-spread, spread);
+            let s = rng.range(size.0, size.1);
+            [c + rng.vec(-s, s), c + rng.vec(-s, s), c + rng.vec(-s, s)]
+        })
+        .collect()
+}
+
+fn random_rays(rng: &mut Rng, n: usize, around: Vec3, spread: f32) -> Vec<(Vec3, Vec3)> {
+    (0..n).map(|_| (around + rng.vec(-spread, spread), rng.dir())).collect()
+}
+
+#[test]
+fn closest_and_any_hit_agree_with_brute_force_on_soups_and_nasty_cases() {
+    let mut rng = Rng(7);
+    // Random soups of small and of mixed sizes.
+    let tris = soup(&mut rng, 2000, (0.01, 0.1), 1.0, Vec3::ZERO);
+    let rays = random_rays(&mut rng, 40_000, Vec3::ZERO, 1.5);
+    let hits = agree("soup", &tris, &rays);
+    // Not vacuous: 4468 of the 40,000 rays hit (measured).
+    assert!(hits > 2_000, "soup: only {hits} hits");
+    let mut mixed = soup(&mut rng, 500, (1e-4, 1e-3), 1.0, Vec3::ZERO);
+    mixed.extend(soup(&mut rng, 20, (1e3, 1e4), 1.0, Vec3::ZERO));
+    mixed.extend(soup(&mut rng, 500, (0.05, 0.3), 1.0, Vec3::ZERO));
+    agree("huge and tiny", &mixed, &random_rays(&mut rng, 20_000, Vec3::ZERO, 1.0));
+    // Coplanar, axis-aligned: a grid of quads in z = 0, rays straight down and grazing.
+    let mut grid = Vec::new();
+    for i in 0..32 {
+        for j in 0..32 {
+            let (x, y) = (i as f32 / 8.0 - 2.0, j as f32 / 8.0 - 2.0);
+            let (p, q, r, s) = (Vec3::new(x, y, 0.0), Vec3::new(x + 0.125, y, 0.0), Vec3::new(x, y + 0.125, 0.0), Vec3::new(x + 0.125, y + 0.125, 0.0));
+            grid.push([p, q, s]);
+            grid.push([p, s, r]);
+        }
+    }
+    let mut rays: Vec<(Vec3, Vec3)> = (0..10_000).map(|_| (Vec3::new(rng.range(-2.0, 2.0), rng.range(-2.0, 2.0), 1.0), -Vec3::Z)).collect();
+    // Aimed at the grid's vertices and edges, exactly.
+    for i in 0..33 {
+        for j in 0..33 {
+            let p = Vec3::new(i as f32 / 8.0 - 2.0, j as f32 / 8.0 - 2.0, 1.0);
+            rays.push((p, -Vec3::Z));
+            rays.push((p + Vec3::new(0.0625, 0.0, 0.0), Vec3::new(0.0, 0.0, -1.0)));
+        }
+    }
+    rays.extend((0..5_000).map(|_| (Vec3::new(rng.range(-3.0, 3.0), rng.range(-3.0, 3.0), 0.0), Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), 0.0))));
+    rays.extend(random_rays(&mut rng, 5_000, Vec3::new(0.0, 0.0, 0.5), 2.0));
+    agree("coplanar grid", &grid, &rays);
+    // A soup far from the origin (f32 spacing there is ~1e-3).
+    let far = Vec3::new(1.0e4, -2.0e4, 3.0e4);
+    let tris = soup(&mut rng, 2000, (0.5, 5.0), 100.0, far);
+    agree("far from the origin", &tris, &random_rays(&mut rng, 20_000, far, 150.0));
+}
+
+/// An icosphere: a closed mesh whose triangles share every edge with a neighbour.
+fn icosphere(subdivisions: u32) -> Vec<Triangle> {
+    let t = (1.0 + 5f32.sqrt()) / 2.0;
+    let v: Vec<Vec3> = [
+        (-1.0, t, 0.0), (1.0, t, 0.0), (-1.0, -t, 0.0), (1.0, -t, 0.0), (0.0, -1.0, t), (0.0, 1.0, t),
+        (0.0, -1.0, -t), (0.0, 1.0, -t), (t, 0.0, -1.0), (t, 0.0, 1.0), (-t, 0.0, -1.0), (-t, 0.0, 1.0),
+    ]
+    .iter()
+    .map(|&(x, y, z)| Vec3::new(x, y, z).normalize())
+    .collect();
+    let faces = [
+        (0, 11, 5), (0, 5, 1), (0, 1, 7), (0, 7, 10), (0, 10, 11), (1, 5, 9), (5, 11, 4), (11, 10, 2), (10, 7, 6), (7, 1, 8),
+        (3, 9, 4), (3, 4, 2), (3, 2, 6), (3, 6, 8), (3, 8, 9), (4, 9, 5), (2, 4, 11), (6, 2, 10), (8, 6, 7), (9, 8, 1),
+    ];
+    let mut tris: Vec<Triangle> = faces.iter().map(|&(a, b, c)| [v[a], v[b], v[c]]).collect();
+    for _ in 0..subdivisions {
+        // Midpoints are computed once per edge from the same two vertices, so neighbours share
+        // them bit for bit.
+        let mid = |a: Vec3, b: Vec3| {
+            let (p, q) = if a.to_array() < b.to_array() { (a, b) } else { (b, a) };
+            ((p + q) * 0.5).normalize()
+        };
+        tris = tris
+            .iter()
+            .flat_map(|&[a, b, c]| {
+                let (ab, bc, ca) = (mid(a, b), mid(b, c), mid(c, a));
+                [[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]
+            })
+            .collect();
+    }
+    tris
+}
+
+#[test]
+fn rays_through_shared_edges_and_vertices_of_a_closed_mesh_never_escape() {
+    let mesh = icosphere(3);
+    let bvh = Bvh::build(&mesh);
+    let mut rng = Rng(11);
+    let mut aimed = 0;
+    for [a, b, c] in &mesh {
+        // At the vertices and at points of the edges (the midpoint, and random points), from
+        // the centre and from random points inside.
+        let mut targets = vec![*a, *b, *c, (*a + *b) * 0.5, (*b + *c) * 0.5, (*c + *a) * 0.5];
+        for _ in 0..2 {
+            let s = rng.u();
+            targets.push(*a + (*b - *a) * s);
+        }
+        for target in targets {
+            for origin in [Vec3::ZERO, rng.vec(-0.3, 0.3)] {
+                let d = target - origin;
+                aimed += 1;
+                assert!(bvh.closest(&mesh, origin, d, f32::INFINITY).is_some(), "a ray from {origin:?} to {target:?} escaped");
+                assert!(bvh.any(&mesh, origin, d, 2.0), "shadow ray from {origin:?} to {target:?} escaped");
+            }
+        }
+    }
+    assert!(aimed > 10_000);
+}
