@@ -22,10 +22,8 @@ impl Terminal {
 
     /// Shows a render's progress report on the bar of `budget` (begun by `begin_budget`).
     pub fn frame(&self, p: Progress) {
-        let message = match p.estimate {
-            Some(e) => format!("{} spp, relMSE ~{:.3e}{}", p.spp_done, e.rel_mse, p.eta.map_or(String::new(), |d| format!(", ETA {:.1} s", d.as_secs_f64()))),
-            None => format!("{} spp", p.spp_done),
-        };
+        // (A render to a target error shows its estimate on a spinner of its own, cli/render.rs.)
+        let message = format!("{} spp", p.spp_done);
         let by_time = matches!(self.bar.lock().unwrap_or_else(|e| e.into_inner()).as_ref(), Some((_, Task::Seconds(_))));
         self.update(if by_time { p.elapsed.as_secs_f64() } else { p.spp_done as f64 }, &message);
     }

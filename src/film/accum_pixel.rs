@@ -28,6 +28,12 @@ impl AccumPixel {
         (self.rays_hi as u64) << 32 | self.rays_lo as u64
     }
 
+    /// The first of `pixels` that does not hold exactly `spp` samples (its 32-bit count is spp
+    /// modulo 2^32): a driver that dropped work, or a file that does not match its header.
+    pub fn first_miscounted(pixels: &[AccumPixel], spp: u64) -> Option<usize> {
+        pixels.iter().position(|p| p.count as u64 != spp % (1 << 32))
+    }
+
     /// The compensated sums as f64: (sum of samples, sum of squares) per channel.
     pub fn exact_sums(&self) -> ([f64; 3], [f64; 3]) {
         (

@@ -4,7 +4,7 @@
 
 use wgpu::util::DeviceExt;
 
-use crate::shaders::bindings::{layout_entry, Binding, Kind};
+use crate::shaders::bindings::{layout_entry, Kind};
 use super::{wait_for_submission, Gpu, GpuError};
 
 /// One dispatch of `entry` in `source`.
@@ -32,10 +32,9 @@ impl KernelRun<'_> {
             label: Some(self.entry),
             source: wgpu::ShaderSource::Wgsl(self.source.into()),
         });
-        let binding = |number: u32, kind: Kind| layout_entry(Binding { number, name: "", kind });
-        let mut layout_entries: Vec<_> = self.inputs.iter().map(|(b, _)| binding(*b, Kind::Storage { read_only: true })).collect();
-        layout_entries.extend(self.uniforms.iter().map(|(b, _)| binding(*b, Kind::Uniform)));
-        layout_entries.push(binding(self.output.0, Kind::Storage { read_only: false }));
+        let mut layout_entries: Vec<_> = self.inputs.iter().map(|(b, _)| layout_entry(*b, Kind::Storage { read_only: true })).collect();
+        layout_entries.extend(self.uniforms.iter().map(|(b, _)| layout_entry(*b, Kind::Uniform)));
+        layout_entries.push(layout_entry(self.output.0, Kind::Storage { read_only: false }));
         let bgl = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: None, entries: &layout_entries });
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: None,

@@ -49,9 +49,16 @@ fn read_name(r: &mut impl Read, consumed: &mut u64) -> Result<Vec<u8>, String> {
     }
 }
 
-/// Scans the header of a single-part OpenEXR file: every attribute's (name, type, value bytes)
-/// as it stands in the file, duplicates included.
-fn scan(r: &mut impl Read) -> Result<Vec<(String, String, Vec<u8>)>, String> {
+/// The header of a single-part OpenEXR file as it stands in the file.
+pub(crate) struct RawHeader {
+    /// Every attribute's (name, type, value bytes), in file order, duplicates included.
+    pub records: Vec<(String, String, Vec<u8>)>,
+    /// Bytes from the start of the file to the end of the header (its terminating null).
+    pub end: usize,
+}
+
+/// Scans the header of a single-part OpenEXR file.
+pub(crate) fn scan(r: &mut impl Read) -> Result<RawHeader, String> {
     let mut head = [0u8; 8];
     read_exact_or(r, &mut head, "the magic number")?;
     if head[..4] != [0x76, 0x2f, 0x31, 0x01] {
@@ -66,7 +73,7 @@ fn scan(r: &mut impl Read) -> Result<Vec<(String, String, Vec<u8>)>, String> {
     loop {
         let name = read_name(r, &mut consumed)?;
         if name.is_empty() {
-            return Ok(attributes);
+            return Ok(RawHeader { records: attributes, end: consumed as usize });
         }
         let kind = read_name(r, &mut consumed)?;
         let mut size = [0u8; 4];
@@ -91,7 +98,7 @@ impl Attributes {
         let file = std::fs::File::open(path).map_err(|e| fail(format!("cannot open it ({e})")))?;
         let raw = scan(&mut BufReader::new(file)).map_err(|m| fail(format!("not a readable OpenEXR file ({m})")))?;
         let mut values = BTreeMap::new();
-        for (name, kind, value) in raw {
+        for (name, kind, value) in raw.records {
             let Some(key) = name.strip_prefix("pathlab:") else { continue };
             if kind != "string" {
                 return Err(fail(format!("pathlab:{key} is of type `{kind}`, not text")));
@@ -110,10 +117,6 @@ impl Attributes {
     /// The attributes as key-value pairs, sorted by key.
     pub fn metadata(&self) -> Vec<(String, String)> {
         self.values.iter().map(|(k, v)| (k.clone(), v.clone())).collect()
-    }
-
-    pub fn path(&self) -> &Path {
-        &self.path
     }
 
     fn fail(&self, message: String) -> AttributeError {

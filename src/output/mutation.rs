@@ -12,6 +12,7 @@ use std::path::Path;
 use exr::prelude::*;
 use std::result::Result;
 
+use super::attributes::scan;
 use super::{content_sha256, OutputError, CHECKSUM_KEY};
 
 /// What a reader must do with a mutant.
@@ -100,15 +101,9 @@ fn write(parsed: &Parsed, channels: Vec<AnyChannel<FlatSamples>>, metadata: &[(S
 /// `exr` crate will not write duplicate names or texts longer than its limits), the chunk
 /// offsets that follow the header shifted to match.
 fn splice(bytes: &[u8], replace: &[(String, Vec<u8>)], append: &[(String, String, Vec<u8>)], chunks: usize) -> Option<Vec<u8>> {
+    let header = scan(&mut &bytes[..]).ok()?;
     let mut out = bytes[..8].to_vec();
-    let mut at = 8;
-    let cstr = |at: &mut usize| -> Option<Vec<u8>> {
-        let len = bytes.get(*at..)?.iter().position(|&b| b == 0)?;
-        let s = bytes[*at..*at + len].to_vec();
-        *at += len + 1;
-        Some(s)
-    };
-    let record = |out: &mut Vec<u8>, name: &[u8], kind: &[u8], value: &[u8]| {
+    let mut record = |name: &[u8], kind: &[u8], value: &[u8]| {
         out.extend(name);
         out.push(0);
         out.extend(kind);
@@ -116,23 +111,15 @@ fn splice(bytes: &[u8], replace: &[(String, Vec<u8>)], append: &[(String, String
         out.extend((value.len() as i32).to_le_bytes());
         out.extend(value);
     };
-    loop {
-        let name = cstr(&mut at)?;
-        if name.is_empty() {
-            for (n, k, v) in append {
-                record(&mut out, n.as_bytes(), k.as_bytes(), v);
-            }
-            out.push(0);
-            break;
-        }
-        let kind = cstr(&mut at)?;
-        let size = i32::from_le_bytes(bytes.get(at..at + 4)?.try_into().ok()?) as usize;
-        at += 4;
-        let old = bytes.get(at..at + size)?;
-        at += size;
-        let new = replace.iter().find(|(n, _)| n.as_bytes() == name.as_slice()).map_or(old, |(_, v)| v.as_slice());
-        record(&mut out, &name, &kind, new);
+    for (name, kind, old) in &header.records {
+        let new = replace.iter().find(|(n, _)| n == name).map_or(old.as_slice(), |(_, v)| v.as_slice());
+        record(name.as_bytes(), kind.as_bytes(), new);
     }
+    for (name, kind, value) in append {
+        record(name.as_bytes(), kind.as_bytes(), value);
+    }
+    out.push(0);
+    let at = header.end;
     let delta = out.len() as i64 - at as i64;
     for k in 0..chunks {
         let offset = u64::from_le_bytes(bytes.get(at + 8 * k..at + 8 * k + 8)?.try_into().ok()?);
@@ -157,28 +144,6 @@ fn unwritable(path: &Path, what: &str) -> OutputError {
     OutputError::Encode { path: path.to_path_buf(), message: format!("cannot write a mutant with {what}") }
 }
 
-/// The byte where the header ends (after its terminating null), found by scanning it.
-fn header_end(bytes: &[u8]) -> usize {
-    let mut at = 8;
-    let name = |at: &mut usize| -> Option<usize> {
-        let start = *at;
-        let len = bytes.get(start..)?.iter().position(|&b| b == 0)?;
-        *at = start + len + 1;
-        Some(len)
-    };
-    loop {
-        match name(&mut at) {
-            Some(0) | None => return at.min(bytes.len()),
-            Some(_) => {
-                if name(&mut at).is_none() || at + 4 > bytes.len() {
-                    return bytes.len();
-                }
-                let size = i32::from_le_bytes([bytes[at], bytes[at + 1], bytes[at + 2], bytes[at + 3]]).max(0) as usize;
-                at += 4 + size;
-            }
-        }
-    }
-}
 
 /// Values to write into an attribute: malformed numbers, 32- and 64-bit edges, a 100 kB text,
 /// the value twice over.
@@ -220,7 +185,7 @@ pub fn mutants(path: &Path, seed: u64, plan: Plan) -> Result<Vec<Mutant>, Output
     let parsed = parse(path)?;
     let mut rng = Rng(seed);
     let mut out = Vec::new();
-    let end = header_end(&bytes);
+    let end = scan(&mut &bytes[..]).map_err(|message| OutputError::Read { path: path.to_path_buf(), message })?.end;
 
     // Truncations, at the edges and inside header and data.
     let mut cuts = vec![0, 1, 4, 8, end.saturating_sub(1), end, end + 8, bytes.len() / 2, bytes.len() - 1];

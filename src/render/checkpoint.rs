@@ -247,7 +247,7 @@ impl Checkpoint {
             (p.count, p.rays_lo, p.rays_hi) = (count, lo, hi);
         }
         let at = |i: usize| format!("pixel ({}, {})", i % w.max(1), i / w.max(1));
-        if let Some(i) = pixels.iter().position(|p| p.count as u64 != spp % (1 << 32)) {
+        if let Some(i) = AccumPixel::first_miscounted(&pixels, spp) {
             return Err(invalid(format!("{} holds {} samples, the header says {spp}", at(i), pixels[i].count)));
         }
         for (i, p) in pixels.iter().enumerate() {

@@ -161,10 +161,10 @@ impl PendingReadback {
 /// Every pixel must hold exactly the samples submitted: a driver that drops work is
 /// reported, never averaged in.
 fn check_counts(pixels: &[AccumPixel], spp: u64) -> Result<(), RenderError> {
-    match pixels.iter().enumerate().find(|(_, p)| p.count as u64 != spp % (1 << 32)) {
-        Some((i, p)) => Err(RenderError::Readback(format!(
+    match AccumPixel::first_miscounted(pixels, spp) {
+        Some(i) => Err(RenderError::Readback(format!(
             "pixel {i} accumulated {} samples, expected {spp}: the device dropped work",
-            p.count
+            pixels[i].count
         ))),
         None => Ok(()),
     }

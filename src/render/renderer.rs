@@ -171,11 +171,6 @@ impl Renderer {
         })
     }
 
-    /// The device this renderer runs on.
-    pub fn gpu(&self) -> &Gpu {
-        &self.gpu
-    }
-
     /// Number of accumulator bands the image is split into.
     pub fn bands(&self) -> usize {
         self.bands.len()
@@ -226,8 +221,8 @@ impl Renderer {
         if pixels.len() != expected {
             return Err(RenderError::Restore(format!("{} pixels given, the image has {expected}", pixels.len())));
         }
-        if let Some((i, p)) = pixels.iter().enumerate().find(|(_, p)| p.count as u64 != spp % (1 << 32)) {
-            return Err(RenderError::Restore(format!("pixel {i} holds {} samples, expected {spp}", p.count)));
+        if let Some(i) = AccumPixel::first_miscounted(pixels, spp) {
+            return Err(RenderError::Restore(format!("pixel {i} holds {} samples, expected {spp}", pixels[i].count)));
         }
         if self.spp_done > 0 || first_sample + spp > MAX_SPP {
             return Err(RenderError::TooManySamples(first_sample + spp));

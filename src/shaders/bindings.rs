@@ -52,14 +52,14 @@ pub fn wgsl(group: &[Binding]) -> String {
     group.iter().map(|b| format!("const BINDING_{}: u32 = {}u;\n", b.name, b.number)).collect()
 }
 
-/// A bind group layout entry of the compute stage for `b`.
-pub fn layout_entry(b: Binding) -> wgpu::BindGroupLayoutEntry {
-    let ty = match b.kind {
+/// A bind group layout entry of the compute stage: a buffer of `kind` at `number`.
+pub fn layout_entry(number: u32, kind: Kind) -> wgpu::BindGroupLayoutEntry {
+    let ty = match kind {
         Kind::Uniform => wgpu::BufferBindingType::Uniform,
         Kind::Storage { read_only } => wgpu::BufferBindingType::Storage { read_only },
     };
     wgpu::BindGroupLayoutEntry {
-        binding: b.number,
+        binding: number,
         visibility: wgpu::ShaderStages::COMPUTE,
         ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None },
         count: None,
@@ -68,7 +68,7 @@ pub fn layout_entry(b: Binding) -> wgpu::BindGroupLayoutEntry {
 
 /// The layout entries of a whole group.
 pub fn layout_entries(group: &[Binding]) -> Vec<wgpu::BindGroupLayoutEntry> {
-    group.iter().copied().map(layout_entry).collect()
+    group.iter().map(|b| layout_entry(b.number, b.kind)).collect()
 }
 
 /// `buffer` bound at `b`.

@@ -159,9 +159,10 @@ pub fn merge(paths: &[PathBuf], allow_gaps: bool) -> Result<Merged, MergeError> 
     let mut rays = 0u64;
     for (_, part) in &parts {
         for (acc, p) in sums.iter_mut().zip(&part.pixels) {
+            let (sum, sum_sq) = p.exact_sums();
             for c in 0..3 {
-                acc.0[c] += p.sum[c] as f64 - p.sum_err[c] as f64;
-                acc.1[c] += p.sum_sq[c] as f64 - p.sum_sq_err[c] as f64;
+                acc.0[c] += sum[c];
+                acc.1[c] += sum_sq[c];
             }
             rays += p.rays();
         }
