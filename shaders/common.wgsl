@@ -63,3 +63,46 @@ fn spherical_direction(cos_theta: f32, sin_theta: f32, phi: f32) -> vec3f {
 fn reflect_about(w: vec3f, n: vec3f) -> vec3f {
     return 2.0 * dot(w, n) * n - w;
 }
+
+// asin and atan2 to ~1 ulp. Vulkan lets the built-ins err far more (llvmpipe's asin is off by
+// up to 2e-4 absolute, its atan2 by 3e-6: measured), which the interior angles of a small
+// spherical triangle cannot afford. Cephes' single-precision minimax polynomials (asinf,
+// atanf), with their range reductions.
+fn asin_accurate(x_in: f32) -> f32 {
+    let a = min(abs(x_in), 1.0);
+    let big = a > 0.5;
+    // |x| > 1/2: asin(a) = pi/2 - 2 asin(sqrt((1 - a) / 2)).
+    let z = select(a * a, 0.5 * (1.0 - a), big);
+    let x = select(a, sqrt(z), big);
+    let p = ((((4.2163199048e-2 * z + 2.4181311049e-2) * z + 4.5470025998e-2) * z + 7.4953002686e-2) * z + 1.6666752422e-1) * z * x + x;
+    let r = select(p, 1.5707963267948966 - 2.0 * p, big);
+    return select(r, -r, x_in < 0.0);
+}
+
+fn atan_accurate(x_in: f32) -> f32 {
+    let a = abs(x_in);
+    // Reduce to |x| <= tan(pi/8): atan(a) = pi/2 + atan(-1/a) or pi/4 + atan((a-1)/(a+1)).
+    var y = 0.0;
+    var x = a;
+    if (a > 2.414213562373095) {
+        y = 1.5707963267948966;
+        x = -1.0 / a;
+    } else if (a > 0.4142135623730950) {
+        y = 0.7853981633974483;
+        x = (a - 1.0) / (a + 1.0);
+    }
+    let z = x * x;
+    let r = y + (((8.05374449538e-2 * z - 1.38776856032e-1) * z + 1.99777106478e-1) * z - 3.33329491539e-1) * z * x + x;
+    return select(r, -r, x_in < 0.0);
+}
+
+fn atan2_accurate(y: f32, x: f32) -> f32 {
+    if (x == 0.0) {
+        return select(select(0.0, -0.5 * PI, y < 0.0), 0.5 * PI, y > 0.0);
+    }
+    let t = atan_accurate(y / x);
+    if (x > 0.0) {
+        return t;
+    }
+    return select(t - PI, t + PI, y >= 0.0);
+}

@@ -1,12 +1,22 @@
-// intersect.wgsl — ray/sphere and ray/plane intersection, closest hit and shadow queries.
+// intersect.wgsl — ray/sphere and ray/plane intersection, the triangles through the BVH
+// (bvh.wgsl), closest hit and shadow queries.
 
 struct Hit {
     t: f32,
-    // Geometric normal, outward for spheres, the plane's normal for planes.
+    // Geometric normal: outward for spheres, the plane's normal for planes, the winding normal
+    // cross(p1 - p0, p2 - p0) for triangles.
     normal: vec3f,
     material: u32,
-    // Sphere index, or NUM_SPHERES + plane index; INVALID on a miss.
+    // Sphere index, NUM_SPHERES + plane index, or NUM_SPHERES + NUM_PLANES + triangle index;
+    // INVALID on a miss.
     object: u32,
+    // The interpolated vertex normal of a triangle with normals, else the geometric normal.
+    shading_normal: vec3f,
+}
+
+// The first object index of the triangles.
+fn first_triangle_object() -> u32 {
+    return NUM_SPHERES + NUM_PLANES;
 }
 
 // Smallest root t of |o + t d - c|^2 = r^2 in (t_min, t_max), or -1.
@@ -71,7 +81,22 @@ fn intersect_scene(o: vec3f, d: vec3f) -> Hit {
     }
     let sphere_normal = (o + d * t_hit - center) / radius;
     let normal = select(plane_normal, sphere_normal, object < NUM_SPHERES);
-    return Hit(t_hit, normal, material, object);
+    var hit = Hit(t_hit, normal, material, object, normal);
+    if (NUM_TRIANGLES > 0u) {
+        let th = bvh_traverse(o, d, t_hit, false);
+        if (th.index != INVALID) {
+            let tri = triangles[th.index];
+            let n = normalize(cross(tri.p1 - tri.p0, tri.p2 - tri.p0));
+            var shading = n;
+            if (HAS_SHADING_NORMALS && (tri.flags & TRIANGLE_HAS_NORMALS) != 0u) {
+                let tn = triangle_normals[th.index];
+                let interpolated = (1.0 - th.bary.x - th.bary.y) * tn.n0 + th.bary.x * tn.n1 + th.bary.y * tn.n2;
+                shading = select(n, normalize(interpolated), dot(interpolated, interpolated) > 0.0);
+            }
+            hit = Hit(th.t, n, tri.material, first_triangle_object() + th.index, shading);
+        }
+    }
+    return hit;
 }
 
 // True when something other than sphere `skip` lies on the segment (o, o + t_max d), a
@@ -88,6 +113,9 @@ fn occluded(o: vec3f, d: vec3f, t_max: f32, skip: u32) -> bool {
     for (var j = 0u; j < NUM_OCCLUDING_PLANES; j++) {
         let p = planes[j];
         blocked = blocked | (intersect_plane(o, d, p.normal, p.offset, 0.0, t_max) > 0.0);
+    }
+    if (NUM_TRIANGLES > 0u && !blocked) {
+        blocked = bvh_traverse(o, d, t_max, true).index != INVALID;
     }
     return blocked;
 }

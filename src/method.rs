@@ -53,6 +53,30 @@ named_enum! {
 }
 
 named_enum! {
+    /// Which lights next event estimation samples at a vertex (`shaders/light_table.wgsl`).
+    pub enum LightSelect("light selection") {
+        /// One shadow ray to every light (the default for scenes whose lights are spheres).
+        All = "all",
+        /// One light, each with probability 1/N.
+        Uniform = "uniform",
+        /// One light, in proportion to its emitted power (alias table; the default for scenes
+        /// with emissive meshes).
+        Power = "power",
+    }
+}
+
+named_enum! {
+    /// How a point or direction towards a triangle light is sampled (`shaders/lights.wgsl`).
+    pub enum TriangleSampling("triangle sampling") {
+        /// Uniform by area, converted to solid angle (Mitsuba's choice).
+        Area = "area",
+        /// Uniform in the solid angle the triangle subtends (Arvo 1995), by area where that
+        /// angle is below 2e-2 sr or above 6.22 sr (f32 loses Arvo's accuracy below).
+        SolidAngle = "solid-angle",
+    }
+}
+
+named_enum! {
     /// The named methods of the study.
     pub enum Preset("method") {
         /// Independent samples, uniform sphere sampling, no light sampling (the study's plain).
@@ -78,6 +102,17 @@ pub struct Method {
     pub sampler: Sampler,
     pub bsdf: BsdfSampling,
     pub lights: LightSampling,
+    /// Light selection; `None`: the scene's default (`LightSelect::default_for`).
+    pub select: Option<LightSelect>,
+    pub triangles: TriangleSampling,
+}
+
+impl LightSelect {
+    /// `power` for scenes with emissive meshes (a mesh of a thousand triangles is a thousand
+    /// lights), else `all`, which keeps the images of sphere-lit scenes as they were.
+    pub fn default_for(has_triangle_lights: bool) -> LightSelect {
+        if has_triangle_lights { LightSelect::Power } else { LightSelect::All }
+    }
 }
 
 impl Preset {
@@ -94,7 +129,7 @@ impl Preset {
             Preset::Mis => (S::Independent, B::Phong, L::Mis),
             Preset::Best => (S::Sobol, B::Phong, L::Mis),
         };
-        Method { sampler, bsdf, lights }
+        Method { sampler, bsdf, lights, select: None, triangles: TriangleSampling::Area }
     }
 }
 
@@ -112,10 +147,17 @@ impl LightSampling {
     }
 }
 
-/// `sampler=… bsdf=… lights=…`.
+/// `sampler=… bsdf=… lights=…`, then `select=…` and `triangles=…` where not the defaults.
 impl fmt::Display for Method {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "sampler={} bsdf={} lights={}", self.sampler, self.bsdf, self.lights)
+        write!(f, "sampler={} bsdf={} lights={}", self.sampler, self.bsdf, self.lights)?;
+        if let Some(select) = self.select {
+            write!(f, " select={select}")?;
+        }
+        if self.triangles != TriangleSampling::Area {
+            write!(f, " triangles={}", self.triangles)?;
+        }
+        Ok(())
     }
 }
 
@@ -141,20 +183,52 @@ impl Method {
         Preset::ALL.into_iter().find(|p| p.method() == *self)
     }
 
+    /// The same method with the light options of the defaults (no `+…` suffix).
+    fn base(&self) -> Method {
+        Method { select: None, triangles: TriangleSampling::Area, ..*self }
+    }
+
     /// The one name a method is shown and recorded under (the inverse of `from_name`): its
-    /// preset's, a biased demonstration's, or its parts `sampler/bsdf/lights`.
+    /// preset's, a biased demonstration's, or its parts `sampler/bsdf/lights`; then `+SELECT`
+    /// for a light selection given explicitly and `+solid-angle` for spherical-triangle
+    /// sampling (e.g. `mis+power+solid-angle`).
     pub fn name(&self) -> String {
-        if let Some(p) = self.preset() {
-            return p.name().to_string();
+        let base = self.base();
+        let mut name = if let Some(p) = base.preset() {
+            p.name().to_string()
+        } else if let Some((name, _)) = biased_demonstrations().into_iter().find(|(_, m)| *m == base) {
+            name.to_string()
+        } else {
+            format!("{}/{}/{}", self.sampler, self.bsdf, self.lights)
+        };
+        if let Some(select) = self.select {
+            name = format!("{name}+{select}");
         }
-        if let Some((name, _)) = biased_demonstrations().into_iter().find(|(_, m)| m == self) {
-            return name.to_string();
+        if self.triangles != TriangleSampling::Area {
+            name = format!("{name}+{}", self.triangles);
         }
-        format!("{}/{}/{}", self.sampler, self.bsdf, self.lights)
+        name
+    }
+
+    /// A name made by `name`: a base method, then `+` light options.
+    pub fn from_name(name: &str) -> Result<Method, UnknownName> {
+        let mut parts = name.split('+');
+        let mut method = Method::base_from_name(parts.next().unwrap_or(""))?;
+        for option in parts {
+            if let Some(select) = LightSelect::from_name(option) {
+                method.select = Some(select);
+            } else if let Some(t) = TriangleSampling::from_name(option) {
+                method.triangles = t;
+            } else {
+                let known: Vec<&str> = LightSelect::names().into_iter().chain(TriangleSampling::names()).collect();
+                return Err(UnknownName { what: "light option", name: option.to_string(), known: known.join(", ") });
+            }
+        }
+        Ok(method)
     }
 
     /// A preset, a biased demonstration or `sampler/bsdf/lights` by name.
-    pub fn from_name(name: &str) -> Result<Method, UnknownName> {
+    fn base_from_name(name: &str) -> Result<Method, UnknownName> {
         if let Some(p) = Preset::from_name(name) {
             return Ok(p.method());
         }
@@ -168,6 +242,8 @@ impl Method {
                 sampler: s.parse()?,
                 bsdf: b.parse()?,
                 lights: l.parse()?,
+                select: None,
+                triangles: TriangleSampling::Area,
             }),
             _ => Err(unknown()),
         }
@@ -201,14 +277,20 @@ mod tests {
         for sampler in Sampler::ALL {
             for bsdf in BsdfSampling::ALL {
                 for lights in LightSampling::ALL {
-                    let m = Method { sampler, bsdf, lights };
-                    assert_eq!(Method::from_name(&m.name()), Ok(m), "{}", m.name());
+                    for select in [None, Some(LightSelect::All), Some(LightSelect::Uniform), Some(LightSelect::Power)] {
+                        for triangles in TriangleSampling::ALL {
+                            let m = Method { sampler, bsdf, lights, select, triangles };
+                            assert_eq!(Method::from_name(&m.name()), Ok(m), "{}", m.name());
+                        }
+                    }
                 }
             }
         }
         assert_eq!(Method::from_name("best"), Ok(Preset::Best.method()));
         assert!(Method::from_name("fastest").is_err());
         assert!(Method::from_name("sobol/phong").is_err());
+        assert_eq!(Method::from_name("mis+power+solid-angle").unwrap().name(), "mis+power+solid-angle");
+        assert!(Method::from_name("mis+brightest").is_err());
     }
 
     #[test]

@@ -170,3 +170,147 @@ fn rays_through_shared_edges_and_vertices_of_a_closed_mesh_never_escape() {
     }
     assert!(aimed > 10_000);
 }
+
+// ----- the kernel's traversal (bvh.wgsl) on lavapipe --------------------------------------------
+
+mod common;
+
+const BVH_KERNEL: &str = r#"
+struct TestRay { o: vec4f, d: vec4f }
+@group(0) @binding(0) var<storage, read> test_rays: array<TestRay>;
+@group(0) @binding(1) var<storage, read_write> test_out: array<vec4f>;
+
+@compute @workgroup_size(64)
+fn bvh_main(@builtin(global_invocation_id) gid: vec3u) {
+    let i = gid.x;
+    if (i >= arrayLength(&test_rays)) {
+        return;
+    }
+    let r = test_rays[i];
+    let closest = bvh_traverse(r.o.xyz, r.d.xyz, r.o.w, false);
+    let any = bvh_traverse(r.o.xyz, r.d.xyz, r.d.w, true);
+    test_out[i] = vec4f(select(-1.0, closest.t, closest.index != INVALID), bitcast<f32>(closest.index),
+                        select(0.0, 1.0, any.index != INVALID), select(0.0, 1.0, traversal_exhausted));
+}
+"#;
+
+/// Runs the kernel's closest and any queries for `rays` (origin, direction, closest t_max,
+/// any t_max) over `tris` with traversal budget `budget`: (closest t or -1, triangle index in
+/// `tris`, any hit, guard tripped) per ray.
+fn gpu_queries(tris: &[Triangle], rays: &[(Vec3, Vec3, f32, f32)], budget: u32) -> Vec<(f32, u32, bool, bool)> {
+    use pathlab::gpu::{GpuTriangle, KernelRun};
+    use pathlab::shaders::{self, bindings, files};
+    let bvh = Bvh::build(tris);
+    let gpu_tris: Vec<GpuTriangle> = bvh
+        .order
+        .iter()
+        .map(|&i| {
+            let [a, b, c] = tris[i as usize];
+            GpuTriangle { p0: a.to_array(), material: 0, p1: b.to_array(), light: u32::MAX, p2: c.to_array(), flags: 0 }
+        })
+        .collect();
+    let ray_data: Vec<[f32; 8]> = rays.iter().map(|(o, d, tc, ta)| [o.x, o.y, o.z, *tc, d.x, d.y, d.z, *ta]).collect();
+    let source = shaders::assemble(&[files::COMMON, files::BVH], BVH_KERNEL);
+    let constants = [("NUM_TRIANGLES", tris.len() as f64), ("TRAVERSAL_BUDGET", budget as f64)];
+    let run = KernelRun {
+        source: &source,
+        entry: "bvh_main",
+        constants: &constants,
+        inputs: vec![
+            (0, bytemuck::cast_slice(&ray_data).to_vec()),
+            (bindings::TRIANGLES.number, bytemuck::cast_slice(&gpu_tris).to_vec()),
+            (bindings::TRIANGLE_NORMALS.number, vec![0; 48]),
+            (bindings::BVH_NODES.number, bytemuck::cast_slice(&bvh.nodes).to_vec()),
+        ],
+        uniforms: vec![],
+        output: (1, rays.len() as u64 * 16),
+        workgroups: (rays.len() as u32).div_ceil(64),
+    };
+    let out: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&run.run(common::gpu()).expect("bvh kernel"));
+    out.iter()
+        .map(|o| {
+            let index = o[1].to_bits();
+            let original = if index == u32::MAX { u32::MAX } else { bvh.order[index as usize] };
+            (o[0], original, o[2] > 0.5, o[3] > 0.5)
+        })
+        .collect()
+}
+
+#[test]
+fn the_kernels_traversal_agrees_with_brute_force_and_is_watertight() {
+    let mut rng = Rng(23);
+    let mut tris = soup(&mut rng, 3000, (0.01, 0.4), 2.0, Vec3::ZERO);
+    // Coplanar and axis-aligned triangles in the soup.
+    for k in 0..200 {
+        let x = -2.0 + 0.02 * k as f32;
+        tris.push([Vec3::new(x, -1.0, 0.5), Vec3::new(x + 0.02, -1.0, 0.5), Vec3::new(x, 1.0, 0.5)]);
+    }
+    let mut rays: Vec<(Vec3, Vec3, f32, f32)> = random_rays(&mut rng, 100_000, Vec3::ZERO, 3.0).into_iter().map(|(o, d)| (o, d, f32::INFINITY, 0.0)).collect();
+    for r in rays.iter_mut() {
+        r.3 = brute(&tris, r.0, r.1, f32::INFINITY).map_or(10.0, |t| t * 1.5);
+    }
+    let got = gpu_queries(&tris, &rays, u32::MAX);
+    let (mut hits, mut mismatches) = (0, Vec::new());
+    for (k, (&(o, d, _, any_max), &(t, index, any, exhausted))) in rays.iter().zip(&got).enumerate() {
+        assert!(!exhausted);
+        let expected = brute(&tris, o, d, f32::INFINITY);
+        let same = match expected {
+            None => t < 0.0,
+            // A tie between triangles at one distance may resolve either way: the distance counts.
+            Some(te) => t == te && index != u32::MAX,
+        };
+        if !same || any != brute(&tris, o, d, any_max).is_some() {
+            mismatches.push(format!("ray {k}: gpu t {t} (triangle {index}) any {any}, brute force {expected:?}"));
+        }
+        hits += expected.is_some() as usize;
+    }
+    assert!(mismatches.is_empty(), "{} of {} rays disagree: {:?}", mismatches.len(), rays.len(), &mismatches[..mismatches.len().min(5)]);
+    assert!(hits > 20_000, "only {hits} rays hit");
+
+    // Closed mesh: rays from inside aimed at every vertex and edge all hit.
+    let mesh = icosphere(3);
+    let mut aimed = Vec::new();
+    for [a, b, c] in &mesh {
+        for target in [*a, *b, *c, (*a + *b) * 0.5, (*b + *c) * 0.5, (*c + *a) * 0.5, *a + (*b - *a) * rng.u()] {
+            for origin in [Vec3::ZERO, rng.vec(-0.3, 0.3)] {
+                aimed.push((origin, target - origin, f32::INFINITY, 2.0));
+            }
+        }
+    }
+    let escaped: Vec<_> = gpu_queries(&mesh, &aimed, u32::MAX).iter().zip(&aimed).filter(|((t, _, any, _), _)| *t < 0.0 || !any).map(|(_, r)| *r).collect();
+    assert!(escaped.is_empty(), "{} of {} rays through shared edges and vertices escaped: {:?}", escaped.len(), aimed.len(), &escaped[..escaped.len().min(3)]);
+}
+
+/// The worst case of a traversal: a stack of triangles whose boxes all contain the ray but
+/// which it misses (each is cut off just short of the axis), so every node is visited and
+/// every triangle tested. With a budget below that, the guard trips; with enough, it does not.
+pub fn slivers(n: usize) -> Vec<Triangle> {
+    (0..n)
+        .map(|k| {
+            let z = 1.0 + k as f32 * 1e-3;
+            [Vec3::new(-1.0, 1.1, z), Vec3::new(1.0, 1.1, z), Vec3::new(1.0, -0.9, z)]
+        })
+        .collect()
+}
+
+#[test]
+fn a_worst_case_traversal_trips_the_guard_and_only_then() {
+    let tris = slivers(3000);
+    let ray = [(Vec3::ZERO, Vec3::Z, f32::INFINITY, f32::INFINITY)];
+    assert!(brute(&tris, Vec3::ZERO, Vec3::Z, f32::INFINITY).is_none(), "the slivers must not cover the axis");
+    // The kernel's count of a full traversal: every node, two more per leaf, every triangle.
+    let bvh = Bvh::build(&tris);
+    let steps = (bvh.nodes.len() + 2 * bvh.nodes.iter().filter(|n| n.count > 0).count()) as u32 + 3000;
+    let (t, _, any, exhausted) = gpu_queries(&tris, &ray, 2 * steps + 10)[0];
+    assert!(t < 0.0 && !any && !exhausted, "with room for both traversals the guard must stay quiet");
+    let (_, _, _, exhausted) = gpu_queries(&tris, &ray, steps / 2)[0];
+    assert!(exhausted, "a traversal of {steps} steps ran within a budget of {}", steps / 2);
+    // The kernel's count stays at or above llvmpipe's own count of loop back-edges, which ends
+    // every loop of an invocation at 65535: a traversal far past that, guarded at 60000,
+    // trips the guard (were the count lower, llvmpipe would cut the traversal short first, and
+    // the ray would silently miss). On a hardware GPU the guard trips as well.
+    let deep = slivers(100_000);
+    let (t, _, _, exhausted) = gpu_queries(&deep, &ray, 60_000)[0];
+    assert!(t < 0.0 && exhausted, "llvmpipe ended the traversal before the guard's count reached 60000");
+}
+

@@ -18,7 +18,8 @@ mod common;
 use std::f64::consts::PI;
 
 use common::gpu;
-use pathlab::gpu::KernelRun;
+use pathlab::gpu::{GpuLight, KernelRun};
+use pathlab::method::LightSelect;
 use pathlab::shaders;
 use pathlab::stats::{chi2_sf, sidak};
 
@@ -332,4 +333,295 @@ fn every_sampling_routine_fits_its_pdf() {
     }
     println!("{}\n(level {level:.2e} per test)", report.join("\n"));
     assert!(failed.is_empty(), "chi-square rejects {failed:?}:\n{}", report.join("\n"));
+}
+
+// ----- triangle lights: binned on the triangle itself ----------------------------------------
+//
+// A direction towards a triangle light is binned where it meets the triangle, on the unit
+// square the triangle is the image of (u0 = (b1 + b2)^2, u1 = b2 / (b1 + b2), the inverse of
+// the area warp): 64 x 64 cells that tile the triangle exactly, so no cell is cut by its
+// edges. The density there is the routine's solid-angle pdf times d(omega)/d(u) = area
+// cos(theta_light) / dist^2 (the area warp has constant Jacobian `area`), integrated over each
+// cell with 4 x 4 Gauss-Legendre points as above. A sample that misses the triangle is a hard
+// failure, and so are the others of the direction harness (pdf mass, reported pdf).
+
+const TRI_BINS: usize = 64;
+
+struct TriangleCase {
+    name: String,
+    p: [[f64; 3]; 3],
+    /// The shading point.
+    x: [f64; 3],
+    /// TRIANGLE_SAMPLING: 0 area, 1 solid angle.
+    strategy: u32,
+}
+
+type V3 = [f64; 3];
+fn sub(a: V3, b: V3) -> V3 {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+fn dot3(a: V3, b: V3) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+fn cross3(a: V3, b: V3) -> V3 {
+    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+}
+fn norm3(a: V3) -> f64 {
+    dot3(a, a).sqrt()
+}
+
+/// Solid angle of the triangle at x (Van Oosterom and Strackee), in f64.
+fn solid_angle(p: &[V3; 3], x: V3) -> f64 {
+    let [a, b, c] = p.map(|v| {
+        let d = sub(v, x);
+        let l = norm3(d);
+        d.map(|t| t / l)
+    });
+    2.0 * dot3(a, cross3(b, c)).abs().atan2(1.0 + dot3(a, b) + dot3(a, c) + dot3(b, c))
+}
+
+impl TriangleCase {
+    fn routine(&self) -> Routine {
+        let v = |p: V3| format!("vec3f({:.9}, {:.9}, {:.9})", p[0], p[1], p[2]);
+        Routine {
+            name: self.name.clone(),
+            wgsl: format!(
+                "const P0: vec3f = {};\nconst P1: vec3f = {};\nconst P2: vec3f = {};\nconst X: vec3f = {};\n\
+                 fn routine_sample(u: vec2f, u_lobe: f32) -> Drawn {{\n\
+                     let ls = sample_triangle_light(P0, P1, P2, X, u);\n\
+                     return Drawn(vec4f(ls.wi, ls.pdf), vec4f(ls.dist, 0.0, 0.0, 0.0));\n\
+                 }}\n\
+                 fn routine_pdf(d: vec3f) -> f32 {{ return pdf_triangle_light(P0, P1, P2, X, normalize(d)); }}\n",
+                v(self.p[0]),
+                v(self.p[1]),
+                v(self.p[2]),
+                v(self.x)
+            ),
+            constants: vec![("TRIANGLE_SAMPLING", self.strategy as f64)],
+            s_split: 2.0,
+        }
+    }
+
+    /// The point of the triangle's plane a direction from x meets, as (u0, u1) of the area
+    /// warp, and the hit's cos(theta_light) / dist^2.
+    fn square_of(&self, d: V3) -> Option<((f64, f64), f64)> {
+        let [p0, p1, p2] = self.p;
+        let (e1, e2) = (sub(p1, p0), sub(p2, p0));
+        let n = cross3(e1, e2);
+        let t = dot3(sub(p0, self.x), n) / dot3(d, n);
+        if !(t > 0.0) {
+            return None;
+        }
+        let hit = [self.x[0] + t * d[0], self.x[1] + t * d[1], self.x[2] + t * d[2]];
+        // Barycentrics of p1 and p2 by Cramer's rule in the plane.
+        let r = sub(hit, p0);
+        let (d11, d12, d22, r1, r2) = (dot3(e1, e1), dot3(e1, e2), dot3(e2, e2), dot3(r, e1), dot3(r, e2));
+        let det = d11 * d22 - d12 * d12;
+        let b1 = (d22 * r1 - d12 * r2) / det;
+        let b2 = (d11 * r2 - d12 * r1) / det;
+        let s = b1 + b2;
+        let cos = dot3(d, n).abs() / (norm3(d) * norm3(n));
+        Some(((s * s, if s > 0.0 { b2 / s } else { 0.0 }), cos / (t * t * dot3(d, d))))
+    }
+
+    /// The point of the triangle at (u0, u1) of the area warp.
+    fn point(&self, u0: f64, u1: f64) -> V3 {
+        let s = u0.sqrt();
+        let [p0, p1, p2] = self.p;
+        std::array::from_fn(|k| (1.0 - s) * p0[k] + s * (1.0 - u1) * p1[k] + s * u1 * p2[k])
+    }
+}
+
+fn triangle_chi_square(case: &TriangleCase, seed: u32) -> f64 {
+    let routine = case.routine();
+    let name = &case.name;
+    let params: [u32; 4] = [SAMPLES, seed, 0, 0];
+    let drawn = run(&routine, "sample_main", vec![(0, bytemuck::cast_slice(&params).to_vec())], 2 * SAMPLES as usize, SAMPLES as usize);
+    let [p0, p1, p2] = case.p;
+    let area = 0.5 * norm3(cross3(sub(p1, p0), sub(p2, p0)));
+    let gl = [(-0.861_136_311_594_052_6, 0.347_854_845_137_453_9), (-0.339_981_043_584_856_3, 0.652_145_154_862_546_1),
+        (0.339_981_043_584_856_3, 0.652_145_154_862_546_1), (0.861_136_311_594_052_6, 0.347_854_845_137_453_9)];
+    let h = 1.0 / TRI_BINS as f64;
+    let mut points: Vec<[f32; 4]> = Vec::new();
+    let mut weights = Vec::new();
+    for j in 0..TRI_BINS {
+        for i in 0..TRI_BINS {
+            for (xa, wa) in gl {
+                for (xb, wb) in gl {
+                    let (u0, u1) = ((i as f64 + (xa + 1.0) / 2.0) * h, (j as f64 + (xb + 1.0) / 2.0) * h);
+                    let d = sub(case.point(u0, u1), case.x);
+                    let ((_, _), jac) = case.square_of(d).expect("a cell point meets the triangle");
+                    points.push([d[0] as f32, d[1] as f32, d[2] as f32, 0.0]);
+                    // Solid-angle pdf x d(omega)/d(u) = area cos / dist^2, times the GL weight.
+                    weights.push(wa * wb * h * h / 4.0 * area * jac);
+                }
+            }
+        }
+    }
+    let cell_points = points.len();
+    points.extend(drawn.iter().step_by(2).map(|d| [d[0], d[1], d[2], 0.0]));
+    let pdfs = run(&routine, "pdf_main", vec![(0, bytemuck::cast_slice(&params).to_vec()), (2, bytemuck::cast_slice(&points).to_vec())], points.len(), points.len());
+    let mut expected = vec![0.0f64; TRI_BINS * TRI_BINS];
+    for (k, w) in weights.iter().enumerate() {
+        let p = pdfs[k][0] as f64;
+        assert!(p.is_finite() && p >= 0.0, "{name}: pdf {p} at a cell point");
+        expected[k / 16] += w * p;
+    }
+    let mass: f64 = expected.iter().sum();
+    assert!((mass - 1.0).abs() <= 1e-3, "{name}: pdf integrates to {mass} over the triangle, not 1");
+    let mut observed = vec![0u64; TRI_BINS * TRI_BINS];
+    for (n, pair) in drawn.chunks(2).enumerate() {
+        let d = pair[0];
+        assert!(d.iter().all(|x| x.is_finite()) && d[3] > 0.0, "{name}: sample {d:?} is not finite or has no density");
+        let dir = [d[0] as f64, d[1] as f64, d[2] as f64];
+        let ((u0, u1), _) = case.square_of(dir).unwrap_or_else(|| panic!("{name}: sample {d:?} points away from the triangle"));
+        // f32 rounding lands samples up to ~1e-4 (in u) outside the edges.
+        let slack = 1e-3;
+        assert!((-slack..=1.0 + slack).contains(&u0) && (-slack..=1.0 + slack).contains(&u1), "{name}: sample {d:?} misses the triangle ({u0}, {u1})");
+        let (i, j) = (((u0 * TRI_BINS as f64) as usize).min(TRI_BINS - 1), ((u1 * TRI_BINS as f64) as usize).min(TRI_BINS - 1));
+        observed[j * TRI_BINS + i] += 1;
+        let (reported, function) = (d[3] as f64, pdfs[cell_points + n][0] as f64);
+        assert!((reported - function).abs() <= 1e-3 * function, "{name}: sample reports pdf {reported}, pdf function gives {function} at {d:?}");
+    }
+    let n = SAMPLES as f64;
+    let (mut chi2, mut dof, mut pooled_exp, mut pooled_obs) = (0.0, 0usize, 0.0, 0.0);
+    for (c, &e) in expected.iter().enumerate() {
+        let (e, o) = (e * n, observed[c] as f64);
+        if e < 5.0 {
+            pooled_exp += e;
+            pooled_obs += o;
+        } else {
+            chi2 += (o - e) * (o - e) / e;
+            dof += 1;
+        }
+    }
+    if pooled_exp > 0.0 {
+        chi2 += (pooled_obs - pooled_exp) * (pooled_obs - pooled_exp) / pooled_exp;
+        dof += 1;
+    }
+    chi2_sf(chi2, dof.saturating_sub(1).max(1))
+}
+
+fn triangle_cases() -> Vec<TriangleCase> {
+    let oblique = [[-0.5, 0.3, 1.0], [0.8, -0.2, 1.4], [0.1, 0.9, 0.7]];
+    let big = [[-3.0, -2.0, -0.2], [3.0, -2.0, -0.2], [0.0, 4.0, -0.2]];
+    let case = |name: &str, p: [[f64; 3]; 3], x: [f64; 3], strategy: u32| TriangleCase { name: name.to_string(), p, x, strategy };
+    let tiny = [[1e-3, 0.0, 2.0], [0.0, 1.2e-3, 2.0], [-1e-3, -0.9e-3, 2.0]];
+    let small = [[0.12, 0.0, 1.0], [0.0, 0.14, 1.0], [-0.12, -0.112, 1.0]];
+    let below = [[0.03, 0.0, 1.0], [0.0, 0.035, 1.0], [-0.03, -0.028, 1.0]];
+    let cases = vec![
+        case("triangle light by area, oblique", oblique, [0.0; 3], 0),
+        case("triangle light by area, from close above", big, [0.0, 0.0, 0.05], 0),
+        case("spherical triangle, oblique", oblique, [0.0; 3], 1),
+        case("spherical triangle, large (close above a big triangle)", big, [0.0, 0.0, 0.6], 1),
+        case("spherical triangle, small (just above the 2e-2 sr threshold)", small, [0.0; 3], 1),
+        // Fallbacks to area sampling: Omega below 2e-2 sr, and above 6.22 sr.
+        case("spherical triangle, below the threshold: falls back to area", below, [0.0; 3], 1),
+        case("spherical triangle, tiny: falls back to area", tiny, [0.0; 3], 1),
+        case("spherical triangle, near 2 pi: falls back to area", big, [0.0, 0.0, -0.2 + 1e-3], 1),
+    ];
+    // The cases cover the ranges they claim.
+    let omega: Vec<f64> = cases.iter().map(|c| solid_angle(&c.p, c.x)).collect();
+    assert!(omega[3] > 1.0 && omega[3] < 6.0 && omega[4] > 2e-2 && omega[4] < 3e-2, "{omega:?}");
+    assert!(omega[5] < 2e-2 && omega[5] > 1e-3 && omega[6] < 3e-4 && omega[7] > 6.22, "{omega:?}");
+    cases
+}
+
+#[test]
+fn triangle_light_sampling_fits_its_pdf() {
+    let cases = triangle_cases();
+    // Šidák over these cases and the light-selection tests below: with the direction routines,
+    // the file fails falsely with probability below 0.01 + 0.01.
+    let level = sidak(ALPHA, cases.len() + 2);
+    let mut report = Vec::new();
+    let mut failed = Vec::new();
+    for (k, case) in cases.iter().enumerate() {
+        let p = triangle_chi_square(case, 5000 + k as u32);
+        report.push(format!("{} (Omega {:.3e} sr): p = {p:.4}", case.name, solid_angle(&case.p, case.x)));
+        if p < level {
+            failed.push(case.name.clone());
+        }
+    }
+    println!("{}\n(level {level:.2e} per test)", report.join("\n"));
+    assert!(failed.is_empty(), "chi-square rejects {failed:?}:\n{}", report.join("\n"));
+}
+
+// ----- light selection -------------------------------------------------------------------------
+
+const SELECT_KERNEL: &str = r#"
+struct TestParams { count: u32, seed: u32, _p0: u32, _p1: u32 }
+@group(0) @binding(0) var<storage, read> test_params: TestParams;
+@group(0) @binding(1) var<storage, read_write> test_out: array<vec2f>;
+
+@compute @workgroup_size(64)
+fn select_main(@builtin(global_invocation_id) gid: vec3u) {
+    let i = gid.x;
+    if (i >= test_params.count) {
+        return;
+    }
+    let chosen = select_light(sample_independent(i, 0u, 0u, test_params.seed));
+    // The index, and the probability it reports minus the one light_select_prob gives.
+    test_out[i] = vec2f(f32(chosen.index), chosen.prob - light_select_prob(chosen.index));
+}
+"#;
+
+/// Draws SAMPLES lights with `select_light` over a table of `powers` (as the host builds it)
+/// and returns the chi-square p-value against the expected probabilities.
+fn selection_chi_square(powers: &[f64], select: LightSelect, seed: u32) -> f64 {
+    let table = pathlab::scene::AliasTable::new(powers);
+    let entries: Vec<GpuLight> = (0..powers.len())
+        .map(|l| GpuLight { object: l as u32, power_prob: table.prob[l] as f32, alias_index: table.alias[l], threshold: table.threshold[l] as f32 })
+        .collect();
+    let mut parts = shaders::LIBRARY.to_vec();
+    parts.push(shaders::files::LIGHT_TABLE);
+    let source = shaders::assemble(&parts, SELECT_KERNEL);
+    let params: [u32; 4] = [SAMPLES, seed, 0, 0];
+    let constants = [("NUM_LIGHTS", powers.len() as f64), ("LIGHT_SELECT", select.constant() as f64)];
+    let run = KernelRun {
+        source: &source,
+        entry: "select_main",
+        constants: &constants,
+        inputs: vec![(0, bytemuck::cast_slice(&params).to_vec()), (pathlab::shaders::bindings::LIGHTS.number, bytemuck::cast_slice(&entries).to_vec())],
+        uniforms: vec![],
+        output: (1, SAMPLES as u64 * 8),
+        workgroups: SAMPLES.div_ceil(64),
+    };
+    let out: Vec<[f32; 2]> = bytemuck::pod_collect_to_vec(&run.run(gpu()).expect("selection kernel"));
+    let n = powers.len();
+    let expected: Vec<f64> = match select {
+        LightSelect::Uniform => vec![1.0 / n as f64; n],
+        _ => table.prob.clone(),
+    };
+    let mut observed = vec![0u64; n];
+    for [index, prob_error] in out {
+        let l = index as usize;
+        assert!(index >= 0.0 && l < n, "selected light {index} of {n}");
+        assert!(expected[l] > 0.0, "selected light {l}, whose probability is 0");
+        assert!(prob_error.abs() <= 1e-6, "reported probability differs from light_select_prob by {prob_error}");
+        observed[l] += 1;
+    }
+    let (mut chi2, mut dof) = (0.0, 0usize);
+    for l in 0..n {
+        let e = expected[l] * SAMPLES as f64;
+        if e > 0.0 {
+            chi2 += (observed[l] as f64 - e).powi(2) / e;
+            dof += 1;
+        }
+    }
+    chi2_sf(chi2, dof.saturating_sub(1).max(1))
+}
+
+#[test]
+fn uniform_and_power_light_selection_fit_their_probabilities() {
+    let level = sidak(ALPHA, triangle_cases().len() + 2);
+    // Powers spanning nine orders of magnitude, zeros among them (as a scene's mix of big
+    // and tiny emitters gives).
+    let powers: Vec<f64> = (0..37).map(|i| if i % 7 == 3 { 0.0 } else { 10f64.powf((i % 10) as f64 - 4.0) * (1.0 + i as f64) }).collect();
+    let mut report = Vec::new();
+    for (k, select) in [LightSelect::Uniform, LightSelect::Power].into_iter().enumerate() {
+        let p = selection_chi_square(&powers, select, 7000 + k as u32);
+        report.push(format!("{select}: p = {p:.4}"));
+        assert!(p >= level, "chi-square rejects {select} selection: p = {p} < {level}");
+    }
+    println!("{}", report.join("\n"));
 }

@@ -9,8 +9,9 @@ use std::mem::{offset_of, size_of};
 use naga::proc::Layouter;
 
 use pathlab::film::AccumPixel;
-use pathlab::gpu::{pipeline_constants, FrameParams, GpuMaterial, GpuPlane, GpuSphere, PipelineKey};
-use pathlab::method::{BsdfSampling, LightSampling, Preset, Sampler};
+use pathlab::accel::BvhNode;
+use pathlab::gpu::{pipeline_constants, FrameParams, GpuLight, GpuMaterial, GpuPlane, GpuSphere, GpuTriangle, GpuTriangleNormals, PipelineKey};
+use pathlab::method::{BsdfSampling, LightSampling, LightSelect, Preset, Sampler, TriangleSampling};
 use pathlab::names::Named;
 use pathlab::scene::SceneFeatures;
 use pathlab::shaders::{self, bindings};
@@ -52,6 +53,10 @@ fn shared_structs_match_the_wgsl() {
     check_struct(&pt, "Sphere", size_of::<GpuSphere>(), fields!(GpuSphere: center, radius, material));
     check_struct(&pt, "Plane", size_of::<GpuPlane>(), fields!(GpuPlane: normal, offset, material));
     check_struct(&pt, "Material", size_of::<GpuMaterial>(), fields!(GpuMaterial: diffuse, glossiness, specular, p_spec, emission, is_emissive));
+    check_struct(&pt, "Triangle", size_of::<GpuTriangle>(), fields!(GpuTriangle: p0, material, p1, light, p2, flags));
+    check_struct(&pt, "TriangleNormals", size_of::<GpuTriangleNormals>(), fields!(GpuTriangleNormals: n0, n1, n2));
+    check_struct(&pt, "BvhNode", size_of::<BvhNode>(), fields!(BvhNode: lo, first, hi, count));
+    check_struct(&pt, "LightEntry", size_of::<GpuLight>(), fields!(GpuLight: object, power_prob, alias_index, threshold));
     let display = module(&shaders::display_source());
     check_struct(&display, "AccumPixel", size_of::<AccumPixel>(), fields!(AccumPixel: sum, count, sum_err, rays_lo, sum_sq, rays_hi, sum_sq_err));
 }
@@ -72,13 +77,16 @@ fn overrides_set_by_the_host_are_those_the_module_declares() {
     let features = SceneFeatures {
         num_spheres: 2,
         num_planes: 1,
-        num_lights: 1,
+        num_lights: 3,
+        num_sphere_lights: 1,
+        num_triangles: 4,
+        has_shading_normals: true,
         num_occluding_planes: 1,
         has_specular: true,
         has_environment: true,
         light_interiors_reachable: true,
     };
-    let key = PipelineKey { method: Preset::Best.method(), features };
+    let key = PipelineKey::new(Preset::Best.method(), features, true);
     let mut set: Vec<&str> = pipeline_constants(&key).into_iter().map(|(n, _)| n).collect();
     declared.sort_unstable();
     set.sort_unstable();
@@ -92,6 +100,8 @@ fn generated_values_and_bindings_are_the_rust_ones() {
         ("SAMPLER", Sampler::names(), Sampler::ALL.map(Sampler::constant).to_vec()),
         ("BSDF", BsdfSampling::names(), BsdfSampling::ALL.map(BsdfSampling::constant).to_vec()),
         ("LIGHTS", LightSampling::names(), LightSampling::ALL.map(LightSampling::constant).to_vec()),
+        ("LIGHT_SELECT", LightSelect::names(), LightSelect::ALL.map(LightSelect::constant).to_vec()),
+        ("TRIANGLES", TriangleSampling::names(), TriangleSampling::ALL.map(TriangleSampling::constant).to_vec()),
     ] {
         for (name, value) in names.iter().zip(values) {
             let wgsl = format!("{prefix}_{}", name.to_uppercase().replace('-', "_"));
@@ -109,6 +119,10 @@ fn generated_values_and_bindings_are_the_rust_ones() {
         ("materials", bindings::MATERIALS),
         ("accum", bindings::ACCUM),
         ("halton_primes", bindings::HALTON_PRIMES),
+        ("triangles", bindings::TRIANGLES),
+        ("triangle_normals", bindings::TRIANGLE_NORMALS),
+        ("bvh_nodes", bindings::BVH_NODES),
+        ("light_table", bindings::LIGHTS),
     ] {
         assert_eq!(by_name(&pt, var), Some(b.number), "{var}");
     }
@@ -134,6 +148,14 @@ fn display_constants_are_the_rust_ones() {
     }
     assert_eq!(const_u32(&display, "TRANSFER_SRGB"), Some(Transfer::Srgb.code()));
     assert_eq!(const_u32(&display, "TRANSFER_GAMMA"), Some(Transfer::Gamma(2.0).code()));
+}
+
+#[test]
+fn the_bvh_stack_and_triangle_flags_are_the_rust_ones() {
+    let pt = module(&shaders::path_tracer_source());
+    assert_eq!(const_u32(&pt, "BVH_MAX_DEPTH"), Some(pathlab::accel::bvh::MAX_DEPTH as u32));
+    assert_eq!(const_u32(&pt, "TRIANGLE_TWO_SIDED"), Some(pathlab::gpu::TRIANGLE_TWO_SIDED));
+    assert_eq!(const_u32(&pt, "TRIANGLE_HAS_NORMALS"), Some(pathlab::gpu::TRIANGLE_HAS_NORMALS));
 }
 
 #[cfg(feature = "viewer")]

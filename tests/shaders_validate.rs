@@ -1,45 +1,59 @@
 //! naga validates the assembled path tracer for every combination of `override` constants,
 //! after specialisation, exactly as wgpu would at pipeline creation.
 
-use pathlab::gpu::{pipeline_constants, PipelineKey};
-use pathlab::method::{BsdfSampling, LightSampling, Method, Sampler};
+use pathlab::gpu::{pipeline_constants, PipelineKey, NO_TRAVERSAL_GUARD};
+use pathlab::method::{BsdfSampling, LightSampling, LightSelect, Method, Sampler, TriangleSampling};
 use pathlab::scene::SceneFeatures;
 use pathlab::shaders;
+
+/// Scene shapes: (spheres, planes, sphere lights, triangles, triangle lights, shading normals,
+/// traversal budget).
+const SHAPES: [(u32, u32, u32, u32, u32, bool, u32); 4] = [
+    (0, 0, 0, 0, 0, false, NO_TRAVERSAL_GUARD),
+    (1, 0, 1, 0, 0, false, NO_TRAVERSAL_GUARD),
+    (4, 4, 2, 0, 0, false, NO_TRAVERSAL_GUARD),
+    (2, 1, 1, 12, 2, true, 1000),
+];
 
 #[test]
 fn every_override_permutation_validates() {
     let source = shaders::path_tracer_source();
-    let counts = [(0, 0, 0), (1, 0, 1), (4, 4, 2)];
     let mut checked = 0;
     for sampler in Sampler::ALL {
         for bsdf in BsdfSampling::ALL {
             for lights in LightSampling::ALL {
-                for &(num_spheres, num_planes, num_lights) in &counts {
-                    for has_specular in [false, true] {
-                        for (has_environment, light_interiors_reachable) in [(false, false), (true, true)] {
-                            let key = PipelineKey {
-                                method: Method { sampler, bsdf, lights },
-                                features: SceneFeatures {
+                for select in LightSelect::ALL {
+                    for triangles in TriangleSampling::ALL {
+                        for &(num_spheres, num_planes, num_sphere_lights, num_triangles, triangle_lights, has_shading_normals, budget) in &SHAPES {
+                            // Specular and environment on and off together, and the light
+                            // interiors with them: each on and each off is compiled once.
+                            for on in [false, true] {
+                                let method = Method { sampler, bsdf, lights, select: Some(select), triangles };
+                                let features = SceneFeatures {
                                     num_spheres,
                                     num_planes,
-                                    num_lights,
-                                    num_occluding_planes: if has_specular { num_planes } else { 0 },
-                                    has_specular,
-                                    has_environment,
-                                    light_interiors_reachable,
-                                },
-                            };
-                            if let Err(e) = shaders::validate(&source, &pipeline_constants(&key)) {
-                                panic!("{key:?}:\n{e}");
+                                    num_lights: num_sphere_lights + triangle_lights,
+                                    num_sphere_lights,
+                                    num_triangles,
+                                    has_shading_normals,
+                                    num_occluding_planes: if on { num_planes } else { 0 },
+                                    has_specular: on,
+                                    has_environment: on,
+                                    light_interiors_reachable: on,
+                                };
+                                let key = PipelineKey { method, features, traversal_budget: budget };
+                                if let Err(e) = shaders::validate(&source, &pipeline_constants(&key)) {
+                                    panic!("{key:?}:\n{e}");
+                                }
+                                checked += 1;
                             }
-                            checked += 1;
                         }
                     }
                 }
             }
         }
     }
-    assert_eq!(checked, 4 * 5 * 4 * 3 * 2 * 2);
+    assert_eq!(checked, 4 * 5 * 4 * 3 * 2 * SHAPES.len() * 2);
 }
 
 #[test]

@@ -25,9 +25,9 @@ const NODE_COST: f32 = 1.0;
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct BvhNode {
-    pub min: [f32; 3],
+    pub lo: [f32; 3],
     pub first: u32,
-    pub max: [f32; 3],
+    pub hi: [f32; 3],
     pub count: u32,
 }
 
@@ -85,8 +85,8 @@ impl Bvh {
             depth = depth.max(d);
             let range = &mut order[first..first + count];
             let bb = range.iter().fold(Aabb::EMPTY, |b, &i| b.union(boxes[i as usize]));
-            nodes[node].min = bb.min.to_array();
-            nodes[node].max = bb.max.to_array();
+            nodes[node].lo = bb.min.to_array();
+            nodes[node].hi = bb.max.to_array();
             let split = if d + 1 < MAX_DEPTH && count > 1 { sah_split(range, &boxes, &centroids, bb) } else { None };
             match split {
                 Some(left) => {
@@ -178,7 +178,7 @@ fn slab(node: &BvhNode, origin: Vec3, inv: Vec3, t_max: f32) -> Option<f32> {
     const GAMMA3: f32 = 3.0 * f32::EPSILON * 0.5 / (1.0 - 3.0 * f32::EPSILON * 0.5);
     let (mut enter, mut exit) = (0.0f32, t_max);
     for k in 0..3 {
-        let (lo, hi, o) = (node.min[k], node.max[k], origin[k]);
+        let (lo, hi, o) = (node.lo[k], node.hi[k], origin[k]);
         if inv[k].is_infinite() {
             // Parallel to this slab: inside it all along, or never.
             if o < lo || o > hi {

@@ -123,7 +123,7 @@ fn measure(gpu: &Gpu, scene: &Scene, args: &BenchArgs, preset: Preset, specialis
     let method = preset.method();
     let features = if specialised { scene.features() } else { scene.features().all_on() };
     let pipelines = PathTracerPipelines::new(&gpu.device);
-    let (_, created) = pipelines.get(&gpu.device, PipelineKey { method, features });
+    let (_, created) = pipelines.get(&gpu.device, PipelineKey::new(method, features, scene.has_triangle_lights()));
     let mut renderer = if specialised {
         Renderer::new(gpu, &pipelines, scene, method, 0)?
     } else {

@@ -107,21 +107,46 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
     let f = scene.features();
     println!(
         "{}: valid; {}x{}, max_depth {}, {} materials, {} spheres ({} lights), {} planes ({} can shadow a light), \
-         specular {}, environment {}, light interiors reachable {}; scene hash {}",
+         {} meshes ({} triangles, {} emissive{}), specular {}, environment {}, light interiors reachable {}; \
+         default light selection {}; scene hash {}",
         path.display(),
         scene.render.width,
         scene.render.height,
         scene.render.max_depth,
         scene.materials.len(),
         f.num_spheres,
-        f.num_lights,
+        f.num_sphere_lights,
         f.num_planes,
         f.num_occluding_planes,
+        scene.meshes.len(),
+        f.num_triangles,
+        f.num_lights - f.num_sphere_lights,
+        if f.has_shading_normals { ", with vertex normals" } else { "" },
         if f.has_specular { "yes" } else { "no" },
         if f.has_environment { "yes" } else { "no" },
         if f.light_interiors_reachable { "yes" } else { "no" },
+        pathlab::method::LightSelect::default_for(scene.has_triangle_lights()),
         scene.content_hash(),
     );
+    if f.num_triangles > 0 {
+        let start = std::time::Instant::now();
+        let packed = pathlab::gpu::PackedTriangles::new(&scene);
+        let built = start.elapsed();
+        let b = &packed.bvh;
+        println!(
+            "BVH: {} triangles, {} nodes ({} leaves), depth {}, built in {:.1} ms (with the light table); \
+             GPU memory {:.2} MiB (triangles {:.2}, normals {:.2}, nodes {:.2})",
+            packed.triangles.len(),
+            b.nodes.len(),
+            b.nodes.iter().filter(|n| n.count > 0).count(),
+            b.depth,
+            built.as_secs_f64() * 1e3,
+            packed.gpu_bytes() as f64 / (1 << 20) as f64,
+            (packed.triangles.len() * 48) as f64 / (1 << 20) as f64,
+            (packed.normals.len() * 48) as f64 / (1 << 20) as f64,
+            (b.nodes.len() * 32) as f64 / (1 << 20) as f64,
+        );
+    }
     Ok(())
 }
 

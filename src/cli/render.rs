@@ -9,7 +9,7 @@ use clap::Args;
 use pathlab::display::{DisplayTransform, Transfer};
 use pathlab::estimate::target::Target;
 use pathlab::gpu::{adapter_summary, Gpu, PathTracerPipelines};
-use pathlab::method::{BsdfSampling, LightSampling, Method, Preset, Sampler};
+use pathlab::method::{BsdfSampling, LightSampling, LightSelect, Method, Preset, Sampler, TriangleSampling};
 use pathlab::render::{ctrl_c_flag, default_output, Budget, CheckpointPlan, ErrorPlan, OutputFiles, RenderJob, Resume, MAX_SPP};
 use pathlab::shard::{default_part_name, shard_range};
 
@@ -37,6 +37,13 @@ pub struct RenderArgs {
     /// Override the preset's light sampling.
     #[arg(long, value_parser = named::<LightSampling>())]
     lights: Option<LightSampling>,
+    /// Which lights next event estimation samples per vertex (default: `power` for scenes
+    /// with emissive meshes, else `all`).
+    #[arg(long, value_parser = named::<LightSelect>())]
+    light_select: Option<LightSelect>,
+    /// How triangle lights are sampled.
+    #[arg(long, value_parser = named::<TriangleSampling>(), default_value = "area")]
+    triangle_sampling: TriangleSampling,
     /// Samples per pixel (default: the scene's render.spp, else 64).
     #[arg(long, conflicts_with = "time")]
     spp: Option<u64>,
@@ -142,7 +149,11 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
     if args.exposure.is_some_and(|e| !e.is_finite()) {
         bail!("--exposure must be finite");
     }
-    let method = method_of(args.method, args.sampler, args.bsdf, args.lights);
+    let method = Method {
+        select: args.light_select,
+        triangles: args.triangle_sampling,
+        ..method_of(args.method, args.sampler, args.bsdf, args.lights)
+    };
     // A part of a split render: a sample range, written as raw accumulators.
     let part = match (&args.samples, args.shard) {
         (Some(r), _) => Some((r.clone(), None)),

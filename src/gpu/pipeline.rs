@@ -7,27 +7,50 @@ use std::time::{Duration, Instant};
 
 use wgpu::util::DeviceExt;
 
-use crate::method::Method;
+use crate::method::{LightSelect, Method};
 use crate::scene::SceneFeatures;
 use crate::shaders::{self, bindings};
+
+/// `TRAVERSAL_BUDGET` of a pipeline whose traversal is bounded by the host: no guard.
+pub const NO_TRAVERSAL_GUARD: u32 = u32::MAX;
 
 /// What a pipeline is specialised to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct PipelineKey {
+    /// The method, its light selection resolved (`Some`).
     pub method: Method,
     pub features: SceneFeatures,
+    /// Traversal steps an invocation may take before the kernel's guard drops its sample
+    /// (`NO_TRAVERSAL_GUARD`: none).
+    pub traversal_budget: u32,
+}
+
+impl PipelineKey {
+    /// The key of `method` on a scene with `features`: the scene's default light selection
+    /// where the method leaves it open, no traversal guard.
+    pub fn new(method: Method, features: SceneFeatures, has_triangle_lights: bool) -> PipelineKey {
+        let select = Some(method.select.unwrap_or(LightSelect::default_for(has_triangle_lights)));
+        PipelineKey { method: Method { select, ..method }, features, traversal_budget: NO_TRAVERSAL_GUARD }
+    }
 }
 
 /// The `override` constants of the path tracer for a method and scene features.
 pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
     let f = &key.features;
+    let select = key.method.select.unwrap_or(LightSelect::All);
     vec![
         ("SAMPLER", key.method.sampler.constant() as f64),
         ("BSDF_SAMPLING", key.method.bsdf.constant() as f64),
         ("LIGHT_SAMPLING", key.method.lights.constant() as f64),
+        ("LIGHT_SELECT", select.constant() as f64),
+        ("TRIANGLE_SAMPLING", key.method.triangles.constant() as f64),
         ("NUM_SPHERES", f.num_spheres as f64),
         ("NUM_PLANES", f.num_planes as f64),
         ("NUM_LIGHTS", f.num_lights as f64),
+        ("NUM_SPHERE_LIGHTS", f.num_sphere_lights as f64),
+        ("NUM_TRIANGLES", f.num_triangles as f64),
+        ("HAS_SHADING_NORMALS", f.has_shading_normals as u32 as f64),
+        ("TRAVERSAL_BUDGET", key.traversal_budget as f64),
         ("NUM_OCCLUDING_PLANES", f.num_occluding_planes as f64),
         ("HAS_SPECULAR", f.has_specular as u32 as f64),
         ("HAS_ENVIRONMENT", f.has_environment as u32 as f64),
@@ -35,11 +58,32 @@ pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
     ]
 }
 
-/// Upper bound on the loop back-edges one sample of the path tracer executes in one invocation
-/// (path vertices x (intersection, light and sampler loops)). Needed because llvmpipe/lavapipe
-/// ends every loop of an invocation once 65535 back-edges have run in total
-/// (`LP_MAX_TGSI_LOOP_ITERATIONS`), which silently cut frames short.
-pub fn loop_iterations_per_sample(key: &PipelineKey, max_depth: u32) -> u64 {
+/// Upper bounds on the loop back-edges one sample of the path tracer executes in one
+/// invocation. Needed because llvmpipe/lavapipe ends every loop of an invocation once 65535
+/// back-edges have run in total (`LP_MAX_TGSI_LOOP_ITERATIONS`), which silently cut frames
+/// short.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct LoopBound {
+    /// Everything but BVH traversal: path vertices x (intersection, light and sampler loops).
+    pub fixed: u64,
+    /// Rays (camera, scattered and shadow rays) one sample traces at most.
+    pub rays: u64,
+    /// Traversal steps of one ray at worst: every node visited and every triangle tested once,
+    /// and two more per leaf (entering a leaf's loop costs llvmpipe about two back-edges of
+    /// its own: measured, tests/bvh.rs), as the kernel's guard counts them.
+    pub steps_per_ray: u64,
+}
+
+impl LoopBound {
+    /// The worst case of one sample.
+    pub fn per_sample(&self) -> u64 {
+        self.fixed + self.rays * self.steps_per_ray
+    }
+}
+
+/// The loop bound of one sample of `key` at `max_depth` over a BVH of `bvh_nodes` nodes of
+/// which `bvh_leaves` are leaves.
+pub fn loop_iterations_per_sample(key: &PipelineKey, max_depth: u32, bvh_nodes: u64, bvh_leaves: u64) -> LoopBound {
     use crate::method::Sampler;
     let f = &key.features;
     let (s, p, l) = (f.num_spheres as u64, f.num_planes as u64, f.num_lights as u64);
@@ -51,8 +95,16 @@ pub fn loop_iterations_per_sample(key: &PipelineKey, max_depth: u32) -> u64 {
         Sampler::Halton => 44,
         Sampler::HaltonScrambled => 160,
     };
-    let per_vertex = 1 + s + p + l * (1 + s + p) + (3 + 2 * l) * per_dim;
-    1 + 2 * per_dim + max_depth as u64 * per_vertex
+    // Shadow rays and light dimensions per vertex: every light, or one.
+    let (shadow_rays, light_dims) = match key.method.select {
+        None | Some(LightSelect::All) => (l, 2 * l),
+        Some(_) => (l.min(1), 3),
+    };
+    let per_vertex = 1 + s + p + shadow_rays * (1 + s + p) + (3 + light_dims) * per_dim;
+    let fixed = 1 + 2 * per_dim + max_depth as u64 * per_vertex;
+    let rays = 1 + max_depth as u64 * (1 + shadow_rays);
+    let steps_per_ray = if f.num_triangles > 0 { bvh_nodes + 2 * bvh_leaves + f.num_triangles as u64 } else { 0 };
+    LoopBound { fixed, rays, steps_per_ray }
 }
 
 /// Time spent creating one pipeline (shader specialisation and driver compilation).

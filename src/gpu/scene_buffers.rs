@@ -11,7 +11,9 @@ use bytemuck::{Pod, Zeroable};
 use glam::DVec3;
 use wgpu::util::DeviceExt;
 
-use crate::scene::{Scene, MAX_MATERIALS, MAX_PLANES, MAX_SPHERES};
+use crate::accel::{Bvh, BvhNode};
+use crate::scene::lights::luminance;
+use crate::scene::{AliasTable, Light, Scene, MAX_MATERIALS, MAX_PLANES, MAX_SPHERES};
 
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
@@ -42,13 +44,132 @@ pub struct GpuMaterial {
     pub is_emissive: u32,
 }
 
-pub(crate) fn f3(v: DVec3) -> [f32; 3] {
-    v.as_vec3().to_array()
+/// A triangle as the kernel reads it (`Triangle`, bvh.wgsl): vertices, material, the light it
+/// is (`u32::MAX`: none) and flags.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct GpuTriangle {
+    pub p0: [f32; 3],
+    pub material: u32,
+    pub p1: [f32; 3],
+    pub light: u32,
+    pub p2: [f32; 3],
+    pub flags: u32,
 }
 
-/// Rec. 709 luminance, to choose between the BSDF lobes (`p_spec`).
-fn luminance(c: DVec3) -> f64 {
-    c.dot(DVec3::new(0.212671, 0.715160, 0.072169))
+/// Flag: emits on both sides.
+pub const TRIANGLE_TWO_SIDED: u32 = 1;
+/// Flag: has vertex normals (`GpuTriangleNormals` at the same index).
+pub const TRIANGLE_HAS_NORMALS: u32 = 2;
+
+/// A triangle's vertex normals (`TriangleNormals`, bvh.wgsl).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct GpuTriangleNormals {
+    pub n0: [f32; 3],
+    pub _pad0: u32,
+    pub n1: [f32; 3],
+    pub _pad1: u32,
+    pub n2: [f32; 3],
+    pub _pad2: u32,
+}
+
+/// One entry of the light table (`LightEntry`, light_table.wgsl).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct GpuLight {
+    pub object: u32,
+    pub power_prob: f32,
+    pub alias_index: u32,
+    pub threshold: f32,
+}
+
+/// Most triangles one storage binding of `binding_limit` bytes holds (the triangle array is
+/// the largest of the three).
+pub fn max_triangles(binding_limit: u64) -> u64 {
+    binding_limit / std::mem::size_of::<GpuTriangle>() as u64
+}
+
+/// The scene's triangles packed for the kernel: in the BVH's leaf order, with the BVH and the
+/// light table.
+#[derive(Debug, Clone)]
+pub struct PackedTriangles {
+    pub triangles: Vec<GpuTriangle>,
+    /// One per triangle where some mesh has normals, else empty.
+    pub normals: Vec<GpuTriangleNormals>,
+    pub bvh: Bvh,
+    pub lights: Vec<GpuLight>,
+}
+
+impl PackedTriangles {
+    /// Bytes of the four storage buffers.
+    pub fn gpu_bytes(&self) -> usize {
+        std::mem::size_of_val(&self.triangles[..])
+            + std::mem::size_of_val(&self.normals[..])
+            + std::mem::size_of_val(&self.bvh.nodes[..])
+            + std::mem::size_of_val(&self.lights[..])
+    }
+
+    /// Builds the BVH over every mesh triangle and lays the triangles out in its leaf order.
+    pub fn new(scene: &Scene) -> PackedTriangles {
+        // Scene order: (mesh, triangle) of every triangle, and its light index if it emits.
+        let lights = scene.lights();
+        let mut light_of = std::collections::HashMap::new();
+        for (l, light) in lights.iter().enumerate() {
+            if let Light::Triangle { mesh, triangle } = *light {
+                light_of.insert((mesh, triangle), l as u32);
+            }
+        }
+        let refs: Vec<(usize, usize)> =
+            scene.meshes.iter().enumerate().flat_map(|(m, mesh)| (0..mesh.triangles.len()).map(move |t| (m, t))).collect();
+        let geometry: Vec<crate::accel::Triangle> =
+            refs.iter().map(|&(m, t)| scene.meshes[m].vertices(t).map(|v| v.as_vec3())).collect();
+        let bvh = if geometry.is_empty() { Bvh { nodes: vec![BvhNode::zeroed()], order: Vec::new(), depth: 0 } } else { Bvh::build(&geometry) };
+        let any_normals = scene.meshes.iter().any(|m| !m.normals.is_empty());
+        let mut gpu_index = vec![0u32; refs.len()];
+        let mut triangles = Vec::with_capacity(refs.len());
+        let mut normals = Vec::new();
+        for (k, &i) in bvh.order.iter().enumerate() {
+            let (m, t) = refs[i as usize];
+            gpu_index[i as usize] = k as u32;
+            let mesh = &scene.meshes[m];
+            let [p0, p1, p2] = mesh.vertices(t).map(f3);
+            let has_normals = !mesh.normals.is_empty();
+            let flags = if mesh.two_sided { TRIANGLE_TWO_SIDED } else { 0 } | if has_normals { TRIANGLE_HAS_NORMALS } else { 0 };
+            let light = light_of.get(&(m, t)).copied().unwrap_or(u32::MAX);
+            triangles.push(GpuTriangle { p0, material: mesh.material as u32, p1, light, p2, flags });
+            if any_normals {
+                let [n0, n1, n2] = if has_normals { mesh.triangles[t].map(|v| f3(mesh.normals[v as usize])) } else { [[0.0; 3]; 3] };
+                normals.push(GpuTriangleNormals { n0, _pad0: 0, n1, _pad1: 0, n2, _pad2: 0 });
+            }
+        }
+        // The light table: spheres are kernel spheres 0.., triangles are named by their index
+        // in leaf order.
+        let weights: Vec<f64> = lights.iter().map(|&l| scene.light_power(l)).collect();
+        let alias = AliasTable::new(&weights);
+        let mut tri_index = std::collections::HashMap::new();
+        for (i, &(m, t)) in refs.iter().enumerate() {
+            tri_index.insert((m, t), gpu_index[i]);
+        }
+        let lights = lights
+            .iter()
+            .enumerate()
+            .map(|(l, light)| GpuLight {
+                object: match *light {
+                    Light::Sphere(_) => l as u32,
+                    Light::Triangle { mesh, triangle } => tri_index[&(mesh, triangle)],
+                },
+                power_prob: alias.prob[l] as f32,
+                alias_index: alias.alias[l],
+                threshold: alias.threshold[l] as f32,
+            })
+            .collect();
+        PackedTriangles { triangles, normals, bvh, lights }
+    }
+}
+
+pub(crate) fn f3(v: DVec3) -> [f32; 3] {
+    v.as_vec3().to_array()
 }
 
 /// The scene's uniform buffers, each allocated at its full capacity (the WGSL arrays are
@@ -57,6 +178,21 @@ pub struct SceneBuffers {
     pub spheres: wgpu::Buffer,
     pub planes: wgpu::Buffer,
     pub materials: wgpu::Buffer,
+    /// Storage buffers of the triangles, their normals, the BVH and the light table (one
+    /// zero element where the scene has none: bindings cannot be empty).
+    pub triangles: wgpu::Buffer,
+    pub triangle_normals: wgpu::Buffer,
+    pub bvh_nodes: wgpu::Buffer,
+    pub lights: wgpu::Buffer,
+}
+
+/// A read-only storage buffer holding `items` (at least one zeroed element).
+fn storage_array<T: Pod + Zeroable>(device: &wgpu::Device, label: &str, items: &[T]) -> wgpu::Buffer {
+    let mut bytes = bytemuck::cast_slice::<T, u8>(items).to_vec();
+    if bytes.is_empty() {
+        bytes.resize(std::mem::size_of::<T>(), 0);
+    }
+    device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents: &bytes, usage: wgpu::BufferUsages::STORAGE })
 }
 
 /// A uniform buffer of `capacity` elements of `T`, starting with `items`, zero after them.
@@ -120,11 +256,15 @@ impl SceneBuffers {
             .collect()
     }
 
-    pub fn new(device: &wgpu::Device, scene: &Scene) -> SceneBuffers {
+    pub fn new(device: &wgpu::Device, scene: &Scene, packed: &PackedTriangles) -> SceneBuffers {
         SceneBuffers {
             spheres: uniform_array(device, "spheres", &Self::pack_spheres(scene), MAX_SPHERES),
             planes: uniform_array(device, "planes", &Self::pack_planes(scene), MAX_PLANES),
             materials: uniform_array(device, "materials", &Self::pack_materials(scene), MAX_MATERIALS),
+            triangles: storage_array(device, "triangles", &packed.triangles),
+            triangle_normals: storage_array(device, "triangle normals", &packed.normals),
+            bvh_nodes: storage_array(device, "bvh nodes", &packed.bvh.nodes),
+            lights: storage_array(device, "lights", &packed.lights),
         }
     }
 }
@@ -138,6 +278,9 @@ mod tests {
         assert_eq!(std::mem::size_of::<GpuSphere>(), 32);
         assert_eq!(std::mem::size_of::<GpuPlane>(), 32);
         assert_eq!(std::mem::size_of::<GpuMaterial>(), 48);
+        assert_eq!(std::mem::size_of::<GpuTriangle>(), 48);
+        assert_eq!(std::mem::size_of::<GpuTriangleNormals>(), 48);
+        assert_eq!(std::mem::size_of::<GpuLight>(), 16);
     }
 
     #[test]

@@ -61,6 +61,10 @@ impl Band {
                     entry(bindings::MATERIALS, &scene_buffers.materials),
                     entry(bindings::ACCUM, &accum),
                     entry(bindings::HALTON_PRIMES, &pipelines.halton_primes),
+                    entry(bindings::TRIANGLES, &scene_buffers.triangles),
+                    entry(bindings::TRIANGLE_NORMALS, &scene_buffers.triangle_normals),
+                    entry(bindings::BVH_NODES, &scene_buffers.bvh_nodes),
+                    entry(bindings::LIGHTS, &scene_buffers.lights),
                 ],
             });
             bands.push(Band { y0, rows, params_buffer, accum, bind_group });

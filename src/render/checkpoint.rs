@@ -83,6 +83,9 @@ impl CheckpointKey {
             ("sampler", self.method.sampler.to_string()),
             ("bsdf", self.method.bsdf.to_string()),
             ("lights", self.method.lights.to_string()),
+            // `default`: the scene's (LightSelect::default_for).
+            ("light_select", self.method.select.map_or("default".to_string(), |s| s.to_string())),
+            ("triangle_sampling", self.method.triangles.to_string()),
             ("seed", self.seed.to_string()),
             ("scene_hash", self.scene_hash.clone()),
         ]
@@ -181,10 +184,21 @@ impl Checkpoint {
             }
         }
         let u32_max = u32::MAX as u64;
+        // Files written before triangle meshes have neither light option: the defaults.
+        let select = match header.get("light_select") {
+            None | Some("default") => None,
+            Some(v) => Some(v.parse().map_err(|e| invalid(format!("pathlab:light_select: {e}")))?),
+        };
+        let triangles = match header.get("triangle_sampling") {
+            None => crate::method::TriangleSampling::Area,
+            Some(v) => v.parse().map_err(|e| invalid(format!("pathlab:triangle_sampling: {e}")))?,
+        };
         let method = Method {
             sampler: header.text("sampler").map_err(attr)?.parse().map_err(|e| invalid(format!("pathlab:sampler: {e}")))?,
             bsdf: header.text("bsdf").map_err(attr)?.parse().map_err(|e| invalid(format!("pathlab:bsdf: {e}")))?,
             lights: header.text("lights").map_err(attr)?.parse().map_err(|e| invalid(format!("pathlab:lights: {e}")))?,
+            select,
+            triangles,
         };
         let scene_hash = header.text("scene_hash").map_err(attr)?.to_string();
         if scene_hash.len() != 16 || !scene_hash.bytes().all(|b| b.is_ascii_hexdigit() && !b.is_ascii_uppercase()) {

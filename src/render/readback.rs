@@ -163,7 +163,9 @@ impl PendingReadback {
 fn check_counts(pixels: &[AccumPixel], spp: u64) -> Result<(), RenderError> {
     match AccumPixel::first_miscounted(pixels, spp) {
         Some(i) => Err(RenderError::Readback(format!(
-            "pixel {i} accumulated {} samples, expected {spp}: the device dropped work",
+            "pixel {i} accumulated {} samples, expected {spp}: the device dropped work (on a software \
+             Vulkan driver: a ray's BVH traversal ran past the loop limit of 65535 iterations per \
+             invocation; see README, \"Limits\")",
             pixels[i].count
         ))),
         None => Ok(()),

@@ -8,7 +8,7 @@ use std::time::Duration;
 
 use crate::estimate::ErrorEstimate;
 use crate::film::AccumPixel;
-use crate::gpu::{loop_iterations_per_sample, FrameParams, Gpu, GpuError, PathTracerPipelines, PipelineKey, SceneBuffers};
+use crate::gpu::{loop_iterations_per_sample, max_triangles, FrameParams, Gpu, GpuError, PackedTriangles, PathTracerPipelines, PipelineKey, SceneBuffers};
 use crate::method::Method;
 use crate::scene::Scene;
 
@@ -49,6 +49,11 @@ pub enum RenderError {
          lights, or use a hardware GPU"
     )]
     LoopLimit(u64),
+    #[error(
+        "the scene has {count} triangles, more than this adapter holds ({limit}: its largest storage \
+         binding is {binding} bytes, 48 bytes per triangle)"
+    )]
+    TooManyTriangles { count: u64, limit: u64, binding: u64 },
 }
 
 /// When to stop a render.
@@ -123,18 +128,24 @@ impl Renderer {
         seed: u32,
         band_bytes: u64,
     ) -> Result<Renderer, RenderError> {
-        Renderer::build(gpu, pipelines, scene, PipelineKey { method, features: scene.features() }, seed, band_bytes)
+        Renderer::build(gpu, pipelines, scene, PipelineKey::new(method, scene.features(), scene.has_triangle_lights()), seed, band_bytes)
     }
 
     /// Like `new`, with a pipeline that has every optional feature on
     /// (`SceneFeatures::all_on`): to measure what specialisation to the scene gains.
     pub fn unspecialised(gpu: &Gpu, pipelines: &PathTracerPipelines, scene: &Scene, method: Method, seed: u32) -> Result<Renderer, RenderError> {
-        let key = PipelineKey { method, features: scene.features().all_on() };
+        let key = PipelineKey::new(method, scene.features().all_on(), scene.has_triangle_lights());
         Renderer::build(gpu, pipelines, scene, key, seed, u64::MAX)
     }
 
-    fn build(gpu: &Gpu, pipelines: &PathTracerPipelines, scene: &Scene, key: PipelineKey, seed: u32, band_bytes: u64) -> Result<Renderer, RenderError> {
+    fn build(gpu: &Gpu, pipelines: &PathTracerPipelines, scene: &Scene, mut key: PipelineKey, seed: u32, band_bytes: u64) -> Result<Renderer, RenderError> {
         let device = &gpu.device;
+        let binding = gpu.limits.max_storage_buffer_binding_size.min(gpu.limits.max_buffer_size);
+        let count = scene.num_triangles() as u64;
+        if count > max_triangles(binding) {
+            return Err(RenderError::TooManyTriangles { count, limit: max_triangles(binding), binding });
+        }
+        let packed = PackedTriangles::new(scene);
         let (width, height) = (scene.render.width, scene.render.height);
         let limit = gpu.limits.max_storage_buffer_binding_size.min(gpu.limits.max_buffer_size);
         let row_bytes = width as u64 * std::mem::size_of::<AccumPixel>() as u64;
@@ -143,16 +154,29 @@ impl Renderer {
         }
         let rows_per_band = (band_bytes.min(limit) / row_bytes).clamp(1, height as u64) as u32;
         let max_samples_per_dispatch = if gpu.info.device_type == wgpu::DeviceType::Cpu {
-            let per_sample = loop_iterations_per_sample(&key, scene.render.max_depth);
-            if per_sample > CPU_LOOP_BUDGET {
-                return Err(RenderError::LoopLimit(per_sample));
+            let leaves = packed.bvh.nodes.iter().filter(|n| n.count > 0).count() as u64;
+            let bound = loop_iterations_per_sample(&key, scene.render.max_depth, packed.bvh.nodes.len() as u64, leaves);
+            if bound.fixed > CPU_LOOP_BUDGET {
+                return Err(RenderError::LoopLimit(bound.fixed));
             }
-            (CPU_LOOP_BUDGET / per_sample).clamp(1, MAX_SAMPLES_PER_DISPATCH as u64) as u32
+            if bound.per_sample() <= CPU_LOOP_BUDGET {
+                // The worst case fits: as many samples per dispatch as fit whole.
+                (CPU_LOOP_BUDGET / bound.per_sample()).clamp(1, MAX_SAMPLES_PER_DISPATCH as u64) as u32
+            } else {
+                // A worst-case traversal would not fit (large meshes): one sample per dispatch,
+                // and the kernel counts its traversal steps, dropping a sample that would pass
+                // the budget left after everything else (never seen in practice: a ray visits
+                // a few hundred nodes, not all of them), which the readback then reports.
+                // Three quarters of what is left: the kernel's count of a traversal is within
+                // 1.45x of llvmpipe's own (measured on a worst case, tests/bvh.rs).
+                key.traversal_budget = ((CPU_LOOP_BUDGET - bound.fixed) * 3 / 4) as u32;
+                1
+            }
         } else {
             MAX_SAMPLES_PER_DISPATCH
         };
         let (pipeline, _) = pipelines.get(device, key);
-        let scene_buffers = SceneBuffers::new(device, scene);
+        let scene_buffers = SceneBuffers::new(device, scene, &packed);
         let mut params = FrameParams::for_scene(scene);
         params.seed = seed;
         let bands = Band::cover(device, pipelines, &scene_buffers, width, height, rows_per_band);

@@ -28,7 +28,12 @@ impl fmt::Display for Diagnostic {
             Severity::Error => "error",
             Severity::Warning => "warning",
         };
-        write!(f, "{}:{}:{}: {kind}: ", self.file.display(), self.line, self.column)?;
+        // Line 0: a finding about a whole file (e.g. in a binary mesh file), without a position.
+        if self.line == 0 {
+            write!(f, "{}: {kind}: ", self.file.display())?;
+        } else {
+            write!(f, "{}:{}:{}: {kind}: ", self.file.display(), self.line, self.column)?;
+        }
         if !self.field.is_empty() {
             write!(f, "`{}`: ", self.field)?;
         }

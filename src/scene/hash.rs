@@ -13,6 +13,17 @@
 //! planes=N, then plane.i.point=… .normal=… .material=INDEX
 //! ```
 //!
+//! and, only when the scene has triangle meshes (so that every scene without them keeps its
+//! hash):
+//!
+//! ```text
+//! meshes=N, then mesh.i.material=INDEX .two_sided=0|1 .triangles=T .data=SHA256
+//! ```
+//!
+//! where `data` is the hex SHA-256 of the world-space mesh as little-endian bytes: every
+//! position (3 f64), then every normal (3 f64, none for face normals), then every triangle
+//! (3 u32).
+//!
 //! Every real number is written as the 16 hex digits of its IEEE-754 binary64 bit pattern
 //! (`f64::to_bits`), integers in decimal. Left out, because they do not change the image: the
 //! file's path, comments and formatting, material names, the default sample count and the
@@ -75,7 +86,33 @@ pub fn canonical_encoding(scene: &Scene) -> String {
         line(&format!("plane.{i}.normal"), vec3(p.normal));
         line(&format!("plane.{i}.material"), p.material.to_string());
     }
+    if !scene.meshes.is_empty() {
+        line("meshes", scene.meshes.len().to_string());
+        for (i, m) in scene.meshes.iter().enumerate() {
+            line(&format!("mesh.{i}.material"), m.material.to_string());
+            line(&format!("mesh.{i}.two_sided"), (m.two_sided as u8).to_string());
+            line(&format!("mesh.{i}.triangles"), m.triangles.len().to_string());
+            line(&format!("mesh.{i}.data"), mesh_digest(m));
+        }
+    }
     t
+}
+
+/// Hex SHA-256 of a mesh's world-space data (see the module documentation).
+fn mesh_digest(m: &crate::scene::Mesh) -> String {
+    use sha2::{Digest, Sha256};
+    let mut h = Sha256::new();
+    for v in m.positions.iter().chain(&m.normals) {
+        for x in v.to_array() {
+            h.update(x.to_le_bytes());
+        }
+    }
+    for t in &m.triangles {
+        for i in t {
+            h.update(i.to_le_bytes());
+        }
+    }
+    h.finalize().iter().map(|b| format!("{b:02x}")).collect()
 }
 
 /// The first 16 hex digits of the SHA-256 of `canonical_encoding(scene)`.

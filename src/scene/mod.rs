@@ -6,7 +6,10 @@
 
 mod diagnostic;
 pub mod hash;
+pub mod lights;
+pub mod mesh;
 mod raw;
+pub mod transform;
 mod validate;
 
 use std::path::{Path, PathBuf};
@@ -14,6 +17,9 @@ use std::path::{Path, PathBuf};
 use glam::DVec3;
 
 pub use diagnostic::{Diagnostic, SceneError, Severity};
+pub use lights::{AliasTable, Light};
+pub use mesh::Mesh;
+pub use transform::Transform;
 
 // Most objects of each kind a scene may have: the capacities of the kernel's uniform buffers
 // (src/gpu/scene_buffers.rs), each within wgpu's default 64 KiB uniform binding. The kernel tests
@@ -97,6 +103,8 @@ pub struct Scene {
     pub materials: Vec<Material>,
     pub spheres: Vec<Sphere>,
     pub planes: Vec<Plane>,
+    /// Triangle meshes in world space (`[[meshes]]`, `[[rectangles]]`, `[[cubes]]`).
+    pub meshes: Vec<Mesh>,
     /// How images of this scene are shown and scored on screen (`[display]`, default sRGB):
     /// PNG previews, figures and the display-referred metrics. Not part of `content_hash`.
     pub display: crate::display::DisplayTransform,
@@ -128,7 +136,12 @@ impl Scene {
         hash::content_hash(self)
     }
 
-    /// Indices of the spheres that emit: the lights.
+    /// Triangles of all meshes.
+    pub fn num_triangles(&self) -> usize {
+        self.meshes.iter().map(|m| m.triangles.len()).sum()
+    }
+
+    /// Indices of the spheres that emit: the sphere lights.
     pub fn light_spheres(&self) -> Vec<usize> {
         (0..self.spheres.len())
             .filter(|&i| self.materials[self.spheres[i].material].is_emissive())
@@ -137,10 +150,16 @@ impl Scene {
 
     /// The features a pipeline must support to render this scene.
     pub fn features(&self) -> SceneFeatures {
+        let num_sphere_lights = self.light_spheres().len() as u32;
+        let num_triangle_lights: usize =
+            self.meshes.iter().filter(|m| self.materials[m.material].is_emissive()).map(|m| m.triangles.len()).sum();
         SceneFeatures {
             num_spheres: self.spheres.len() as u32,
             num_planes: self.planes.len() as u32,
-            num_lights: self.light_spheres().len() as u32,
+            num_lights: num_sphere_lights + num_triangle_lights as u32,
+            num_sphere_lights,
+            num_triangles: self.num_triangles() as u32,
+            has_shading_normals: self.meshes.iter().any(|m| !m.normals.is_empty()),
             has_specular: self.materials.iter().any(|m| m.specular.max_element() > 0.0),
             has_environment: self.render.environment.max_element() > 0.0,
             num_occluding_planes: self.occluding_planes().len() as u32,
@@ -183,6 +202,13 @@ impl Scene {
                         let d = side(s.center);
                         d * camera <= 0.0 || d.abs() <= s.radius * (1.0 + MARGIN)
                     })
+                    // An emissive triangle is on the camera's side if all its vertices are.
+                    || self.meshes.iter().filter(|m| self.materials[m.material].is_emissive()).any(|m| {
+                        m.positions.iter().any(|&v| {
+                            let d = side(v);
+                            d * camera <= 0.0 || d.abs() <= MARGIN * scale.max(v.abs().max_element())
+                        })
+                    })
             })
             .collect()
     }
@@ -212,7 +238,12 @@ impl Scene {
 pub struct SceneFeatures {
     pub num_spheres: u32,
     pub num_planes: u32,
+    /// Lights: the emissive spheres, then the emissive triangles.
     pub num_lights: u32,
+    pub num_sphere_lights: u32,
+    pub num_triangles: u32,
+    /// Some mesh has vertex normals (interpolated as shading normals).
+    pub has_shading_normals: bool,
     /// Planes that shadow rays must test (the first ones in kernel order).
     pub num_occluding_planes: u32,
     pub has_specular: bool,

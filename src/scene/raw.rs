@@ -19,6 +19,67 @@ pub(crate) struct RawScene {
     #[serde(default)]
     pub planes: Vec<Spanned<RawPlane>>,
     pub display: Option<Spanned<RawDisplay>>,
+    #[serde(default)]
+    pub meshes: Vec<Spanned<RawMesh>>,
+    #[serde(default)]
+    pub rectangles: Vec<Spanned<RawShape>>,
+    #[serde(default)]
+    pub cubes: Vec<Spanned<RawShape>>,
+}
+
+/// `[[meshes]]`: a triangle mesh from an OBJ or PLY file.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawMesh {
+    pub file: Spanned<String>,
+    pub material: Spanned<String>,
+    pub transform: Option<Spanned<RawTransform>>,
+    pub face_normals: Option<Spanned<bool>>,
+    pub two_sided: Option<Spanned<bool>>,
+}
+
+/// `[[rectangles]]` and `[[cubes]]`: Mitsuba's built-in shapes.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawShape {
+    pub material: Spanned<String>,
+    pub transform: Option<Spanned<RawTransform>>,
+    pub two_sided: Option<Spanned<bool>>,
+}
+
+/// An object-to-world transform: `scale`, then `rotate` (one rotation or a list, applied in
+/// the order written), then `translate`; or a 4x4 `matrix` alone.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawTransform {
+    pub translate: Option<Spanned<[f64; 3]>>,
+    pub rotate: Option<Spanned<RawRotations>>,
+    pub scale: Option<Spanned<RawScale>>,
+    pub matrix: Option<Spanned<[[f64; 4]; 4]>>,
+}
+
+/// A rotation by `angle` degrees about `axis` (right-handed).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawRotation {
+    pub axis: [f64; 3],
+    pub angle: f64,
+}
+
+/// One rotation or a list of them.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(untagged)]
+pub(crate) enum RawRotations {
+    One(RawRotation),
+    Many(Vec<RawRotation>),
+}
+
+/// A uniform scale factor or one per axis.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(untagged)]
+pub(crate) enum RawScale {
+    Uniform(f64),
+    PerAxis([f64; 3]),
 }
 
 #[derive(Debug, Deserialize)]

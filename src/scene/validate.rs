@@ -11,7 +11,9 @@ use toml::Spanned;
 use crate::display::{DisplayTransform, Transfer};
 
 use super::diagnostic::LineIndex;
-use super::raw::{RawColor, RawMaterial, RawScene};
+use super::mesh::{self, shapes, Mesh, MeshData};
+use super::raw::{RawColor, RawMaterial, RawRotations, RawScale, RawScene, RawTransform};
+use super::transform::Transform;
 use super::{
     Camera, Diagnostic, Fov, Material, Plane, RenderSettings, Scene, SceneError, Severity, Sphere, MAX_MATERIALS,
     MAX_PLANES, MAX_SPHERES,
@@ -168,6 +170,8 @@ pub(super) fn parse_and_validate(text: &str, file: &Path) -> Result<Scene, Scene
         planes.push(Plane { point, normal: if length > 0.0 { normal / length } else { DVec3::Z }, material });
     }
 
+    let meshes = check_meshes(&mut ck, &raw, &materials, &mut |ck, name, field| resolve(ck, name, field));
+
     // Capacities of the kernel's uniform buffers.
     if let Some(extra) = raw.spheres.get(MAX_SPHERES) {
         ck.error(extra.span(), format!("spheres[{MAX_SPHERES}]"), too_many(raw.spheres.len(), MAX_SPHERES, "spheres"));
@@ -184,7 +188,8 @@ pub(super) fn parse_and_validate(text: &str, file: &Path) -> Result<Scene, Scene
             ck.warn(raw.materials[name].span(), format!("materials.{name}"), "material is defined but never used");
         }
     }
-    let any_emitter = spheres.iter().any(|s| materials.get(s.material).is_some_and(Material::is_emissive));
+    let any_emitter = spheres.iter().map(|s| s.material).chain(meshes.iter().map(|m| m.material))
+        .any(|m| materials.get(m).is_some_and(Material::is_emissive));
     if !any_emitter && render.environment.max_element() <= 0.0 {
         ck.warn(raw.render.span(), "render.environment", "the scene has no emitter and a black environment: the image will be black");
     }
@@ -201,9 +206,134 @@ pub(super) fn parse_and_validate(text: &str, file: &Path) -> Result<Scene, Scene
         materials,
         spheres,
         planes,
+        meshes,
         display,
         warnings: ck.diagnostics,
     })
+}
+
+/// A transform table: a `matrix` alone, or translate/rotate/scale (see `scene::transform`).
+fn check_transform(ck: &mut Checker, t: Option<&Spanned<RawTransform>>, field: &str) -> Transform {
+    let Some(t) = t else { return Transform::default() };
+    let span = t.span();
+    let raw = t.get_ref();
+    let result = match &raw.matrix {
+        Some(m) if raw.translate.is_some() || raw.rotate.is_some() || raw.scale.is_some() => {
+            Err((m.span(), "matrix", super::transform::TransformError::MatrixAndParts))
+        }
+        Some(m) => Transform::from_rows(*m.get_ref()).map_err(|e| (m.span(), "matrix", e)),
+        None => {
+            let translate = raw.translate.as_ref().map_or(DVec3::ZERO, |v| DVec3::from_array(*v.get_ref()));
+            let scale = match raw.scale.as_ref().map(|s| *s.get_ref()) {
+                None => DVec3::ONE,
+                Some(RawScale::Uniform(k)) => DVec3::splat(k),
+                Some(RawScale::PerAxis(v)) => DVec3::from_array(v),
+            };
+            let rotations: Vec<(DVec3, f64)> = match raw.rotate.as_ref().map(|r| r.get_ref().clone()) {
+                None => Vec::new(),
+                Some(RawRotations::One(r)) => vec![(DVec3::from_array(r.axis), r.angle)],
+                Some(RawRotations::Many(rs)) => rs.iter().map(|r| (DVec3::from_array(r.axis), r.angle)).collect(),
+            };
+            // Name the part at fault where one is.
+            Transform::from_parts(translate, &rotations, scale).map_err(|e| {
+                use super::transform::TransformError as E;
+                match (&e, &raw.translate, &raw.rotate, &raw.scale) {
+                    (E::ZeroAxis, _, Some(r), _) => (r.span(), "rotate", e),
+                    (E::Singular(_), _, _, Some(s)) => (s.span(), "scale", e),
+                    (E::NotFinite(_), Some(t), _, _) if !t.get_ref().iter().all(|v| v.is_finite()) => (t.span(), "translate", e),
+                    (E::NotFinite(_), _, _, Some(s)) => (s.span(), "scale", e),
+                    (E::NotFinite(_), _, Some(r), _) => (r.span(), "rotate", e),
+                    _ => (span.clone(), "", e),
+                }
+            })
+        }
+    };
+    match result {
+        Ok(t) => t,
+        Err((span, part, e)) => {
+            let name = if part.is_empty() { field.to_string() } else { format!("{field}.{part}") };
+            ck.error(span, name, format!("transform {e}"));
+            Transform::default()
+        }
+    }
+}
+
+type Resolve<'r> = dyn FnMut(&mut Checker, &Spanned<String>, &str) -> usize + 'r;
+
+/// `[[meshes]]` (OBJ/PLY files, relative to the scene file), `[[rectangles]]` and `[[cubes]]`:
+/// read, checked, placed in the world. Errors in a mesh file name that file and its line.
+fn check_meshes(ck: &mut Checker, raw: &RawScene, materials: &[Material], resolve: &mut Resolve) -> Vec<Mesh> {
+    let base = ck.file.parent().map(Path::to_path_buf).unwrap_or_default();
+    let mut meshes = Vec::new();
+    let mut add = |ck: &mut Checker, table: String, source: String, data: MeshData, transform: Transform, face_normals: bool,
+                   two_sided: bool, material: usize, span: Range<usize>| {
+        let (placed, placement) = mesh::place(&data, &transform, face_normals);
+        if let Some(i) = placed.positions.iter().position(|p| !p.is_finite() || p.abs().max_element() > f32::MAX as f64) {
+            ck.error(span.clone(), format!("{table}.transform"), format!("moves vertex {i} of {source} beyond 32-bit floats"));
+            return;
+        }
+        if placement.degenerate > 0 {
+            ck.warn(span.clone(), &table, format!("{} of {} triangles of {source} have zero area and are dropped", placement.degenerate, data.triangles.len()));
+        }
+        let mesh = Mesh { source, material, two_sided, positions: placed.positions, normals: placed.normals, triangles: placed.triangles };
+        let emissive = materials.get(material).is_some_and(Material::is_emissive);
+        if emissive && !(mesh.area() > 0.0) {
+            ck.error(span, format!("{table}.material"), format!("{} is emissive but its total area is zero: it cannot be sampled as a light", mesh.source));
+            return;
+        }
+        if !mesh.triangles.is_empty() {
+            meshes.push(mesh);
+        }
+    };
+    for (i, m) in raw.meshes.iter().enumerate() {
+        let span = m.span();
+        let m = m.get_ref();
+        let table = format!("meshes[{i}]");
+        let material = resolve(ck, &m.material, &format!("{table}.material"));
+        let transform = check_transform(ck, m.transform.as_ref(), &format!("{table}.transform"));
+        let file = base.join(m.file.get_ref());
+        let data = match mesh::read_mesh_file(&file) {
+            Ok(d) => d,
+            Err(e) => {
+                // The diagnostic points into the mesh file where it can, and names the scene's field.
+                let (scene_line, _) = ck.lines.line_column(m.file.span().start);
+                ck.diagnostics.push(Diagnostic {
+                    severity: Severity::Error,
+                    file: e.path.clone(),
+                    line: e.line.unwrap_or(0),
+                    column: 1,
+                    field: format!("{table}.file"),
+                    message: format!("{} (mesh of {}:{scene_line})", e.message, ck.file.display()),
+                });
+                continue;
+            }
+        };
+        for (line, note) in &data.notes {
+            ck.diagnostics.push(Diagnostic {
+                severity: Severity::Warning,
+                file: file.clone(),
+                line: line.unwrap_or(0),
+                column: 1,
+                field: format!("{table}.file"),
+                message: note.clone(),
+            });
+        }
+        let face_normals = m.face_normals.as_ref().is_some_and(|f| *f.get_ref());
+        let two_sided = m.two_sided.as_ref().is_some_and(|f| *f.get_ref());
+        add(ck, table, file.display().to_string(), data, transform, face_normals, two_sided, material, span);
+    }
+    for (kind, list, make) in [("rectangles", &raw.rectangles, shapes::rectangle as fn() -> MeshData), ("cubes", &raw.cubes, shapes::cube)] {
+        for (i, s) in list.iter().enumerate() {
+            let span = s.span();
+            let s = s.get_ref();
+            let table = format!("{kind}[{i}]");
+            let material = resolve(ck, &s.material, &format!("{table}.material"));
+            let transform = check_transform(ck, s.transform.as_ref(), &format!("{table}.transform"));
+            let two_sided = s.two_sided.as_ref().is_some_and(|f| *f.get_ref());
+            add(ck, table.clone(), table, make(), transform, true, two_sided, material, span);
+        }
+    }
+    meshes
 }
 
 /// `[display]`: `transfer = "srgb"` (default) or `"gamma"` with `gamma = G > 0`; `exposure` in

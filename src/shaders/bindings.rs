@@ -30,8 +30,16 @@ pub const ACCUM: Binding = Binding { number: 5, name: "ACCUM", kind: Kind::Stora
 /// The Halton bases, `primes(HALTON_DIMENSIONS)` (sampler.wgsl).
 pub const HALTON_PRIMES: Binding = Binding { number: 6, name: "HALTON_PRIMES", kind: Kind::Uniform };
 
+/// The triangles in BVH leaf order (`Triangle`, bvh.wgsl), their vertex normals, the BVH nodes.
+pub const TRIANGLES: Binding = Binding { number: 7, name: "TRIANGLES", kind: Kind::Storage { read_only: true } };
+pub const TRIANGLE_NORMALS: Binding = Binding { number: 8, name: "TRIANGLE_NORMALS", kind: Kind::Storage { read_only: true } };
+pub const BVH_NODES: Binding = Binding { number: 9, name: "BVH_NODES", kind: Kind::Storage { read_only: true } };
+/// The light table: objects and the power alias table (`LightEntry`, light_table.wgsl).
+pub const LIGHTS: Binding = Binding { number: 10, name: "LIGHTS", kind: Kind::Storage { read_only: true } };
+
 /// The path tracer's bind group.
-pub const PATH_TRACER: [Binding; 6] = [FRAME, SPHERES, PLANES, MATERIALS, ACCUM, HALTON_PRIMES];
+pub const PATH_TRACER: [Binding; 10] =
+    [FRAME, SPHERES, PLANES, MATERIALS, ACCUM, HALTON_PRIMES, TRIANGLES, TRIANGLE_NORMALS, BVH_NODES, LIGHTS];
 
 /// The display pass's parameters (`DisplayParams`, display.wgsl).
 pub const DISPLAY_PARAMS: Binding = Binding { number: 0, name: "DISPLAY_PARAMS", kind: Kind::Uniform };

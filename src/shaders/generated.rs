@@ -4,7 +4,7 @@
 
 use crate::display::{Transfer, View};
 use crate::metrics::linear::REL_MSE_EPSILON;
-use crate::method::{BsdfSampling, LightSampling, Sampler};
+use crate::method::{BsdfSampling, LightSampling, LightSelect, Sampler, TriangleSampling};
 use crate::names::wgsl_constants;
 use crate::scene::{MAX_MATERIALS, MAX_PLANES, MAX_SPHERES};
 
@@ -20,9 +20,11 @@ pub fn generated_constants() -> String {
          const MAX_SPHERES: u32 = {MAX_SPHERES}u;\n\
          const MAX_PLANES: u32 = {MAX_PLANES}u;\n\
          const MAX_MATERIALS: u32 = {MAX_MATERIALS}u;\n\
-         // Values of the `override` choices SAMPLER, BSDF_SAMPLING, LIGHT_SAMPLING (src/method.rs),\n\
-         // and of the display pass's view (src/display/view.rs).\n\
-         {}{}{}{}\
+         // The BVH traversal stack: the deepest node the builder makes (src/accel/bvh.rs).\n\
+         const BVH_MAX_DEPTH: u32 = {}u;\n\
+         // Values of the `override` choices SAMPLER, BSDF_SAMPLING, LIGHT_SAMPLING, LIGHT_SELECT,\n\
+         // TRIANGLE_SAMPLING (src/method.rs), and of the display pass's view (src/display/view.rs).\n\
+         {}{}{}{}{}{}\
          // Transfer functions of the display pass (src/display/mod.rs) and the epsilon of relMSE\n\
          // (src/metrics/linear.rs).\n\
          const TRANSFER_SRGB: u32 = {}u;\n\
@@ -30,9 +32,12 @@ pub fn generated_constants() -> String {
          const REL_EPSILON: f32 = {:?};\n\
          // Binding numbers of group 0 (src/shaders/bindings.rs).\n\
          {}{}",
+        crate::accel::bvh::MAX_DEPTH,
         wgsl_constants::<Sampler>("SAMPLER"),
         wgsl_constants::<BsdfSampling>("BSDF"),
         wgsl_constants::<LightSampling>("LIGHTS"),
+        wgsl_constants::<LightSelect>("LIGHT_SELECT"),
+        wgsl_constants::<TriangleSampling>("TRIANGLES"),
         wgsl_constants::<View>("VIEW"),
         Transfer::Srgb.code(),
         Transfer::Gamma(1.0).code(),

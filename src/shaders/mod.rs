@@ -29,6 +29,9 @@ pub mod files {
     pub const COMMON: (&str, &str) = ("common.wgsl", include_str!("../../shaders/common.wgsl"));
     pub const SAMPLER: (&str, &str) = ("sampler.wgsl", include_str!("../../shaders/sampler.wgsl"));
     pub const WARP: (&str, &str) = ("warp.wgsl", include_str!("../../shaders/warp.wgsl"));
+    pub const SPHERICAL_TRIANGLE: (&str, &str) = ("spherical_triangle.wgsl", include_str!("../../shaders/spherical_triangle.wgsl"));
+    pub const LIGHT_TABLE: (&str, &str) = ("light_table.wgsl", include_str!("../../shaders/light_table.wgsl"));
+    pub const BVH: (&str, &str) = ("bvh.wgsl", include_str!("../../shaders/bvh.wgsl"));
     pub const BSDF: (&str, &str) = ("bsdf.wgsl", include_str!("../../shaders/bsdf.wgsl"));
     pub const LIGHTS: (&str, &str) = ("lights.wgsl", include_str!("../../shaders/lights.wgsl"));
     pub const SCENE: (&str, &str) = ("scene.wgsl", include_str!("../../shaders/scene.wgsl"));
@@ -41,16 +44,20 @@ pub mod files {
 
 /// The sampling library without scene bindings: samplers, warps, BSDF and light sampling.
 /// Test kernels append their own bindings and entry points to this.
-pub const LIBRARY: [(&str, &str); 5] = [files::COMMON, files::SAMPLER, files::WARP, files::BSDF, files::LIGHTS];
+pub const LIBRARY: [(&str, &str); 6] =
+    [files::COMMON, files::SAMPLER, files::WARP, files::SPHERICAL_TRIANGLE, files::BSDF, files::LIGHTS];
 
 /// Everything the path-tracing kernel (`render_main`) needs.
-pub const PATH_TRACER: [(&str, &str); 10] = [
+pub const PATH_TRACER: [(&str, &str); 13] = [
     files::COMMON,
     files::SAMPLER,
     files::WARP,
+    files::SPHERICAL_TRIANGLE,
     files::BSDF,
     files::LIGHTS,
+    files::LIGHT_TABLE,
     files::SCENE,
+    files::BVH,
     files::INTERSECT,
     files::ACCUM_PIXEL,
     files::ACCUMULATE,
@@ -143,5 +150,13 @@ mod tests {
     #[test]
     fn library_alone_is_valid_wgsl() {
         validate(&assemble(&LIBRARY, ""), &[]).unwrap();
+    }
+}
+
+#[cfg(test)]
+mod path_tracer_tests {
+    #[test]
+    fn path_tracer_is_valid_wgsl_with_its_defaults() {
+        super::validate(&super::path_tracer_source(), &[]).unwrap();
     }
 }

@@ -79,3 +79,23 @@ pub fn not_run(test: &str, why: &str) {
     use std::io::Write;
     let _ = writeln!(std::io::stderr(), "\n    NOT RUN: {test}: {why}\n");
 }
+
+/// Every unbiased preset, and each preset that samples lights with every light selection and
+/// triangle sampling: the methods a scene with triangle lights is held to.
+pub fn triangle_light_methods() -> Vec<Method> {
+    use pathlab::method::{LightSampling, LightSelect, TriangleSampling};
+    let mut methods = Vec::new();
+    for preset in Preset::ALL {
+        let base = preset.method();
+        if base.lights == LightSampling::None {
+            methods.push(base);
+            continue;
+        }
+        for select in LightSelect::ALL {
+            for triangles in TriangleSampling::ALL {
+                methods.push(Method { select: Some(select), triangles, ..base });
+            }
+        }
+    }
+    methods
+}

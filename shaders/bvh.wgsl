@@ -1,0 +1,215 @@
+// bvh.wgsl — triangles and the bounding volume hierarchy over them (src/accel/: the CPU twin,
+// built there and checked against brute force). Nodes are 32 bytes; an interior node's two
+// children are adjacent; a leaf's triangles are a contiguous range of `triangles` (the host
+// stores them in leaf order). Traversal visits the nearer child first and keeps the farther on
+// a stack of BVH_MAX_DEPTH entries, the deepest node the builder makes.
+
+// Triangles of the scene (0: the mesh code compiles out), and whether any has vertex normals.
+override NUM_TRIANGLES: u32 = 0u;
+override HAS_SHADING_NORMALS: bool = false;
+// Most traversal steps (nodes visited, leaves entered twice, triangles tested) one invocation
+// may take in all:
+// where the host cannot bound traversal within llvmpipe's loop limit, the kernel counts them
+// and a sample that would exceed this is dropped from its pixel (the readback then refuses the
+// image with the reason). 0xffffffff: no guard.
+override TRAVERSAL_BUDGET: u32 = 0xffffffffu;
+
+// Flags of a triangle.
+const TRIANGLE_TWO_SIDED: u32 = 1u;
+const TRIANGLE_HAS_NORMALS: u32 = 2u;
+
+struct Triangle {
+    p0: vec3f,
+    material: u32,
+    p1: vec3f,
+    // Index of the light this triangle is (INVALID: not emissive).
+    light: u32,
+    p2: vec3f,
+    flags: u32,
+}
+
+struct TriangleNormals {
+    n0: vec3f,
+    _pad0: u32,
+    n1: vec3f,
+    _pad1: u32,
+    n2: vec3f,
+    _pad2: u32,
+}
+
+struct BvhNode {
+    lo: vec3f,
+    // Interior (count 0): index of the first child; leaf: first triangle.
+    first: u32,
+    hi: vec3f,
+    count: u32,
+}
+
+@group(0) @binding(BINDING_TRIANGLES) var<storage, read> triangles: array<Triangle>;
+@group(0) @binding(BINDING_TRIANGLE_NORMALS) var<storage, read> triangle_normals: array<TriangleNormals>;
+@group(0) @binding(BINDING_BVH_NODES) var<storage, read> bvh_nodes: array<BvhNode>;
+
+// Traversal steps taken by this invocation so far, and whether the guard stopped one.
+var<private> traversal_steps: u32;
+var<private> traversal_exhausted: bool;
+
+// The watertight ray-triangle test (Woop, Benthin and Wald 2013): shear the ray onto +z, map
+// the vertices likewise, decide by the signs of the three 2D edge functions. Two triangles that
+// share an edge compute its edge function from the same sheared vertices with opposite signs,
+// so a ray through the edge is never outside both. The permutation (kx, ky, kz) and the shear
+// are per ray, computed once (ShearedRay).
+struct ShearedRay {
+    origin: vec3f,
+    k: vec3u,
+    shear: vec3f,
+}
+
+fn sheared_ray(o: vec3f, d: vec3f) -> ShearedRay {
+    let a = abs(d);
+    var kz = 2u;
+    if (a.x > a.y) {
+        if (a.x > a.z) { kz = 0u; }
+    } else if (a.y > a.z) {
+        kz = 1u;
+    }
+    var kx = (kz + 1u) % 3u;
+    var ky = (kz + 2u) % 3u;
+    // Swapped for a negative dominant component, which keeps the winding.
+    if (d[kz] < 0.0) {
+        let t = kx;
+        kx = ky;
+        ky = t;
+    }
+    return ShearedRay(o, vec3u(kx, ky, kz), vec3f(d[kx] / d[kz], d[ky] / d[kz], 1.0 / d[kz]));
+}
+
+// Distance to the triangle along the ray if it is hit in (0, t_max), else -1; barycentrics of
+// p1 and p2 in `bary`.
+fn intersect_triangle(r: ShearedRay, p0: vec3f, p1: vec3f, p2: vec3f, t_max: f32, bary: ptr<function, vec2f>) -> f32 {
+    let a = p0 - r.origin;
+    let b = p1 - r.origin;
+    let c = p2 - r.origin;
+    // The vertices sheared into the ray's space.
+    let ax = a[r.k.x] - r.shear.x * a[r.k.z];
+    let ay = a[r.k.y] - r.shear.y * a[r.k.z];
+    let bx = b[r.k.x] - r.shear.x * b[r.k.z];
+    let by = b[r.k.y] - r.shear.y * b[r.k.z];
+    let cx = c[r.k.x] - r.shear.x * c[r.k.z];
+    let cy = c[r.k.y] - r.shear.y * c[r.k.z];
+    // Scaled barycentrics: the edge functions.
+    let u = cx * by - cy * bx;
+    let v = ax * cy - ay * cx;
+    let w = bx * ay - by * ax;
+    let mixed = (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0);
+    let det = u + v + w;
+    // The hit's distance scaled by det, compared without a division.
+    let t = u * (r.shear.z * a[r.k.z]) + v * (r.shear.z * b[r.k.z]) + w * (r.shear.z * c[r.k.z]);
+    let in_range = select((t < 0.0) && (t > t_max * det), (t > 0.0) && (t < t_max * det), det > 0.0);
+    if (mixed || det == 0.0 || !in_range) {
+        return -1.0;
+    }
+    let inv = 1.0 / det;
+    *bary = vec2f(v, w) * inv;
+    return t * inv;
+}
+
+// Entry distance of the ray into a node's box if it enters before t_max, else -1. The exit
+// distance is widened by 1 + 2 gamma(3) (Ize 2013), so rounding never culls a box whose
+// triangle the watertight test hits. On an axis the ray is parallel to (1/d infinite) the slab
+// distances would be 0 * inf = NaN where the origin lies on a slab plane: that axis instead
+// holds the ray when the origin is within the slab, all along or never, as on the CPU.
+fn intersect_node(lo: vec3f, hi: vec3f, o: vec3f, inv_d: vec3f, t_max: f32) -> f32 {
+    let parallel = abs(inv_d) >= vec3f(INFINITY);
+    let t0 = select((lo - o) * inv_d, vec3f(-INFINITY), parallel);
+    let t1 = select((hi - o) * inv_d, vec3f(INFINITY), parallel);
+    let within = all(!parallel | ((o >= lo) & (o <= hi)));
+    let near = min(t0, t1);
+    let far = max(t0, t1) * 1.0000004;
+    let enter = max(max(near.x, near.y), max(near.z, 0.0));
+    let exit = min(min(far.x, far.y), min(far.z, t_max));
+    return select(-1.0, enter, within && enter <= exit);
+}
+
+struct TriangleHit {
+    t: f32,
+    // Index into `triangles`, INVALID on a miss.
+    index: u32,
+    bary: vec2f,
+}
+
+// Counts one traversal step against the guard; false once the budget is spent.
+fn traversal_step() -> bool {
+    traversal_steps += 1u;
+    if (traversal_steps > TRAVERSAL_BUDGET) {
+        traversal_exhausted = true;
+        return false;
+    }
+    return true;
+}
+
+// The nearest triangle along (o, d) closer than t_max; with `any`, the first one found
+// (shadow rays).
+fn bvh_traverse(o: vec3f, d: vec3f, t_max: f32, any: bool) -> TriangleHit {
+    var best = TriangleHit(t_max, INVALID, vec2f(0.0));
+    let ray = sheared_ray(o, d);
+    let inv_d = 1.0 / d;
+    var stack: array<u32, BVH_MAX_DEPTH>;
+    var top = 0u;
+    var node = 0u;
+    if (intersect_node(bvh_nodes[0].lo, bvh_nodes[0].hi, o, inv_d, t_max) < 0.0) {
+        return best;
+    }
+    loop {
+        if (!traversal_step()) {
+            break;
+        }
+        let n = bvh_nodes[node];
+        var next = INVALID;
+        if (n.count > 0u) {
+            // Entering a leaf's loop costs llvmpipe about two back-edges of its own (measured:
+            // tests/bvh.rs), counted here so that the guard always trips first.
+            traversal_steps += 2u;
+            for (var i = n.first; i < n.first + n.count; i++) {
+                if (!traversal_step()) {
+                    break;
+                }
+                let tri = triangles[i];
+                var bary: vec2f;
+                let t = intersect_triangle(ray, tri.p0, tri.p1, tri.p2, best.t, &bary);
+                if (t > 0.0) {
+                    best = TriangleHit(t, i, bary);
+                    if (any) {
+                        break;
+                    }
+                }
+            }
+            if (any && best.index != INVALID) {
+                break;
+            }
+        } else {
+            // The nearer child next, the farther on the stack.
+            let l = n.first;
+            let r = n.first + 1u;
+            let tl = intersect_node(bvh_nodes[l].lo, bvh_nodes[l].hi, o, inv_d, best.t);
+            let tr = intersect_node(bvh_nodes[r].lo, bvh_nodes[r].hi, o, inv_d, best.t);
+            if (tl >= 0.0 && tr >= 0.0) {
+                next = select(r, l, tl <= tr);
+                stack[top] = select(l, r, tl <= tr);
+                top++;
+            } else if (tl >= 0.0) {
+                next = l;
+            } else if (tr >= 0.0) {
+                next = r;
+            }
+        }
+        if (next == INVALID) {
+            if (top == 0u) {
+                break;
+            }
+            top--;
+            next = stack[top];
+        }
+        node = next;
+    }
+    return best;
+}
