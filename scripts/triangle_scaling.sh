@@ -47,6 +47,6 @@ TOML
     ms=$(echo "$bvh" | sed -E 's/.*built in ([0-9.]+) ms.*/\1/')
     mib=$(echo "$bvh" | sed -E 's/.*GPU memory ([0-9.]+) MiB.*/\1/')
     rec=$("$pathlab" bench "$dir/scene$k.toml" --methods mis --size 256x256 --seconds "$seconds" --json 2>/dev/null)
-    rays=$(echo "$rec" | python3 -c 'import json,sys; r=json.load(sys.stdin)[0]; print(f"{r[\"rays_per_second\"]/1e6:.3f},{r[\"pixel_samples_per_second\"]/1e6:.3f}")')
+    rays=$(echo "$rec" | python3 -c 'import json,sys; r=json.load(sys.stdin)[0]; print("%.3f,%.3f" % (r["rays_per_second"] / 1e6, r["pixel_samples_per_second"] / 1e6))')
     echo "$tris,$nodes,$depth,$ms,$mib,$rays"
 done

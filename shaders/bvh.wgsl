@@ -14,6 +14,11 @@ override HAS_SHADING_NORMALS: bool = false;
 // image with the reason). 0xffffffff: no guard.
 override TRAVERSAL_BUDGET: u32 = 0xffffffffu;
 
+// At most this many triangles are tested one by one in a loop at lane-uniform indices instead
+// of through the BVH (0: always the BVH). On SIMD CPU drivers a divergent traversal of a small
+// BVH costs more than testing every triangle (the Cornell box: 36).
+override BRUTE_FORCE_TRIANGLES: u32 = 0u;
+
 // Flags of a triangle.
 const TRIANGLE_TWO_SIDED: u32 = 1u;
 const TRIANGLE_HAS_NORMALS: u32 = 2u;
@@ -147,8 +152,32 @@ fn traversal_step() -> bool {
     return true;
 }
 
-// The nearest triangle along (o, d) closer than t_max; with `any`, the first one found
-// (shadow rays).
+// The nearest triangle along (o, d) closer than t_max, every triangle tested in turn.
+fn triangles_brute_force(o: vec3f, d: vec3f, t_max: f32) -> TriangleHit {
+    var best = TriangleHit(t_max, INVALID, vec2f(0.0));
+    let ray = sheared_ray(o, d);
+    for (var i = 0u; i < NUM_TRIANGLES; i++) {
+        let tri = triangles[i];
+        var bary: vec2f;
+        let t = intersect_triangle(ray, tri.p0, tri.p1, tri.p2, best.t, &bary);
+        if (t > 0.0) {
+            best = TriangleHit(t, i, bary);
+        }
+    }
+    return best;
+}
+
+// The nearest triangle along (o, d) closer than t_max (brute force for small scenes, else the
+// BVH); with `any`, the first one found (shadow rays).
+fn triangles_closest(o: vec3f, d: vec3f, t_max: f32, any: bool) -> TriangleHit {
+    if (NUM_TRIANGLES <= BRUTE_FORCE_TRIANGLES) {
+        return triangles_brute_force(o, d, t_max);
+    }
+    return bvh_traverse(o, d, t_max, any);
+}
+
+// The nearest triangle along (o, d) closer than t_max through the BVH; with `any`, the first
+// one found (shadow rays).
 fn bvh_traverse(o: vec3f, d: vec3f, t_max: f32, any: bool) -> TriangleHit {
     var best = TriangleHit(t_max, INVALID, vec2f(0.0));
     let ray = sheared_ray(o, d);

@@ -83,7 +83,7 @@ fn intersect_scene(o: vec3f, d: vec3f) -> Hit {
     let normal = select(plane_normal, sphere_normal, object < NUM_SPHERES);
     var hit = Hit(t_hit, normal, material, object, normal);
     if (NUM_TRIANGLES > 0u) {
-        let th = bvh_traverse(o, d, t_hit, false);
+        let th = triangles_closest(o, d, t_hit, false);
         if (th.index != INVALID) {
             let tri = triangles[th.index];
             let n = normalize(cross(tri.p1 - tri.p0, tri.p2 - tri.p0));
@@ -115,7 +115,7 @@ fn occluded(o: vec3f, d: vec3f, t_max: f32, skip: u32) -> bool {
         blocked = blocked | (intersect_plane(o, d, p.normal, p.offset, 0.0, t_max) > 0.0);
     }
     if (NUM_TRIANGLES > 0u && !blocked) {
-        blocked = bvh_traverse(o, d, t_max, true).index != INVALID;
+        blocked = triangles_closest(o, d, t_max, true).index != INVALID;
     }
     return blocked;
 }

@@ -43,20 +43,35 @@ fn load_with(files: &[(&str, &str)], scene: &str) -> Result<Scene, SceneError> {
     loaded
 }
 
-/// A cube [-2, 2]^3 as an OBJ whose faces wind inwards (their normals face the inside).
-fn inward_cube_obj() -> String {
+/// A cube [-2, 2]^3 as an OBJ of n x n quads per face, wound inwards (the normals face the
+/// inside): 12 n^2 triangles, through the BVH once there are more than
+/// `gpu::BRUTE_FORCE_TRIANGLES`.
+fn inward_cube_obj(n: usize) -> String {
     let mut obj = String::new();
-    for z in [-2, 2] {
-        for y in [-2, 2] {
-            for x in [-2, 2] {
-                obj.push_str(&format!("v {x} {y} {z}\n"));
+    let mut count = 0;
+    let axes = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    for axis in 0..3 {
+        for sign in [1.0, -1.0] {
+            // Outward normal n_out, tangents t and b with t x b = n_out.
+            let n_out = axes[axis].map(|c| c * sign);
+            let t = axes[(axis + 1) % 3].map(|c| c * sign);
+            let b = [n_out[1] * t[2] - n_out[2] * t[1], n_out[2] * t[0] - n_out[0] * t[2], n_out[0] * t[1] - n_out[1] * t[0]];
+            let point = |i: usize, j: usize| {
+                let (u, v) = (-2.0 + 4.0 * i as f64 / n as f64, -2.0 + 4.0 * j as f64 / n as f64);
+                std::array::from_fn::<f64, 3, _>(|k| 2.0 * n_out[k] + u * t[k] + v * b[k])
+            };
+            for i in 0..n {
+                for j in 0..n {
+                    for p in [point(i, j), point(i + 1, j), point(i + 1, j + 1), point(i, j + 1)] {
+                        obj.push_str(&format!("v {} {} {}\n", p[0], p[1], p[2]));
+                    }
+                    let q = count + 1;
+                    // Counter-clockwise seen from inside: the reverse of (q, q+1, q+2).
+                    obj.push_str(&format!("f {} {} {}\nf {} {} {}\n", q, q + 2, q + 1, q, q + 3, q + 2));
+                    count += 4;
+                }
             }
         }
-    }
-    // Vertex (x, y, z) is 1 + (x > 0) + 2 (y > 0) + 4 (z > 0). Each face, counter-clockwise
-    // seen from inside.
-    for f in ["1 2 4 3", "5 7 8 6", "1 5 6 2", "3 4 8 7", "1 3 7 5", "2 6 8 4"] {
-        obj.push_str(&format!("f {f}\n"));
     }
     obj
 }
@@ -64,13 +79,25 @@ fn inward_cube_obj() -> String {
 #[test]
 fn a_closed_emitting_box_gives_the_analytic_radiance_for_every_method_and_light_option() {
     let two_sided = scene(&box_scene("[[cubes]]\nmaterial = \"wall\"\ntwo_sided = true\ntransform = { scale = 2 }\n"));
-    let one_sided = load_with(&[("box.obj", &inward_cube_obj())], &box_scene("[[meshes]]\nfile = \"box.obj\"\nmaterial = \"wall\"\n")).unwrap();
+    let one_sided = load_with(&[("box.obj", &inward_cube_obj(1))], &box_scene("[[meshes]]\nfile = \"box.obj\"\nmaterial = \"wall\"\n")).unwrap();
     assert_eq!(one_sided.num_triangles(), 12);
+    // 192 triangles (192 lights): through the BVH. `all` would trace 192 shadow rays a vertex.
+    let fine = load_with(&[("box.obj", &inward_cube_obj(4))], &box_scene("[[meshes]]\nfile = \"box.obj\"\nmaterial = \"wall\"\n")).unwrap();
+    assert!(fine.num_triangles() as u32 > pathlab::gpu::BRUTE_FORCE_TRIANGLES);
+    use pathlab::method::{LightSelect, TriangleSampling};
+    let fine_methods = [
+        Preset::Plain.method(),
+        Preset::Cosine.method(),
+        Preset::Best.method(),
+        Method { select: Some(LightSelect::Uniform), triangles: TriangleSampling::SolidAngle, ..Preset::Mis.method() },
+        Method { select: Some(LightSelect::Power), ..Preset::Nee.method() },
+    ];
     let methods = triangle_light_methods();
     let renders: Vec<(&str, &Scene, Method)> = methods
         .iter()
         .map(|&m| ("two-sided cube", &two_sided, m))
         .chain([Preset::Mis, Preset::Nee, Preset::Best].map(|p| ("one-sided inward OBJ", &one_sided, p.method())))
+        .chain(fine_methods.map(|m| ("one-sided inward OBJ of 192 triangles (BVH)", &fine, m)))
         .collect();
     let threshold = z_threshold(0.01, 3 * renders.len());
     let l = expected_radiance();

@@ -11,6 +11,6 @@ mod scene_buffers;
 
 pub use device::{adapter_summary, list_adapters, wait_for_submission, Gpu, GpuError, ADAPTER_ENV};
 pub use kernel::KernelRun;
-pub use pipeline::{loop_iterations_per_sample, pipeline_constants, LoopBound, PathTracerPipelines, PipelineKey, PipelineStats, NO_TRAVERSAL_GUARD};
+pub use pipeline::{loop_iterations_per_sample, pipeline_constants, LoopBound, BRUTE_FORCE_TRIANGLES, PathTracerPipelines, PipelineKey, PipelineStats, NO_TRAVERSAL_GUARD};
 pub use frame_params::FrameParams;
 pub use scene_buffers::{max_triangles, TRIANGLE_HAS_NORMALS, TRIANGLE_TWO_SIDED, GpuLight, GpuMaterial, GpuPlane, GpuSphere, GpuTriangle, GpuTriangleNormals, PackedTriangles, SceneBuffers};

@@ -11,6 +11,9 @@ use crate::method::{LightSelect, Method};
 use crate::scene::SceneFeatures;
 use crate::shaders::{self, bindings};
 
+/// Scenes of at most this many triangles test them all in turn instead of traversing the BVH.
+pub const BRUTE_FORCE_TRIANGLES: u32 = 64;
+
 /// `TRAVERSAL_BUDGET` of a pipeline whose traversal is bounded by the host: no guard.
 pub const NO_TRAVERSAL_GUARD: u32 = u32::MAX;
 
@@ -51,6 +54,7 @@ pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
         ("NUM_TRIANGLES", f.num_triangles as f64),
         ("HAS_SHADING_NORMALS", f.has_shading_normals as u32 as f64),
         ("TRAVERSAL_BUDGET", key.traversal_budget as f64),
+        ("BRUTE_FORCE_TRIANGLES", BRUTE_FORCE_TRIANGLES as f64),
         ("NUM_OCCLUDING_PLANES", f.num_occluding_planes as f64),
         ("HAS_SPECULAR", f.has_specular as u32 as f64),
         ("HAS_ENVIRONMENT", f.has_environment as u32 as f64),
