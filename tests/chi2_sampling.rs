@@ -28,6 +28,38 @@ const PHI_BINS: usize = 101;
 const S_BINS: usize = 202;
 const ALPHA: f64 = 0.01;
 
+/// 4-point Gauss-Legendre nodes and weights on [-1, 1].
+const GAUSS_LEGENDRE_4: [(f64, f64); 4] = [
+    (-0.861_136_311_594_052_6, 0.347_854_845_137_453_9),
+    (-0.339_981_043_584_856_3, 0.652_145_154_862_546_1),
+    (0.339_981_043_584_856_3, 0.652_145_154_862_546_1),
+    (0.861_136_311_594_052_6, 0.347_854_845_137_453_9),
+];
+
+/// The chi-square p-value of `observed` counts against `expected` probabilities (times `n`
+/// samples), cells expecting fewer than 5 pooled into one. A sample in a cell of probability 0
+/// is a hard failure of `name`.
+fn pooled_chi_square(name: &str, expected: &[f64], observed: &[u64], n: f64) -> f64 {
+    let (mut chi2, mut dof, mut pooled_exp, mut pooled_obs) = (0.0, 0usize, 0.0, 0.0);
+    for (c, &e) in expected.iter().enumerate() {
+        let (e, o) = (e * n, observed[c] as f64);
+        if e == 0.0 {
+            assert!(o == 0.0, "{name}: {o} samples in cell {c}, where the pdf is 0");
+        } else if e < 5.0 {
+            pooled_exp += e;
+            pooled_obs += o;
+        } else {
+            chi2 += (o - e) * (o - e) / e;
+            dof += 1;
+        }
+    }
+    if pooled_exp > 0.0 {
+        chi2 += (pooled_obs - pooled_exp) * (pooled_obs - pooled_exp) / pooled_exp;
+        dof += 1;
+    }
+    chi2_sf(chi2, dof.saturating_sub(1).max(1))
+}
+
 /// Test kernel: the routine's `routine_sample` and `routine_pdf` are spliced in per test.
 const KERNEL: &str = r#"
 struct TestParams { count: u32, seed: u32, _p0: u32, _p1: u32 }
@@ -118,8 +150,7 @@ fn chi_square(routine: &Routine, seed: u32) -> f64 {
     let edges = s_edges(routine.s_split);
     let dphi = 2.0 * PI / PHI_BINS as f64;
     // Gauss-Legendre points of every cell, then the sampled directions (pdf consistency).
-    let gl = [(-0.861_136_311_594_052_6, 0.347_854_845_137_453_9), (-0.339_981_043_584_856_3, 0.652_145_154_862_546_1),
-        (0.339_981_043_584_856_3, 0.652_145_154_862_546_1), (0.861_136_311_594_052_6, 0.347_854_845_137_453_9)];
+    let gl = GAUSS_LEGENDRE_4;
     let mut points: Vec<[f32; 4]> = Vec::with_capacity(PHI_BINS * S_BINS * 16 + SAMPLES as usize);
     let mut weights = Vec::with_capacity(PHI_BINS * S_BINS * 16);
     for j in 0..S_BINS {
@@ -176,26 +207,7 @@ fn chi_square(routine: &Routine, seed: u32) -> f64 {
         assert!(check[0] <= 1e-4, "{name}: weight differs from eval * cos / pdf by {} (relative)", check[0]);
     }
 
-    // Chi-square with pooling of low-expectation cells.
-    let n = SAMPLES as f64;
-    let (mut chi2, mut dof, mut pooled_exp, mut pooled_obs) = (0.0, 0usize, 0.0, 0.0);
-    for (c, &e) in expected.iter().enumerate() {
-        let (e, o) = (e * n, observed[c] as f64);
-        if e == 0.0 {
-            assert!(o == 0.0, "{name}: {o} samples in cell {c}, where the pdf is 0");
-        } else if e < 5.0 {
-            pooled_exp += e;
-            pooled_obs += o;
-        } else {
-            chi2 += (o - e) * (o - e) / e;
-            dof += 1;
-        }
-    }
-    if pooled_exp > 0.0 {
-        chi2 += (pooled_obs - pooled_exp) * (pooled_obs - pooled_exp) / pooled_exp;
-        dof += 1;
-    }
-    chi2_sf(chi2, dof.saturating_sub(1).max(1))
+    pooled_chi_square(name, &expected, &observed, SAMPLES as f64)
 }
 
 // ----- the routines under test -------------------------------------------------------------
@@ -439,8 +451,7 @@ fn triangle_chi_square(case: &TriangleCase, seed: u32) -> f64 {
     let drawn = run(&routine, "sample_main", vec![(0, bytemuck::cast_slice(&params).to_vec())], 2 * SAMPLES as usize, SAMPLES as usize);
     let [p0, p1, p2] = case.p;
     let area = 0.5 * norm3(cross3(sub(p1, p0), sub(p2, p0)));
-    let gl = [(-0.861_136_311_594_052_6, 0.347_854_845_137_453_9), (-0.339_981_043_584_856_3, 0.652_145_154_862_546_1),
-        (0.339_981_043_584_856_3, 0.652_145_154_862_546_1), (0.861_136_311_594_052_6, 0.347_854_845_137_453_9)];
+    let gl = GAUSS_LEGENDRE_4;
     let h = 1.0 / TRI_BINS as f64;
     let mut points: Vec<[f32; 4]> = Vec::new();
     let mut weights = Vec::new();
@@ -483,23 +494,7 @@ fn triangle_chi_square(case: &TriangleCase, seed: u32) -> f64 {
         let (reported, function) = (d[3] as f64, pdfs[cell_points + n][0] as f64);
         assert!((reported - function).abs() <= 1e-3 * function, "{name}: sample reports pdf {reported}, pdf function gives {function} at {d:?}");
     }
-    let n = SAMPLES as f64;
-    let (mut chi2, mut dof, mut pooled_exp, mut pooled_obs) = (0.0, 0usize, 0.0, 0.0);
-    for (c, &e) in expected.iter().enumerate() {
-        let (e, o) = (e * n, observed[c] as f64);
-        if e < 5.0 {
-            pooled_exp += e;
-            pooled_obs += o;
-        } else {
-            chi2 += (o - e) * (o - e) / e;
-            dof += 1;
-        }
-    }
-    if pooled_exp > 0.0 {
-        chi2 += (pooled_obs - pooled_exp) * (pooled_obs - pooled_exp) / pooled_exp;
-        dof += 1;
-    }
-    chi2_sf(chi2, dof.saturating_sub(1).max(1))
+    pooled_chi_square(name, &expected, &observed, SAMPLES as f64)
 }
 
 fn triangle_cases() -> Vec<TriangleCase> {
@@ -600,15 +595,7 @@ fn selection_chi_square(powers: &[f64], select: LightSelect, seed: u32) -> f64 {
         assert!(prob_error.abs() <= 1e-6, "reported probability differs from light_select_prob by {prob_error}");
         observed[l] += 1;
     }
-    let (mut chi2, mut dof) = (0.0, 0usize);
-    for l in 0..n {
-        let e = expected[l] * SAMPLES as f64;
-        if e > 0.0 {
-            chi2 += (observed[l] as f64 - e).powi(2) / e;
-            dof += 1;
-        }
-    }
-    chi2_sf(chi2, dof.saturating_sub(1).max(1))
+    pooled_chi_square(&format!("{select} selection"), &expected, &observed, SAMPLES as f64)
 }
 
 #[test]

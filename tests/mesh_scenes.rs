@@ -208,3 +208,37 @@ fn degenerate_triangles_are_dropped_with_one_warning_that_counts_them() {
     assert_eq!(warnings.len(), 1, "{:?}", s.warnings);
     assert!(warnings[0].message.starts_with("3 of 4 triangles"), "{}", warnings[0]);
 }
+
+/// Split renders of a mesh scene merge to the single run, with the light options recorded in
+/// each part: parts of different light selections are refused.
+#[test]
+fn cornell_box_shards_merge_to_the_single_run_and_light_options_must_agree() {
+    use std::process::Command;
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes/cornell_box.toml");
+    let dir = tempfile::tempdir().unwrap();
+    let run = |args: &[&str]| {
+        let out = Command::new(env!("CARGO_BIN_EXE_pathlab")).args(args).output().unwrap();
+        (out.status.success(), String::from_utf8_lossy(&out.stderr).into_owned())
+    };
+    let p = |name: &str| dir.path().join(name).to_string_lossy().into_owned();
+    let common = ["--width", "16", "--height", "16", "--method", "mis", "--light-select", "uniform", "--triangle-sampling", "solid-angle", "--quiet"];
+    let (ok, e) = run(&[&["render", scene, "--spp", "24", "-o", &p("single.exr")][..], &common].concat());
+    assert!(ok, "{e}");
+    for (range, name) in [("0..10", "a.exr"), ("10..24", "b.exr")] {
+        let (ok, e) = run(&[&["render", scene, "--samples", range, "-o", &p(name)][..], &common].concat());
+        assert!(ok, "{e}");
+    }
+    let (ok, e) = run(&["merge", &p("a.exr"), &p("b.exr"), "-o", &p("merged.exr")]);
+    assert!(ok, "{e}");
+    let (single, _) = pathlab::output::read_exr(std::path::Path::new(&p("single.exr"))).unwrap();
+    let (merged, _) = pathlab::output::read_exr(std::path::Path::new(&p("merged.exr"))).unwrap();
+    assert_eq!(merged.spp, 24);
+    let worst = single.mean.iter().flatten().zip(merged.mean.iter().flatten()).map(|(a, b)| ((a - b).abs() / a.abs().max(1e-3)) as f64).fold(0.0, f64::max);
+    assert!(worst <= 2e-6, "merged differs from the single run by {worst:e}");
+    // A part of another light selection does not belong to this render.
+    let other: Vec<&str> = common.iter().map(|&a| if a == "uniform" { "power" } else { a }).collect();
+    let (ok, e) = run(&[&["render", scene, "--samples", "10..24", "-o", &p("c.exr")][..], &other].concat());
+    assert!(ok, "{e}");
+    let (ok, e) = run(&["merge", &p("a.exr"), &p("c.exr"), "-o", &p("bad.exr")]);
+    assert!(!ok && e.contains("light_select"), "{e}");
+}
