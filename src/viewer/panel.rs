@@ -7,7 +7,7 @@ use std::time::Instant;
 use egui::{Color32, RichText, Ui};
 
 use crate::display::{DisplayTransform, Transfer};
-use crate::method::{BsdfSampling, LightSampling, Method, Preset, Sampler};
+use crate::method::{BsdfSampling, LightSampling, LightSelect, Method, Preset, Sampler, TriangleSampling};
 
 use crate::display::View;
 use super::driver::Driver;
@@ -129,6 +129,18 @@ fn method_section(app: &PanelState, ui: &mut Ui, actions: &mut Vec<Action>) {
             ui.label("lights");
             if let Some(l) = choose(ui, ("lights", i), method.lights, &LightSampling::ALL, |l: LightSampling| biased(l.name(), l.is_biased())) {
                 next = Some(Method { lights: l, ..method });
+            }
+            ui.end_row();
+            ui.label("light select");
+            let selects: Vec<Option<LightSelect>> = [None].into_iter().chain(LightSelect::ALL.map(Some)).collect();
+            let select_label = |s: Option<LightSelect>| s.map_or_else(|| "scene default".to_string(), |s| s.name().to_string());
+            if let Some(select) = choose(ui, ("select", i), method.select, &selects, select_label) {
+                next = Some(Method { select, ..method });
+            }
+            ui.end_row();
+            ui.label("triangles");
+            if let Some(t) = choose(ui, ("triangles", i), method.triangles, &TriangleSampling::ALL, |t: TriangleSampling| t.name().to_string()) {
+                next = Some(Method { triangles: t, ..method });
             }
             ui.end_row();
         });
