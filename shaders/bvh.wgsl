@@ -14,11 +14,6 @@ override HAS_SHADING_NORMALS: bool = false;
 // image with the reason). 0xffffffff: no guard.
 override TRAVERSAL_BUDGET: u32 = 0xffffffffu;
 
-// At most this many triangles are tested one by one in a loop at lane-uniform indices instead
-// of through the BVH (0: always the BVH). On SIMD CPU drivers a divergent traversal of a small
-// BVH costs more than testing every triangle (the Cornell box: 36).
-override BRUTE_FORCE_TRIANGLES: u32 = 0u;
-
 // Flags of a triangle.
 const TRIANGLE_TWO_SIDED: u32 = 1u;
 const TRIANGLE_HAS_NORMALS: u32 = 2u;
@@ -53,6 +48,20 @@ struct BvhNode {
 @group(0) @binding(BINDING_TRIANGLES) var<storage, read> triangles: array<Triangle>;
 @group(0) @binding(BINDING_TRIANGLE_NORMALS) var<storage, read> triangle_normals: array<TriangleNormals>;
 @group(0) @binding(BINDING_BVH_NODES) var<storage, read> bvh_nodes: array<BvhNode>;
+// Scenes of at most BRUTE_FORCE_TRIANGLES triangles (generated from src/gpu/pipeline.rs) also
+// have them in a uniform buffer, and test every one in turn at lane-uniform indices instead of
+// traversing the BVH: on SIMD CPU drivers a divergent traversal of a small BVH through
+// storage loads (lane by lane on lavapipe) costs more than testing every triangle from a
+// buffer served as one broadcast load (the Cornell box: 36 triangles).
+@group(0) @binding(BINDING_SMALL_TRIANGLES) var<uniform> small_triangles: array<Triangle, BRUTE_FORCE_TRIANGLES>;
+
+// Triangle i, from the uniform copy where the scene is small.
+fn triangle_at(i: u32) -> Triangle {
+    if (NUM_TRIANGLES <= BRUTE_FORCE_TRIANGLES) {
+        return small_triangles[min(i, BRUTE_FORCE_TRIANGLES - 1u)];
+    }
+    return triangles[i];
+}
 
 // Traversal steps taken by this invocation so far, and whether the guard stopped one.
 var<private> traversal_steps: u32;
@@ -157,7 +166,7 @@ fn triangles_brute_force(o: vec3f, d: vec3f, t_max: f32) -> TriangleHit {
     var best = TriangleHit(t_max, INVALID, vec2f(0.0));
     let ray = sheared_ray(o, d);
     for (var i = 0u; i < NUM_TRIANGLES; i++) {
-        let tri = triangles[i];
+        let tri = small_triangles[i];
         var bary: vec2f;
         let t = intersect_triangle(ray, tri.p0, tri.p1, tri.p2, best.t, &bary);
         if (t > 0.0) {

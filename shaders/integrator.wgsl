@@ -88,7 +88,7 @@ fn sample_sphere_emitter(l: u32, x: vec3f, u: vec2f, vertex_object: u32, from_in
 
 // Triangle light l: emits towards x when x is on its front side, or it is two-sided.
 fn sample_triangle_emitter(l: u32, x: vec3f, u: vec2f) -> EmitterSample {
-    let tri = triangles[light_table[l].object];
+    let tri = triangle_at(light_table[l].object);
     let ls = sample_triangle_light(tri.p0, tri.p1, tri.p2, x, u);
     let front = dot(cross(tri.p1 - tri.p0, tri.p2 - tri.p0), ls.wi) < 0.0;
     let emits = front || (tri.flags & TRIANGLE_TWO_SIDED) != 0u;
@@ -164,7 +164,7 @@ fn light_of(object: u32) -> u32 {
         return object;
     }
     if (NUM_TRIANGLES > 0u && object != INVALID && object >= first_triangle_object()) {
-        return triangles[object - first_triangle_object()].light;
+        return triangle_at(object - first_triangle_object()).light;
     }
     return INVALID;
 }
@@ -190,7 +190,7 @@ fn emitter_hit_weight(hit: Hit, ray_dir: vec3f, prev: PrevVertex) -> f32 {
         let inside = inside_light(l, sphere, prev.position, prev.object, prev.from_inside);
         light_pdf = pdf_sphere_light(sphere.center, sphere.radius, prev.position, inside, ray_dir);
     } else {
-        let tri = triangles[light_table[l].object];
+        let tri = triangle_at(light_table[l].object);
         light_pdf = pdf_triangle_light(tri.p0, tri.p1, tri.p2, prev.position, ray_dir);
     }
     return power_heuristic(prev.bsdf_pdf, light_select_prob(l) * light_pdf);
@@ -204,7 +204,7 @@ fn radiance_along(hit: Hit, ray_d: vec3f) -> vec3f {
     }
     let emission = materials[hit.material].emission;
     if (NUM_TRIANGLES > 0u && hit.object >= first_triangle_object()) {
-        let tri = triangles[hit.object - first_triangle_object()];
+        let tri = triangle_at(hit.object - first_triangle_object());
         let front = dot(hit.normal, ray_d) < 0.0;
         return select(vec3f(0.0), emission, front || (tri.flags & TRIANGLE_TWO_SIDED) != 0u);
     }

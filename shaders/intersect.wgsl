@@ -85,7 +85,7 @@ fn intersect_scene(o: vec3f, d: vec3f) -> Hit {
     if (NUM_TRIANGLES > 0u) {
         let th = triangles_closest(o, d, t_hit, false);
         if (th.index != INVALID) {
-            let tri = triangles[th.index];
+            let tri = triangle_at(th.index);
             let n = normalize(cross(tri.p1 - tri.p0, tri.p2 - tri.p0));
             var shading = n;
             if (HAS_SHADING_NORMALS && (tri.flags & TRIANGLE_HAS_NORMALS) != 0u) {

@@ -123,6 +123,7 @@ fn generated_values_and_bindings_are_the_rust_ones() {
         ("triangle_normals", bindings::TRIANGLE_NORMALS),
         ("bvh_nodes", bindings::BVH_NODES),
         ("light_table", bindings::LIGHTS),
+        ("small_triangles", bindings::SMALL_TRIANGLES),
     ] {
         assert_eq!(by_name(&pt, var), Some(b.number), "{var}");
     }
@@ -154,6 +155,7 @@ fn display_constants_are_the_rust_ones() {
 fn the_bvh_stack_and_triangle_flags_are_the_rust_ones() {
     let pt = module(&shaders::path_tracer_source());
     assert_eq!(const_u32(&pt, "BVH_MAX_DEPTH"), Some(pathlab::accel::bvh::MAX_DEPTH as u32));
+    assert_eq!(const_u32(&pt, "BRUTE_FORCE_TRIANGLES"), Some(pathlab::gpu::BRUTE_FORCE_TRIANGLES));
     assert_eq!(const_u32(&pt, "TRIANGLE_TWO_SIDED"), Some(pathlab::gpu::TRIANGLE_TWO_SIDED));
     assert_eq!(const_u32(&pt, "TRIANGLE_HAS_NORMALS"), Some(pathlab::gpu::TRIANGLE_HAS_NORMALS));
 }

@@ -11,7 +11,8 @@ use crate::method::{LightSelect, Method};
 use crate::scene::SceneFeatures;
 use crate::shaders::{self, bindings};
 
-/// Scenes of at most this many triangles test them all in turn instead of traversing the BVH.
+/// Scenes of at most this many triangles test them all in turn from a uniform buffer instead of
+/// traversing the BVH (generated into the WGSL; see bvh.wgsl).
 pub const BRUTE_FORCE_TRIANGLES: u32 = 64;
 
 /// `TRAVERSAL_BUDGET` of a pipeline whose traversal is bounded by the host: no guard.
@@ -54,7 +55,6 @@ pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
         ("NUM_TRIANGLES", f.num_triangles as f64),
         ("HAS_SHADING_NORMALS", f.has_shading_normals as u32 as f64),
         ("TRAVERSAL_BUDGET", key.traversal_budget as f64),
-        ("BRUTE_FORCE_TRIANGLES", BRUTE_FORCE_TRIANGLES as f64),
         ("NUM_OCCLUDING_PLANES", f.num_occluding_planes as f64),
         ("HAS_SPECULAR", f.has_specular as u32 as f64),
         ("HAS_ENVIRONMENT", f.has_environment as u32 as f64),

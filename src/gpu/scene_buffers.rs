@@ -184,6 +184,8 @@ pub struct SceneBuffers {
     pub triangle_normals: wgpu::Buffer,
     pub bvh_nodes: wgpu::Buffer,
     pub lights: wgpu::Buffer,
+    /// The first `BRUTE_FORCE_TRIANGLES` triangles (all of a small scene), as a uniform buffer.
+    pub small_triangles: wgpu::Buffer,
 }
 
 /// A read-only storage buffer holding `items` (at least one zeroed element).
@@ -265,6 +267,10 @@ impl SceneBuffers {
             triangle_normals: storage_array(device, "triangle normals", &packed.normals),
             bvh_nodes: storage_array(device, "bvh nodes", &packed.bvh.nodes),
             lights: storage_array(device, "lights", &packed.lights),
+            small_triangles: {
+                let n = packed.triangles.len().min(super::BRUTE_FORCE_TRIANGLES as usize);
+                uniform_array(device, "small triangles", &packed.triangles[..n], super::BRUTE_FORCE_TRIANGLES as usize)
+            },
         }
     }
 }

@@ -65,6 +65,7 @@ impl Band {
                     entry(bindings::TRIANGLE_NORMALS, &scene_buffers.triangle_normals),
                     entry(bindings::BVH_NODES, &scene_buffers.bvh_nodes),
                     entry(bindings::LIGHTS, &scene_buffers.lights),
+                    entry(bindings::SMALL_TRIANGLES, &scene_buffers.small_triangles),
                 ],
             });
             bands.push(Band { y0, rows, params_buffer, accum, bind_group });

@@ -37,9 +37,12 @@ pub const BVH_NODES: Binding = Binding { number: 9, name: "BVH_NODES", kind: Kin
 /// The light table: objects and the power alias table (`LightEntry`, light_table.wgsl).
 pub const LIGHTS: Binding = Binding { number: 10, name: "LIGHTS", kind: Kind::Storage { read_only: true } };
 
+/// The triangles of a small scene again, in a uniform buffer (`small_triangles`, bvh.wgsl).
+pub const SMALL_TRIANGLES: Binding = Binding { number: 11, name: "SMALL_TRIANGLES", kind: Kind::Uniform };
+
 /// The path tracer's bind group.
-pub const PATH_TRACER: [Binding; 10] =
-    [FRAME, SPHERES, PLANES, MATERIALS, ACCUM, HALTON_PRIMES, TRIANGLES, TRIANGLE_NORMALS, BVH_NODES, LIGHTS];
+pub const PATH_TRACER: [Binding; 11] =
+    [FRAME, SPHERES, PLANES, MATERIALS, ACCUM, HALTON_PRIMES, TRIANGLES, TRIANGLE_NORMALS, BVH_NODES, LIGHTS, SMALL_TRIANGLES];
 
 /// The display pass's parameters (`DisplayParams`, display.wgsl).
 pub const DISPLAY_PARAMS: Binding = Binding { number: 0, name: "DISPLAY_PARAMS", kind: Kind::Uniform };

@@ -22,6 +22,8 @@ pub fn generated_constants() -> String {
          const MAX_MATERIALS: u32 = {MAX_MATERIALS}u;\n\
          // The BVH traversal stack: the deepest node the builder makes (src/accel/bvh.rs).\n\
          const BVH_MAX_DEPTH: u32 = {}u;\n\
+         // Scenes of at most this many triangles test them all from a uniform buffer (src/gpu/pipeline.rs).\n\
+         const BRUTE_FORCE_TRIANGLES: u32 = {}u;\n\
          // Values of the `override` choices SAMPLER, BSDF_SAMPLING, LIGHT_SAMPLING, LIGHT_SELECT,\n\
          // TRIANGLE_SAMPLING (src/method.rs), and of the display pass's view (src/display/view.rs).\n\
          {}{}{}{}{}{}\
@@ -33,6 +35,7 @@ pub fn generated_constants() -> String {
          // Binding numbers of group 0 (src/shaders/bindings.rs).\n\
          {}{}",
         crate::accel::bvh::MAX_DEPTH,
+        crate::gpu::BRUTE_FORCE_TRIANGLES,
         wgsl_constants::<Sampler>("SAMPLER"),
         wgsl_constants::<BsdfSampling>("BSDF"),
         wgsl_constants::<LightSampling>("LIGHTS"),
