@@ -1,8 +1,7 @@
 //! Acceleration of ray queries against triangles: the watertight ray-triangle test
 //! (`triangle`) and the bounding volume hierarchy built on the CPU, flat for the GPU (`bvh`).
-//! This is the CPU side of the triangle meshes to come (issue: meshes, a BVH and area lights):
-//! the kernel's traversal will mirror `Bvh::closest` and `Bvh::any`, which the tests hold
-//! against brute force.
+//! The kernel's traversal (`shaders/bvh.wgsl`) mirrors `Bvh::closest` and `Bvh::any`;
+//! `tests/bvh.rs` holds both against brute force.
 
 pub mod bvh;
 pub mod triangle;

@@ -1,8 +1,11 @@
-//! Scenes: the TOML format (`raw`), its validation (`validate`), the validated model, and its
+//! Scenes: the TOML format (`raw`), its validation (`validate`), object-to-world transforms
+//! (`transform`), triangle meshes from OBJ and PLY files and Mitsuba's built-in shapes (`mesh`),
+//! the lights in kernel order with their power (`lights`), the validated model, and its
 //! identity (`hash`).
 //!
 //! A `Scene` has passed every check: all numbers are finite and in range, every material name
-//! resolves, planes do not emit. Nothing here touches the GPU.
+//! resolves, planes do not emit, meshes are in world space with their zero-area triangles
+//! dropped. Nothing here touches the GPU.
 
 mod diagnostic;
 pub mod hash;
