@@ -58,9 +58,15 @@ struct BvhNode {
 // Triangle i, from the uniform copy where the scene is small.
 fn triangle_at(i: u32) -> Triangle {
     if (NUM_TRIANGLES <= BRUTE_FORCE_TRIANGLES) {
-        return small_triangles[min(i, BRUTE_FORCE_TRIANGLES - 1u)];
+        return small_triangles[i];
     }
     return triangles[i];
+}
+
+// Whether the triangle emits along w, a direction arriving at it: on the side its winding
+// normal cross(p1 - p0, p2 - p0) faces, or on both where it is two-sided.
+fn triangle_emits_along(tri: Triangle, w: vec3f) -> bool {
+    return dot(cross(tri.p1 - tri.p0, tri.p2 - tri.p0), w) < 0.0 || (tri.flags & TRIANGLE_TWO_SIDED) != 0u;
 }
 
 // Traversal steps taken by this invocation so far, and whether the guard stopped one.

@@ -90,9 +90,8 @@ fn sample_sphere_emitter(l: u32, x: vec3f, u: vec2f, vertex_object: u32, from_in
 fn sample_triangle_emitter(l: u32, x: vec3f, u: vec2f) -> EmitterSample {
     let tri = triangle_at(light_table[l].object);
     let ls = sample_triangle_light(tri.p0, tri.p1, tri.p2, x, u);
-    let front = dot(cross(tri.p1 - tri.p0, tri.p2 - tri.p0), ls.wi) < 0.0;
-    let emits = front || (tri.flags & TRIANGLE_TWO_SIDED) != 0u;
-    return EmitterSample(ls.wi, ls.dist, ls.pdf, select(vec3f(0.0), materials[tri.material].emission, emits), INVALID);
+    let emission = select(vec3f(0.0), materials[tri.material].emission, triangle_emits_along(tri, ls.wi));
+    return EmitterSample(ls.wi, ls.dist, ls.pdf, emission, INVALID);
 }
 
 // The contribution of one light sample, picked with probability `prob`: f |cos| / (prob pdf)
@@ -205,8 +204,7 @@ fn radiance_along(hit: Hit, ray_d: vec3f) -> vec3f {
     let emission = materials[hit.material].emission;
     if (NUM_TRIANGLES > 0u && hit.object >= first_triangle_object()) {
         let tri = triangle_at(hit.object - first_triangle_object());
-        let front = dot(hit.normal, ray_d) < 0.0;
-        return select(vec3f(0.0), emission, front || (tri.flags & TRIANGLE_TWO_SIDED) != 0u);
+        return select(vec3f(0.0), emission, triangle_emits_along(tri, ray_d));
     }
     return emission;
 }

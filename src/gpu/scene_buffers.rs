@@ -112,16 +112,18 @@ impl PackedTriangles {
 
     /// Builds the BVH over every mesh triangle and lays the triangles out in its leaf order.
     pub fn new(scene: &Scene) -> PackedTriangles {
-        // Scene order: (mesh, triangle) of every triangle, and its light index if it emits.
-        let lights = scene.lights();
-        let mut light_of = std::collections::HashMap::new();
-        for (l, light) in lights.iter().enumerate() {
-            if let Light::Triangle { mesh, triangle } = *light {
-                light_of.insert((mesh, triangle), l as u32);
-            }
-        }
+        // Scene order: (mesh, triangle) of every triangle; triangle t of mesh m is number
+        // first[m] + t, and light_of[that] the light it is.
         let refs: Vec<(usize, usize)> =
             scene.meshes.iter().enumerate().flat_map(|(m, mesh)| (0..mesh.triangles.len()).map(move |t| (m, t))).collect();
+        let first: Vec<usize> = scene.meshes.iter().scan(0, |n, mesh| Some(std::mem::replace(n, *n + mesh.triangles.len()))).collect();
+        let lights = scene.lights();
+        let mut light_of = vec![u32::MAX; refs.len()];
+        for (l, light) in lights.iter().enumerate() {
+            if let Light::Triangle { mesh, triangle } = *light {
+                light_of[first[mesh] + triangle] = l as u32;
+            }
+        }
         let geometry: Vec<crate::accel::Triangle> =
             refs.iter().map(|&(m, t)| scene.meshes[m].vertices(t).map(|v| v.as_vec3())).collect();
         let bvh = if geometry.is_empty() { Bvh { nodes: vec![BvhNode::zeroed()], order: Vec::new(), depth: 0 } } else { Bvh::build(&geometry) };
@@ -136,8 +138,7 @@ impl PackedTriangles {
             let [p0, p1, p2] = mesh.vertices(t).map(f3);
             let has_normals = !mesh.normals.is_empty();
             let flags = if mesh.two_sided { TRIANGLE_TWO_SIDED } else { 0 } | if has_normals { TRIANGLE_HAS_NORMALS } else { 0 };
-            let light = light_of.get(&(m, t)).copied().unwrap_or(u32::MAX);
-            triangles.push(GpuTriangle { p0, material: mesh.material as u32, p1, light, p2, flags });
+            triangles.push(GpuTriangle { p0, material: mesh.material as u32, p1, light: light_of[i as usize], p2, flags });
             if any_normals {
                 let [n0, n1, n2] = if has_normals { mesh.triangles[t].map(|v| f3(mesh.normals[v as usize])) } else { [[0.0; 3]; 3] };
                 normals.push(GpuTriangleNormals { n0, _pad0: 0, n1, _pad1: 0, n2, _pad2: 0 });
@@ -147,17 +148,13 @@ impl PackedTriangles {
         // in leaf order.
         let weights: Vec<f64> = lights.iter().map(|&l| scene.light_power(l)).collect();
         let alias = AliasTable::new(&weights);
-        let mut tri_index = std::collections::HashMap::new();
-        for (i, &(m, t)) in refs.iter().enumerate() {
-            tri_index.insert((m, t), gpu_index[i]);
-        }
         let lights = lights
             .iter()
             .enumerate()
             .map(|(l, light)| GpuLight {
                 object: match *light {
                     Light::Sphere(_) => l as u32,
-                    Light::Triangle { mesh, triangle } => tri_index[&(mesh, triangle)],
+                    Light::Triangle { mesh, triangle } => gpu_index[first[mesh] + triangle],
                 },
                 power_prob: alias.prob[l] as f32,
                 alias_index: alias.alias[l],
