@@ -70,16 +70,6 @@ fn pdf_sphere_light(center: vec3f, radius: f32, x: vec3f, inside: bool, wi: vec3
     return pdf_uniform_cone(sphere_cone_one_minus_cos_max(length(center - x), radius));
 }
 
-// Power heuristic with beta = 2 (Veach): weight of the strategy with density pdf_a.
-// Written as 1 / (1 + (pdf_b / pdf_a)^2) so that huge densities cannot overflow to inf / inf.
-fn power_heuristic(pdf_a: f32, pdf_b: f32) -> f32 {
-    if (pdf_a <= 0.0) {
-        return 0.0;
-    }
-    let ratio = pdf_b / pdf_a;
-    return 1.0 / (1.0 + ratio * ratio);
-}
-
 // ---- Triangle lights ----
 //
 // A triangle (p0, p1, p2) emits on the side of its winding normal cross(p1 - p0, p2 - p0)

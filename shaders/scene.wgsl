@@ -41,8 +41,12 @@ struct Material {
     // Probability of sampling the Phong lobe (luminance ratio of ks to kd + ks).
     p_spec: f32,
     emission: vec3f,
-    is_emissive: u32,
+    flags: u32,
 }
+
+// Flags of a material.
+const MATERIAL_EMISSIVE: u32 = 1u;
+const MATERIAL_ONE_SIDED: u32 = 2u;
 
 struct FrameParams {
     camera_origin: vec3f,

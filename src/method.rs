@@ -44,8 +44,10 @@ named_enum! {
         None = "none",
         /// Next event estimation: one shadow ray to each spherical light at every vertex.
         Nee = "nee",
-        /// NEE and BSDF sampling combined with the power heuristic.
+        /// NEE and BSDF sampling combined with the power heuristic (beta = 2).
         Mis = "mis",
+        /// NEE and BSDF sampling combined with the balance heuristic.
+        MisBalance = "mis-balance",
         /// BIASED, for demonstration: NEE plus the full emission of lights hit by BSDF-sampled
         /// rays, counting direct light twice (the study's extra reflections).
         NeeDoubleCount = "nee-double-count",

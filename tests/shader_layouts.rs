@@ -52,7 +52,7 @@ fn shared_structs_match_the_wgsl() {
     check_struct(&pt, "AccumPixel", size_of::<AccumPixel>(), fields!(AccumPixel: sum, count, sum_err, rays_lo, sum_sq, rays_hi, sum_sq_err));
     check_struct(&pt, "Sphere", size_of::<GpuSphere>(), fields!(GpuSphere: center, radius, material));
     check_struct(&pt, "Plane", size_of::<GpuPlane>(), fields!(GpuPlane: normal, offset, material));
-    check_struct(&pt, "Material", size_of::<GpuMaterial>(), fields!(GpuMaterial: diffuse, glossiness, specular, p_spec, emission, is_emissive));
+    check_struct(&pt, "Material", size_of::<GpuMaterial>(), fields!(GpuMaterial: diffuse, glossiness, specular, p_spec, emission, flags));
     check_struct(&pt, "Triangle", size_of::<GpuTriangle>(), fields!(GpuTriangle: p0, material, p1, light, p2, flags));
     check_struct(&pt, "TriangleNormals", size_of::<GpuTriangleNormals>(), fields!(GpuTriangleNormals: n0, n1, n2));
     check_struct(&pt, "BvhNode", size_of::<BvhNode>(), fields!(BvhNode: lo, first, hi, count));
@@ -81,6 +81,7 @@ fn overrides_set_by_the_host_are_those_the_module_declares() {
         num_sphere_lights: 1,
         num_triangles: 4,
         has_shading_normals: true,
+        rr_depth: 3,
         num_occluding_planes: 1,
         has_specular: true,
         has_environment: true,
@@ -157,6 +158,8 @@ fn the_bvh_stack_and_triangle_flags_are_the_rust_ones() {
     assert_eq!(const_u32(&pt, "BVH_MAX_DEPTH"), Some(pathlab::accel::bvh::MAX_DEPTH as u32));
     assert_eq!(const_u32(&pt, "BRUTE_FORCE_TRIANGLES"), Some(pathlab::gpu::BRUTE_FORCE_TRIANGLES));
     assert_eq!(const_u32(&pt, "TRIANGLE_TWO_SIDED"), Some(pathlab::gpu::TRIANGLE_TWO_SIDED));
+    assert_eq!(const_u32(&pt, "MATERIAL_EMISSIVE"), Some(pathlab::gpu::MATERIAL_EMISSIVE));
+    assert_eq!(const_u32(&pt, "MATERIAL_ONE_SIDED"), Some(pathlab::gpu::MATERIAL_ONE_SIDED));
     assert_eq!(const_u32(&pt, "TRIANGLE_HAS_NORMALS"), Some(pathlab::gpu::TRIANGLE_HAS_NORMALS));
 }
 

@@ -36,6 +36,7 @@ fn every_override_permutation_validates() {
                                     num_sphere_lights,
                                     num_triangles,
                                     has_shading_normals,
+                                    rr_depth: if on { 2 } else { 0 },
                                     num_occluding_planes: if on { num_planes } else { 0 },
                                     has_specular: on,
                                     has_environment: on,
@@ -53,7 +54,7 @@ fn every_override_permutation_validates() {
             }
         }
     }
-    assert_eq!(checked, 4 * 5 * 4 * 3 * 2 * SHAPES.len() * 2);
+    assert_eq!(checked, 4 * 5 * LightSampling::ALL.len() * 3 * 2 * SHAPES.len() * 2);
 }
 
 #[test]

@@ -35,6 +35,9 @@ pub struct BenchArgs {
     /// Path segments (default: the scene's).
     #[arg(long)]
     max_depth: Option<u32>,
+    /// Russian roulette from this scattering vertex on, or `off` (default: the scene's).
+    #[arg(long)]
+    rr_depth: Option<super::RrDepth>,
     /// Print JSON records instead of a table.
     #[arg(long)]
     json: bool,
@@ -101,6 +104,9 @@ pub fn run(args: BenchArgs) -> anyhow::Result<i32> {
                 scene.render.width = width;
                 scene.render.height = height;
                 scene.render.max_depth = args.max_depth.unwrap_or(scene.render.max_depth);
+                if let Some(super::RrDepth(rr)) = args.rr_depth {
+                    scene.render.rr_depth = rr;
+                }
                 let record = measure(&gpu, &scene, &args, preset, specialised)
                     .with_context(|| format!("{} at {width}x{height}", preset.name()))?;
                 if !args.json {

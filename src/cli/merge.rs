@@ -36,6 +36,7 @@ pub fn run(args: MergeArgs) -> anyhow::Result<i32> {
         method: k.method,
         seed: k.seed,
         max_depth: k.max_depth,
+        rr_depth: k.rr_depth,
         spp: merged.spp,
         rays: merged.rays,
         render_seconds: merged.render_seconds,

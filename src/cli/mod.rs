@@ -26,8 +26,27 @@ pub const EXIT_INTERRUPTED: i32 = 130;
 #[derive(Parser)]
 #[command(name = "pathlab", version, about = "A GPU path tracer for studying Monte Carlo rendering")]
 struct Cli {
+    /// A `$name` value of a Mitsuba XML scene, overriding its `<default>` (as Mitsuba's -D);
+    /// repeatable.
+    #[arg(short = 'D', long = "define", global = true, value_name = "NAME=VALUE", value_parser = parse_define)]
+    defines: Vec<(String, String)>,
     #[command(subcommand)]
     command: Command,
+}
+
+/// The `--define`s of this run (set once, before the command runs).
+static DEFINES: std::sync::OnceLock<Vec<(String, String)>> = std::sync::OnceLock::new();
+
+pub(crate) fn defines() -> Vec<(String, String)> {
+    DEFINES.get().cloned().unwrap_or_default()
+}
+
+fn parse_define(s: &str) -> Result<(String, String), String> {
+    let (name, value) = s.split_once('=').ok_or_else(|| format!("`{s}`: expected NAME=VALUE"))?;
+    if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
+        return Err(format!("`{name}`: a name is letters, digits and _"));
+    }
+    Ok((name.to_string(), value.to_string()))
 }
 
 #[derive(Subcommand)]
@@ -40,8 +59,17 @@ enum Command {
     View(view::ViewArgs),
     /// Validate a scene file and print what it contains.
     Check {
-        /// Scene file (TOML).
+        /// Scene file (TOML, or Mitsuba 3 XML).
         scene: PathBuf,
+    },
+    /// Translate a Mitsuba 3 XML scene into pathlab's TOML (the same scene, the same content
+    /// hash), to see what pathlab makes of it.
+    Convert {
+        /// Mitsuba 3 XML scene.
+        scene: PathBuf,
+        /// Output TOML (default: standard output).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
     },
     /// The variance-reduction study in one command: reference, equal-sample and equal-time
     /// tables, convergence, bias verdicts, plots, image grid and report.
@@ -63,7 +91,9 @@ enum Command {
 /// Runs the command line and returns the process exit status.
 pub fn run() -> i32 {
     let cli = Cli::parse();
+    let _ = DEFINES.set(cli.defines.clone());
     let result = match cli.command {
+        Command::Convert { scene, output } => convert(&scene, output.as_deref()).map(|()| 0),
         Command::Render(args) => render::run(args),
         Command::Bench(args) => bench::run(args),
         Command::Advise(args) => advise::run(args),
@@ -93,26 +123,49 @@ pub fn run() -> i32 {
     }
 }
 
-/// Loads a scene, printing its warnings to stderr.
+/// Loads a scene (with the run's `--define`s), printing its warnings to stderr.
 pub(crate) fn load_scene(path: &std::path::Path) -> anyhow::Result<Scene> {
-    let scene = Scene::load(path)?;
+    let scene = Scene::load_with(path, &defines())?;
     for w in &scene.warnings {
         eprintln!("{w}");
     }
     Ok(scene)
 }
 
+fn convert(path: &std::path::Path, output: Option<&std::path::Path>) -> anyhow::Result<()> {
+    if !pathlab::scene::is_mitsuba(path) {
+        anyhow::bail!("{}: convert reads Mitsuba 3 XML scenes (.xml)", path.display());
+    }
+    let out_dir = match output {
+        Some(o) => o.parent().map(std::path::Path::to_path_buf).unwrap_or_default(),
+        None => std::env::current_dir()?,
+    };
+    let (text, warnings) = pathlab::scene::mitsuba::to_toml(path, &defines(), &out_dir)?;
+    for w in &warnings {
+        eprintln!("{w}");
+    }
+    match output {
+        Some(o) => {
+            pathlab::output::write_atomically(o, |w| std::io::Write::write_all(w, text.as_bytes()).map_err(|e| e.to_string()))?;
+            eprintln!("wrote {}", o.display());
+        }
+        None => print!("{text}"),
+    }
+    Ok(())
+}
+
 fn check(path: &std::path::Path) -> anyhow::Result<()> {
     let scene = load_scene(path)?;
     let f = scene.features();
     println!(
-        "{}: valid; {}x{}, max_depth {}, {} materials, {} spheres ({} lights), {} planes ({} can shadow a light), \
+        "{}: valid; {}x{}, max_depth {}, Russian roulette {}, {} materials, {} spheres ({} lights), {} planes ({} can shadow a light), \
          {} meshes ({} triangles, {} emissive{}), specular {}, environment {}, light interiors reachable {}; \
          default light selection {}; scene hash {}",
         path.display(),
         scene.render.width,
         scene.render.height,
         scene.render.max_depth,
+        scene.render.rr_depth.map_or("off".to_string(), |k| format!("from vertex {k}")),
         scene.materials.len(),
         f.num_spheres,
         f.num_sphere_lights,
@@ -183,6 +236,23 @@ pub(crate) fn parse_duration(s: &str) -> Result<Duration, String> {
     Ok(Duration::from_secs_f64(v * scale))
 }
 
+/// `--rr-depth K|off`: Russian roulette from scattering vertex K >= 1 on, or none.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct RrDepth(pub Option<u32>);
+
+impl std::str::FromStr for RrDepth {
+    type Err = String;
+    fn from_str(s: &str) -> Result<RrDepth, String> {
+        if s.trim() == "off" {
+            return Ok(RrDepth(None));
+        }
+        match s.trim().parse::<u32>() {
+            Ok(k) if k >= 1 => Ok(RrDepth(Some(k))),
+            _ => Err(format!("`{s}`: expected a depth >= 1 (the first scattering vertex is 1) or `off`")),
+        }
+    }
+}
+
 /// Size, depth and display-transform overrides of the scene, shared by `study` and `advise`.
 #[derive(clap::Args)]
 pub(crate) struct SceneOverrides {
@@ -192,6 +262,10 @@ pub(crate) struct SceneOverrides {
     /// Path segments (default: the scene's).
     #[arg(long)]
     pub max_depth: Option<u32>,
+    /// Russian roulette from this scattering vertex on (the first is 1), or `off` (default:
+    /// the scene's render.rr_depth, else off).
+    #[arg(long)]
+    pub rr_depth: Option<RrDepth>,
     /// Display transform of PSNR, SSIM, FLIP and figures: `srgb` or `gamma:G` (default: the
     /// scene's [display] table, else srgb).
     #[arg(long)]
@@ -209,6 +283,9 @@ impl SceneOverrides {
             scene.render.height = h;
         }
         scene.render.max_depth = self.max_depth.unwrap_or(scene.render.max_depth);
+        if let Some(RrDepth(rr)) = self.rr_depth {
+            scene.render.rr_depth = rr;
+        }
         Ok(match self.display {
             Some(transfer) => pathlab::display::DisplayTransform { transfer, ..scene.display },
             None => scene.display,

@@ -84,6 +84,10 @@ pub struct RenderArgs {
     /// Path segments (default: the scene's render.max_depth).
     #[arg(long)]
     max_depth: Option<u32>,
+    /// Russian roulette from this scattering vertex on (the first is 1), or `off` (default:
+    /// the scene's render.rr_depth, else off).
+    #[arg(long)]
+    rr_depth: Option<super::RrDepth>,
     /// Random seed; the same seed gives the same image, bit for bit.
     #[arg(long, default_value_t = 0)]
     seed: u32,
@@ -136,6 +140,9 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
     scene.render.width = args.width.unwrap_or(scene.render.width);
     scene.render.height = args.height.unwrap_or(scene.render.height);
     scene.render.max_depth = args.max_depth.unwrap_or(scene.render.max_depth);
+    if let Some(super::RrDepth(rr)) = args.rr_depth {
+        scene.render.rr_depth = rr;
+    }
     let spp = match args.spp {
         Some(0) => bail!("--spp must be at least 1"),
         Some(n) => n,

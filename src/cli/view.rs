@@ -109,6 +109,8 @@ pub fn run(args: ViewArgs) -> anyhow::Result<i32> {
         scene,
         size: args.overrides.size,
         max_depth: args.overrides.max_depth,
+        rr_depth: args.overrides.rr_depth.map(|r| r.0),
+        defines: super::defines(),
         method: args.method,
         compare: args.compare,
         seed: args.seed,

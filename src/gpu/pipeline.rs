@@ -54,6 +54,7 @@ pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
         ("NUM_SPHERE_LIGHTS", f.num_sphere_lights as f64),
         ("NUM_TRIANGLES", f.num_triangles as f64),
         ("HAS_SHADING_NORMALS", f.has_shading_normals as u32 as f64),
+        ("RR_DEPTH", f.rr_depth as f64),
         ("TRAVERSAL_BUDGET", key.traversal_budget as f64),
         ("NUM_OCCLUDING_PLANES", f.num_occluding_planes as f64),
         ("HAS_SPECULAR", f.has_specular as u32 as f64),

@@ -41,8 +41,14 @@ pub struct GpuMaterial {
     pub specular: [f32; 3],
     pub p_spec: f32,
     pub emission: [f32; 3],
-    pub is_emissive: u32,
+    /// `MATERIAL_EMISSIVE`, `MATERIAL_ONE_SIDED`.
+    pub flags: u32,
 }
+
+/// Material flag: emits.
+pub const MATERIAL_EMISSIVE: u32 = 1;
+/// Material flag: the BSDF is one-sided (black seen from behind).
+pub const MATERIAL_ONE_SIDED: u32 = 2;
 
 /// A triangle as the kernel reads it (`Triangle`, bvh.wgsl): vertices, material, the light it
 /// is (`u32::MAX`: none) and flags.
@@ -137,7 +143,7 @@ impl PackedTriangles {
             let mesh = &scene.meshes[m];
             let [p0, p1, p2] = mesh.vertices(t).map(f3);
             let has_normals = !mesh.normals.is_empty();
-            let flags = if mesh.two_sided { TRIANGLE_TWO_SIDED } else { 0 } | if has_normals { TRIANGLE_HAS_NORMALS } else { 0 };
+            let flags = if mesh.two_sided_emission { TRIANGLE_TWO_SIDED } else { 0 } | if has_normals { TRIANGLE_HAS_NORMALS } else { 0 };
             triangles.push(GpuTriangle { p0, material: mesh.material as u32, p1, light: light_of[i as usize], p2, flags });
             if any_normals {
                 let [n0, n1, n2] = if has_normals { mesh.triangles[t].map(|v| f3(mesh.normals[v as usize])) } else { [[0.0; 3]; 3] };
@@ -220,7 +226,7 @@ impl SceneBuffers {
                     specular: f3(m.specular),
                     p_spec: p_spec as f32,
                     emission: f3(m.emission),
-                    is_emissive: m.is_emissive() as u32,
+                    flags: if m.is_emissive() { MATERIAL_EMISSIVE } else { 0 } | if m.two_sided { 0 } else { MATERIAL_ONE_SIDED },
                 }
             })
             .collect()

@@ -39,6 +39,8 @@ pub struct CheckpointKey {
     pub width: u32,
     pub height: u32,
     pub max_depth: u32,
+    /// Russian roulette's first vertex (`render.rr_depth`), if any.
+    pub rr_depth: Option<u32>,
 }
 
 /// Saved accumulators of a render.
@@ -72,6 +74,11 @@ pub enum CheckpointError {
 const F32_CHANNELS: [&str; 4] = ["sum", "sum_err", "sum_sq", "sum_sq_err"];
 const RGB: [&str; 3] = ["R", "G", "B"];
 
+/// The `pathlab:rr_depth` attribute: the first roulette vertex, or `off`.
+pub fn rr_depth_attr(rr_depth: Option<u32>) -> String {
+    rr_depth.map_or("off".to_string(), |k| k.to_string())
+}
+
 impl CheckpointKey {
     fn fields(&self) -> Vec<(&'static str, String)> {
         // Size and depth before the scene hash, which covers them too: a mismatch names the
@@ -80,6 +87,7 @@ impl CheckpointKey {
             ("width", self.width.to_string()),
             ("height", self.height.to_string()),
             ("max_depth", self.max_depth.to_string()),
+            ("rr_depth", rr_depth_attr(self.rr_depth)),
             ("sampler", self.method.sampler.to_string()),
             ("bsdf", self.method.bsdf.to_string()),
             ("lights", self.method.lights.to_string()),
@@ -211,6 +219,11 @@ impl Checkpoint {
             width: header.whole("width", u32_max).map_err(attr)? as u32,
             height: header.whole("height", u32_max).map_err(attr)? as u32,
             max_depth: header.whole("max_depth", u32_max).map_err(attr)? as u32,
+            // Files written before Russian roulette have none.
+            rr_depth: match header.get("rr_depth") {
+                None | Some("off") => None,
+                Some(v) => Some(v.parse::<u32>().ok().filter(|&k| k >= 1).ok_or_else(|| invalid(format!("pathlab:rr_depth is `{v}`, not a depth >= 1 or `off`")))?),
+            },
         };
         if (key.width as usize, key.height as usize) != (w, h) {
             return Err(invalid(format!("header says {}x{}, the data is {w}x{h}", key.width, key.height)));

@@ -15,6 +15,8 @@ pub struct ImageHeader {
     pub method: Method,
     pub seed: u32,
     pub max_depth: u32,
+    /// Russian roulette's first vertex, if any.
+    pub rr_depth: Option<u32>,
     pub spp: u64,
     /// Rays traced (camera, bounce and shadow), counted by the kernel.
     pub rays: u64,
@@ -40,6 +42,7 @@ impl ImageHeader {
             ("lights", self.method.lights.to_string()),
             ("seed", self.seed.to_string()),
             ("max_depth", self.max_depth.to_string()),
+            ("rr_depth", super::checkpoint::rr_depth_attr(self.rr_depth)),
             ("rays", self.rays.to_string()),
             ("version", crate::VERSION.to_string()),
             ("render_seconds", format!("{:.6}", self.render_seconds)),

@@ -127,6 +127,7 @@ impl RenderJob {
             width: self.scene.render.width,
             height: self.scene.render.height,
             max_depth: self.scene.render.max_depth,
+            rr_depth: self.scene.render.rr_depth,
         }
     }
 
@@ -220,6 +221,7 @@ impl RenderJob {
             method: self.method,
             seed: self.seed,
             max_depth: self.scene.render.max_depth,
+            rr_depth: self.scene.render.rr_depth,
             spp: outcome.stats.spp,
             rays: outcome.rays,
             render_seconds: outcome.stats.seconds,

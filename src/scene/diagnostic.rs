@@ -87,3 +87,66 @@ impl LineIndex {
         (line.max(1), offset - start + 1)
     }
 }
+
+/// The text files a scene was read from (a Mitsuba file and its includes; one TOML file), laid
+/// end to end: a global byte offset names one file and a position in it, so that spans from
+/// any of them can travel in one `Spanned` and still name file, line and column.
+#[derive(Default)]
+pub(crate) struct SourceMap {
+    files: Vec<SourceFile>,
+}
+
+struct SourceFile {
+    path: PathBuf,
+    base: usize,
+    len: usize,
+    lines: LineIndex,
+}
+
+impl SourceMap {
+    pub(crate) fn single(path: &std::path::Path, text: &str) -> SourceMap {
+        let mut map = SourceMap::default();
+        map.add(path, text);
+        map
+    }
+
+    /// Adds a file; returns the global offset of its first byte.
+    pub(crate) fn add(&mut self, path: &std::path::Path, text: &str) -> usize {
+        let base = self.files.last().map_or(0, |f| f.base + f.len + 1);
+        self.files.push(SourceFile { path: path.to_path_buf(), base, len: text.len(), lines: LineIndex::new(text) });
+        base
+    }
+
+    /// File, 1-based line and column of a global offset.
+    pub(crate) fn locate(&self, offset: usize) -> (PathBuf, usize, usize) {
+        let i = self.files.partition_point(|f| f.base <= offset).saturating_sub(1);
+        match self.files.get(i) {
+            Some(f) => {
+                let (line, column) = f.lines.line_column((offset - f.base.min(offset)).min(f.len));
+                (f.path.clone(), line, column)
+            }
+            None => (PathBuf::new(), 0, 0),
+        }
+    }
+
+    pub(crate) fn diagnostic(&self, severity: Severity, offset: usize, field: String, message: String) -> Diagnostic {
+        let (file, line, column) = self.locate(offset);
+        Diagnostic { severity, file, line, column, field, message }
+    }
+}
+
+/// Collects the findings of a reader whose offsets point into a `SourceMap`.
+pub(crate) trait Findings {
+    fn sources(&self) -> &SourceMap;
+    fn findings(&mut self) -> &mut Vec<Diagnostic>;
+
+    fn error(&mut self, at: usize, field: impl Into<String>, message: impl Into<String>) {
+        let d = self.sources().diagnostic(Severity::Error, at, field.into(), message.into());
+        self.findings().push(d);
+    }
+
+    fn warn(&mut self, at: usize, field: impl Into<String>, message: impl Into<String>) {
+        let d = self.sources().diagnostic(Severity::Warning, at, field.into(), message.into());
+        self.findings().push(d);
+    }
+}

@@ -17,7 +17,7 @@
 //! hash):
 //!
 //! ```text
-//! meshes=N, then mesh.i.material=INDEX .two_sided=0|1 .triangles=T .data=SHA256
+//! meshes=N, then mesh.i.material=INDEX .two_sided=0|1 (its emission) .triangles=T .data=SHA256
 //! ```
 //!
 //! where `data` is the hex SHA-256 of the world-space mesh as little-endian bytes: every
@@ -66,6 +66,10 @@ pub fn canonical_encoding(scene: &Scene) -> String {
     line("render.width", r.width.to_string());
     line("render.height", r.height.to_string());
     line("render.max_depth", r.max_depth.to_string());
+    // Only scenes with roulette add a line, so that scenes written before keep their hash.
+    if let Some(rr) = r.rr_depth {
+        line("render.rr_depth", rr.to_string());
+    }
     line("render.environment", vec3(r.environment));
     line("materials", scene.materials.len().to_string());
     for (i, m) in scene.materials.iter().enumerate() {
@@ -73,6 +77,10 @@ pub fn canonical_encoding(scene: &Scene) -> String {
         line(&format!("material.{i}.specular"), vec3(m.specular));
         line(&format!("material.{i}.glossiness"), real(m.glossiness));
         line(&format!("material.{i}.emission"), vec3(m.emission));
+        // Only one-sided materials add a line, so that scenes written before keep their hash.
+        if !m.two_sided {
+            line(&format!("material.{i}.two_sided"), "0".to_string());
+        }
     }
     line("spheres", scene.spheres.len().to_string());
     for (i, s) in scene.spheres.iter().enumerate() {
@@ -90,7 +98,7 @@ pub fn canonical_encoding(scene: &Scene) -> String {
         line("meshes", scene.meshes.len().to_string());
         for (i, m) in scene.meshes.iter().enumerate() {
             line(&format!("mesh.{i}.material"), m.material.to_string());
-            line(&format!("mesh.{i}.two_sided"), (m.two_sided as u8).to_string());
+            line(&format!("mesh.{i}.two_sided"), (m.two_sided_emission as u8).to_string());
             line(&format!("mesh.{i}.triangles"), m.triangles.len().to_string());
             line(&format!("mesh.{i}.data"), mesh_digest(m));
         }

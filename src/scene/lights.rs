@@ -49,7 +49,7 @@ impl Scene {
             }
             Light::Triangle { mesh, triangle } => {
                 let m = &self.meshes[mesh];
-                let sides = if m.two_sided { 2.0 } else { 1.0 };
+                let sides = if m.two_sided_emission { 2.0 } else { 1.0 };
                 PI * sides * m.triangle_area(triangle) * luminance(self.materials[m.material].emission)
             }
         }

@@ -11,6 +11,7 @@ mod diagnostic;
 pub mod hash;
 pub mod lights;
 pub mod mesh;
+pub mod mitsuba;
 mod raw;
 pub mod transform;
 mod validate;
@@ -35,6 +36,11 @@ pub const MAX_PLANES: usize = 1024;
 /// Most materials (48 bytes each).
 pub const MAX_MATERIALS: usize = 1024;
 
+/// The depth `max_depth = -1` (unbounded, allowed only with Russian roulette) stands for. Paths
+/// that survive roulette this long are cut: the energy lost is that of light bounced more than
+/// 64 times (under 1e-6 of the image at albedo 0.8), and the kernel's loop stays bounded.
+pub const UNBOUNDED_DEPTH: u32 = 64;
+
 /// Pinhole camera.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Camera {
@@ -57,7 +63,11 @@ pub struct RenderSettings {
     pub width: u32,
     pub height: u32,
     /// Number of path segments: 1 = emitters seen directly, 2 = direct lighting, ...
+    /// (`max_depth = -1` in a file, unbounded, is `UNBOUNDED_DEPTH`).
     pub max_depth: u32,
+    /// Russian roulette from this scattering vertex on (Mitsuba's `rr_depth`: the first vertex
+    /// is 1); `None`: none.
+    pub rr_depth: Option<u32>,
     /// Radiance of rays that escape the scene.
     pub environment: DVec3,
     /// Default samples per pixel, if the scene gives one.
@@ -72,6 +82,10 @@ pub struct Material {
     pub specular: DVec3,
     pub glossiness: f64,
     pub emission: DVec3,
+    /// False: a one-sided BSDF (Mitsuba's default), black seen from behind: from the side its
+    /// surface's normal points away from (a sphere's inside, a plane's back, a triangle's back
+    /// by its winding). Emission is not affected (see `Mesh::two_sided_emission`).
+    pub two_sided: bool,
 }
 
 impl Material {
@@ -115,10 +129,34 @@ pub struct Scene {
     pub warnings: Vec<Diagnostic>,
 }
 
+/// Whether a scene file is Mitsuba XML (by its extension, `.xml`).
+pub fn is_mitsuba(path: &Path) -> bool {
+    path.extension().is_some_and(|e| e.eq_ignore_ascii_case("xml"))
+}
+
 impl Scene {
-    /// Reads and validates a scene file.
+    /// Reads and validates a scene file: pathlab's TOML, or Mitsuba 3's XML (`.xml`).
     pub fn load(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
+        Scene::load_with(path, &[])
+    }
+
+    /// `load`, with `$name` values of a Mitsuba scene overriding its `<default>`s (Mitsuba's
+    /// `-D name=value`); a TOML scene takes none.
+    pub fn load_with(path: impl AsRef<Path>, defines: &[(String, String)]) -> Result<Scene, SceneError> {
         let path = path.as_ref();
+        if is_mitsuba(path) {
+            return mitsuba::load(path, defines);
+        }
+        if let Some((name, _)) = defines.first() {
+            return Err(SceneError::Invalid(vec![Diagnostic {
+                severity: Severity::Error,
+                file: path.to_path_buf(),
+                line: 0,
+                column: 0,
+                field: format!("--define {name}"),
+                message: "--define applies to Mitsuba XML scenes (.xml) only".into(),
+            }]));
+        }
         let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
             path: path.to_path_buf(),
             source,
@@ -163,6 +201,7 @@ impl Scene {
             num_sphere_lights,
             num_triangles: self.num_triangles() as u32,
             has_shading_normals: self.meshes.iter().any(|m| !m.normals.is_empty()),
+            rr_depth: self.render.rr_depth.unwrap_or(0),
             has_specular: self.materials.iter().any(|m| m.specular.max_element() > 0.0),
             has_environment: self.render.environment.max_element() > 0.0,
             num_occluding_planes: self.occluding_planes().len() as u32,
@@ -247,6 +286,8 @@ pub struct SceneFeatures {
     pub num_triangles: u32,
     /// Some mesh has vertex normals (interpolated as shading normals).
     pub has_shading_normals: bool,
+    /// Russian roulette from this vertex on; 0: none.
+    pub rr_depth: u32,
     /// Planes that shadow rays must test (the first ones in kernel order).
     pub num_occluding_planes: u32,
     pub has_specular: bool,

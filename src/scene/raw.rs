@@ -4,52 +4,57 @@ use std::collections::BTreeMap;
 use std::fmt;
 
 use serde::de::{self, Deserializer, SeqAccess, Visitor};
-use serde::Deserialize;
+use serde::{Deserialize, Serialize, Serializer};
 use toml::Spanned;
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawScene {
     pub camera: Spanned<RawCamera>,
     pub render: Spanned<RawRender>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub materials: BTreeMap<String, Spanned<RawMaterial>>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub spheres: Vec<Spanned<RawSphere>>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub planes: Vec<Spanned<RawPlane>>,
     pub display: Option<Spanned<RawDisplay>>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub meshes: Vec<Spanned<RawMesh>>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub rectangles: Vec<Spanned<RawShape>>,
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub cubes: Vec<Spanned<RawShape>>,
 }
 
 /// `[[meshes]]`: a triangle mesh from an OBJ or PLY file.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawMesh {
     pub file: Spanned<String>,
     pub material: Spanned<String>,
     pub transform: Option<Spanned<RawTransform>>,
     pub face_normals: Option<Spanned<bool>>,
-    pub two_sided: Option<Spanned<bool>>,
+    /// Reverses every triangle's winding: the front side (of emission and of one-sided
+    /// materials) becomes the back (Mitsuba's `flip_normals`).
+    pub flip_normals: Option<Spanned<bool>>,
+    /// An emissive mesh emits on both sides (default: on its front only).
+    pub two_sided_emission: Option<Spanned<bool>>,
 }
 
 /// `[[rectangles]]` and `[[cubes]]`: Mitsuba's built-in shapes.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawShape {
     pub material: Spanned<String>,
     pub transform: Option<Spanned<RawTransform>>,
-    pub two_sided: Option<Spanned<bool>>,
+    pub flip_normals: Option<Spanned<bool>>,
+    pub two_sided_emission: Option<Spanned<bool>>,
 }
 
 /// An object-to-world transform: `scale`, then `rotate` (one rotation or a list, applied in
 /// the order written), then `translate`; or a 4x4 `matrix` alone.
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawTransform {
     pub translate: Option<Spanned<[f64; 3]>>,
@@ -59,7 +64,7 @@ pub(crate) struct RawTransform {
 }
 
 /// A rotation by `angle` degrees about `axis` (right-handed).
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawRotation {
     pub axis: [f64; 3],
@@ -67,7 +72,7 @@ pub(crate) struct RawRotation {
 }
 
 /// One rotation or a list of them.
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Deserialize, Serialize)]
 #[serde(untagged)]
 pub(crate) enum RawRotations {
     One(RawRotation),
@@ -75,14 +80,14 @@ pub(crate) enum RawRotations {
 }
 
 /// A uniform scale factor or one per axis.
-#[derive(Debug, Clone, Copy, Deserialize)]
+#[derive(Debug, Clone, Copy, Deserialize, Serialize)]
 #[serde(untagged)]
 pub(crate) enum RawScale {
     Uniform(f64),
     PerAxis([f64; 3]),
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawDisplay {
     pub transfer: Option<Spanned<String>>,
@@ -90,7 +95,7 @@ pub(crate) struct RawDisplay {
     pub exposure: Option<Spanned<f64>>,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawCamera {
     pub position: Spanned<[f64; 3]>,
@@ -100,26 +105,30 @@ pub(crate) struct RawCamera {
     pub fov_y: Option<Spanned<f64>>,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawRender {
     pub width: Spanned<i64>,
     pub height: Spanned<i64>,
     pub max_depth: Spanned<i64>,
+    pub rr_depth: Option<Spanned<i64>>,
     pub environment: Option<Spanned<RawColor>>,
     pub spp: Option<Spanned<i64>>,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawMaterial {
     pub diffuse: Option<Spanned<RawColor>>,
     pub specular: Option<Spanned<RawColor>>,
     pub glossiness: Option<Spanned<f64>>,
     pub emission: Option<Spanned<RawColor>>,
+    /// Whether the back of a surface scatters too (default true); Mitsuba's BSDFs are
+    /// one-sided unless wrapped in `twosided`.
+    pub two_sided: Option<Spanned<bool>>,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawSphere {
     pub center: Spanned<[f64; 3]>,
@@ -127,7 +136,7 @@ pub(crate) struct RawSphere {
     pub material: Spanned<String>,
 }
 
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawPlane {
     pub point: Spanned<[f64; 3]>,
@@ -138,6 +147,14 @@ pub(crate) struct RawPlane {
 /// An RGB colour written either as `[r, g, b]` or as one number for all three channels.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct RawColor(pub [f64; 3]);
+
+/// Written back as one number when the channels agree, else as `[r, g, b]`.
+impl Serialize for RawColor {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        let [r, g, b] = self.0;
+        if r == g && g == b { serializer.serialize_f64(r) } else { self.0.serialize(serializer) }
+    }
+}
 
 impl<'de> Deserialize<'de> for RawColor {
     fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {

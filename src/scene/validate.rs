@@ -10,7 +10,7 @@ use toml::Spanned;
 
 use crate::display::{DisplayTransform, Transfer};
 
-use super::diagnostic::LineIndex;
+use super::diagnostic::SourceMap;
 use super::mesh::{self, shapes, Mesh, MeshData};
 use super::raw::{RawColor, RawMaterial, RawRotations, RawScale, RawScene, RawTransform};
 use super::transform::Transform;
@@ -24,23 +24,17 @@ const MAX_IMAGE_SIDE: i64 = 65_536;
 const MAX_DEPTH_LIMIT: i64 = 1024;
 
 struct Checker<'a> {
+    /// The scene file (mesh files are relative to its directory).
     file: &'a Path,
-    text: &'a str,
-    lines: LineIndex,
+    /// Where the spans of the raw scene point: the TOML file, or a Mitsuba file and its includes.
+    sources: SourceMap,
     diagnostics: Vec<Diagnostic>,
 }
 
 impl<'a> Checker<'a> {
     fn report(&mut self, severity: Severity, span: Range<usize>, field: impl Into<String>, message: impl Into<String>) {
-        let (line, column) = self.lines.line_column(span.start.min(self.text.len()));
-        self.diagnostics.push(Diagnostic {
-            severity,
-            file: self.file.to_path_buf(),
-            line,
-            column,
-            field: field.into(),
-            message: message.into(),
-        });
+        let d = self.sources.diagnostic(severity, span.start, field.into(), message.into());
+        self.diagnostics.push(d);
     }
 
     fn error(&mut self, span: Range<usize>, field: impl Into<String>, message: impl Into<String>) {
@@ -96,21 +90,27 @@ impl<'a> Checker<'a> {
 }
 
 pub(super) fn parse_and_validate(text: &str, file: &Path) -> Result<Scene, SceneError> {
-    let mut ck = Checker { file, text, lines: LineIndex::new(text), diagnostics: Vec::new() };
     let raw: RawScene = match toml::from_str(text) {
         Ok(raw) => raw,
         Err(e) => {
             let span = e.span().unwrap_or(0..0);
             let field = field_path_at(text, span.start);
-            ck.error(span, field, e.message().trim().to_string());
-            return Err(SceneError::Invalid(ck.diagnostics));
+            let d = SourceMap::single(file, text).diagnostic(Severity::Error, span.start, field, e.message().trim().to_string());
+            return Err(SceneError::Invalid(vec![d]));
         }
     };
+    validate(&raw, file, SourceMap::single(file, text), Vec::new())
+}
 
-    let camera = check_camera(&mut ck, &raw);
-    let render = check_render(&mut ck, &raw);
-    let (materials, names) = check_materials(&mut ck, &raw);
-    let display = check_display(&mut ck, &raw);
+/// Validates a raw scene (from TOML, or translated from Mitsuba XML) whose spans point into
+/// `sources`; `diagnostics` are findings of the reader (reported with the validator's).
+pub(super) fn validate(raw: &RawScene, file: &Path, sources: SourceMap, diagnostics: Vec<Diagnostic>) -> Result<Scene, SceneError> {
+    let mut ck = Checker { file, sources, diagnostics };
+
+    let camera = check_camera(&mut ck, raw);
+    let render = check_render(&mut ck, raw);
+    let (materials, names) = check_materials(&mut ck, raw);
+    let display = check_display(&mut ck, raw);
 
     let mut used = BTreeSet::new();
     let mut resolve = |ck: &mut Checker, name: &Spanned<String>, field: &str| -> usize {
@@ -170,7 +170,7 @@ pub(super) fn parse_and_validate(text: &str, file: &Path) -> Result<Scene, Scene
         planes.push(Plane { point, normal: if length > 0.0 { normal / length } else { DVec3::Z }, material });
     }
 
-    let meshes = check_meshes(&mut ck, &raw, &materials, &mut |ck, name, field| resolve(ck, name, field));
+    let meshes = check_meshes(&mut ck, raw, &materials, &mut |ck, name, field| resolve(ck, name, field));
 
     // Capacities of the kernel's uniform buffers.
     if let Some(extra) = raw.spheres.get(MAX_SPHERES) {
@@ -266,8 +266,11 @@ fn check_meshes(ck: &mut Checker, raw: &RawScene, materials: &[Material], resolv
     let base = ck.file.parent().map(Path::to_path_buf).unwrap_or_default();
     let mut meshes = Vec::new();
     let mut add = |ck: &mut Checker, table: String, source: String, data: MeshData, transform: Transform, face_normals: bool,
-                   two_sided: bool, material: usize, span: Range<usize>| {
-        let (placed, placement) = mesh::place(&data, &transform, face_normals);
+                   flip_normals: bool, two_sided_emission: bool, material: usize, span: Range<usize>| {
+        let (mut placed, placement) = mesh::place(&data, &transform, face_normals);
+        if flip_normals {
+            placed.flip_normals();
+        }
         if let Some(i) = placed.positions.iter().position(|p| !p.is_finite() || p.abs().max_element() > f32::MAX as f64) {
             ck.error(span.clone(), format!("{table}.transform"), format!("moves vertex {i} of {source} beyond 32-bit floats"));
             return;
@@ -275,7 +278,7 @@ fn check_meshes(ck: &mut Checker, raw: &RawScene, materials: &[Material], resolv
         if placement.degenerate > 0 {
             ck.warn(span.clone(), &table, format!("{} of {} triangles of {source} have zero area and are dropped", placement.degenerate, data.triangles.len()));
         }
-        let mesh = Mesh { source, material, two_sided, positions: placed.positions, normals: placed.normals, triangles: placed.triangles };
+        let mesh = Mesh { source, material, two_sided_emission, positions: placed.positions, normals: placed.normals, triangles: placed.triangles };
         let emissive = materials.get(material).is_some_and(Material::is_emissive);
         if emissive && !(mesh.area() > 0.0) {
             ck.error(span, format!("{table}.material"), format!("{} is emissive but its total area is zero: it cannot be sampled as a light", mesh.source));
@@ -296,14 +299,14 @@ fn check_meshes(ck: &mut Checker, raw: &RawScene, materials: &[Material], resolv
             Ok(d) => d,
             Err(e) => {
                 // The diagnostic points into the mesh file where it can, and names the scene's field.
-                let (scene_line, _) = ck.lines.line_column(m.file.span().start);
+                let (scene_file, scene_line, _) = ck.sources.locate(m.file.span().start);
                 ck.diagnostics.push(Diagnostic {
                     severity: Severity::Error,
                     file: e.path.clone(),
                     line: e.line.unwrap_or(0),
                     column: 1,
                     field: format!("{table}.file"),
-                    message: format!("{} (mesh of {}:{scene_line})", e.message, ck.file.display()),
+                    message: format!("{} (mesh of {}:{scene_line})", e.message, scene_file.display()),
                 });
                 continue;
             }
@@ -319,8 +322,9 @@ fn check_meshes(ck: &mut Checker, raw: &RawScene, materials: &[Material], resolv
             });
         }
         let face_normals = m.face_normals.as_ref().is_some_and(|f| *f.get_ref());
-        let two_sided = m.two_sided.as_ref().is_some_and(|f| *f.get_ref());
-        add(ck, table, file.display().to_string(), data, transform, face_normals, two_sided, material, span);
+        let two_sided = m.two_sided_emission.as_ref().is_some_and(|f| *f.get_ref());
+        let flip = m.flip_normals.as_ref().is_some_and(|f| *f.get_ref());
+        add(ck, table, file.display().to_string(), data, transform, face_normals, flip, two_sided, material, span);
     }
     for (kind, list, make) in [("rectangles", &raw.rectangles, shapes::rectangle as fn() -> MeshData), ("cubes", &raw.cubes, shapes::cube)] {
         for (i, s) in list.iter().enumerate() {
@@ -329,8 +333,9 @@ fn check_meshes(ck: &mut Checker, raw: &RawScene, materials: &[Material], resolv
             let table = format!("{kind}[{i}]");
             let material = resolve(ck, &s.material, &format!("{table}.material"));
             let transform = check_transform(ck, s.transform.as_ref(), &format!("{table}.transform"));
-            let two_sided = s.two_sided.as_ref().is_some_and(|f| *f.get_ref());
-            add(ck, table.clone(), table, make(), transform, true, two_sided, material, span);
+            let two_sided = s.two_sided_emission.as_ref().is_some_and(|f| *f.get_ref());
+            let flip = s.flip_normals.as_ref().is_some_and(|f| *f.get_ref());
+            add(ck, table.clone(), table, make(), transform, true, flip, two_sided, material, span);
         }
     }
     meshes
@@ -407,10 +412,20 @@ fn check_camera(ck: &mut Checker, raw: &RawScene) -> Camera {
 
 fn check_render(ck: &mut Checker, raw: &RawScene) -> RenderSettings {
     let r = raw.render.get_ref();
+    let rr_depth = r.rr_depth.as_ref().map(|d| ck.integer(d, "render.rr_depth", 1, MAX_DEPTH_LIMIT) as u32);
+    let max_depth = if *r.max_depth.get_ref() == -1 {
+        if rr_depth.is_none() {
+            ck.error(r.max_depth.span(), "render.max_depth", "max_depth = -1 (unbounded) needs Russian roulette: give rr_depth too (Mitsuba's default is 5)");
+        }
+        super::UNBOUNDED_DEPTH
+    } else {
+        ck.integer(&r.max_depth, "render.max_depth", 1, MAX_DEPTH_LIMIT) as u32
+    };
     RenderSettings {
         width: ck.integer(&r.width, "render.width", 1, MAX_IMAGE_SIDE) as u32,
         height: ck.integer(&r.height, "render.height", 1, MAX_IMAGE_SIDE) as u32,
-        max_depth: ck.integer(&r.max_depth, "render.max_depth", 1, MAX_DEPTH_LIMIT) as u32,
+        max_depth,
+        rr_depth,
         environment: ck.color(r.environment.as_ref(), "render.environment"),
         spp: r.spp.as_ref().map(|spp| ck.integer(spp, "render.spp", 1, u32::MAX as i64)),
     }
@@ -449,8 +464,9 @@ fn check_materials(ck: &mut Checker, raw: &RawScene) -> (Vec<Material>, BTreeMap
                 format!("diffuse + specular = {:?} exceeds 1: the material is not energy conserving", total.to_array()),
             );
         }
+        let two_sided = m.two_sided.as_ref().is_none_or(|t| *t.get_ref());
         names.insert(name.clone(), materials.len());
-        materials.push(Material { name: name.clone(), diffuse, specular, glossiness, emission });
+        materials.push(Material { name: name.clone(), diffuse, specular, glossiness, emission, two_sided });
     }
     (materials, names)
 }

@@ -28,6 +28,7 @@ pub struct ViewerApp {
     /// Overrides re-applied to every reload (from the command line, then the panel).
     pub size: Option<(u32, u32)>,
     pub max_depth: Option<u32>,
+    pub rr_depth: Option<Option<u32>>,
     pub view: View,
     pub display: DisplayTransform,
     pub paused: bool,
@@ -74,7 +75,7 @@ impl ViewerApp {
         let scene_path = options.scene.path.clone();
         // Stamped before anything is announced: a change made once the window says it is up
         // is always seen as a change.
-        let watch = SceneWatch::new(&scene_path);
+        let watch = SceneWatch::new(&scene_path, &options.defines);
         let pending_size = (options.scene.render.width, options.scene.render.height);
         let driver = Driver::new(gpu, options.scene, &methods, options.seed, options.reference, options.frame_budget)
             .map_err(|e| ViewerError::Start(e.to_string()))?;
@@ -92,6 +93,7 @@ impl ViewerApp {
             watch,
             size: options.size,
             max_depth: options.max_depth,
+            rr_depth: options.rr_depth,
             view: options.view,
             display: options.display,
             paused: options.paused,
@@ -125,6 +127,9 @@ impl ViewerApp {
         }
         if let Some(d) = self.max_depth {
             scene.render.max_depth = d;
+        }
+        if let Some(rr) = self.rr_depth {
+            scene.render.rr_depth = rr;
         }
         scene
     }

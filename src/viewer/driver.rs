@@ -412,6 +412,7 @@ impl Driver {
                 method: slot.method,
                 seed: slot.seed,
                 max_depth: self.scene.render.max_depth,
+                rr_depth: self.scene.render.rr_depth,
                 spp,
                 rays: readback.rays,
                 render_seconds: slot.seconds,

@@ -44,6 +44,10 @@ pub struct ViewerOptions {
     pub scene: Scene,
     pub size: Option<(u32, u32)>,
     pub max_depth: Option<u32>,
+    /// `--define`s of a Mitsuba scene, re-applied on every reload.
+    pub defines: Vec<(String, String)>,
+    /// `Some(rr)`: Russian roulette as `rr` (`render.rr_depth`) whatever the scene says.
+    pub rr_depth: Option<Option<u32>>,
     pub method: Method,
     /// Start in the split view with this method on the right.
     pub compare: Option<Method>,

@@ -9,6 +9,8 @@ use crate::scene::{Scene, SceneError};
 /// The scene file and what it looked like when last read.
 pub struct SceneWatch {
     path: PathBuf,
+    /// `--define`s of a Mitsuba scene, applied to every reload.
+    defines: Vec<(String, String)>,
     seen: Option<(SystemTime, u64)>,
 }
 
@@ -18,9 +20,10 @@ fn stamp(path: &Path) -> Option<(SystemTime, u64)> {
 }
 
 impl SceneWatch {
-    /// Watches `path`, taking its present state as already loaded.
-    pub fn new(path: &Path) -> SceneWatch {
-        SceneWatch { path: path.to_path_buf(), seen: stamp(path) }
+    /// Watches `path` (a Mitsuba scene's main file; its includes are not watched), taking its
+    /// present state as already loaded.
+    pub fn new(path: &Path, defines: &[(String, String)]) -> SceneWatch {
+        SceneWatch { path: path.to_path_buf(), defines: defines.to_vec(), seen: stamp(path) }
     }
 
     pub fn path(&self) -> &Path {
@@ -35,6 +38,6 @@ impl SceneWatch {
             return None;
         }
         self.seen = now;
-        Some(Scene::load(&self.path))
+        Some(Scene::load_with(&self.path, &self.defines))
     }
 }

@@ -47,10 +47,12 @@ pub fn bits(film: &Film) -> Vec<u32> {
 
 use pathlab::method::{Preset, Sampler};
 
-/// Every unbiased method the suite holds to the contract: the presets, and `mis` with each
-/// sampler.
+/// Every unbiased method the suite holds to the contract: the presets, `mis` with the balance
+/// heuristic, and `mis` with each sampler.
 pub fn unbiased_methods() -> Vec<(String, Method)> {
     let mut methods: Vec<(String, Method)> = Preset::ALL.iter().map(|p| (p.name().to_string(), p.method())).collect();
+    let balance = Method { lights: pathlab::method::LightSampling::MisBalance, ..Preset::Mis.method() };
+    methods.push((balance.name(), balance));
     for sampler in Sampler::ALL {
         let m = Method { sampler, ..Preset::Mis.method() };
         if !methods.iter().any(|(_, x)| *x == m) {
@@ -81,7 +83,8 @@ pub fn not_run(test: &str, why: &str) {
 }
 
 /// Every unbiased preset, and each preset that samples lights with every light selection and
-/// triangle sampling: the methods a scene with triangle lights is held to.
+/// triangle sampling, and `mis` with the balance heuristic: the methods a scene with triangle
+/// lights is held to.
 pub fn triangle_light_methods() -> Vec<Method> {
     use pathlab::method::{LightSampling, LightSelect, TriangleSampling};
     let mut methods = Vec::new();
@@ -97,5 +100,6 @@ pub fn triangle_light_methods() -> Vec<Method> {
             }
         }
     }
+    methods.push(Method { lights: LightSampling::MisBalance, ..Preset::Mis.method() });
     methods
 }

@@ -31,8 +31,8 @@ pub struct Mesh {
     /// Index into `Scene::materials`.
     pub material: usize,
     /// An emissive mesh emits on the side its normals face (counter-clockwise winding seen
-    /// from that side) unless `two_sided`.
-    pub two_sided: bool,
+    /// from that side) unless `two_sided_emission`.
+    pub two_sided_emission: bool,
     pub positions: Vec<DVec3>,
     /// Per-vertex shading normals, or empty (face normals).
     pub normals: Vec<DVec3>,
@@ -96,6 +96,19 @@ pub struct Placement {
 /// The mesh in world space: positions through `transform`, normals through its inverse
 /// transpose (dropped when `face_normals`), windings reversed by a mirroring transform so that
 /// faces keep their side, and zero-area triangles dropped.
+impl MeshData {
+    /// Reverses every triangle's winding and every vertex normal: front and back swap
+    /// (Mitsuba's `flip_normals`).
+    pub fn flip_normals(&mut self) {
+        for t in &mut self.triangles {
+            t.swap(1, 2);
+        }
+        for n in &mut self.normals {
+            *n = -*n;
+        }
+    }
+}
+
 pub fn place(data: &MeshData, transform: &Transform, face_normals: bool) -> (MeshData, Placement) {
     let positions: Vec<DVec3> = data.positions.iter().map(|&p| transform.point(p)).collect();
     let normals = if face_normals { Vec::new() } else { data.normals.iter().map(|&n| transform.normal(n)).collect() };

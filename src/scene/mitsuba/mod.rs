@@ -1,0 +1,856 @@
+//! Scenes in Mitsuba 3's XML format, translated into the scene model the TOML format feeds
+//! (`raw::RawScene`, then the same validation), so that one scene written both ways is one
+//! `Scene` with one content hash.
+//!
+//! `xml` reads the files into plugin objects (includes, defaults and `$name`, `<ref>`, values
+//! and transforms); this module interprets the plugins pathlab supports and refuses, with file,
+//! line, column, plugin and parameter, everything else. A setting that pathlab handles
+//! differently but whose expected image is Mitsuba's (the pixel filter, the sampler type, ...)
+//! is accepted with a warning. The subset and the warnings are listed in the README
+//! ("Scenes from Mitsuba").
+
+mod xml;
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use glam::DVec3;
+use toml::Spanned;
+
+use super::diagnostic::{Diagnostic, Findings, Severity, SourceMap};
+use super::raw::{
+    RawCamera, RawColor, RawMaterial, RawMesh, RawRender, RawRotation, RawRotations, RawScale, RawScene, RawShape,
+    RawSphere, RawTransform,
+};
+use super::{validate, Scene, SceneError};
+use xml::{describe, compose, Object, OpKind, Prop, TransformOp, Value};
+
+/// Mitsuba's defaults where a file says nothing.
+const DEFAULT_FILM_SIZE: (i64, i64) = (768, 576);
+const DEFAULT_MAX_DEPTH: i64 = -1;
+const DEFAULT_RR_DEPTH: i64 = 5;
+const DEFAULT_REFLECTANCE: f64 = 0.5;
+
+/// The BSDFs pathlab reads, for messages.
+const BSDFS: &str = "diffuse, twosided, modphong";
+const SHAPES: &str = "obj, ply, rectangle, cube, sphere";
+
+/// Reads and validates a Mitsuba 3 scene; `defines` override its `<default>`s (`--define`).
+pub(super) fn load(path: &Path, defines: &[(String, String)]) -> Result<Scene, SceneError> {
+    let (raw, sources, diagnostics) = translate(path, defines)?;
+    let scene = validate::validate(&raw, path, sources, diagnostics)?;
+    // pathlab's sphere lights also emit inwards, Mitsuba's only outwards: the same image only
+    // where no path vertex can be inside one.
+    if scene.light_interiors_reachable() {
+        let (raw, sources, _) = translate(path, defines)?;
+        let light = scene.light_spheres().first().map_or(0, |&i| raw.spheres[i].span().start);
+        let d = sources.diagnostic(
+            Severity::Error,
+            light,
+            "sphere".into(),
+            "the camera or another object reaches inside an emitting sphere: Mitsuba's sphere emitters emit only \
+             outwards, pathlab's also inwards, so the image would differ"
+                .into(),
+        );
+        return Err(SceneError::Invalid(vec![d]));
+    }
+    Ok(scene)
+}
+
+/// The TOML text of a Mitsuba scene (`pathlab convert`): the scene model it is translated into,
+/// mesh files named relative to `out_dir` where they lie below it. The scene is validated first.
+pub fn to_toml(path: &Path, defines: &[(String, String)], out_dir: &Path) -> Result<(String, Vec<Diagnostic>), SceneError> {
+    let scene = load(path, defines)?;
+    let (mut raw, _, _) = translate(path, defines)?;
+    for m in &mut raw.meshes {
+        let m = m.get_mut();
+        let file = PathBuf::from(m.file.get_ref());
+        let relative = relative_to(&file, out_dir);
+        m.file = Spanned::new(m.file.span(), relative.display().to_string());
+    }
+    let body = toml::to_string(&raw).map_err(|e| {
+        SceneError::Invalid(vec![Diagnostic {
+            severity: Severity::Error,
+            file: path.to_path_buf(),
+            line: 0,
+            column: 0,
+            field: String::new(),
+            message: format!("cannot write the translation as TOML: {e}"),
+        }])
+    })?;
+    let text = format!(
+        "# Translated from {} by pathlab {} (`pathlab convert`).\n# Same scene, same content hash: {}\n\n{body}",
+        path.display(),
+        crate::VERSION,
+        scene.content_hash()
+    );
+    Ok((text, scene.warnings))
+}
+
+/// `file` relative to `dir` when it lies below it (both made absolute first), else as it is.
+fn relative_to(file: &Path, dir: &Path) -> PathBuf {
+    let abs = |p: &Path| std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
+    let (file_abs, dir_abs) = (abs(file), abs(dir));
+    file_abs.strip_prefix(&dir_abs).map(Path::to_path_buf).unwrap_or(file_abs)
+}
+
+fn translate(path: &Path, defines: &[(String, String)]) -> Result<(RawScene, SourceMap, Vec<Diagnostic>), SceneError> {
+    let loaded = xml::load(path, defines).map_err(|source| SceneError::Io { path: path.to_path_buf(), source })?;
+    let mut t = Translator {
+        sources: &loaded.sources,
+        diagnostics: loaded.diagnostics,
+        materials: BTreeMap::new(),
+        material_keys: Vec::new(),
+        bsdfs: BTreeMap::new(),
+        shape_count: 0,
+    };
+    let raw = t.scene(path, &loaded.objects);
+    let mut diagnostics = t.diagnostics;
+    if let Some(v) = loaded.version.as_deref().filter(|v| !v.starts_with("3.")) {
+        diagnostics.push(Diagnostic {
+            severity: Severity::Warning,
+            file: path.to_path_buf(),
+            line: 0,
+            column: 0,
+            field: "version".into(),
+            message: format!("the file is for Mitsuba {v}: pathlab reads Mitsuba 3's format (parameter names differ between versions)"),
+        });
+    }
+    match raw {
+        Some(raw) if !diagnostics.iter().any(|d| d.severity == Severity::Error) => Ok((raw, loaded.sources, diagnostics)),
+        _ => {
+            diagnostics.sort_by_key(|d| (d.severity != Severity::Error, d.file.clone(), d.line, d.column));
+            Err(SceneError::Invalid(diagnostics))
+        }
+    }
+}
+
+/// A BSDF as pathlab models it: normalised modified Phong (diffuse is ks = 0), one- or two-sided.
+#[derive(Debug, Clone, PartialEq)]
+struct Bsdf {
+    diffuse: [f64; 3],
+    specular: [f64; 3],
+    glossiness: f64,
+    two_sided: bool,
+    /// Its name for the material table: the id, or made up from the shape.
+    name: Option<String>,
+}
+
+struct Translator<'a> {
+    sources: &'a SourceMap,
+    diagnostics: Vec<Diagnostic>,
+    materials: BTreeMap<String, Spanned<RawMaterial>>,
+    /// (BSDF, emission) of each material made, for sharing identical ones.
+    material_keys: Vec<(String, Bsdf, Option<[f64; 3]>)>,
+    /// Named BSDFs already interpreted (a `<ref>` is a copy: interpreted once, reported once).
+    bsdfs: BTreeMap<String, Option<Bsdf>>,
+    shape_count: usize,
+}
+
+fn span(at: usize) -> std::ops::Range<usize> {
+    at..at + 1
+}
+
+fn spanned<T>(at: usize, v: T) -> Spanned<T> {
+    Spanned::new(span(at), v)
+}
+
+/// The properties of one object, taken as they are read; what is left at the end is refused.
+struct Props {
+    tag: String,
+    plugin: String,
+    props: Vec<Prop>,
+}
+
+impl Props {
+    fn of(o: &Object) -> Props {
+        Props { tag: o.tag.clone(), plugin: o.plugin.clone(), props: o.props.clone() }
+    }
+
+    fn what(&self) -> String {
+        describe(&self.tag, &self.plugin)
+    }
+
+    fn take(&mut self, name: &str) -> Option<Prop> {
+        let i = self.props.iter().position(|p| p.name == name)?;
+        Some(self.props.remove(i))
+    }
+}
+
+impl Findings for Translator<'_> {
+    fn sources(&self) -> &SourceMap {
+        self.sources
+    }
+    fn findings(&mut self) -> &mut Vec<Diagnostic> {
+        &mut self.diagnostics
+    }
+}
+
+impl Translator<'_> {
+    /// Refuses every property not read, naming what pathlab reads instead.
+    fn finish(&mut self, p: Props, reads: &str) {
+        for prop in p.props {
+            self.error(
+                prop.at,
+                &prop.name,
+                format!("`{}` of {} is not supported (pathlab reads: {reads})", prop.name, describe(&p.tag, &p.plugin)),
+            );
+        }
+    }
+
+    fn wrong_kind(&mut self, prop: &Prop, what: &str, expected: &str) {
+        self.error(prop.at, &prop.name, format!("`{}` of {what} must be {expected}, not <{}>", prop.name, prop.value.kind()));
+    }
+
+    fn float(&mut self, p: &mut Props, name: &str) -> Option<f64> {
+        let prop = p.take(name)?;
+        match prop.value {
+            Value::Float(v) => Some(v),
+            Value::Integer(v) => Some(v as f64),
+            _ => {
+                let what = p.what();
+                self.wrong_kind(&prop, &what, "a <float>");
+                None
+            }
+        }
+    }
+
+    /// A finite float > 0.
+    fn positive(&mut self, p: &mut Props, name: &str) -> Option<(f64, usize)> {
+        let prop = p.props.iter().find(|q| q.name == name).map(|q| q.value_at)?;
+        let v = self.float(p, name)?;
+        if !(v.is_finite() && v > 0.0) {
+            let what = p.what();
+            self.error(prop, name, format!("`{name}` of {what} must be a finite number > 0 (got {v})"));
+            return None;
+        }
+        Some((v, prop))
+    }
+
+    fn integer(&mut self, p: &mut Props, name: &str) -> Option<(i64, usize)> {
+        let prop = p.take(name)?;
+        match prop.value {
+            Value::Integer(v) => Some((v, prop.value_at)),
+            _ => {
+                let what = p.what();
+                self.wrong_kind(&prop, &what, "an <integer>");
+                None
+            }
+        }
+    }
+
+    fn boolean(&mut self, p: &mut Props, name: &str) -> Option<bool> {
+        let prop = p.take(name)?;
+        match prop.value {
+            Value::Boolean(v) => Some(v),
+            _ => {
+                let what = p.what();
+                self.wrong_kind(&prop, &what, "a <boolean>");
+                None
+            }
+        }
+    }
+
+    fn string(&mut self, p: &mut Props, name: &str) -> Option<(String, usize)> {
+        let prop = p.take(name)?;
+        match prop.value {
+            Value::String(v) => Some((v, prop.value_at)),
+            _ => {
+                let what = p.what();
+                self.wrong_kind(&prop, &what, "a <string>");
+                None
+            }
+        }
+    }
+
+    /// A colour: finite, non-negative channels.
+    fn color(&mut self, p: &mut Props, name: &str) -> Option<([f64; 3], usize)> {
+        let prop = p.take(name)?;
+        let what = p.what();
+        match prop.value {
+            Value::Color(c) => {
+                if !c.iter().all(|v| v.is_finite() && *v >= 0.0) {
+                    self.error(prop.value_at, name, format!("`{name}` of {what} must be finite and >= 0 in every channel (got {c:?})"));
+                    return None;
+                }
+                Some((c, prop.value_at))
+            }
+            Value::Float(v) if v.is_finite() && v >= 0.0 => Some(([v; 3], prop.value_at)),
+            _ => {
+                self.wrong_kind(&prop, &what, "an <rgb> or a constant <spectrum>");
+                None
+            }
+        }
+    }
+
+    fn point(&mut self, p: &mut Props, name: &str) -> Option<DVec3> {
+        let prop = p.take(name)?;
+        match prop.value {
+            Value::Point(v) | Value::Vector(v) if v.is_finite() => Some(v),
+            Value::Point(_) | Value::Vector(_) => {
+                self.error(prop.value_at, name, format!("`{name}` must be finite"));
+                None
+            }
+            _ => {
+                let what = p.what();
+                self.wrong_kind(&prop, &what, "a <point>");
+                None
+            }
+        }
+    }
+
+    fn transform(&mut self, p: &mut Props, name: &str) -> Option<(Vec<TransformOp>, usize)> {
+        let prop = p.take(name)?;
+        match prop.value {
+            Value::Transform(ops) => Some((ops, prop.at)),
+            _ => {
+                let what = p.what();
+                self.wrong_kind(&prop, &what, "a <transform>");
+                None
+            }
+        }
+    }
+
+    fn scene(&mut self, path: &Path, objects: &[Object]) -> Option<RawScene> {
+        let mut camera = None;
+        let mut film = (DEFAULT_FILM_SIZE.0, DEFAULT_FILM_SIZE.1, 0usize);
+        let mut spp = None;
+        let mut depth = (DEFAULT_MAX_DEPTH, DEFAULT_RR_DEPTH, 0usize);
+        let mut environment: Option<([f64; 3], usize)> = None;
+        let mut meshes = Vec::new();
+        let mut rectangles = Vec::new();
+        let mut cubes = Vec::new();
+        let mut spheres = Vec::new();
+        let mut sensors = 0;
+        let mut integrators = 0;
+        for o in objects {
+            match o.tag.as_str() {
+                "sensor" => {
+                    sensors += 1;
+                    if sensors > 1 {
+                        self.error(o.at, "", "a second <sensor>: pathlab renders one camera");
+                        continue;
+                    }
+                    let (c, f, s) = self.sensor(o);
+                    camera = c;
+                    film = f;
+                    spp = s;
+                }
+                "integrator" => {
+                    integrators += 1;
+                    if integrators > 1 {
+                        self.error(o.at, "", "a second <integrator>");
+                        continue;
+                    }
+                    depth = self.integrator(o);
+                }
+                "bsdf" => {
+                    self.bsdf(o);
+                }
+                "shape" => self.shape(o, &mut meshes, &mut rectangles, &mut cubes, &mut spheres),
+                "emitter" => match o.plugin.as_str() {
+                    "constant" => {
+                        let mut p = Props::of(o);
+                        let radiance = self.color(&mut p, "radiance");
+                        self.finish(p, "radiance");
+                        if environment.is_some() {
+                            self.error(o.at, "", "a second <emitter type=\"constant\">");
+                        }
+                        match radiance {
+                            Some(r) => environment = Some(r),
+                            None if !self.has_errors() => self.error(o.at, "radiance", "<emitter type=\"constant\"> needs `radiance`"),
+                            None => {}
+                        }
+                    }
+                    "area" => self.error(o.at, "", "<emitter type=\"area\"> belongs inside the <shape> that emits"),
+                    other => self.error(o.at, "type", format!("<emitter type=\"{other}\"> is not supported (pathlab has area, constant)")),
+                },
+                "film" | "sampler" | "rfilter" => self.error(o.at, "", format!("<{}> belongs inside the <sensor>", o.tag)),
+                other => self.error(o.at, "", format!("{} is not supported (pathlab has no textures, media or phase functions)", describe(other, &o.plugin))),
+            }
+        }
+        let Some((camera, _)) = camera else {
+            if sensors == 0 && !self.has_errors() {
+                let at = objects.first().map_or(0, |o| o.at);
+                self.error(at, "sensor", format!("{} has no <sensor type=\"perspective\">", path.display()));
+            }
+            return None;
+        };
+        let (max_depth, rr, depth_at) = depth;
+        // Roulette that never acts (from a vertex at or beyond the last) is none.
+        let rr_depth = (max_depth == -1 || rr < max_depth).then_some(rr);
+        Some(RawScene {
+            camera: spanned(0, camera),
+            render: spanned(
+                depth_at,
+                RawRender {
+                    width: spanned(film.2, film.0),
+                    height: spanned(film.2, film.1),
+                    max_depth: spanned(depth_at, max_depth),
+                    rr_depth: rr_depth.map(|r| spanned(depth_at, r)),
+                    environment: environment.map(|(c, at)| spanned(at, RawColor(c))),
+                    spp: spp.map(|(s, at)| spanned(at, s)),
+                },
+            ),
+            materials: std::mem::take(&mut self.materials),
+            spheres,
+            planes: Vec::new(),
+            display: None,
+            meshes,
+            rectangles,
+            cubes,
+        })
+    }
+
+    fn has_errors(&self) -> bool {
+        self.diagnostics.iter().any(|d| d.severity == Severity::Error)
+    }
+
+    /// `<sensor type="perspective">`: the camera, the film size and the sample count.
+    fn sensor(&mut self, o: &Object) -> (Option<(RawCamera, usize)>, (i64, i64, usize), Option<(i64, usize)>) {
+        let mut film = (DEFAULT_FILM_SIZE.0, DEFAULT_FILM_SIZE.1, o.at);
+        let mut spp = None;
+        if o.plugin != "perspective" {
+            let why = match o.plugin.as_str() {
+                "thinlens" => " (pathlab's camera is a pinhole: no depth of field)",
+                _ => "",
+            };
+            self.error(o.at, "type", format!("{} is not supported{why} (pathlab has perspective)", describe(&o.tag, &o.plugin)));
+            return (None, film, spp);
+        }
+        for child in &o.children {
+            match child.tag.as_str() {
+                "film" => film = self.film(child),
+                "sampler" => spp = self.sampler(child),
+                other => self.error(child.at, "", format!("{} inside a <sensor> is not supported", describe(other, &child.plugin))),
+            }
+        }
+        let mut p = Props::of(o);
+        let fov = self.positive(&mut p, "fov");
+        let axis = self.string(&mut p, "fov_axis");
+        for clip in ["near_clip", "far_clip"] {
+            if let Some(prop) = p.take(clip) {
+                self.warn(prop.at, clip, format!("`{clip}` is ignored: pathlab does not clip (the image differs only where geometry lies outside the clip range)"));
+            }
+        }
+        for offset in ["principal_point_offset_x", "principal_point_offset_y"] {
+            if let Some(prop) = p.take(offset) {
+                if prop.value != Value::Float(0.0) {
+                    self.error(prop.at, offset, format!("`{offset}` is not supported (pathlab's principal point is the image centre)"));
+                }
+            }
+        }
+        if let Some(prop) = p.take("focal_length") {
+            self.error(prop.at, "focal_length", "`focal_length` is not supported: give the field of view as `fov` (degrees)");
+        }
+        let to_world = self.transform(&mut p, "to_world");
+        self.finish(p, "fov, fov_axis, to_world, near_clip, far_clip");
+        let Some((fov, fov_at)) = fov else {
+            self.error(o.at, "fov", "<sensor type=\"perspective\"> needs `fov` (degrees)");
+            return (None, film, spp);
+        };
+        if fov >= 180.0 {
+            self.error(fov_at, "fov", format!("`fov` must be below 180 degrees (got {fov})"));
+        }
+        // The field of view along one image axis (pathlab's fov_x or fov_y).
+        let (w, h) = (film.0.max(1) as f64, film.1.max(1) as f64);
+        let half = (fov.to_radians() / 2.0).tan();
+        let (fov_x, fov_y) = match axis.as_ref().map_or("x", |(a, _)| a.as_str()) {
+            "x" => (Some(fov), None),
+            "y" => (None, Some(fov)),
+            "smaller" => if w <= h { (Some(fov), None) } else { (None, Some(fov)) },
+            "larger" => if w >= h { (Some(fov), None) } else { (None, Some(fov)) },
+            // tan(fov_x / 2) = tan(fov_d / 2) w / sqrt(w^2 + h^2), at the film's size.
+            "diagonal" => (Some(2.0 * (half * w / (w * w + h * h).sqrt()).atan().to_degrees()), None),
+            other => {
+                let at = axis.as_ref().map_or(o.at, |(_, at)| *at);
+                self.error(at, "fov_axis", format!("unknown fov_axis \"{other}\" (x, y, smaller, larger, diagonal)"));
+                (Some(fov), None)
+            }
+        };
+        let (position, look_at, up) = match to_world {
+            None => (DVec3::ZERO, DVec3::Z, DVec3::Y),
+            // A look-at alone is kept as written.
+            Some((ops, _)) if matches!(ops.as_slice(), [TransformOp { kind: OpKind::LookAt { .. }, .. }]) => {
+                let OpKind::LookAt { origin, target, up } = ops[0].kind else { unreachable!() };
+                (origin, target, up)
+            }
+            Some((ops, at)) => {
+                let m = compose(&ops);
+                let position = m.w_axis.truncate();
+                let (left, up, dir) = (m.x_axis.truncate(), m.y_axis.truncate(), m.z_axis.truncate());
+                let orthogonal = [left.dot(up), up.dot(dir), dir.dot(left)].iter().all(|d| d.abs() <= 1e-6 * left.length() * dir.length().max(up.length()));
+                if !m.is_finite() || dir.length() == 0.0 || up.length() == 0.0 || !orthogonal {
+                    self.error(at, "to_world", "the sensor's to_world must be a rotation and translation (with at most a uniform scale)");
+                } else if left.dot(up.cross(dir)) <= 0.0 {
+                    self.error(at, "to_world", "the sensor's to_world mirrors the image, which pathlab's camera cannot");
+                }
+                (position, position + dir.normalize(), up.normalize())
+            }
+        };
+        let camera = RawCamera {
+            position: spanned(o.at, position.to_array()),
+            look_at: spanned(o.at, look_at.to_array()),
+            up: spanned(o.at, up.to_array()),
+            fov_x: fov_x.map(|f| spanned(fov_at, f)),
+            fov_y: fov_y.map(|f| spanned(fov_at, f)),
+        };
+        (Some((camera, fov_at)), film, spp)
+    }
+
+    fn film(&mut self, o: &Object) -> (i64, i64, usize) {
+        if o.plugin != "hdrfilm" {
+            self.error(o.at, "type", format!("{} is not supported (pathlab has hdrfilm)", describe(&o.tag, &o.plugin)));
+        }
+        let mut p = Props::of(o);
+        let width = self.integer(&mut p, "width").map_or(DEFAULT_FILM_SIZE.0, |(v, _)| v);
+        let height = self.integer(&mut p, "height").map_or(DEFAULT_FILM_SIZE.1, |(v, _)| v);
+        for name in ["pixel_format", "component_format", "file_format"] {
+            if let Some(prop) = p.take(name) {
+                self.warn(prop.at, name, format!("`{name}` is ignored: pathlab writes RGB float32 EXR (the image is the same)"));
+            }
+        }
+        for name in ["crop_offset_x", "crop_offset_y", "crop_width", "crop_height"] {
+            if let Some(prop) = p.take(name) {
+                self.error(prop.at, name, format!("`{name}` is not supported (pathlab renders the whole film)"));
+            }
+        }
+        if let Some(prop) = p.take("sample_border") {
+            if prop.value == Value::Boolean(true) {
+                self.warn(prop.at, "sample_border", "`sample_border` is ignored: with pathlab's box filter no sample crosses a pixel border");
+            }
+        }
+        self.finish(p, "width, height (and, with a warning, pixel_format, component_format, file_format, sample_border)");
+        let mut filter = None;
+        for child in &o.children {
+            match child.tag.as_str() {
+                "rfilter" => filter = Some(child),
+                other => self.error(child.at, "", format!("{} inside a <film> is not supported", describe(other, &child.plugin))),
+            }
+        }
+        match filter {
+            Some(f) if f.plugin == "box" => self.finish(Props::of(f), "nothing"),
+            Some(f) => self.warn(
+                f.at,
+                "rfilter",
+                format!(
+                    "<rfilter type=\"{}\">: pathlab's pixel filter is a box (each sample counts in its own pixel only), so its image is \
+                     slightly sharper than Mitsuba's with this filter; use <rfilter type=\"box\"/> to compare pixel for pixel",
+                    f.plugin
+                ),
+            ),
+            None => self.warn(
+                o.at,
+                "rfilter",
+                "no <rfilter>: Mitsuba's default is gaussian, pathlab's pixel filter is a box, so its image is slightly sharper; \
+                 add <rfilter type=\"box\"/> to compare pixel for pixel",
+            ),
+        }
+        (width, height, o.at)
+    }
+
+    fn sampler(&mut self, o: &Object) -> Option<(i64, usize)> {
+        if o.plugin != "independent" {
+            self.warn(
+                o.at,
+                "type",
+                format!("<sampler type=\"{}\">: pathlab's sampler is chosen with --method (or --sampler); the expected image is the same", o.plugin),
+            );
+        }
+        let mut p = Props::of(o);
+        let spp = self.integer(&mut p, "sample_count");
+        if let Some(prop) = p.take("seed") {
+            self.warn(prop.at, "seed", "the sampler's `seed` is ignored: pathlab's seed is --seed");
+        }
+        // Parameters of other sampler types change only the noise.
+        for name in ["jitter", "scramble_seed", "dimension", "strata"] {
+            if let Some(prop) = p.take(name) {
+                self.warn(prop.at, name, format!("`{name}` is ignored: it changes the noise, not the expected image"));
+            }
+        }
+        self.finish(p, "sample_count (and, with a warning, seed)");
+        spp
+    }
+
+    /// `<integrator type="path">`: (max_depth, rr_depth, offset).
+    fn integrator(&mut self, o: &Object) -> (i64, i64, usize) {
+        match o.plugin.as_str() {
+            "path" => {}
+            "volpath" | "volpathmis" => self.warn(
+                o.at,
+                "type",
+                format!("<integrator type=\"{}\"> without media is a path tracer: pathlab renders it with its own", o.plugin),
+            ),
+            other => self.error(
+                o.at,
+                "type",
+                format!("<integrator type=\"{other}\"> is not supported (pathlab is a unidirectional path tracer: path, or volpath without media)"),
+            ),
+        }
+        let mut p = Props::of(o);
+        let max_depth = self.integer(&mut p, "max_depth");
+        let rr_depth = self.integer(&mut p, "rr_depth");
+        if let Some(true) = self.boolean(&mut p, "hide_emitters") {
+            self.error(o.at, "hide_emitters", "`hide_emitters` is not supported");
+        }
+        self.finish(p, "max_depth, rr_depth, hide_emitters = false");
+        if let Some((d, at)) = max_depth {
+            if d == 0 || d < -1 {
+                self.error(at, "max_depth", format!("max_depth must be -1 (unbounded) or at least 1 (got {d})"));
+            }
+        }
+        if let Some((r, at)) = rr_depth {
+            if r < 1 {
+                self.error(at, "rr_depth", format!("rr_depth must be at least 1 (got {r})"));
+            }
+        }
+        (max_depth.map_or(DEFAULT_MAX_DEPTH, |d| d.0), rr_depth.map_or(DEFAULT_RR_DEPTH, |d| d.0), o.at)
+    }
+
+    /// A BSDF object, interpreted once per id.
+    fn bsdf(&mut self, o: &Object) -> Option<Bsdf> {
+        if let Some(id) = &o.id {
+            if let Some(done) = self.bsdfs.get(id) {
+                return done.clone();
+            }
+        }
+        let b = self.bsdf_uncached(o);
+        if let Some(id) = &o.id {
+            self.bsdfs.insert(id.clone(), b.clone());
+        }
+        b
+    }
+
+    fn bsdf_uncached(&mut self, o: &Object) -> Option<Bsdf> {
+        let mut p = Props::of(o);
+        let name = o.id.clone();
+        let b = match o.plugin.as_str() {
+            "diffuse" => {
+                if let Some(t) = o.children.iter().find(|c| c.tag == "texture") {
+                    self.error(t.at, "reflectance", "a textured reflectance is not supported (give <rgb name=\"reflectance\">)");
+                }
+                let kd = self.color(&mut p, "reflectance").map_or([DEFAULT_REFLECTANCE; 3], |c| c.0);
+                self.finish(p, "reflectance");
+                Some(Bsdf { diffuse: kd, specular: [0.0; 3], glossiness: 0.0, two_sided: false, name })
+            }
+            "modphong" => {
+                // The reference renderer's normalised modified Phong (shared/reference-renderer).
+                let kd = self.color(&mut p, "kd").map_or([DEFAULT_REFLECTANCE; 3], |c| c.0);
+                let ks = self.color(&mut p, "ks").map_or([0.0; 3], |c| c.0);
+                let n = self.float(&mut p, "n").unwrap_or(0.0);
+                self.finish(p, "kd, ks, n");
+                if !(n.is_finite() && n >= 0.0) {
+                    self.error(o.at, "n", format!("`n` of <bsdf type=\"modphong\"> must be finite and >= 0 (got {n})"));
+                }
+                Some(Bsdf { diffuse: kd, specular: ks, glossiness: n, two_sided: false, name })
+            }
+            "twosided" => {
+                self.finish(p, "one nested <bsdf>");
+                let inner: Vec<&Object> = o.children.iter().filter(|c| c.tag == "bsdf").collect();
+                match inner.as_slice() {
+                    [one] => self.bsdf(one).map(|b| Bsdf { two_sided: true, name: name.or(b.name.clone()), ..b }),
+                    [] => {
+                        self.error(o.at, "", "<bsdf type=\"twosided\"> needs the <bsdf> it makes two-sided");
+                        None
+                    }
+                    [_, second, ..] => {
+                        self.error(second.at, "", "<bsdf type=\"twosided\"> with a different BSDF on the back is not supported");
+                        None
+                    }
+                }
+            }
+            other => {
+                let hint = match other {
+                    "conductor" | "roughconductor" => " yet",
+                    _ => "",
+                };
+                self.error(o.at, "type", format!("<bsdf type=\"{other}\"> is not supported{hint} (pathlab has {BSDFS})"));
+                None
+            }
+        };
+        for c in o.children.iter().filter(|c| c.tag != "bsdf" && c.tag != "texture") {
+            self.error(c.at, "", format!("{} inside a <bsdf> is not supported", describe(&c.tag, &c.plugin)));
+        }
+        b
+    }
+
+    /// The material of a BSDF with an emission: shared by every shape with the same pair.
+    fn material(&mut self, bsdf: &Bsdf, emission: Option<[f64; 3]>, shape_name: &str, at: usize) -> Spanned<String> {
+        if let Some((name, _, _)) = self.material_keys.iter().find(|(_, b, e)| b == bsdf && *e == emission) {
+            return spanned(at, name.clone());
+        }
+        let base = match (&emission, &bsdf.name) {
+            (None, Some(n)) => n.clone(),
+            (None, None) | (Some(_), _) => shape_name.to_string(),
+        };
+        let mut name = base.clone();
+        let mut k = 2;
+        while self.materials.contains_key(&name) {
+            name = format!("{base}-{k}");
+            k += 1;
+        }
+        let color = |c: [f64; 3]| Some(spanned(at, RawColor(c)));
+        let specular = bsdf.specular.iter().any(|&s| s > 0.0);
+        let m = RawMaterial {
+            diffuse: color(bsdf.diffuse),
+            specular: if specular { color(bsdf.specular) } else { None },
+            glossiness: specular.then(|| spanned(at, bsdf.glossiness)),
+            emission: emission.and_then(color),
+            two_sided: if bsdf.two_sided { None } else { Some(spanned(at, false)) },
+        };
+        self.materials.insert(name.clone(), spanned(at, m));
+        self.material_keys.push((name.clone(), bsdf.clone(), emission));
+        spanned(at, name)
+    }
+
+    fn shape(&mut self, o: &Object, meshes: &mut Vec<Spanned<RawMesh>>, rectangles: &mut Vec<Spanned<RawShape>>, cubes: &mut Vec<Spanned<RawShape>>, spheres: &mut Vec<Spanned<RawSphere>>) {
+        self.shape_count += 1;
+        let shape_name = o.id.clone().unwrap_or_else(|| format!("shape{}", self.shape_count));
+        let mut p = Props::of(o);
+        // The BSDF (Mitsuba's default: diffuse 0.5, one-sided) and the area emitter.
+        let mut bsdf = None;
+        let mut emission = None;
+        for c in &o.children {
+            match (c.tag.as_str(), c.plugin.as_str()) {
+                ("bsdf", _) if bsdf.is_some() => self.error(c.at, "", "a second <bsdf> in one <shape>"),
+                ("bsdf", _) => bsdf = Some(self.bsdf(c)),
+                ("emitter", "area") => {
+                    let mut ep = Props::of(c);
+                    match self.color(&mut ep, "radiance") {
+                        Some((r, _)) => emission = Some(r),
+                        None if ep.props.iter().any(|q| q.name == "radiance") || self.has_errors() => {}
+                        None => self.error(c.at, "radiance", "<emitter type=\"area\"> needs `radiance`"),
+                    }
+                    self.finish(ep, "radiance");
+                }
+                ("emitter", other) => self.error(c.at, "type", format!("<emitter type=\"{other}\"> inside a <shape> is not supported (pathlab has area)")),
+                (other, plugin) => self.error(c.at, "", format!("{} inside a <shape> is not supported", describe(other, plugin))),
+            }
+        }
+        let bsdf = match bsdf {
+            None => Bsdf { diffuse: [DEFAULT_REFLECTANCE; 3], specular: [0.0; 3], glossiness: 0.0, two_sided: false, name: Some("default-diffuse".into()) },
+            Some(Some(b)) => b,
+            Some(None) => return,
+        };
+        let bsdf = Bsdf { name: bsdf.name.clone().or_else(|| Some(shape_name.clone())), ..bsdf };
+        let material = self.material(&bsdf, emission, &shape_name, o.at);
+        let to_world = self.transform(&mut p, "to_world");
+        let flip = self.boolean(&mut p, "flip_normals");
+        let transform = match &to_world {
+            Some((ops, at)) => self.raw_transform(ops, *at),
+            None => None,
+        };
+        let flip_normals = flip.map(|f| spanned(o.at, f));
+        match o.plugin.as_str() {
+            "obj" | "ply" => {
+                let file = self.string(&mut p, "filename");
+                let face_normals = self.boolean(&mut p, "face_normals");
+                // Texture coordinates: pathlab has no textures, so they change nothing.
+                let _ = p.take("flip_tex_coords");
+                self.finish(p, "filename, face_normals, flip_normals, to_world");
+                let Some((file, _)) = file else {
+                    self.error(o.at, "filename", format!("<shape type=\"{}\"> needs <string name=\"filename\">", o.plugin));
+                    return;
+                };
+                let ext = Path::new(&file).extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+                if ext != o.plugin {
+                    self.warn(o.at, "filename", format!("<shape type=\"{}\"> names a .{ext} file: pathlab reads it by its extension", o.plugin));
+                }
+                let path = o.dir.join(&file);
+                meshes.push(spanned(
+                    o.at,
+                    RawMesh {
+                        file: spanned(o.at, path.display().to_string()),
+                        material,
+                        transform,
+                        face_normals: face_normals.map(|f| spanned(o.at, f)),
+                        flip_normals,
+                        two_sided_emission: None,
+                    },
+                ));
+            }
+            "rectangle" | "cube" => {
+                self.finish(p, "flip_normals, to_world");
+                let shape = RawShape { material, transform, flip_normals, two_sided_emission: None };
+                if o.plugin == "rectangle" { rectangles.push(spanned(o.at, shape)) } else { cubes.push(spanned(o.at, shape)) }
+            }
+            "sphere" => {
+                let center = self.point(&mut p, "center").unwrap_or(DVec3::ZERO);
+                let radius = match p.props.iter().any(|q| q.name == "radius") {
+                    true => self.positive(&mut p, "radius").map(|r| r.0),
+                    false => Some(1.0),
+                };
+                self.finish(p, "center, radius, to_world");
+                if flip == Some(true) {
+                    self.error(o.at, "flip_normals", "flip_normals on a sphere is not supported (pathlab's spheres face outwards)");
+                }
+                let Some(radius) = radius else { return };
+                // A similarity (rotation, uniform scale, translation) moves and scales the sphere.
+                let (center, radius) = match &to_world {
+                    None => (center, radius),
+                    Some((ops, at)) => {
+                        let m = compose(ops);
+                        let cols = [m.x_axis.truncate(), m.y_axis.truncate(), m.z_axis.truncate()];
+                        let s = cols[0].length();
+                        let similar = s > 0.0
+                            && cols.iter().all(|c| (c.length() - s).abs() <= 1e-9 * s)
+                            && cols[0].dot(cols[1]).abs() <= 1e-9 * s * s
+                            && cols[1].dot(cols[2]).abs() <= 1e-9 * s * s
+                            && cols[0].dot(cols[2]).abs() <= 1e-9 * s * s;
+                        if !similar || !m.is_finite() {
+                            self.error(*at, "to_world", "a sphere's to_world must be a rotation, uniform scale and translation");
+                            return;
+                        }
+                        (m.transform_point3(center), radius * s)
+                    }
+                };
+                spheres.push(spanned(o.at, RawSphere { center: spanned(o.at, center.to_array()), radius: spanned(o.at, radius), material }));
+            }
+            other => self.error(o.at, "type", format!("<shape type=\"{other}\"> is not supported (pathlab has {SHAPES})")),
+        }
+    }
+
+    /// A `<transform>` in the scene model: scale, rotations and translation in that order are
+    /// kept as such (as a TOML transform writes them, so both files give the same matrix to the
+    /// last bit); anything else becomes its matrix. Singular transforms are refused here.
+    fn raw_transform(&mut self, ops: &[TransformOp], at: usize) -> Option<Spanned<RawTransform>> {
+        let m = compose(ops);
+        let rows = m.transpose().to_cols_array_2d();
+        if let Err(e) = super::transform::Transform::from_rows(rows) {
+            let at = ops.last().map_or(at, |o| o.at);
+            self.error(at, "to_world", format!("transform {e}"));
+            return None;
+        }
+        let mut rest = ops;
+        let mut scale = None;
+        let mut rotations = Vec::new();
+        let mut translate = None;
+        if let [TransformOp { kind: OpKind::Scale(s), .. }, tail @ ..] = rest {
+            scale = Some(*s);
+            rest = tail;
+        }
+        while let [TransformOp { kind: OpKind::Rotate(axis, angle), .. }, tail @ ..] = rest {
+            rotations.push(RawRotation { axis: axis.to_array(), angle: *angle });
+            rest = tail;
+        }
+        if let [TransformOp { kind: OpKind::Translate(t), .. }, tail @ ..] = rest {
+            translate = Some(*t);
+            rest = tail;
+        }
+        let raw = if rest.is_empty() {
+            RawTransform {
+                translate: translate.map(|t| spanned(at, t.to_array())),
+                rotate: match rotations.len() {
+                    0 => None,
+                    1 => Some(spanned(at, RawRotations::One(rotations.remove(0)))),
+                    _ => Some(spanned(at, RawRotations::Many(rotations))),
+                },
+                scale: scale.map(|s| spanned(at, if s.x == s.y && s.y == s.z { RawScale::Uniform(s.x) } else { RawScale::PerAxis(s.to_array()) })),
+                matrix: None,
+            }
+        } else {
+            RawTransform { translate: None, rotate: None, scale: None, matrix: Some(spanned(at, rows)) }
+        };
+        Some(spanned(at, raw))
+    }
+}

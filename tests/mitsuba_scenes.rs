@@ -1,0 +1,286 @@
+//! Mitsuba 3 XML scenes: the same scene through TOML and through XML is one scene (one content
+//! hash, one image bit for bit), `pathlab convert` writes a TOML file that loads as that scene,
+//! the structure (includes, defaults, `--define`, `<ref>`) works as Mitsuba's, bad input is
+//! refused with file, line, column, plugin and parameter, and mutated files never panic.
+//! Deterministic: fixed seeds, no statistics.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use common::*;
+use pathlab::method::Preset;
+use pathlab::scene::{Diagnostic, Scene, SceneError, Severity};
+
+fn asset(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes").join(name)
+}
+
+fn pathlab() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_pathlab"))
+}
+
+#[test]
+fn the_cornell_box_in_xml_is_the_cornell_box_in_toml_and_renders_bit_for_bit_the_same() {
+    let toml = Scene::load(asset("cornell_box.toml")).unwrap();
+    let xml = Scene::load(asset("cornell_box.xml")).unwrap();
+    assert!(xml.warnings.is_empty(), "{:?}", xml.warnings);
+    assert_eq!(xml.content_hash(), toml.content_hash());
+    assert_eq!(xml.render.rr_depth, Some(5));
+    assert!(xml.materials.iter().all(|m| !m.two_sided));
+    let film = |scene: &Scene| {
+        let mut s = scene.clone();
+        (s.render.width, s.render.height) = (16, 16);
+        bits(&render(&s, Preset::Mis.method(), 4, 9))
+    };
+    assert!(film(&toml) == film(&xml), "the XML and TOML Cornell boxes render differently");
+}
+
+/// Writes `files` into a fresh directory; returns it.
+fn dir_with(files: &[(&str, &str)]) -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, text) in files {
+        if let Some(parent) = Path::new(name).parent() {
+            std::fs::create_dir_all(dir.path().join(parent)).unwrap();
+        }
+        std::fs::write(dir.path().join(name), text).unwrap();
+    }
+    dir
+}
+
+const TRIANGLE_OBJ: &str = "v -1 -1 0\nv 1 -1 0\nv 0 1 0\nf 1 2 3\n";
+
+/// A scene using includes, defaults, a `<ref>`, an OBJ in a subfolder, a sphere light, a
+/// constant environment and a matrix transform.
+fn structured_scene() -> tempfile::TempDir {
+    let main = r#"<scene version="3.0.0">
+    <default name="res" value="24"/>
+    <default name="depth" value="3"/>
+    <include filename="parts/materials.xml"/>
+    <integrator type="path"><integer name="max_depth" value="$depth"/><integer name="rr_depth" value="2"/></integrator>
+    <sensor type="perspective">
+        <float name="fov" value="50"/>
+        <string name="fov_axis" value="diagonal"/>
+        <transform name="to_world"><matrix value="-1 0 0 0  0 1 0 0  0 0 -1 4  0 0 0 1"/></transform>
+        <sampler type="independent"><integer name="sample_count" value="16"/></sampler>
+        <film type="hdrfilm"><integer name="width" value="$res"/><integer name="height" value="16"/><rfilter type="box"/></film>
+    </sensor>
+    <emitter type="constant"><rgb name="radiance" value="0.1"/></emitter>
+    <shape type="obj">
+        <string name="filename" value="meshes/tri.obj"/>
+        <transform name="to_world"><rotate y="1" angle="30"/><translate value="0.5 0 0"/><scale value="2"/></transform>
+        <ref id="grey"/>
+    </shape>
+    <shape type="sphere">
+        <point name="center" x="0" y="2" z="1"/>
+        <float name="radius" value="0.25"/>
+        <emitter type="area"><rgb name="radiance" value="5, 4, 3"/></emitter>
+    </shape>
+</scene>"#;
+    let materials = r#"<scene version="3.0.0">
+    <bsdf type="twosided" id="grey"><bsdf type="diffuse"><rgb name="reflectance" value="0.4"/></bsdf></bsdf>
+</scene>"#;
+    dir_with(&[("scene.xml", main), ("parts/materials.xml", materials), ("meshes/tri.obj", TRIANGLE_OBJ)])
+}
+
+#[test]
+fn includes_defaults_defines_and_refs_work_as_in_mitsuba_and_convert_keeps_the_scene() {
+    let dir = structured_scene();
+    let path = dir.path().join("scene.xml");
+    let s = Scene::load(&path).unwrap();
+    assert_eq!((s.render.width, s.render.height, s.render.max_depth, s.render.rr_depth, s.render.spp), (24, 16, 3, Some(2), Some(16)));
+    assert_eq!(s.render.environment.to_array(), [0.1; 3]);
+    assert_eq!((s.spheres.len(), s.meshes.len(), s.num_triangles()), (1, 1, 1));
+    // The twosided grey; the sphere's default BSDF (diffuse 0.5, one-sided) with its emission.
+    assert!(s.materials.iter().any(|m| m.two_sided && m.diffuse.x == 0.4));
+    assert!(s.materials.iter().any(|m| !m.two_sided && m.diffuse.x == 0.5 && m.emission.x == 5.0));
+    // The matrix camera: at (0, 0, 4) looking down -z; a diagonal field of view.
+    assert_eq!(s.camera.position.to_array(), [0.0, 0.0, 4.0]);
+    assert!((s.camera.look_at - glam::DVec3::new(0.0, 0.0, 3.0)).length() < 1e-12);
+    let pathlab::scene::Fov::X(fx) = s.camera.fov else { panic!("{:?}", s.camera.fov) };
+    let expected = 2.0 * ((25f64.to_radians()).tan() * 24.0 / (24f64 * 24.0 + 16.0 * 16.0).sqrt()).atan().to_degrees();
+    assert!((fx - expected).abs() < 1e-9, "{fx} vs {expected}");
+    // --define overrides a default, like Mitsuba's -D.
+    let defined = Scene::load_with(&path, &[("res".into(), "8".into()), ("depth".into(), "5".into())]).unwrap();
+    assert_eq!((defined.render.width, defined.render.max_depth), (8, 5));
+
+    // convert: to a file elsewhere (the OBJ named relative to it where below it, else in full),
+    // which loads as the same scene.
+    let out = dir.path().join("converted.toml");
+    let r = pathlab().arg("convert").arg(&path).arg("-o").arg(&out).output().unwrap();
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(text.contains("file = \"meshes/tri.obj\""), "{text}");
+    assert_eq!(Scene::load(&out).unwrap().content_hash(), s.content_hash());
+    let elsewhere = tempfile::tempdir().unwrap();
+    let out = elsewhere.path().join("c.toml");
+    let r = pathlab().args(["convert", "--define", "res=8"]).arg(&path).arg("-o").arg(&out).output().unwrap();
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    // With --define res=8 (height 16 stays) but depth 3: a scene of its own.
+    let res8 = Scene::load_with(&path, &[("res".into(), "8".into())]).unwrap();
+    let back = Scene::load(&out).unwrap();
+    assert_eq!(back.content_hash(), res8.content_hash());
+    assert!(back.meshes[0].source.starts_with('/'), "a file outside the output's folder is named in full: {}", back.meshes[0].source);
+}
+
+/// A small valid scene, with `extra` inside <scene> after the sensor.
+fn small(extra: &str) -> String {
+    format!(
+        r#"<scene version="3.0.0">
+    <sensor type="perspective">
+        <float name="fov" value="45"/>
+        <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
+        <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/><rfilter type="box"/></film>
+    </sensor>
+    <bsdf type="diffuse" id="grey"><rgb name="reflectance" value="0.5"/></bsdf>
+    <shape type="rectangle"><emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>
+{extra}
+</scene>
+"#
+    )
+}
+
+/// The first error of a scene that must be refused, with the file it was written to.
+fn refused(text: &str) -> (Diagnostic, PathBuf) {
+    let dir = dir_with(&[("s.xml", text), ("tri.obj", TRIANGLE_OBJ)]);
+    let path = dir.path().join("s.xml");
+    match Scene::load(&path) {
+        Err(SceneError::Invalid(d)) => (d.into_iter().find(|d| d.severity == Severity::Error).expect("an error"), path),
+        Err(e) => panic!("not a diagnostic: {e}"),
+        Ok(_) => panic!("accepted:\n{text}"),
+    }
+}
+
+/// Line and column (1-based) of the first occurrence of `needle` in `text`.
+fn position_of(text: &str, needle: &str) -> (usize, usize) {
+    let at = text.find(needle).unwrap_or_else(|| panic!("{needle} not in the scene"));
+    let line = text[..at].matches('\n').count() + 1;
+    let column = at - text[..at].rfind('\n').map_or(0, |i| i + 1) + 1;
+    (line, column)
+}
+
+#[test]
+fn bad_xml_is_refused_with_file_line_column_plugin_and_parameter() {
+    // (scene, where the error must point, what it must say)
+    let cases: Vec<(String, &str, &str)> = vec![
+        (small("<shape type=\"obj\"><string name=\"filename\" value=\"tri.obj\"/>\n</scene>"), "", "malformed XML"),
+        (small("<shape type=\"cube\"><ref id=\"nope\"/></shape>"), "<ref id=\"nope\"/>", "names no object defined before it (defined: grey)"),
+        (small("<shape type=\"sphere\"><float name=\"radius\" value=\"$r\"/></shape>"), "$r", "`$r` has no value"),
+        (small("<shape type=\"obj\"><ref id=\"grey\"/></shape>"), "<shape type=\"obj\">", "needs <string name=\"filename\">"),
+        (small("<shape type=\"cube\"><transform name=\"to_world\"><scale value=\"1, 0, 1\"/></transform></shape>"), "<scale value=\"1, 0, 1\"/>", "singular"),
+        (small("<bsdf type=\"roughplastic\" id=\"p\"/>"), "<bsdf type=\"roughplastic\"", "<bsdf type=\"roughplastic\"> is not supported (pathlab has diffuse, twosided, modphong)"),
+        (small("<bsdf type=\"diffuse\" id=\"d\"><float name=\"roughness\" value=\"1\"/></bsdf>"), "<float name=\"roughness\"", "`roughness` of <bsdf type=\"diffuse\"> is not supported (pathlab reads: reflectance)"),
+        (small("<shape type=\"sphere\"><float name=\"radius\" value=\"nan\"/></shape>"), "nan\"", "must be a finite number > 0 (got NaN)"),
+        (small("<shape type=\"sphere\"><float name=\"radius\" value=\"-1\"/></shape>"), "-1\"", "must be a finite number > 0 (got -1)"),
+        (small("<shape type=\"disk\"/>"), "<shape type=\"disk\"", "<shape type=\"disk\"> is not supported (pathlab has obj, ply, rectangle, cube, sphere)"),
+        (small("<emitter type=\"envmap\"/>"), "<emitter type=\"envmap\"", "not supported (pathlab has area, constant)"),
+        (small("<integrator type=\"bdpt\"/>"), "<integrator type=\"bdpt\"", "not supported (pathlab is a unidirectional path tracer"),
+        (small("<shape type=\"cube\"><rgb name=\"radiance\" value=\"1, 2\"/></shape>"), "1, 2", "needs 3 (or 1) numbers, got 2"),
+    ];
+    for (text, at, message) in &cases {
+        let (d, path) = refused(text);
+        assert_eq!(d.file, path, "{d}");
+        assert!(d.message.contains(message), "expected `{message}` in: {d}");
+        assert!(d.line >= 1 && d.column >= 1, "no position: {d}");
+        if !at.is_empty() {
+            assert_eq!((d.line, d.column), position_of(text, at), "wrong position for `{message}`: {d}");
+        }
+    }
+    // At the command line: a non-zero exit, the message as `file:line:column: error: ...`.
+    let dir = dir_with(&[("s.xml", &cases[1].0)]);
+    let r = pathlab().arg("check").arg(dir.path().join("s.xml")).output().unwrap();
+    let stderr = String::from_utf8_lossy(&r.stderr);
+    let (line, column) = position_of(&cases[1].0, "<ref id=\"nope\"/>");
+    assert_eq!(r.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains(&format!("s.xml:{line}:{column}: error: `id`: <ref id=\"nope\">")), "{stderr}");
+    // A --define with no effect is said, not ignored.
+    let d = Scene::load_with(asset("cornell_box.xml"), &[("nothing".into(), "1".into())]).unwrap();
+    assert!(d.warnings.iter().any(|w| w.message.contains("no effect")), "{:?}", d.warnings);
+}
+
+#[test]
+fn settings_that_keep_the_expected_image_are_accepted_with_a_warning() {
+    let text = small("").replace("<rfilter type=\"box\"/>", "<rfilter type=\"gaussian\"/>").replace(
+        "<float name=\"fov\" value=\"45\"/>",
+        "<float name=\"fov\" value=\"45\"/><float name=\"near_clip\" value=\"0.1\"/><sampler type=\"stratified\"><integer name=\"sample_count\" value=\"4\"/></sampler>",
+    );
+    let dir = dir_with(&[("s.xml", &text)]);
+    let s = Scene::load(dir.path().join("s.xml")).unwrap();
+    let said: Vec<&str> = s.warnings.iter().map(|w| w.message.as_str()).collect();
+    for expected in ["pathlab's pixel filter is a box", "pathlab does not clip", "pathlab's sampler is chosen with --method"] {
+        assert!(said.iter().any(|m| m.contains(expected)), "no warning `{expected}` in {said:#?}");
+    }
+    assert_eq!(s.render.spp, Some(4));
+}
+
+/// Seeded mutations of the Cornell box's XML: characters deleted, duplicated or replaced,
+/// attribute values replaced by bad ones, elements cut, the file truncated. Each must load or
+/// be refused, never panic, and a refusal must name the file and a line.
+#[test]
+fn mutated_xml_never_panics_and_is_refused_by_file_and_line() {
+    let original = std::fs::read_to_string(asset("cornell_box.xml")).unwrap();
+    let mut state = 0x9e3779b97f4a7c15u64;
+    let mut next = |n: usize| {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state % n.max(1) as u64) as usize
+    };
+    let bad_values = ["nan", "-1", "0", "", "1e999", "abc", "$undefined", "1, 2", "0 0 0 0", "-0", "\u{fffd}"];
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("m.xml");
+    let (mut refused, mut loaded) = (0, 0);
+    for k in 0..400 {
+        let mut text = original.clone();
+        let boundary = |t: &str, mut i: usize| {
+            while !t.is_char_boundary(i) {
+                i -= 1;
+            }
+            i
+        };
+        match k % 5 {
+            0 => {
+                let i = boundary(&text, next(text.len()));
+                text.truncate(i);
+            }
+            1 => {
+                let i = boundary(&text, next(text.len()));
+                let j = boundary(&text, (i + 1 + next(8)).min(text.len()));
+                text.replace_range(i..j, "");
+            }
+            2 => {
+                let i = boundary(&text, next(text.len()));
+                let c = ['<', '>', '"', '/', '$', '=', ' ', '9'][next(8)];
+                text.insert(i, c);
+            }
+            3 => {
+                // An attribute value replaced.
+                let values: Vec<usize> = text.match_indices("value=\"").map(|(i, _)| i + 7).collect();
+                let start = values[next(values.len())];
+                let end = start + text[start..].find('"').unwrap();
+                text.replace_range(start..end, bad_values[next(bad_values.len())]);
+            }
+            _ => {
+                // A line removed.
+                let lines: Vec<&str> = text.lines().collect();
+                let cut = next(lines.len());
+                text = lines.iter().enumerate().filter(|(i, _)| *i != cut).map(|(_, l)| *l).collect::<Vec<_>>().join("\n");
+            }
+        }
+        std::fs::write(&path, &text).unwrap();
+        let result = std::panic::catch_unwind(|| Scene::load(&path));
+        match result {
+            Err(_) => panic!("mutant {k} panicked:\n{text}"),
+            Ok(Ok(_)) => loaded += 1,
+            Ok(Err(SceneError::Invalid(d))) => {
+                refused += 1;
+                let e = d.iter().find(|d| d.severity == Severity::Error).unwrap_or_else(|| panic!("mutant {k}: refused without an error: {d:?}"));
+                assert!(e.file == path && e.line >= 1, "mutant {k}: the error names no file and line: {e}\n{text}");
+            }
+            Ok(Err(e)) => panic!("mutant {k}: {e}"),
+        }
+    }
+    println!("{refused} mutants refused, {loaded} loaded");
+    assert!(refused > 200, "only {refused} of 400 mutants refused: the mutations are too weak");
+}
