@@ -54,6 +54,10 @@ fn frame_to_world(f: Frame, v: vec3f) -> vec3f {
     return f.t * v.x + f.b * v.y + f.n * v.z;
 }
 
+fn frame_to_local(f: Frame, v: vec3f) -> vec3f {
+    return vec3f(dot(v, f.t), dot(v, f.b), dot(v, f.n));
+}
+
 // Direction with polar angle given by (cos, sin) around +z and azimuth phi.
 fn spherical_direction(cos_theta: f32, sin_theta: f32, phi: f32) -> vec3f {
     return vec3f(sin_theta * cos(phi), sin_theta * sin(phi), cos_theta);

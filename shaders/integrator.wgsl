@@ -133,7 +133,7 @@ fn sample_triangle_emitter(l: u32, x: vec3f, u: vec2f) -> EmitterSample {
 
 // The contribution of one light sample, picked with probability `prob`: f |cos| / (prob pdf)
 // times the emission, unless shadowed, weighted against BSDF sampling under MIS. n_s: shading normal, n_g: geometric normal, both on wo's side.
-fn direct_light(es: EmitterSample, prob: f32, origin: vec3f, n_s: vec3f, n_g: vec3f, wo: vec3f, m: Phong) -> vec3f {
+fn direct_light(es: EmitterSample, prob: f32, origin: vec3f, n_s: vec3f, n_g: vec3f, wo: vec3f, m: Bsdf) -> vec3f {
     // Density of the light strategy: selection times the light's own.
     let pdf = prob * es.pdf;
     let cos_i = dot(es.wi, n_s);
@@ -152,7 +152,7 @@ fn direct_light(es: EmitterSample, prob: f32, origin: vec3f, n_s: vec3f, n_g: ve
 
 // Next event estimation at vertex x: one shadow ray to each light (LIGHT_SELECT all), or to one
 // light picked by uniform or power selection.
-fn estimate_direct(id: SampleId, dim_base: u32, x: vec3f, n_s: vec3f, n_g: vec3f, wo: vec3f, m: Phong,
+fn estimate_direct(id: SampleId, dim_base: u32, x: vec3f, n_s: vec3f, n_g: vec3f, wo: vec3f, m: Bsdf,
                    vertex_object: u32, from_inside: bool) -> vec3f {
     var radiance = vec3f(0.0);
     let origin = offset_ray_origin(x, n_g);
@@ -187,6 +187,8 @@ struct PrevVertex {
     object: u32,
     from_inside: bool,
     bsdf_pdf: f32,
+    // The ray left by a delta lobe (a mirror), which light sampling cannot reproduce.
+    delta: bool,
 }
 
 // The light an object is, or INVALID.
@@ -203,9 +205,10 @@ fn light_of(object: u32) -> u32 {
 // Weight of emission found by a BSDF-sampled ray. With NEE, lights were already sampled
 // from the previous vertex, so their emission counts 0; with MIS it gets the MIS weight
 // against the density next event estimation had for this direction: the selection probability
-// times the light's own density, so that both strategies describe one estimator.
+// times the light's own density, so that both strategies describe one estimator. After a delta
+// lobe (a mirror) light sampling had no part (its shadow ray cannot follow the mirror): 1.
 fn emitter_hit_weight(hit: Hit, ray_dir: vec3f, prev: PrevVertex) -> f32 {
-    if (LIGHT_SAMPLING == LIGHTS_NONE || LIGHT_SAMPLING == LIGHTS_NEE_DOUBLE_COUNT) {
+    if (LIGHT_SAMPLING == LIGHTS_NONE || LIGHT_SAMPLING == LIGHTS_NEE_DOUBLE_COUNT || prev.delta) {
         return 1.0;
     }
     let l = light_of(hit.object);
@@ -270,13 +273,13 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
             n_s = select(hit.shading_normal, -hit.shading_normal, dot(hit.shading_normal, n_g) < 0.0);
         }
         let material = materials[hit.material];
-        let m = material_phong(material);
+        let m = material_bsdf(material);
         let dim_base = DIM_FIRST_VERTEX + (depth - 1u) * dims_per_vertex();
         // A one-sided BSDF seen from behind (the side its surface normal points away from)
         // scatters nothing: Mitsuba's rule for BSDFs not wrapped in `twosided`.
         let scatters = !from_inside || (material.flags & MATERIAL_ONE_SIDED) == 0u;
 
-        if (LIGHT_SAMPLING != LIGHTS_NONE && NUM_LIGHTS > 0u && scatters) {
+        if (LIGHT_SAMPLING != LIGHTS_NONE && NUM_LIGHTS > 0u && scatters && !bsdf_is_delta(m)) {
             radiance += throughput * estimate_direct(id, dim_base, x, n_s, n_g, wo, m, hit.object, from_inside);
         }
 
@@ -299,7 +302,7 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
                 scattered = false;
             }
         }
-        let prev = PrevVertex(x, hit.object, from_inside, bs.pdf);
+        let prev = PrevVertex(x, hit.object, from_inside, bs.pdf, bs.delta);
         ray_o = offset_ray_origin(x, n_g);
         ray_d = bs.wi;
         // A sample that cannot scatter (below the surface) ends the path untraced.

@@ -42,11 +42,19 @@ struct Material {
     p_spec: f32,
     emission: vec3f,
     flags: u32,
+    // Conductors (kind != BSDF_KIND_PHONG): complex IOR eta + i k, roughness alpha, and the
+    // distribution; `specular` holds the reflectance factor.
+    eta: vec3f,
+    alpha: f32,
+    k: vec3f,
+    kind: u32,
 }
 
 // Flags of a material.
 const MATERIAL_EMISSIVE: u32 = 1u;
 const MATERIAL_ONE_SIDED: u32 = 2u;
+// A rough conductor's distribution is GGX (else Beckmann).
+const MATERIAL_GGX: u32 = 4u;
 
 struct FrameParams {
     camera_origin: vec3f,
@@ -83,6 +91,11 @@ struct FrameParams {
 @group(0) @binding(BINDING_PLANES) var<uniform> planes: array<Plane, MAX_PLANES>;
 @group(0) @binding(BINDING_MATERIALS) var<uniform> materials: array<Material, MAX_MATERIALS>;
 
-fn material_phong(m: Material) -> Phong {
-    return Phong(m.diffuse, m.specular, m.glossiness, m.p_spec);
+fn material_bsdf(m: Material) -> Bsdf {
+    let distribution = select(DISTRIBUTION_BECKMANN, DISTRIBUTION_GGX, (m.flags & MATERIAL_GGX) != 0u);
+    return Bsdf(
+        m.kind,
+        Phong(m.diffuse, m.specular, m.glossiness, m.p_spec),
+        Conductor(m.eta, m.k, m.specular, m.alpha, distribution),
+    );
 }

@@ -79,6 +79,17 @@ named_enum! {
 }
 
 named_enum! {
+    /// How a rough conductor's microfacet normals are sampled (`shaders/microfacet.wgsl`), where
+    /// the BSDF strategy samples the material (`phong`): its counterpart of the Phong mixture.
+    pub enum MicrofacetSampling("microfacet sampling") {
+        /// The distribution of normals, D(m) cos(theta_m) (Walter et al. 2007).
+        Ndf = "ndf",
+        /// The normals visible from the incident direction (Heitz 2018; Mitsuba's default).
+        Vndf = "vndf",
+    }
+}
+
+named_enum! {
     /// The named methods of the study.
     pub enum Preset("method") {
         /// Independent samples, uniform sphere sampling, no light sampling (the study's plain).
@@ -107,6 +118,7 @@ pub struct Method {
     /// Light selection; `None`: the scene's default (`LightSelect::default_for`).
     pub select: Option<LightSelect>,
     pub triangles: TriangleSampling,
+    pub microfacet: MicrofacetSampling,
 }
 
 impl LightSelect {
@@ -131,7 +143,7 @@ impl Preset {
             Preset::Mis => (S::Independent, B::Phong, L::Mis),
             Preset::Best => (S::Sobol, B::Phong, L::Mis),
         };
-        Method { sampler, bsdf, lights, select: None, triangles: TriangleSampling::Area }
+        Method { sampler, bsdf, lights, select: None, triangles: TriangleSampling::Area, microfacet: MicrofacetSampling::Vndf }
     }
 }
 
@@ -158,6 +170,9 @@ impl fmt::Display for Method {
         }
         if self.triangles != TriangleSampling::Area {
             write!(f, " triangles={}", self.triangles)?;
+        }
+        if self.microfacet != MicrofacetSampling::Vndf {
+            write!(f, " microfacet={}", self.microfacet)?;
         }
         Ok(())
     }
@@ -187,7 +202,7 @@ impl Method {
 
     /// The same method with the light options of the defaults (no `+…` suffix).
     fn base(&self) -> Method {
-        Method { select: None, triangles: TriangleSampling::Area, ..*self }
+        Method { select: None, triangles: TriangleSampling::Area, microfacet: MicrofacetSampling::Vndf, ..*self }
     }
 
     /// The one name a method is shown and recorded under (the inverse of `from_name`): its
@@ -209,6 +224,9 @@ impl Method {
         if self.triangles != TriangleSampling::Area {
             name = format!("{name}+{}", self.triangles);
         }
+        if self.microfacet != MicrofacetSampling::Vndf {
+            name = format!("{name}+{}", self.microfacet);
+        }
         name
     }
 
@@ -221,8 +239,10 @@ impl Method {
                 method.select = Some(select);
             } else if let Some(t) = TriangleSampling::from_name(option) {
                 method.triangles = t;
+            } else if let Some(m) = MicrofacetSampling::from_name(option) {
+                method.microfacet = m;
             } else {
-                let known: Vec<&str> = LightSelect::names().into_iter().chain(TriangleSampling::names()).collect();
+                let known: Vec<&str> = LightSelect::names().into_iter().chain(TriangleSampling::names()).chain(MicrofacetSampling::names()).collect();
                 return Err(UnknownName { what: "light option", name: option.to_string(), known: known.join(", ") });
             }
         }
@@ -246,6 +266,7 @@ impl Method {
                 lights: l.parse()?,
                 select: None,
                 triangles: TriangleSampling::Area,
+                microfacet: MicrofacetSampling::Vndf,
             }),
             _ => Err(unknown()),
         }
@@ -281,8 +302,10 @@ mod tests {
                 for lights in LightSampling::ALL {
                     for select in [None, Some(LightSelect::All), Some(LightSelect::Uniform), Some(LightSelect::Power)] {
                         for triangles in TriangleSampling::ALL {
-                            let m = Method { sampler, bsdf, lights, select, triangles };
-                            assert_eq!(Method::from_name(&m.name()), Ok(m), "{}", m.name());
+                            for microfacet in MicrofacetSampling::ALL {
+                                let m = Method { sampler, bsdf, lights, select, triangles, microfacet };
+                                assert_eq!(Method::from_name(&m.name()), Ok(m), "{}", m.name());
+                            }
                         }
                     }
                 }

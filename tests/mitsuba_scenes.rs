@@ -85,6 +85,22 @@ fn structured_scene() -> tempfile::TempDir {
 }
 
 #[test]
+fn the_veach_scene_loads_as_written() {
+    let s = Scene::load(asset("veach_mis.xml")).unwrap();
+    assert!(s.warnings.is_empty(), "{:?}", s.warnings);
+    let rough: Vec<f64> = s.materials.iter().filter_map(|m| m.conductor.as_ref()?.rough.map(|r| r.1)).collect();
+    assert_eq!(rough.len(), 4);
+    for alpha in [0.01, 0.05, 0.1, 0.25] {
+        assert!(rough.contains(&alpha), "{rough:?}");
+    }
+    assert!(s.materials.iter().filter(|m| m.conductor.is_some()).all(|m| m.two_sided));
+    assert_eq!((s.spheres.len(), s.light_spheres().len(), s.num_triangles()), (3, 3, 4 * 12 + 2 * 2));
+    assert_eq!((s.render.width, s.render.height, s.render.max_depth, s.render.rr_depth), (1280, 720, 3, None));
+    // The camera looks down -x from (28.28, 3.5, 0), up +y: not mirrored.
+    assert!((s.camera.look_at - s.camera.position).normalize().dot(glam::DVec3::NEG_X) > 0.999999);
+}
+
+#[test]
 fn includes_defaults_defines_and_refs_work_as_in_mitsuba_and_convert_keeps_the_scene() {
     let dir = structured_scene();
     let path = dir.path().join("scene.xml");
@@ -169,7 +185,7 @@ fn bad_xml_is_refused_with_file_line_column_plugin_and_parameter() {
         (small("<shape type=\"sphere\"><float name=\"radius\" value=\"$r\"/></shape>"), "$r", "`$r` has no value"),
         (small("<shape type=\"obj\"><ref id=\"grey\"/></shape>"), "<shape type=\"obj\">", "needs <string name=\"filename\">"),
         (small("<shape type=\"cube\"><transform name=\"to_world\"><scale value=\"1, 0, 1\"/></transform></shape>"), "<scale value=\"1, 0, 1\"/>", "singular"),
-        (small("<bsdf type=\"roughplastic\" id=\"p\"/>"), "<bsdf type=\"roughplastic\"", "<bsdf type=\"roughplastic\"> is not supported (pathlab has diffuse, twosided, modphong)"),
+        (small("<bsdf type=\"roughplastic\" id=\"p\"/>"), "<bsdf type=\"roughplastic\"", "<bsdf type=\"roughplastic\"> is not supported (pathlab has diffuse, twosided, conductor, roughconductor, modphong)"),
         (small("<bsdf type=\"diffuse\" id=\"d\"><float name=\"roughness\" value=\"1\"/></bsdf>"), "<float name=\"roughness\"", "`roughness` of <bsdf type=\"diffuse\"> is not supported (pathlab reads: reflectance)"),
         (small("<shape type=\"sphere\"><float name=\"radius\" value=\"nan\"/></shape>"), "nan\"", "must be a finite number > 0 (got NaN)"),
         (small("<shape type=\"sphere\"><float name=\"radius\" value=\"-1\"/></shape>"), "-1\"", "must be a finite number > 0 (got -1)"),
@@ -177,6 +193,10 @@ fn bad_xml_is_refused_with_file_line_column_plugin_and_parameter() {
         (small("<emitter type=\"envmap\"/>"), "<emitter type=\"envmap\"", "not supported (pathlab has area, constant)"),
         (small("<integrator type=\"bdpt\"/>"), "<integrator type=\"bdpt\"", "not supported (pathlab is a unidirectional path tracer"),
         (small("<shape type=\"cube\"><rgb name=\"radiance\" value=\"1, 2\"/></shape>"), "1, 2", "needs 3 (or 1) numbers, got 2"),
+        (small("<bsdf type=\"roughconductor\" id=\"r\"><float name=\"alpha\" value=\"0\"/></bsdf>"), "0\"/></bsdf>", "`alpha` of <bsdf type=\"roughconductor\"> must be a finite number > 0 (got 0)"),
+        (small("<bsdf type=\"roughconductor\" id=\"r\"><float name=\"alpha\" value=\"NaN\"/></bsdf>"), "NaN", "must be a finite number > 0 (got NaN)"),
+        (small("<bsdf type=\"conductor\" id=\"r\"><string name=\"material\" value=\"Cu\"/></bsdf>"), "Cu", "the named material \"Cu\" is not supported"),
+        (small("<bsdf type=\"roughconductor\" id=\"r\"><string name=\"distribution\" value=\"phong\"/></bsdf>"), "phong\"", "unknown distribution \"phong\""),
     ];
     for (text, at, message) in &cases {
         let (d, path) = refused(text);

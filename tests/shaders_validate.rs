@@ -2,7 +2,7 @@
 //! after specialisation, exactly as wgpu would at pipeline creation.
 
 use pathlab::gpu::{pipeline_constants, PipelineKey, NO_TRAVERSAL_GUARD};
-use pathlab::method::{BsdfSampling, LightSampling, LightSelect, Method, Sampler, TriangleSampling};
+use pathlab::method::{BsdfSampling, LightSampling, LightSelect, MicrofacetSampling, Method, Sampler, TriangleSampling};
 use pathlab::scene::SceneFeatures;
 use pathlab::shaders;
 
@@ -28,7 +28,9 @@ fn every_override_permutation_validates() {
                             // Specular and environment on and off together, and the light
                             // interiors with them: each on and each off is compiled once.
                             for on in [false, true] {
-                                let method = Method { sampler, bsdf, lights, select: Some(select), triangles };
+                                // Both microfacet strategies, each with conductors on and off.
+                                let microfacet = if (checked / 2) % 2 == 0 { MicrofacetSampling::Vndf } else { MicrofacetSampling::Ndf };
+                                let method = Method { sampler, bsdf, lights, select: Some(select), triangles, microfacet };
                                 let features = SceneFeatures {
                                     num_spheres,
                                     num_planes,
@@ -39,6 +41,7 @@ fn every_override_permutation_validates() {
                                     rr_depth: if on { 2 } else { 0 },
                                     num_occluding_planes: if on { num_planes } else { 0 },
                                     has_specular: on,
+                                    has_conductors: on,
                                     has_environment: on,
                                     light_interiors_reachable: on,
                                 };

@@ -9,7 +9,7 @@ use clap::Args;
 use pathlab::display::{DisplayTransform, Transfer};
 use pathlab::estimate::target::Target;
 use pathlab::gpu::{adapter_summary, Gpu, PathTracerPipelines};
-use pathlab::method::{BsdfSampling, LightSampling, LightSelect, Method, Preset, Sampler, TriangleSampling};
+use pathlab::method::{BsdfSampling, LightSampling, LightSelect, Method, MicrofacetSampling, Preset, Sampler, TriangleSampling};
 use pathlab::render::{ctrl_c_flag, default_output, Budget, CheckpointPlan, ErrorPlan, OutputFiles, RenderJob, Resume, MAX_SPP};
 use pathlab::shard::{default_part_name, shard_range};
 
@@ -44,6 +44,10 @@ pub struct RenderArgs {
     /// How triangle lights are sampled.
     #[arg(long, value_parser = named::<TriangleSampling>(), default_value = "area")]
     triangle_sampling: TriangleSampling,
+    /// How rough conductors' microfacet normals are sampled where the BSDF strategy samples the
+    /// material (`--bsdf phong`): visible normals (Mitsuba's default) or the distribution.
+    #[arg(long, value_parser = named::<MicrofacetSampling>(), default_value = "vndf")]
+    microfacet_sampling: MicrofacetSampling,
     /// Samples per pixel (default: the scene's render.spp, else 64).
     #[arg(long, conflicts_with = "time")]
     spp: Option<u64>,
@@ -159,6 +163,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
     let method = Method {
         select: args.light_select,
         triangles: args.triangle_sampling,
+        microfacet: args.microfacet_sampling,
         ..method_of(args.method, args.sampler, args.bsdf, args.lights)
     };
     // A part of a split render: a sample range, written as raw accumulators.

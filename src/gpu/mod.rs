@@ -13,4 +13,4 @@ pub use device::{adapter_summary, list_adapters, wait_for_submission, Gpu, GpuEr
 pub use kernel::KernelRun;
 pub use pipeline::{loop_iterations_per_sample, pipeline_constants, LoopBound, BRUTE_FORCE_TRIANGLES, PathTracerPipelines, PipelineKey, PipelineStats, NO_TRAVERSAL_GUARD};
 pub use frame_params::FrameParams;
-pub use scene_buffers::{max_triangles, MATERIAL_EMISSIVE, MATERIAL_ONE_SIDED, TRIANGLE_HAS_NORMALS, TRIANGLE_TWO_SIDED, GpuLight, GpuMaterial, GpuPlane, GpuSphere, GpuTriangle, GpuTriangleNormals, PackedTriangles, SceneBuffers};
+pub use scene_buffers::{max_triangles, BSDF_KIND_CONDUCTOR, BSDF_KIND_PHONG, BSDF_KIND_ROUGH_CONDUCTOR, MATERIAL_EMISSIVE, MATERIAL_GGX, MATERIAL_ONE_SIDED, TRIANGLE_HAS_NORMALS, TRIANGLE_TWO_SIDED, GpuLight, GpuMaterial, GpuPlane, GpuSphere, GpuTriangle, GpuTriangleNormals, PackedTriangles, SceneBuffers};

@@ -48,6 +48,7 @@ pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
         ("LIGHT_SAMPLING", key.method.lights.constant() as f64),
         ("LIGHT_SELECT", select.constant() as f64),
         ("TRIANGLE_SAMPLING", key.method.triangles.constant() as f64),
+        ("MICROFACET_SAMPLING", key.method.microfacet.constant() as f64),
         ("NUM_SPHERES", f.num_spheres as f64),
         ("NUM_PLANES", f.num_planes as f64),
         ("NUM_LIGHTS", f.num_lights as f64),
@@ -58,6 +59,7 @@ pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
         ("TRAVERSAL_BUDGET", key.traversal_budget as f64),
         ("NUM_OCCLUDING_PLANES", f.num_occluding_planes as f64),
         ("HAS_SPECULAR", f.has_specular as u32 as f64),
+        ("HAS_CONDUCTORS", f.has_conductors as u32 as f64),
         ("HAS_ENVIRONMENT", f.has_environment as u32 as f64),
         ("LIGHT_INTERIORS_REACHABLE", f.light_interiors_reachable as u32 as f64),
     ]

@@ -41,9 +41,24 @@ pub struct GpuMaterial {
     pub specular: [f32; 3],
     pub p_spec: f32,
     pub emission: [f32; 3],
-    /// `MATERIAL_EMISSIVE`, `MATERIAL_ONE_SIDED`.
+    /// `MATERIAL_EMISSIVE`, `MATERIAL_ONE_SIDED`, `MATERIAL_GGX`.
     pub flags: u32,
+    /// Conductors: eta + i k, roughness; `specular` holds the reflectance.
+    pub eta: [f32; 3],
+    pub alpha: f32,
+    pub k: [f32; 3],
+    /// `BSDF_KIND_*`.
+    pub kind: u32,
 }
+
+/// Material kind: normalised modified Phong.
+pub const BSDF_KIND_PHONG: u32 = 0;
+/// Material kind: smooth conductor (a mirror).
+pub const BSDF_KIND_CONDUCTOR: u32 = 1;
+/// Material kind: rough conductor (Torrance-Sparrow).
+pub const BSDF_KIND_ROUGH_CONDUCTOR: u32 = 2;
+/// Material flag: a rough conductor's distribution is GGX (else Beckmann).
+pub const MATERIAL_GGX: u32 = 4;
 
 /// Material flag: emits.
 pub const MATERIAL_EMISSIVE: u32 = 1;
@@ -220,14 +235,34 @@ impl SceneBuffers {
             .map(|m| {
                 let (ld, ls) = (luminance(m.diffuse), luminance(m.specular));
                 let p_spec = if ld + ls > 0.0 { ls / (ld + ls) } else { 0.0 };
-                GpuMaterial {
+                let mut flags = if m.is_emissive() { MATERIAL_EMISSIVE } else { 0 } | if m.two_sided { 0 } else { MATERIAL_ONE_SIDED };
+                let mut g = GpuMaterial {
                     diffuse: f3(m.diffuse),
                     glossiness: m.glossiness as f32,
                     specular: f3(m.specular),
                     p_spec: p_spec as f32,
                     emission: f3(m.emission),
-                    flags: if m.is_emissive() { MATERIAL_EMISSIVE } else { 0 } | if m.two_sided { 0 } else { MATERIAL_ONE_SIDED },
+                    flags,
+                    eta: [0.0; 3],
+                    alpha: 0.0,
+                    k: [0.0; 3],
+                    kind: BSDF_KIND_PHONG,
+                };
+                if let Some(c) = &m.conductor {
+                    g.specular = f3(c.reflectance);
+                    g.eta = f3(c.eta);
+                    g.k = f3(c.k);
+                    g.kind = BSDF_KIND_CONDUCTOR;
+                    if let Some((distribution, alpha)) = c.rough {
+                        g.kind = BSDF_KIND_ROUGH_CONDUCTOR;
+                        g.alpha = alpha as f32;
+                        if distribution == crate::scene::Distribution::Ggx {
+                            flags |= MATERIAL_GGX;
+                        }
+                    }
+                    g.flags = flags;
                 }
+                g
             })
             .collect()
     }
@@ -286,7 +321,7 @@ mod tests {
     fn layouts_match_wgsl() {
         assert_eq!(std::mem::size_of::<GpuSphere>(), 32);
         assert_eq!(std::mem::size_of::<GpuPlane>(), 32);
-        assert_eq!(std::mem::size_of::<GpuMaterial>(), 48);
+        assert_eq!(std::mem::size_of::<GpuMaterial>(), 80);
         assert_eq!(std::mem::size_of::<GpuTriangle>(), 48);
         assert_eq!(std::mem::size_of::<GpuTriangleNormals>(), 48);
         assert_eq!(std::mem::size_of::<GpuLight>(), 16);

@@ -94,6 +94,7 @@ impl CheckpointKey {
             // `default`: the scene's (LightSelect::default_for).
             ("light_select", self.method.select.map_or("default".to_string(), |s| s.to_string())),
             ("triangle_sampling", self.method.triangles.to_string()),
+            ("microfacet_sampling", self.method.microfacet.to_string()),
             ("seed", self.seed.to_string()),
             ("scene_hash", self.scene_hash.clone()),
         ]
@@ -201,12 +202,18 @@ impl Checkpoint {
             None => crate::method::TriangleSampling::Area,
             Some(v) => v.parse().map_err(|e| invalid(format!("pathlab:triangle_sampling: {e}")))?,
         };
+        // Files written before microfacets have Mitsuba's default, visible normals.
+        let microfacet = match header.get("microfacet_sampling") {
+            None => crate::method::MicrofacetSampling::Vndf,
+            Some(v) => v.parse().map_err(|e| invalid(format!("pathlab:microfacet_sampling: {e}")))?,
+        };
         let method = Method {
             sampler: header.text("sampler").map_err(attr)?.parse().map_err(|e| invalid(format!("pathlab:sampler: {e}")))?,
             bsdf: header.text("bsdf").map_err(attr)?.parse().map_err(|e| invalid(format!("pathlab:bsdf: {e}")))?,
             lights: header.text("lights").map_err(attr)?.parse().map_err(|e| invalid(format!("pathlab:lights: {e}")))?,
             select,
             triangles,
+            microfacet,
         };
         let scene_hash = header.text("scene_hash").map_err(attr)?.to_string();
         if scene_hash.len() != 16 || !scene_hash.bytes().all(|b| b.is_ascii_hexdigit() && !b.is_ascii_uppercase()) {

@@ -81,6 +81,15 @@ pub fn canonical_encoding(scene: &Scene) -> String {
         if !m.two_sided {
             line(&format!("material.{i}.two_sided"), "0".to_string());
         }
+        // Likewise conductors.
+        if let Some(c) = &m.conductor {
+            line(&format!("material.{i}.conductor.eta"), vec3(c.eta));
+            line(&format!("material.{i}.conductor.k"), vec3(c.k));
+            line(&format!("material.{i}.conductor.reflectance"), vec3(c.reflectance));
+            if let Some((d, alpha)) = c.rough {
+                line(&format!("material.{i}.conductor.rough"), format!("{d} {}", real(alpha)));
+            }
+        }
     }
     line("spheres", scene.spheres.len().to_string());
     for (i, s) in scene.spheres.iter().enumerate() {

@@ -33,8 +33,8 @@ pub use transform::Transform;
 pub const MAX_SPHERES: usize = 1024;
 /// Most planes (32 bytes each).
 pub const MAX_PLANES: usize = 1024;
-/// Most materials (48 bytes each).
-pub const MAX_MATERIALS: usize = 1024;
+/// Most materials (80 bytes each).
+pub const MAX_MATERIALS: usize = 512;
 
 /// The depth `max_depth = -1` (unbounded, allowed only with Russian roulette) stands for. Paths
 /// that survive roulette this long are cut: the energy lost is that of light bounced more than
@@ -74,7 +74,30 @@ pub struct RenderSettings {
     pub spp: Option<u64>,
 }
 
-/// Normalised modified Phong material: f = kd/pi + ks (n+2)/(2 pi) max(0, dot(wi, r))^n.
+crate::names::named_enum! {
+    /// The microfacet distribution of a rough conductor (`shaders/microfacet.wgsl`).
+    pub enum Distribution("microfacet distribution") {
+        /// Beckmann's (Mitsuba's default).
+        Beckmann = "beckmann",
+        /// Trowbridge-Reitz / GGX: longer tails.
+        Ggx = "ggx",
+    }
+}
+
+/// A conductor (Mitsuba's `conductor` and `roughconductor`): Fresnel reflection of complex
+/// index eta + i k per channel, times `reflectance` (Mitsuba's specular_reflectance); smooth
+/// (a mirror, a delta lobe) or rough (Torrance-Sparrow with separable Smith shadowing).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Conductor {
+    pub eta: DVec3,
+    pub k: DVec3,
+    pub reflectance: DVec3,
+    /// `None`: smooth; else the distribution and its roughness alpha (>= 1e-4, as Mitsuba clamps).
+    pub rough: Option<(Distribution, f64)>,
+}
+
+/// A material: normalised modified Phong, f = kd/pi + ks (n+2)/(2 pi) max(0, dot(wi, r))^n,
+/// or a conductor (then `diffuse` and `specular` are 0); either may emit.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Material {
     pub name: String,
@@ -86,6 +109,8 @@ pub struct Material {
     /// surface's normal points away from (a sphere's inside, a plane's back, a triangle's back
     /// by its winding). Emission is not affected (see `Mesh::two_sided_emission`).
     pub two_sided: bool,
+    /// `Some`: the material is a conductor, not Phong.
+    pub conductor: Option<Conductor>,
 }
 
 impl Material {
@@ -203,6 +228,7 @@ impl Scene {
             has_shading_normals: self.meshes.iter().any(|m| !m.normals.is_empty()),
             rr_depth: self.render.rr_depth.unwrap_or(0),
             has_specular: self.materials.iter().any(|m| m.specular.max_element() > 0.0),
+            has_conductors: self.materials.iter().any(|m| m.conductor.is_some()),
             has_environment: self.render.environment.max_element() > 0.0,
             num_occluding_planes: self.occluding_planes().len() as u32,
             light_interiors_reachable: self.light_interiors_reachable(),
@@ -291,6 +317,8 @@ pub struct SceneFeatures {
     /// Planes that shadow rays must test (the first ones in kernel order).
     pub num_occluding_planes: u32,
     pub has_specular: bool,
+    /// Some material is a conductor (smooth or rough): the microfacet code is compiled in.
+    pub has_conductors: bool,
     pub has_environment: bool,
     /// False when no path vertex can be inside a light: sampling lights from inside (by area)
     /// is compiled out, leaving cone sampling alone.
@@ -304,6 +332,7 @@ impl SceneFeatures {
     pub fn all_on(self) -> SceneFeatures {
         SceneFeatures {
             has_specular: true,
+            has_conductors: true,
             has_environment: true,
             num_occluding_planes: self.num_planes,
             light_interiors_reachable: true,

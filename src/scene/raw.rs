@@ -126,6 +126,16 @@ pub(crate) struct RawMaterial {
     /// Whether the back of a surface scatters too (default true); Mitsuba's BSDFs are
     /// one-sided unless wrapped in `twosided`.
     pub two_sided: Option<Spanned<bool>>,
+    /// `phong` (default), `conductor` or `roughconductor`.
+    pub bsdf: Option<Spanned<String>>,
+    /// Rough conductors: `beckmann` (default) or `ggx`, and alpha (default 0.1).
+    pub distribution: Option<Spanned<String>>,
+    pub alpha: Option<Spanned<f64>>,
+    /// Conductors: the complex index of refraction eta + i k (default 0 + 1i: F = 1).
+    pub eta: Option<Spanned<RawColor>>,
+    pub k: Option<Spanned<RawColor>>,
+    /// Conductors: a factor on the Fresnel term (default 1).
+    pub specular_reflectance: Option<Spanned<RawColor>>,
 }
 
 #[derive(Debug, Deserialize, Serialize)]

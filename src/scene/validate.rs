@@ -465,10 +465,85 @@ fn check_materials(ck: &mut Checker, raw: &RawScene) -> (Vec<Material>, BTreeMap
             );
         }
         let two_sided = m.two_sided.as_ref().is_none_or(|t| *t.get_ref());
+        let conductor = check_conductor(ck, m, name, span.clone());
         names.insert(name.clone(), materials.len());
-        materials.push(Material { name: name.clone(), diffuse, specular, glossiness, emission, two_sided });
+        materials.push(Material { name: name.clone(), diffuse, specular, glossiness, emission, two_sided, conductor });
     }
     (materials, names)
+}
+
+/// Mitsuba's floor on a rough conductor's alpha (smaller values are clamped to it).
+const MIN_ALPHA: f64 = 1e-4;
+
+/// A material's `bsdf`: `phong` (default, no conductor), `conductor` or `roughconductor` (with
+/// Mitsuba's defaults: eta 0 + 1i, a perfect mirror's Fresnel term; beckmann; alpha 0.1), and
+/// the fields that belong to the other kind refused.
+fn check_conductor(ck: &mut Checker, m: &RawMaterial, name: &str, span: Range<usize>) -> Option<super::Conductor> {
+    let field = |f: &str| format!("materials.{name}.{f}");
+    let kind = m.bsdf.as_ref().map_or("phong", |b| b.get_ref().as_str());
+    let conductor_fields: [(&str, bool); 6] = [
+        ("distribution", m.distribution.is_some()),
+        ("alpha", m.alpha.is_some()),
+        ("eta", m.eta.is_some()),
+        ("k", m.k.is_some()),
+        ("specular_reflectance", m.specular_reflectance.is_some()),
+        ("", false),
+    ];
+    match kind {
+        "phong" => {
+            for (f, given) in conductor_fields {
+                if given {
+                    ck.error(span.clone(), field(f), format!("`{f}` belongs to conductors: give bsdf = \"conductor\" or \"roughconductor\""));
+                }
+            }
+            return None;
+        }
+        "conductor" | "roughconductor" => {}
+        other => {
+            let at = m.bsdf.as_ref().map_or(span.clone(), |b| b.span());
+            ck.error(at, field("bsdf"), format!("unknown bsdf \"{other}\" (known: \"phong\", \"conductor\", \"roughconductor\")"));
+            return None;
+        }
+    }
+    for (f, given) in [("diffuse", m.diffuse.is_some()), ("specular", m.specular.is_some()), ("glossiness", m.glossiness.is_some())] {
+        if given {
+            ck.error(span.clone(), field(f), format!("`{f}` belongs to Phong materials, not to a {kind}"));
+        }
+    }
+    let eta = m.eta.as_ref().map_or(DVec3::ZERO, |e| ck.color(Some(e), &field("eta")));
+    let k = m.k.as_ref().map_or(DVec3::ONE, |e| ck.color(Some(e), &field("k")));
+    let reflectance = m.specular_reflectance.as_ref().map_or(DVec3::ONE, |e| ck.color(Some(e), &field("specular_reflectance")));
+    if kind == "conductor" {
+        for (f, given) in conductor_fields.iter().take(2) {
+            if *given {
+                ck.error(span.clone(), field(f), format!("`{f}` belongs to a roughconductor; a conductor is smooth"));
+            }
+        }
+        return Some(super::Conductor { eta, k, reflectance, rough: None });
+    }
+    let distribution = match m.distribution.as_ref() {
+        None => super::Distribution::Beckmann,
+        Some(d) => match <super::Distribution as crate::names::Named>::from_name(d.get_ref()) {
+            Some(d) => d,
+            None => {
+                ck.error(d.span(), field("distribution"), format!("unknown distribution \"{}\" (known: \"beckmann\", \"ggx\")", d.get_ref()));
+                super::Distribution::Beckmann
+            }
+        },
+    };
+    let alpha = match m.alpha.as_ref() {
+        None => 0.1,
+        Some(a) => {
+            let v = ck.number(a, &field("alpha"));
+            if !(v > 0.0) && a.get_ref().is_finite() {
+                ck.error(a.span(), field("alpha"), format!("alpha must be > 0 (got {v}); a smooth conductor is bsdf = \"conductor\""));
+            } else if v < MIN_ALPHA && v > 0.0 {
+                ck.warn(a.span(), field("alpha"), format!("alpha {v} is below {MIN_ALPHA}: it is clamped to {MIN_ALPHA}, as Mitsuba does"));
+            }
+            v.max(MIN_ALPHA)
+        }
+    };
+    Some(super::Conductor { eta, k, reflectance, rough: Some((distribution, alpha)) })
 }
 
 fn too_many(count: usize, max: usize, what: &str) -> String {

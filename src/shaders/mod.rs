@@ -32,6 +32,7 @@ pub mod files {
     pub const SPHERICAL_TRIANGLE: (&str, &str) = ("spherical_triangle.wgsl", include_str!("../../shaders/spherical_triangle.wgsl"));
     pub const LIGHT_TABLE: (&str, &str) = ("light_table.wgsl", include_str!("../../shaders/light_table.wgsl"));
     pub const BVH: (&str, &str) = ("bvh.wgsl", include_str!("../../shaders/bvh.wgsl"));
+    pub const MICROFACET: (&str, &str) = ("microfacet.wgsl", include_str!("../../shaders/microfacet.wgsl"));
     pub const BSDF: (&str, &str) = ("bsdf.wgsl", include_str!("../../shaders/bsdf.wgsl"));
     pub const LIGHTS: (&str, &str) = ("lights.wgsl", include_str!("../../shaders/lights.wgsl"));
     pub const SCENE: (&str, &str) = ("scene.wgsl", include_str!("../../shaders/scene.wgsl"));
@@ -44,15 +45,16 @@ pub mod files {
 
 /// The sampling library without scene bindings: samplers, warps, BSDF and light sampling.
 /// Test kernels append their own bindings and entry points to this.
-pub const LIBRARY: [(&str, &str); 6] =
-    [files::COMMON, files::SAMPLER, files::WARP, files::SPHERICAL_TRIANGLE, files::BSDF, files::LIGHTS];
+pub const LIBRARY: [(&str, &str); 7] =
+    [files::COMMON, files::SAMPLER, files::WARP, files::SPHERICAL_TRIANGLE, files::MICROFACET, files::BSDF, files::LIGHTS];
 
 /// Everything the path-tracing kernel (`render_main`) needs.
-pub const PATH_TRACER: [(&str, &str); 13] = [
+pub const PATH_TRACER: [(&str, &str); 14] = [
     files::COMMON,
     files::SAMPLER,
     files::WARP,
     files::SPHERICAL_TRIANGLE,
+    files::MICROFACET,
     files::BSDF,
     files::LIGHTS,
     files::LIGHT_TABLE,

@@ -52,7 +52,9 @@ pub struct ZTest {
 
 /// z = (mean_test - mean_ref) / sqrt(var_ref + var_test) per pixel channel, where the films'
 /// variances are variances of the mean; Šidák-corrected threshold for `alpha` over all channels.
-/// Channels where both variances are 0 pass only when the means agree to 1e-6 relative.
+/// Channels where both variances are 0 pass only when the means agree to 1e-5 relative (a
+/// few f32 ulps: Mitsuba 3's llvm_ad_rgb shows an emitter of radiance 7.59909 as 7.599115,
+/// 3.3e-6 above it).
 pub fn z_test(reference: &Film, test: &Film, alpha: f64) -> ZTest {
     assert_eq!((reference.width, reference.height), (test.width, test.height), "z_test: image sizes differ");
     let channels = reference.mean.len() * 3;
@@ -68,7 +70,7 @@ pub fn z_test(reference: &Film, test: &Film, alpha: f64) -> ZTest {
                 max_abs_z = max_abs_z.max(z.abs());
                 passed += (z.abs() <= threshold) as usize;
             } else {
-                passed += ((b - a).abs() <= 1e-6 * a.abs().max(1.0)) as usize;
+                passed += ((b - a).abs() <= 1e-5 * a.abs().max(1.0)) as usize;
             }
         }
     }

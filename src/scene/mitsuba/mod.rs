@@ -32,7 +32,7 @@ const DEFAULT_RR_DEPTH: i64 = 5;
 const DEFAULT_REFLECTANCE: f64 = 0.5;
 
 /// The BSDFs pathlab reads, for messages.
-const BSDFS: &str = "diffuse, twosided, modphong";
+const BSDFS: &str = "diffuse, twosided, conductor, roughconductor, modphong";
 const SHAPES: &str = "obj, ply, rectangle, cube, sphere";
 
 /// Reads and validates a Mitsuba 3 scene; `defines` override its `<default>`s (`--define`).
@@ -125,15 +125,33 @@ fn translate(path: &Path, defines: &[(String, String)]) -> Result<(RawScene, Sou
     }
 }
 
-/// A BSDF as pathlab models it: normalised modified Phong (diffuse is ks = 0), one- or two-sided.
+/// A BSDF as pathlab models it: normalised modified Phong (diffuse is ks = 0) or a conductor,
+/// one- or two-sided.
 #[derive(Debug, Clone, PartialEq)]
 struct Bsdf {
     diffuse: [f64; 3],
     specular: [f64; 3],
     glossiness: f64,
     two_sided: bool,
+    conductor: Option<ConductorSpec>,
     /// Its name for the material table: the id, or made up from the shape.
     name: Option<String>,
+}
+
+/// `conductor` / `roughconductor` parameters, as the TOML material writes them.
+#[derive(Debug, Clone, PartialEq)]
+struct ConductorSpec {
+    eta: [f64; 3],
+    k: [f64; 3],
+    reflectance: Option<[f64; 3]>,
+    /// `None`: smooth; else (distribution, alpha).
+    rough: Option<(String, f64)>,
+}
+
+impl Bsdf {
+    fn phong(diffuse: [f64; 3], specular: [f64; 3], glossiness: f64, name: Option<String>) -> Bsdf {
+        Bsdf { diffuse, specular, glossiness, two_sided: false, conductor: None, name }
+    }
 }
 
 struct Translator<'a> {
@@ -631,7 +649,65 @@ impl Translator<'_> {
                 }
                 let kd = self.color(&mut p, "reflectance").map_or([DEFAULT_REFLECTANCE; 3], |c| c.0);
                 self.finish(p, "reflectance");
-                Some(Bsdf { diffuse: kd, specular: [0.0; 3], glossiness: 0.0, two_sided: false, name })
+                Some(Bsdf::phong(kd, [0.0; 3], 0.0, name))
+            }
+            "conductor" | "roughconductor" => {
+                let rough = o.plugin == "roughconductor";
+                if let Some(t) = o.children.iter().find(|c| c.tag == "texture") {
+                    self.error(t.at, "", "a textured parameter is not supported (give <rgb> or <float> values)");
+                }
+                if let Some((material, at)) = self.string(&mut p, "material") {
+                    if material != "none" {
+                        self.error(at, "material", format!("the named material \"{material}\" is not supported: give its complex index as <rgb name=\"eta\"> and <rgb name=\"k\">"));
+                    }
+                }
+                let eta = self.color(&mut p, "eta").map_or([0.0; 3], |c| c.0);
+                let k = self.color(&mut p, "k").map_or([1.0; 3], |c| c.0);
+                let reflectance = self.color(&mut p, "specular_reflectance").map(|c| c.0);
+                let mut spec = ConductorSpec { eta, k, reflectance, rough: None };
+                if rough {
+                    let distribution = match self.string(&mut p, "distribution") {
+                        None => "beckmann".to_string(),
+                        Some((d, at)) => {
+                            let d = d.to_ascii_lowercase();
+                            if d != "beckmann" && d != "ggx" {
+                                self.error(at, "distribution", format!("unknown distribution \"{d}\" (beckmann, ggx)"));
+                            }
+                            d
+                        }
+                    };
+                    for name in ["alpha_u", "alpha_v"] {
+                        if let Some(prop) = p.take(name) {
+                            self.error(prop.at, name, format!("`{name}`: anisotropic roughness is not supported (give one `alpha`)"));
+                        }
+                    }
+                    let alpha = match p.props.iter().find(|q| q.name == "alpha").map(|q| q.value_at) {
+                        None => Some(0.1),
+                        Some(at) => match self.float(&mut p, "alpha") {
+                            Some(a) if a.is_finite() && a > 0.0 => Some(a),
+                            Some(a) => {
+                                self.error(at, "alpha", format!("`alpha` of <bsdf type=\"roughconductor\"> must be a finite number > 0 (got {a})"));
+                                None
+                            }
+                            None => None,
+                        },
+                    };
+                    if let Some(prop) = p.take("sample_visible") {
+                        self.warn(
+                            prop.at,
+                            "sample_visible",
+                            "`sample_visible` is ignored: pathlab's microfacet sampling is --microfacet-sampling (vndf by default); the expected image is the same",
+                        );
+                    }
+                    spec.rough = alpha.map(|a| (distribution, a));
+                    self.finish(p, "distribution, alpha, eta, k, specular_reflectance, material=\"none\" (and, with a warning, sample_visible)");
+                    if spec.rough.is_none() {
+                        return None;
+                    }
+                } else {
+                    self.finish(p, "eta, k, specular_reflectance, material=\"none\"");
+                }
+                Some(Bsdf { conductor: Some(spec), ..Bsdf::phong([0.0; 3], [0.0; 3], 0.0, name) })
             }
             "modphong" => {
                 // The reference renderer's normalised modified Phong (shared/reference-renderer).
@@ -642,7 +718,7 @@ impl Translator<'_> {
                 if !(n.is_finite() && n >= 0.0) {
                     self.error(o.at, "n", format!("`n` of <bsdf type=\"modphong\"> must be finite and >= 0 (got {n})"));
                 }
-                Some(Bsdf { diffuse: kd, specular: ks, glossiness: n, two_sided: false, name })
+                Some(Bsdf::phong(kd, ks, n, name))
             }
             "twosided" => {
                 self.finish(p, "one nested <bsdf>");
@@ -660,11 +736,7 @@ impl Translator<'_> {
                 }
             }
             other => {
-                let hint = match other {
-                    "conductor" | "roughconductor" => " yet",
-                    _ => "",
-                };
-                self.error(o.at, "type", format!("<bsdf type=\"{other}\"> is not supported{hint} (pathlab has {BSDFS})"));
+                self.error(o.at, "type", format!("<bsdf type=\"{other}\"> is not supported (pathlab has {BSDFS})"));
                 None
             }
         };
@@ -691,13 +763,30 @@ impl Translator<'_> {
         }
         let color = |c: [f64; 3]| Some(spanned(at, RawColor(c)));
         let specular = bsdf.specular.iter().any(|&s| s > 0.0);
-        let m = RawMaterial {
+        let mut m = RawMaterial {
             diffuse: color(bsdf.diffuse),
             specular: if specular { color(bsdf.specular) } else { None },
             glossiness: specular.then(|| spanned(at, bsdf.glossiness)),
             emission: emission.and_then(color),
             two_sided: if bsdf.two_sided { None } else { Some(spanned(at, false)) },
+            bsdf: None,
+            distribution: None,
+            alpha: None,
+            eta: None,
+            k: None,
+            specular_reflectance: None,
         };
+        if let Some(c) = &bsdf.conductor {
+            m.diffuse = None;
+            m.bsdf = Some(spanned(at, if c.rough.is_some() { "roughconductor" } else { "conductor" }.to_string()));
+            m.eta = color(c.eta);
+            m.k = color(c.k);
+            m.specular_reflectance = c.reflectance.and_then(color);
+            if let Some((d, alpha)) = &c.rough {
+                m.distribution = Some(spanned(at, d.clone()));
+                m.alpha = Some(spanned(at, *alpha));
+            }
+        }
         self.materials.insert(name.clone(), spanned(at, m));
         self.material_keys.push((name.clone(), bsdf.clone(), emission));
         spanned(at, name)
@@ -728,7 +817,7 @@ impl Translator<'_> {
             }
         }
         let bsdf = match bsdf {
-            None => Bsdf { diffuse: [DEFAULT_REFLECTANCE; 3], specular: [0.0; 3], glossiness: 0.0, two_sided: false, name: Some("default-diffuse".into()) },
+            None => Bsdf::phong([DEFAULT_REFLECTANCE; 3], [0.0; 3], 0.0, Some("default-diffuse".into())),
             Some(Some(b)) => b,
             Some(None) => return,
         };

@@ -1,0 +1,146 @@
+//! Conductors on the GPU: a smooth conductor's delta lobe under every method (a mirror of index
+//! eta + i k shows the constant environment times Mitsuba's Fresnel term, computed here in f64),
+//! light seen only in a mirror found by every light strategy (next event estimation cannot
+//! follow a delta lobe, so emission found through it counts in full), a one-sided rough
+//! conductor black from behind, and bad conductor parameters refused.
+//! (The microfacet lobes' sampling is tested in tests/chi2_sampling.rs; whole images against
+//! Mitsuba in tests/veach_mis.rs.)
+
+mod common;
+
+use common::*;
+use pathlab::method::{BsdfSampling, LightSampling, Method, MicrofacetSampling, Preset};
+use pathlab::scene::{Scene, SceneError};
+use pathlab::stats::z_test;
+
+/// Mitsuba's fresnel_conductor (fresnel.h), in f64: the reference for the kernel's f32 one.
+fn fresnel_conductor(cos_i: f64, eta: f64, k: f64) -> f64 {
+    let c2 = cos_i * cos_i;
+    let s2 = 1.0 - c2;
+    let s4 = s2 * s2;
+    let temp_1 = eta * eta - k * k - s2;
+    let a2pb2 = (temp_1 * temp_1 + 4.0 * k * k * eta * eta).max(0.0).sqrt();
+    let a = (0.5 * (a2pb2 + temp_1)).max(0.0).sqrt();
+    let term_1 = a2pb2 + c2;
+    let term_2 = 2.0 * cos_i * a;
+    let r_s = (term_1 - term_2) / (term_1 + term_2);
+    let term_3 = a2pb2 * c2 + s4;
+    let term_4 = term_2 * s2;
+    let r_p = r_s * (term_3 - term_4) / (term_3 + term_4);
+    0.5 * (r_s + r_p)
+}
+
+/// Every BSDF strategy and light strategy: the delta lobe is sampled whatever they are.
+fn all_strategies() -> Vec<Method> {
+    let mut methods: Vec<Method> = Preset::ALL.iter().map(|p| p.method()).collect();
+    for bsdf in [BsdfSampling::UniformSphere, BsdfSampling::UniformHemisphere, BsdfSampling::Cosine] {
+        methods.push(Method { bsdf, lights: LightSampling::MisBalance, ..Preset::Mis.method() });
+    }
+    methods.push(Method { microfacet: MicrofacetSampling::Ndf, ..Preset::Mis.method() });
+    methods
+}
+
+#[test]
+fn a_mirror_shows_the_environment_times_the_fresnel_term_for_every_method() {
+    // Copper's index at the three channels (Bitterli's Veach scene), and a perfect mirror.
+    let (eta, k) = ([0.200438, 0.924033, 1.10221], [3.91295, 2.45285, 2.14219]);
+    for angle in [0.0f64, 30.0, 60.0, 80.0, 89.0] {
+        let t = angle.to_radians();
+        // One pixel, a 1e-3 degree field of view: one direction, at `angle` from the normal +y.
+        let text = format!(
+            "[camera]\nposition = [0, 1, 0]\nlook_at = [{:.12}, {:.12}, 0]\nup = [0, 0, 1]\nfov_x = 1e-3\n\
+             [render]\nwidth = 1\nheight = 1\nmax_depth = 2\nenvironment = 0.5\n\
+             [materials.copper]\nbsdf = \"conductor\"\neta = {eta:?}\nk = {k:?}\nspecular_reflectance = 0.8\ntwo_sided = false\n\
+             [[rectangles]]\nmaterial = \"copper\"\ntransform = {{ rotate = {{ axis = [1, 0, 0], angle = -90 }}, scale = 1000 }}\n",
+            t.sin(),
+            1.0 - t.cos()
+        );
+        let s = scene(&text);
+        for method in all_strategies() {
+            let film = render(&s, method, 4, 1);
+            for c in 0..3 {
+                let expected = 0.5 * 0.8 * fresnel_conductor(t.cos(), eta[c], k[c]);
+                let got = film.mean[0][c] as f64;
+                assert!((got - expected).abs() <= 2e-4 * expected, "{angle} degrees, {}: channel {c} is {got}, Mitsuba's Fresnel term gives {expected}", method.name());
+            }
+        }
+    }
+}
+
+#[test]
+fn light_seen_only_in_a_mirror_is_found_by_every_light_strategy() {
+    // A camera looking down at a perfect mirror that reflects a sphere light it cannot see
+    // directly (the light is behind it). Next event estimation from the mirror's vertex
+    // contributes nothing (a delta lobe), so the emission found through the mirror must count
+    // in full for `nee` as for the others. Each image is z-tested against `plain` at 4x4 blocks
+    // (Šidák over the file's channels at alpha = 0.01, at least 99.75% of them passing).
+    let text = "[camera]\nposition = [0, 2, 0]\nlook_at = [0, 0, -2]\nup = [0, 1, 0]\nfov_x = 60\n\
+                [render]\nwidth = 32\nheight = 32\nmax_depth = 3\n\
+                [materials.mirror]\nbsdf = \"conductor\"\n[materials.lamp]\nemission = 4\n[materials.grey]\ndiffuse = 0.5\n\
+                [[spheres]]\ncenter = [0, 1.5, -6]\nradius = 1\nmaterial = \"lamp\"\n\
+                [[spheres]]\ncenter = [1.5, 0.5, -2]\nradius = 0.5\nmaterial = \"grey\"\n\
+                [[rectangles]]\nmaterial = \"mirror\"\ntransform = { rotate = { axis = [1, 0, 0], angle = -90 }, scale = 50 }\n";
+    let s = scene(text);
+    let reference = render(&s, Preset::Plain.method(), 4096, 7).downsample(4);
+    let methods = [Preset::Nee.method(), Preset::Mis.method(), Preset::Best.method(), Method { lights: LightSampling::MisBalance, ..Preset::Mis.method() }];
+    let mean: f64 = reference.mean.iter().map(|p| p[0] as f64).sum::<f64>() / reference.mean.len() as f64;
+    assert!(mean > 0.01, "the mirror shows no light (mean {mean})");
+    for (k, method) in methods.iter().enumerate() {
+        let film = render(&s, *method, 1024, 20 + k as u32).downsample(4);
+        let t = z_test(&reference, &film, 0.01 / methods.len() as f64);
+        assert!(t.pass_fraction >= 0.9975, "{}: {t:?}", method.name());
+    }
+}
+
+#[test]
+fn bad_conductor_parameters_are_refused_naming_the_field() {
+    let base = "[camera]\nposition = [0, 0, 1]\nlook_at = [0, 0, 0]\nup = [0, 1, 0]\nfov_x = 60\n\
+                [render]\nwidth = 4\nheight = 4\nmax_depth = 2\nenvironment = 1\n";
+    let cases = [
+        ("bsdf = \"roughconductor\"\nalpha = 0", "materials.m.alpha", "alpha must be > 0"),
+        ("bsdf = \"roughconductor\"\nalpha = -0.5", "materials.m.alpha", "alpha must be > 0"),
+        ("bsdf = \"roughconductor\"\nalpha = nan", "materials.m.alpha", "finite"),
+        ("bsdf = \"roughconductor\"\ndistribution = \"phong\"", "materials.m.distribution", "unknown distribution"),
+        ("bsdf = \"conductor\"\ndiffuse = 0.5", "materials.m.diffuse", "belongs to Phong materials"),
+        ("bsdf = \"conductor\"\nalpha = 0.1", "materials.m.alpha", "belongs to a roughconductor"),
+        ("alpha = 0.1", "materials.m.alpha", "belongs to conductors"),
+        ("bsdf = \"plastic\"", "materials.m.bsdf", "unknown bsdf"),
+        ("bsdf = \"conductor\"\neta = -1", "materials.m.eta", ">= 0"),
+    ];
+    for (material, field, message) in cases {
+        let text = format!("{base}[materials.m]\n{material}\n[[spheres]]\ncenter = [0, 0, -3]\nradius = 1\nmaterial = \"m\"\n");
+        match Scene::parse(&text, "c.toml") {
+            Err(SceneError::Invalid(d)) => {
+                let d = &d[0];
+                assert!(d.field == field && d.message.contains(message) && d.line >= 1, "{material}: {d}");
+            }
+            other => panic!("{material}: accepted ({:?})", other.map(|s| s.materials[0].clone())),
+        }
+    }
+    // Mitsuba clamps alpha to 1e-4; so does pathlab, saying so.
+    let text = format!("{base}[materials.m]\nbsdf = \"roughconductor\"\nalpha = 1e-6\n[[spheres]]\ncenter = [0, 0, -3]\nradius = 1\nmaterial = \"m\"\n");
+    let s = Scene::parse(&text, "c.toml").unwrap();
+    assert_eq!(s.materials[0].conductor.as_ref().unwrap().rough.unwrap().1, 1e-4);
+    assert!(s.warnings.iter().any(|w| w.message.contains("clamped")));
+}
+
+#[test]
+fn a_one_sided_rough_conductor_is_black_from_behind() {
+    // A camera under a one-sided rough conductor facing up, against a white environment:
+    // it sees the back, which reflects nothing; twosided, it reflects.
+    let text = |two_sided: bool| {
+        format!(
+            "[camera]\nposition = [0, -1, 0]\nlook_at = [0.2, 0, 0.1]\nup = [0, 0, 1]\nfov_x = 30\n\
+             [render]\nwidth = 8\nheight = 8\nmax_depth = 2\nenvironment = 1\n\
+             [materials.m]\nbsdf = \"roughconductor\"\ndistribution = \"ggx\"\nalpha = 0.3\ntwo_sided = {two_sided}\n\
+             [[rectangles]]\nmaterial = \"m\"\ntransform = {{ rotate = {{ axis = [1, 0, 0], angle = -90 }}, scale = 100 }}\n"
+        )
+    };
+    for method in [Preset::Plain.method(), Preset::Mis.method()] {
+        let back = render(&scene(&text(false)), method, 16, 3);
+        assert!(back.mean.iter().flatten().all(|&x| x == 0.0), "{}: the back of a one-sided conductor reflects", method.name());
+        let front = render(&scene(&text(true)), method, 64, 3);
+        let mean = front.mean.iter().flatten().map(|&x| x as f64).sum::<f64>() / (3 * front.mean.len()) as f64;
+        assert!(mean > 0.5, "{}: a twosided rough conductor of F = 1 reflects only {mean} of a white environment", method.name());
+    }
+}
