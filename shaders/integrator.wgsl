@@ -272,12 +272,11 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
         if (HAS_SHADING_NORMALS) {
             n_s = select(hit.shading_normal, -hit.shading_normal, dot(hit.shading_normal, n_g) < 0.0);
         }
-        let material = materials[hit.material];
-        let m = material_bsdf(material);
+        let m = material_bsdf(hit.material);
         let dim_base = DIM_FIRST_VERTEX + (depth - 1u) * dims_per_vertex();
         // A one-sided BSDF seen from behind (the side its surface normal points away from)
         // scatters nothing: Mitsuba's rule for BSDFs not wrapped in `twosided`.
-        let scatters = !from_inside || (material.flags & MATERIAL_ONE_SIDED) == 0u;
+        let scatters = !from_inside || (materials[hit.material].flags & MATERIAL_ONE_SIDED) == 0u;
 
         if (LIGHT_SAMPLING != LIGHTS_NONE && NUM_LIGHTS > 0u && scatters && !bsdf_is_delta(m)) {
             radiance += throughput * estimate_direct(id, dim_base, x, n_s, n_g, wo, m, hit.object, from_inside);

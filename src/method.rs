@@ -189,6 +189,12 @@ pub fn biased_demonstrations() -> [(&'static str, Method); 2] {
     ]
 }
 
+/// Named methods that are not presets of the study: `mis-balance`, `mis` with the balance
+/// heuristic (the second MIS heuristic of Veach's comparison).
+pub fn named_variants() -> [(&'static str, Method); 1] {
+    [("mis-balance", Method { lights: LightSampling::MisBalance, ..Preset::Mis.method() })]
+}
+
 impl Method {
     /// True when a deliberately biased demonstration strategy is part of the method.
     pub fn is_biased(&self) -> bool {
@@ -213,7 +219,7 @@ impl Method {
         let base = self.base();
         let mut name = if let Some(p) = base.preset() {
             p.name().to_string()
-        } else if let Some((name, _)) = biased_demonstrations().into_iter().find(|(_, m)| *m == base) {
+        } else if let Some((name, _)) = named_variants().into_iter().chain(biased_demonstrations()).find(|(_, m)| *m == base) {
             name.to_string()
         } else {
             format!("{}/{}/{}", self.sampler, self.bsdf, self.lights)
@@ -254,7 +260,7 @@ impl Method {
         if let Some(p) = Preset::from_name(name) {
             return Ok(p.method());
         }
-        if let Some((_, m)) = biased_demonstrations().into_iter().find(|(n, _)| *n == name) {
+        if let Some((_, m)) = named_variants().into_iter().chain(biased_demonstrations()).find(|(n, _)| *n == name) {
             return Ok(m);
         }
         let unknown = || UnknownName { what: "method", name: name.to_string(), known: method_names().join(", ") };
@@ -273,9 +279,9 @@ impl Method {
     }
 }
 
-/// Every named method (presets, then the biased demonstrations).
+/// Every named method (presets, named variants, then the biased demonstrations).
 pub fn method_names() -> Vec<&'static str> {
-    Preset::ALL.iter().map(|p| p.name()).chain(biased_demonstrations().map(|(n, _)| n)).collect()
+    Preset::ALL.iter().map(|p| p.name()).chain(named_variants().map(|(n, _)| n)).chain(biased_demonstrations().map(|(n, _)| n)).collect()
 }
 
 impl serde::Serialize for Method {

@@ -28,7 +28,10 @@ const ALL: &str = "plain,halton,cosine,phong,nee,mis,best,phong-lobe-only,nee-do
 fn quick_study_writes_every_output_and_judges_bias() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("study");
-    let run = pathlab().arg("study").arg(study()).arg("--out").arg(&out).args(["--quick", "--quiet", "--methods", ALL]).output().unwrap();
+    // Two regions, written for twice the quick size: scaled to 128x64.
+    let regions = dir.path().join("regions.toml");
+    std::fs::write(&regions, "size = [256, 128]\n[[region]]\nname = \"left\"\nx = 0\ny = 0\nwidth = 128\nheight = 128\n[[region]]\nname = \"a corner\"\nx = 240\ny = 112\nwidth = 16\nheight = 16\n").unwrap();
+    let run = pathlab().arg("study").arg(study()).arg("--out").arg(&out).args(["--quick", "--quiet", "--methods", ALL, "--regions"]).arg(&regions).output().unwrap();
     let stderr = String::from_utf8_lossy(&run.stderr);
     assert!(run.status.success(), "{stderr}");
     assert!(stderr.contains("wrote") && stderr.contains("report.md"), "{stderr}");
@@ -54,6 +57,12 @@ fn quick_study_writes_every_output_and_judges_bias() {
     }
     // 5 spp budgets x 2 seeds + 2 time budgets x 2 seeds per method.
     assert_eq!(results["runs"].as_array().unwrap().len(), methods.len() * 14);
+    // Every run measured both regions; each table row has their statistics.
+    for run in results["runs"].as_array().unwrap() {
+        let r = run["regions"].as_array().unwrap();
+        assert!(r.len() == 2 && r[0]["name"] == "left" && r[1]["rel_mse"].as_f64().is_some_and(|v| v.is_finite() && v >= 0.0), "{run}");
+    }
+    assert!(results["equal_time"].as_array().unwrap().iter().all(|r| r["regions"][1]["rel_mse"]["mean"].as_f64().is_some()));
     for v in results["verdicts"].as_array().unwrap() {
         let (name, detected, demo) = (v["method"].as_str().unwrap(), v["bias_detected"].as_bool().unwrap(), v["biased_demonstration"].as_bool().unwrap());
         assert_eq!(detected, demo, "{name}: {}", v["text"]);
@@ -66,9 +75,10 @@ fn quick_study_writes_every_output_and_judges_bias() {
         assert!(report.contains(heading), "{heading} missing from report.md");
     }
     assert!(report.contains("biased, as expected of this demonstration"));
+    assert!(report.contains("## Regions (equal time, 0.3 s)") && report.contains("| a corner |"), "no region table in report.md");
 
     // A rerun reuses every run and the cached reference.
-    let again = pathlab().arg("study").arg(study()).arg("--out").arg(&out).args(["--quick", "--quiet", "--methods", ALL]).output().unwrap();
+    let again = pathlab().arg("study").arg(study()).arg("--out").arg(&out).args(["--quick", "--quiet", "--methods", ALL, "--regions"]).arg(&regions).output().unwrap();
     let stderr = String::from_utf8_lossy(&again.stderr);
     assert!(again.status.success(), "{stderr}");
     assert!(stderr.contains("reference: reusing") && stderr.contains(&format!("{} runs reused", methods.len() * 14)), "{stderr}");

@@ -16,7 +16,7 @@ use super::{load_scene, SceneOverrides, EXIT_INTERRUPTED};
 
 #[derive(Args)]
 pub struct StudyArgs {
-    /// Scene file (TOML).
+    /// Scene file (TOML, or Mitsuba 3 XML).
     scene: PathBuf,
     /// Directory for the report, the reference and every run (created; a rerun continues).
     #[arg(long)]
@@ -49,6 +49,10 @@ pub struct StudyArgs {
     /// Target relMSE for the time-to-target column (default: what plain reaches at the largest spp).
     #[arg(long)]
     target: Option<f64>,
+    /// Named pixel rectangles (TOML: `size = [W, H]`, then `[[region]]` with name, x, y,
+    /// width, height), whose relMSE every run also measures: a region table in the report.
+    #[arg(long)]
+    regions: Option<PathBuf>,
     /// Seconds between checkpoints of the reference render.
     #[arg(long, default_value_t = 300.0)]
     checkpoint_every: f64,
@@ -93,6 +97,10 @@ pub fn run(args: StudyArgs) -> anyhow::Result<i32> {
         _ => None,
     };
     let display = args.overrides.apply(&mut scene, file_size.or(q.then_some((128, 64))))?;
+    let regions = match &args.regions {
+        Some(path) => pathlab::study::regions::load(path, scene.render.width, scene.render.height)?,
+        None => Vec::new(),
+    };
     let study = Study {
         scene,
         scene_path: args.scene.clone(),
@@ -102,6 +110,7 @@ pub fn run(args: StudyArgs) -> anyhow::Result<i32> {
         times,
         seeds: args.seeds.unwrap_or(if q { 2 } else { 3 }),
         reference,
+        regions,
         display,
         target: args.target,
         checkpoint_every: Duration::from_secs_f64(args.checkpoint_every),

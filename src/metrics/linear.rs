@@ -31,7 +31,8 @@ pub fn rel_mse_map(test: &Film, reference: &Film) -> Vec<f64> {
         .collect()
 }
 
-fn rel_sq(x: f64, r: f64) -> f64 {
+/// One term of relMSE: (x - ref)^2 / (ref^2 + 0.01).
+pub fn rel_sq(x: f64, r: f64) -> f64 {
     (x - r) * (x - r) / (r * r + REL_MSE_EPSILON)
 }
 

@@ -51,6 +51,15 @@ pub struct Row {
     pub efficiency: f64,
     /// Efficiency over `plain`'s at the same budget (when `plain` is in the study).
     pub efficiency_vs_plain: Option<f64>,
+    /// relMSE in each region of the study (`--regions`), over seeds.
+    pub regions: Vec<RegionStat>,
+}
+
+/// One region's relMSE over seeds.
+#[derive(Debug, Clone, Serialize)]
+pub struct RegionStat {
+    pub name: String,
+    pub rel_mse: Stat,
 }
 
 /// The rows of `table`, in method order, then budget order.
@@ -82,6 +91,15 @@ pub fn rows(records: &[RunRecord], table: Table, methods: &[Method], budgets: &[
                 pixel_samples_per_second: stat(|r| r.pixel_samples_per_second),
                 efficiency: 1.0 / (rel_mse.mean * seconds.mean).max(1e-300),
                 efficiency_vs_plain: None,
+                regions: runs[0]
+                    .regions
+                    .iter()
+                    .enumerate()
+                    .map(|(k, region)| RegionStat {
+                        name: region.name.clone(),
+                        rel_mse: Stat::of(&runs.iter().filter_map(|r| r.regions.get(k).map(|g| g.rel_mse)).collect::<Vec<_>>()),
+                    })
+                    .collect(),
             });
         }
     }

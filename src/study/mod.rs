@@ -10,6 +10,7 @@
 
 pub mod analysis;
 pub mod reference;
+pub mod regions;
 pub mod report;
 pub mod runs;
 pub mod verdict;
@@ -78,6 +79,8 @@ pub struct Study {
     pub times: Vec<f64>,
     pub seeds: u32,
     pub reference: ReferenceSource,
+    /// Named rectangles whose relMSE every run also measures (`--regions`), at the study's size.
+    pub regions: Vec<regions::Region>,
     pub display: DisplayTransform,
     /// Target relMSE for the time-to-target column (default: plain's at the largest spp).
     pub target: Option<f64>,
@@ -202,12 +205,12 @@ impl Study {
         for (done, spec) in specs.iter().enumerate() {
             reporter.update(done as f64, &spec.stem());
             let job = self.job(spec.method, spec.budget, spec.seed);
-            let record = match runs::cached(dir, spec, &job, &reference, &self.display) {
+            let record = match runs::cached(dir, spec, &job, &reference, &self.display, &self.regions) {
                 Some(r) if self.image_present(spec) => {
                     reused += 1;
                     r
                 }
-                _ => match runs::execute(dir, spec, &job, &reference, &self.display, self.keep_image(spec), gpu, pipelines, cancel)? {
+                _ => match runs::execute(dir, spec, &job, &reference, &self.display, &self.regions, self.keep_image(spec), gpu, pipelines, cancel)? {
                     Some(r) => r,
                     None => {
                         reporter.end();

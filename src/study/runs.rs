@@ -17,6 +17,7 @@ use crate::method::{BsdfSampling, LightSampling, Method, Sampler};
 use crate::output::{write_atomically, write_exr};
 use crate::render::{Budget, RenderJob, RenderOutcome};
 
+use super::regions::{self, Region, RegionError};
 use super::{Reference, StudyError, StudyMethod};
 
 named_enum! {
@@ -67,6 +68,9 @@ pub struct RunRecord {
     pub reference: String,
     pub display: String,
     pub adapter: String,
+    /// relMSE in each of the study's regions (`--regions`), in their order.
+    #[serde(default)]
+    pub regions: Vec<RegionError>,
 }
 
 /// What one run is.
@@ -94,14 +98,16 @@ pub fn image_path(dir: &Path, method: &str, spp: u64, seed: u32) -> PathBuf {
     dir.join("images").join(format!("{method}-{spp}spp-s{seed}.exr"))
 }
 
-/// A saved record of `spec`, if it was made against the same reference, scene and display.
-pub fn cached(dir: &Path, spec: &RunSpec, job: &RenderJob, reference: &Reference, display: &DisplayTransform) -> Option<RunRecord> {
+/// A saved record of `spec`, if it was made against the same reference, scene, display and
+/// regions.
+pub fn cached(dir: &Path, spec: &RunSpec, job: &RenderJob, reference: &Reference, display: &DisplayTransform, regions: &[Region]) -> Option<RunRecord> {
     let text = std::fs::read_to_string(dir.join("runs").join(format!("{}.json", spec.stem()))).ok()?;
     let record: RunRecord = serde_json::from_str(&text).ok()?;
     (record.reference == reference.description
         && record.display == display.to_string()
         && record.scene_hash == job.scene.content_hash()
-        && (record.width, record.height, record.max_depth) == (job.scene.render.width, job.scene.render.height, job.scene.render.max_depth))
+        && (record.width, record.height, record.max_depth) == (job.scene.render.width, job.scene.render.height, job.scene.render.max_depth)
+        && record.regions.iter().map(|r| &r.name).eq(regions.iter().map(|r| &r.name)))
         .then_some(record)
 }
 
@@ -114,6 +120,7 @@ pub fn execute(
     job: &RenderJob,
     reference: &Reference,
     display: &DisplayTransform,
+    study_regions: &[Region],
     keep_image: bool,
     gpu: &Gpu,
     pipelines: &PathTracerPipelines,
@@ -160,6 +167,10 @@ pub fn execute(
         reference: reference.description.clone(),
         display: display.to_string(),
         adapter: gpu.info.name.clone(),
+        regions: study_regions
+            .iter()
+            .map(|r| RegionError { name: r.name.clone(), rel_mse: regions::rel_mse(&outcome.film, &reference.film, r) })
+            .collect(),
     };
     if keep_image {
         let metadata = job.metadata(&outcome, &gpu.info.name);

@@ -4,7 +4,7 @@ use std::fmt::Write as _;
 
 use crate::display::LOG10_RANGE;
 
-use super::super::analysis::Stat;
+use super::super::analysis::{Row, Stat};
 use super::super::verdict::Verdict;
 use super::super::{Reference, Study};
 use super::Results;
@@ -95,6 +95,7 @@ pub fn report(
             r.efficiency_vs_plain.map_or("-".to_string(), |e| format!("{e:.2}x"))
         );
     }
+    region_table(w, &results.equal_time);
     let _ = writeln!(w, "\n## Convergence\n");
     let _ = writeln!(
         w,
@@ -146,3 +147,47 @@ pub fn report(
     md
 }
 
+
+/// The region table: every region's relMSE at the largest time budget for each method, and
+/// which strategy wins there. Methods are grouped by how they use light sampling: BSDF
+/// sampling only (`none`), light sampling only (`nee`, whose BSDF-sampled rays count no
+/// emitter), and both (`mis`, `mis-balance`); each group is represented by its best method in
+/// the region. The factor is the loser's relMSE over the winner's; "MIS vs better" is the best
+/// MIS method's relMSE over the better single strategy's (below 1: MIS beats both).
+fn region_table(w: &mut String, equal_time: &[Row]) {
+    use crate::method::LightSampling as L;
+    let Some(budget) = equal_time.iter().filter(|r| !r.regions.is_empty()).map(|r| r.budget).max_by(f64::total_cmp) else { return };
+    let rows: Vec<&Row> = equal_time.iter().filter(|r| r.budget == budget && !r.biased).collect();
+    let Some(first) = rows.first() else { return };
+    let _ = writeln!(w, "\n## Regions (equal time, {budget} s)\n");
+    let _ = writeln!(
+        w,
+        "relMSE in each region (mean over seeds), at the largest time budget. The last three columns compare the best method \
+         of each kind of light sampling in the region: BSDF sampling only (lights `none`), light sampling only (`nee`), \
+         and both (`mis`, `mis-balance`). The factor is the losing single strategy's relMSE over the winner's; MIS / better \
+         is the best MIS method's relMSE over the better single strategy's (below 1: MIS beats both).\n"
+    );
+    let header: Vec<String> = rows.iter().map(|r| format!("`{}`", r.method.name())).collect();
+    let _ = writeln!(w, "| region | {} | single-strategy winner | factor | MIS / better |", header.join(" | "));
+    let _ = writeln!(w, "|---|{}---|---|---|", "---|".repeat(rows.len()));
+    for (k, region) in first.regions.iter().enumerate() {
+        let value = |r: &Row| r.regions.get(k).map_or(f64::NAN, |g| g.rel_mse.mean);
+        let best_of = |kinds: &[L]| {
+            rows.iter().filter(|r| kinds.contains(&r.method.lights)).map(|r| (value(r), r.method.name())).filter(|(v, _)| v.is_finite()).min_by(|a, b| a.0.total_cmp(&b.0))
+        };
+        let cells: Vec<String> = rows.iter().map(|r| format!("{:.3e}", value(r))).collect();
+        let (bsdf, light, mis) = (best_of(&[L::None]), best_of(&[L::Nee]), best_of(&[L::Mis, L::MisBalance]));
+        let (winner, factor, better) = match (&bsdf, &light) {
+            (Some(b), Some(l)) if b.0 <= l.0 => (format!("BSDF sampling (`{}`)", b.1), format!("{:.1}x", l.0 / b.0), Some(b.0)),
+            (Some(b), Some(l)) => (format!("light sampling (`{}`)", l.1), format!("{:.1}x", b.0 / l.0), Some(l.0)),
+            (Some(b), None) => (format!("`{}` (no light-only method)", b.1), "-".into(), Some(b.0)),
+            (None, Some(l)) => (format!("`{}` (no BSDF-only method)", l.1), "-".into(), Some(l.0)),
+            (None, None) => ("-".into(), "-".into(), None),
+        };
+        let mis_vs = match (mis, better) {
+            (Some(m), Some(b)) => format!("{:.2} (`{}`)", m.0 / b, m.1),
+            _ => "-".into(),
+        };
+        let _ = writeln!(w, "| {} | {} | {winner} | {factor} | {mis_vs} |", region.name, cells.join(" | "));
+    }
+}
