@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
-# Reference render of the Cornell box fixture, tests/fixtures/cornell/, with the reference renderer
-# (Mitsuba 3, llvm_ad_rgb): Mitsuba's built-in mi.cornell_box() through mitsuba_ref.py, which
-# overrides its gaussian pixel filter with a box filter (one sample, one pixel), uses the
-# independent sampler and renders at WIDTH x HEIGHT (default 64x64); the integrator stays
-# Mitsuba's `path` with the scene's max_depth 8 (Mitsuba's convention: 1 = visible emitters only)
-# and default Russian roulette, unless MAX_DEPTH is set. It renders PASSES passes (default 64) of
-# SPP samples per pixel each (default 1024) with seeds SEED, SEED+1, ... (default 0) and writes:
+# Reference render of the Cornell box fixture, tests/fixtures/cornell/, by the reference renderer
+# (Mitsuba 3, llvm_ad_rgb) loading assets/scenes/cornell_box.xml itself, the file pathlab reads
+# (scripts/xml_reference.py: Mitsuba's -D for the size; the file's box filter, independent
+# sampler and path integrator with max_depth 8 and Mitsuba's default Russian roulette from
+# depth 5). The file is mi.cornell_box() (mitsuba3 src/python/python/util.py) written out, with a
+# box filter instead of its gaussian; MAX_DEPTH overrides its depth. It renders PASSES passes
+# (default 64) of SPP samples per pixel each (default 1024) at WIDTH x HEIGHT (default 64x64)
+# with seeds SEED, SEED+1, ... (default 0) and writes:
 #   reference.exr      mean image: linear float32 RGB, channels R, G, B
 #   reference_var.exr  per-pixel, per-channel variance of that mean (sample variance of the pass
 #                      images / PASSES), same layout; needs PASSES >= 2
@@ -23,17 +24,14 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 py=${MITSUBA_PYTHON:-/tmp/mitsuba-venv/bin/python}
-ref=${REFERENCE_RENDERER:-../shared/reference-renderer}
 w=${WIDTH:-64}; h=${HEIGHT:-64}; spp=${SPP:-1024}; passes=${PASSES:-64}; seed=${SEED:-0}
 out=${OUT:-tests/fixtures/cornell}
 [ -x "$py" ] || { echo "no Mitsuba python at $py (see the set-up above)" >&2; exit 1; }
-[ -f "$ref/mitsuba_ref.py" ] || { echo "no mitsuba_ref.py in $ref (set REFERENCE_RENDERER)" >&2; exit 1; }
 [ "$passes" -ge 2 ] || { echo "PASSES must be >= 2 for the variance of the mean" >&2; exit 1; }
 mkdir -p "$out"
-out=$(cd "$out" && pwd)
 depth=()
-[ -n "${MAX_DEPTH:-}" ] && depth=(--max-depth "$MAX_DEPTH")
-(cd "$ref" && "$py" mitsuba_ref.py cornell-box --variant llvm_ad_rgb --width "$w" --height "$h" \
-    --spp "$spp" --passes "$passes" --seed "$seed" "${depth[@]}" \
+[ -n "${MAX_DEPTH:-}" ] && depth=(-D "max_depth=$MAX_DEPTH")
+"$py" scripts/xml_reference.py assets/scenes/cornell_box.xml -D "resx=$w" -D "resy=$h" "${depth[@]}" \
+    --spp "$spp" --passes "$passes" --seed "$seed" \
     --out "$out/reference.exr" --var-out "$out/reference_var.exr" --png "$out/reference.png" \
-    --json-out "$out/reference.json")
+    --json-out "$out/reference.json"
