@@ -13,5 +13,12 @@ fn main() {
         // SAFETY: the process is single-threaded here.
         unsafe { std::env::set_var("NODEVICE_SELECT", "1") };
     }
+    // Rust ignores SIGPIPE, so printing to a closed pipe (`pathlab check s.toml | head -1`)
+    // would panic; the default action ends the process quietly, as for any Unix tool.
+    #[cfg(unix)]
+    // SAFETY: restoring a signal's default disposition before any thread starts.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     std::process::exit(cli::run());
 }

@@ -150,3 +150,21 @@ fn bad_command_line_values_are_refused() {
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("missing.toml"));
 }
+
+/// Output into a pipe closed early (`pathlab check s.toml | head -c 1`) ends the process
+/// quietly, as for any Unix tool, not with a panic.
+#[cfg(unix)]
+#[test]
+fn a_closed_output_pipe_is_not_a_panic() {
+    use std::process::Stdio;
+    let mut child = pathlab()
+        .args(["check", concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes/cornell_box.xml")])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
