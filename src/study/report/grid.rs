@@ -50,7 +50,8 @@ pub fn write(study: &Study, reference: &Reference) -> Result<u64, StudyError> {
             width: reference.film.width,
             height: reference.film.height,
             rgb: ref_display.to_rgb8(),
-            label: vec![format!("reference {} spp", reference.film.spp)],
+            // A reference from another renderer records no sample count (0).
+            label: vec![if reference.film.spp > 0 { format!("reference {} spp", reference.film.spp) } else { "reference".to_string() }],
         }));
         tiles.push(error_tile);
         rows.push((if m.biased { format!("{}\n(biased demo)", m.name) } else { m.name.clone() }, tiles));
