@@ -17,29 +17,9 @@
 
 mod common;
 
-use std::path::Path;
-
 use common::*;
-use pathlab::film::Film;
 use pathlab::method::{LightSampling, Method, MicrofacetSampling, Preset};
-use pathlab::output::read_exr_image;
 use pathlab::scene::Scene;
-use pathlab::stats::{sidak, z_test};
-
-const MIN_PASS: f64 = 0.9975;
-
-fn fixture(name: &str) -> std::path::PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/veach_mis").join(name)
-}
-
-/// Mitsuba's mean and the variance of that mean, as one film.
-fn reference() -> Film {
-    let mean = read_exr_image(&fixture("reference.exr")).expect("tests/fixtures/veach_mis/reference.exr").film;
-    let var = read_exr_image(&fixture("reference_var.exr")).expect("tests/fixtures/veach_mis/reference_var.exr").film;
-    let record: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(fixture("reference.json")).unwrap()).unwrap();
-    assert_eq!(record["mitsuba_version"], "3.9.1");
-    Film { spp: record["spp"].as_u64().unwrap(), variance: var.mean, ..mean }
-}
 
 /// Samples per pixel and block size: 4x4 blocks of 256 spp (4096 samples a cell). Not more: on
 /// the back wall, where the middle light hides part of the large one, Mitsuba's reference is
@@ -67,42 +47,12 @@ fn methods() -> Vec<Method> {
 
 #[test]
 fn every_method_and_microfacet_strategy_agrees_with_mitsuba_on_the_veach_scene() {
-    let reference = reference();
+    let reference = mitsuba_fixture("veach_mis");
     let defines = [
         ("resx".to_string(), reference.width.to_string()),
         ("resy".to_string(), reference.height.to_string()),
         ("max_depth".to_string(), "2".to_string()),
     ];
     let scene = Scene::load_with(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes/veach_mis.xml"), &defines).unwrap();
-    let methods = methods();
-    let alpha = sidak(0.01, methods.len() + 1);
-    let mut report = Vec::new();
-    let mut failed = Vec::new();
-    let mut mis_film = None;
-    for (k, method) in methods.iter().enumerate() {
-        let (spp, block) = plan(method);
-        let film = render(&scene, *method, spp, 900 + k as u32);
-        let z = z_test(&reference.downsample(block), &film.downsample(block), alpha);
-        report.push(format!(
-            "{} ({spp} spp, {block}x{block} blocks): {:.4} of {} channels pass |z| <= {:.2}; max |z| {:.2}, mean z {:+.3}",
-            method.name(),
-            z.pass_fraction,
-            z.channels,
-            z.threshold,
-            z.max_abs_z,
-            z.mean_z
-        ));
-        if z.pass_fraction < MIN_PASS {
-            failed.push(method.name());
-        }
-        if *method == Preset::Mis.method() {
-            mis_film = Some(film);
-        }
-    }
-    println!("{}", report.join("\n"));
-    assert!(failed.is_empty(), "disagree with Mitsuba: {failed:?}\n{}", report.join("\n"));
-    let mut biased = mis_film.unwrap();
-    biased.mean.iter_mut().flatten().for_each(|c| *c *= 1.05);
-    let z = z_test(&reference.downsample(4), &biased.downsample(4), alpha);
-    assert!(z.pass_fraction < MIN_PASS, "a 5% bias passes: {:.4}", z.pass_fraction);
+    agrees_with_reference(&reference, &scene, &methods(), plan, 900, Preset::Mis.method());
 }

@@ -103,3 +103,56 @@ pub fn triangle_light_methods() -> Vec<Method> {
     methods.push(Method { lights: LightSampling::MisBalance, ..Preset::Mis.method() });
     methods
 }
+
+/// A Mitsuba reference fixture (`tests/fixtures/NAME/`: reference.exr, reference_var.exr with
+/// the variance of its mean, reference.json): mean and variance as one film.
+#[allow(dead_code)]
+pub fn mitsuba_fixture(name: &str) -> Film {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures").join(name);
+    let read = |f: &str| pathlab::output::read_exr_image(&dir.join(f)).unwrap_or_else(|e| panic!("tests/fixtures/{name}/{f}: {e}")).film;
+    let (mean, var) = (read("reference.exr"), read("reference_var.exr"));
+    let record: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("reference.json")).unwrap()).unwrap();
+    assert_eq!(record["mitsuba_version"], "3.9.1");
+    Film { spp: record["spp"].as_u64().unwrap(), variance: var.mean, ..mean }
+}
+
+/// Renders `scene` with every method (sample count and block size from `plan`, seeds from
+/// `first_seed`) and z-tests each against `reference` on blocks, Šidák-corrected over the
+/// channels and over the renders plus one (the power check): at least 99.75% of a render's
+/// channels must pass. Then the render of `scaled` (its image times 1.05) must be rejected on
+/// its blocks. Panics with the report on any failure.
+#[allow(dead_code)]
+pub fn agrees_with_reference(reference: &Film, scene: &Scene, methods: &[Method], plan: impl Fn(&Method) -> (u64, u32), first_seed: u32, scaled: Method) {
+    use pathlab::stats::{sidak, z_test};
+    const MIN_PASS: f64 = 0.9975;
+    let alpha = sidak(0.01, methods.len() + 1);
+    let mut report = Vec::new();
+    let mut failed = Vec::new();
+    let mut power = None;
+    for (k, method) in methods.iter().enumerate() {
+        let (spp, block) = plan(method);
+        let film = render(scene, *method, spp, first_seed + k as u32);
+        let z = z_test(&reference.downsample(block), &film.downsample(block), alpha);
+        report.push(format!(
+            "{} ({spp} spp, {block}x{block} blocks): {:.4} of {} channels pass |z| <= {:.2}; max |z| {:.2}, mean z {:+.3}",
+            method.name(),
+            z.pass_fraction,
+            z.channels,
+            z.threshold,
+            z.max_abs_z,
+            z.mean_z
+        ));
+        if z.pass_fraction < MIN_PASS {
+            failed.push(method.name());
+        }
+        if *method == scaled && power.is_none() {
+            power = Some((film, block));
+        }
+    }
+    println!("{}", report.join("\n"));
+    assert!(failed.is_empty(), "disagree with the reference: {failed:?}\n{}", report.join("\n"));
+    let (mut biased, block) = power.expect("the scaled method is one of the methods");
+    biased.mean.iter_mut().flatten().for_each(|c| *c *= 1.05);
+    let z = z_test(&reference.downsample(block), &biased.downsample(block), alpha);
+    assert!(z.pass_fraction < MIN_PASS, "a 5% bias passes: {:.4}", z.pass_fraction);
+}
