@@ -254,6 +254,11 @@ impl std::str::FromStr for RrDepth {
     }
 }
 
+/// A refused override, named by its flag (`max_depth` is `--max-depth`).
+pub(crate) fn flag_error(e: pathlab::scene::OverrideError) -> anyhow::Error {
+    anyhow::anyhow!("--{} must be {}", e.field.replace('_', "-"), e.requirement)
+}
+
 /// Size, depth and display-transform overrides of the scene, shared by `study` and `advise`.
 #[derive(clap::Args)]
 pub(crate) struct SceneOverrides {
@@ -276,17 +281,15 @@ pub(crate) struct SceneOverrides {
 impl SceneOverrides {
     /// Applies size (else `fallback_size`) and depth to `scene`; returns the display transform.
     pub fn apply(&self, scene: &mut Scene, fallback_size: Option<(u32, u32)>) -> anyhow::Result<pathlab::display::DisplayTransform> {
-        if self.max_depth == Some(0) {
-            anyhow::bail!("--max-depth must be at least 1");
-        }
-        if let Some((w, h)) = self.size.or(fallback_size) {
-            scene.render.width = w;
-            scene.render.height = h;
-        }
-        scene.render.max_depth = self.max_depth.unwrap_or(scene.render.max_depth);
-        if let Some(RrDepth(rr)) = self.rr_depth {
-            scene.render.rr_depth = rr;
-        }
+        let size = self.size.or(fallback_size);
+        let overrides = pathlab::scene::Overrides {
+            width: size.map(|s| s.0),
+            height: size.map(|s| s.1),
+            max_depth: self.max_depth,
+            rr_depth: self.rr_depth.map(|RrDepth(rr)| rr),
+            spp: None,
+        };
+        overrides.apply(scene).map_err(flag_error)?;
         Ok(match self.display {
             Some(transfer) => pathlab::display::DisplayTransform { transfer, ..scene.display },
             None => scene.display,

@@ -11,6 +11,7 @@ use pathlab::estimate::target::Target;
 use pathlab::gpu::{adapter_summary, Gpu, PathTracerPipelines};
 use pathlab::method::{BsdfSampling, LightSampling, LightSelect, Method, MicrofacetSampling, Preset, Sampler, TriangleSampling};
 use pathlab::render::{ctrl_c_flag, default_output, Budget, CheckpointPlan, ErrorPlan, OutputFiles, RenderJob, Resume, MAX_SPP};
+use pathlab::scene::Overrides;
 use pathlab::shard::{default_part_name, shard_range};
 
 use pathlab::progress::Reporter as _;
@@ -136,17 +137,14 @@ pub(crate) fn method_of(preset: Preset, sampler: Option<Sampler>, bsdf: Option<B
 pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
     // Everything the user gave is checked before any GPU work.
     let mut scene = load_scene(&args.scene)?;
-    for (name, value) in [("--width", args.width), ("--height", args.height), ("--max-depth", args.max_depth)] {
-        if value == Some(0) {
-            bail!("{name} must be at least 1");
-        }
-    }
-    scene.render.width = args.width.unwrap_or(scene.render.width);
-    scene.render.height = args.height.unwrap_or(scene.render.height);
-    scene.render.max_depth = args.max_depth.unwrap_or(scene.render.max_depth);
-    if let Some(super::RrDepth(rr)) = args.rr_depth {
-        scene.render.rr_depth = rr;
-    }
+    let overrides = Overrides {
+        width: args.width,
+        height: args.height,
+        max_depth: args.max_depth,
+        rr_depth: args.rr_depth.map(|super::RrDepth(rr)| rr),
+        spp: None,
+    };
+    overrides.apply(&mut scene).map_err(super::flag_error)?;
     let spp = match args.spp {
         Some(0) => bail!("--spp must be at least 1"),
         Some(n) => n,

@@ -9,10 +9,10 @@ use clap::Args;
 
 use pathlab::gpu::{adapter_summary, Gpu, PathTracerPipelines};
 use pathlab::render::ctrl_c_flag;
-use pathlab::study::{parse_list, ReferenceSource, Study, StudyMethod, StudyOutcome};
+use pathlab::study::{parse_list, StudyOptions, StudyOutcome};
 
 use super::progress::Terminal;
-use super::{load_scene, SceneOverrides, EXIT_INTERRUPTED};
+use super::{load_scene, RrDepth, SceneOverrides, EXIT_INTERRUPTED};
 
 #[derive(Args)]
 pub struct StudyArgs {
@@ -69,53 +69,32 @@ pub struct StudyArgs {
 }
 
 pub fn run(args: StudyArgs) -> anyhow::Result<i32> {
-    let mut scene = load_scene(&args.scene)?;
-    let q = args.quick;
-    let methods = args.methods.clone().unwrap_or_else(|| "plain,halton,cosine,phong,nee,mis,best".into());
-    let methods = methods.split(',').map(str::trim).filter(|s| !s.is_empty()).map(StudyMethod::by_name).collect::<Result<Vec<_>, _>>()?;
-    let spp: Vec<u64> = parse_list(args.spp.as_deref().unwrap_or(if q { "1,4,10,64,256" } else { "1,4,10,64,1000" }), "--spp")?;
-    let times: Vec<f64> = parse_list(args.time.as_deref().unwrap_or(if q { "0.1,0.3" } else { "0.5,2,8" }), "--time")?;
+    let scene = load_scene(&args.scene)?;
     if !(args.checkpoint_every.is_finite() && args.checkpoint_every > 0.0) {
         bail!("--checkpoint-every must be a positive number of seconds");
     }
-    let reference = match &args.reference {
-        Some(path) => ReferenceSource::File(path.clone()),
-        None => {
-            let m = StudyMethod::by_name(&args.reference_method)?;
-            if m.biased {
-                bail!("--reference-method {} is a biased demonstration; a reference must be unbiased", m.name);
-            }
-            ReferenceSource::Render { method: m.method, spp: args.reference_spp.unwrap_or(if q { 4096 } else { 100_000 }) }
-        }
-    };
-    // Size: --size, else the reference file's, else --quick's, else the scene's.
-    let file_size = match &args.reference {
-        Some(p) if args.overrides.size.is_none() => {
-            let (film, _) = pathlab::output::read_exr(p)?;
-            Some((film.width, film.height))
-        }
-        _ => None,
-    };
-    let display = args.overrides.apply(&mut scene, file_size.or(q.then_some((128, 64))))?;
-    let regions = match &args.regions {
-        Some(path) => pathlab::study::regions::load(path, scene.render.width, scene.render.height)?,
-        None => Vec::new(),
-    };
-    let study = Study {
-        scene,
-        scene_path: args.scene.clone(),
-        out: args.out.clone(),
-        methods,
-        spp,
-        times,
-        seeds: args.seeds.unwrap_or(if q { 2 } else { 3 }),
-        reference,
-        regions,
-        display,
+    if args.overrides.max_depth == Some(0) {
+        bail!("--max-depth must be at least 1");
+    }
+    let options = StudyOptions {
+        methods: args.methods.as_deref().map(|m| m.split(',').map(str::trim).filter(|s| !s.is_empty()).map(String::from).collect()),
+        spp: args.spp.as_deref().map(|s| parse_list(s, "--spp")).transpose()?,
+        times: args.time.as_deref().map(|s| parse_list(s, "--time")).transpose()?,
+        seeds: args.seeds,
+        reference: args.reference.clone(),
+        reference_spp: args.reference_spp,
+        reference_method: Some(args.reference_method.clone()),
+        size: args.overrides.size,
+        max_depth: args.overrides.max_depth,
+        rr_depth: args.overrides.rr_depth.map(|RrDepth(rr)| rr),
+        display: args.overrides.display,
         target: args.target,
-        checkpoint_every: Duration::from_secs_f64(args.checkpoint_every),
-        command: std::env::args().map(|a| if a.contains(' ') { format!("'{a}'") } else { a }).collect::<Vec<_>>().join(" "),
+        regions: args.regions.clone(),
+        checkpoint_every: Some(Duration::from_secs_f64(args.checkpoint_every)),
+        quick: args.quick,
     };
+    let command = std::env::args().map(|a| if a.contains(' ') { format!("'{a}'") } else { a }).collect::<Vec<_>>().join(" ");
+    let study = options.study(scene, args.scene.clone(), args.out.clone(), command)?;
     let loaded = study.validate()?;
 
     let gpu = Gpu::new(args.adapter.as_deref())?;

@@ -12,6 +12,7 @@ pub mod hash;
 pub mod lights;
 pub mod mesh;
 pub mod mitsuba;
+pub mod overrides;
 mod raw;
 pub mod transform;
 mod validate;
@@ -23,6 +24,7 @@ use glam::DVec3;
 pub use diagnostic::{Diagnostic, SceneError, Severity};
 pub use lights::{AliasTable, Light};
 pub use mesh::Mesh;
+pub use overrides::{OverrideError, Overrides};
 pub use transform::Transform;
 
 // Most objects of each kind a scene may have: the capacities of the kernel's uniform buffers

@@ -9,6 +9,7 @@
 //! 5. `report`: `report.md`, `results.json`, the plots, the CSV and the image grid.
 
 pub mod analysis;
+pub mod options;
 pub mod reference;
 pub mod regions;
 pub mod report;
@@ -28,6 +29,7 @@ use crate::progress::{Reporter, Task};
 use crate::render::{warm_up, Budget, CheckpointError, RenderError, RenderJob};
 use crate::scene::Scene;
 
+pub use options::StudyOptions;
 pub use reference::{Reference, ReferenceSource};
 use runs::{RunRecord, RunSpec, Table};
 

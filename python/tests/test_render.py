@@ -1,0 +1,88 @@
+"""`render` is `pathlab render`: the same scene, method, seed and spp give the same image bit for
+bit (TOML and Mitsuba XML scenes); `Renderer.add` in pieces equals one render; the header."""
+
+import numpy as np
+import pytest
+
+import pathlab
+from conftest import CORNELL_XML, STUDY
+
+
+@pytest.mark.parametrize(
+    "scene, method, spp, seed, size",
+    [(STUDY, "mis", 16, 3, (64, 32)), (STUDY, "plain", 9, 0, (48, 24)), (CORNELL_XML, "best", 8, 1, (32, 32))],
+)
+def test_render_equals_cli_exr_bit_for_bit(cli, tmp_path, scene, method, spp, seed, size):
+    w, h = size
+    exr = tmp_path / "cli.exr"
+    cli("render", scene, "--method", method, "--spp", spp, "--seed", seed, "--width", w, "--height", h, "--variance", "-q", "-o", exr)
+    theirs = pathlab.read_exr(exr)
+    ours = pathlab.render(pathlab.load_scene(scene, width=w, height=h), method, spp=spp, seed=seed, variance=True)
+    assert ours.image.dtype == np.float32 and ours.image.shape == (h, w, 3)
+    assert np.array_equal(ours.image, theirs.image), "mean differs from the CLI's EXR"
+    assert np.array_equal(ours.variance, theirs.variance), "variance differs from the CLI's EXR"
+    assert ours.spp == theirs.spp == spp
+    # The header: every field the CLI writes, with the same values (the timing aside).
+    assert ours.metadata.keys() == theirs.metadata.keys()
+    for key in ours.metadata.keys() - {"render_seconds"}:
+        assert ours.metadata[key] == theirs.metadata[key], key
+    assert ours.rays == int(theirs.metadata["rays"])
+
+
+def test_renderer_add_in_pieces_equals_one_render():
+    scene = pathlab.load_scene(STUDY, width=40, height=20)
+    one = pathlab.render(scene, "mis", spp=23, seed=5, variance=True)
+    r = pathlab.Renderer(scene, "mis", seed=5)
+    images = []
+    for n in (1, 4, 18):
+        r.add(n)
+        images.append(r.image.copy())
+    assert r.spp == 23
+    assert np.array_equal(r.image, one.image)
+    assert np.array_equal(r.variance, one.variance)
+    assert r.render().metadata["spp"] == "23"
+    # Every snapshot was a render of its own spp: the first equals a 1-spp render.
+    assert np.array_equal(images[0], pathlab.render(scene, "mis", spp=1, seed=5).image)
+
+
+def test_scene_properties_and_with():
+    scene = pathlab.load_scene(STUDY)
+    assert scene.size == (1024, 512) and scene.max_depth == 2 and scene.rr_depth is None
+    assert [l["kind"] for l in scene.lights] == ["sphere", "sphere"]
+    small = scene.with_(width=64, height=32, max_depth=3, rr_depth=2)
+    assert small.size == (64, 32) and small.max_depth == 3 and small.rr_depth == 2
+    assert scene.size == (1024, 512), "with_ returns a copy"
+    assert small.with_(rr_depth=None).rr_depth is None
+    cornell = pathlab.load_scene(CORNELL_XML, defines={"spp": 16})
+    assert cornell.spp == 16 and cornell.lights[0]["kind"] == "mesh"
+    assert "pathlab.Scene(" in repr(cornell)
+
+
+def test_time_budget_and_target():
+    scene = pathlab.load_scene(STUDY, width=32, height=16)
+    timed = pathlab.render(scene, "mis", time=0.3)
+    assert timed.spp > 0 and 0.2 < timed.seconds < 5
+    target = pathlab.render(scene, "mis", target_rel_error=0.05, spp=4096)
+    assert target.error_estimate is not None
+    est = target.error_estimate
+    assert est["reached"] == (est["rel_mse"] <= 0.05)
+    assert target.metadata["target_rel_mse"] == "0.05"
+
+
+def test_write_and_read_exr_round_trip(cli, tmp_path):
+    scene = pathlab.load_scene(STUDY, width=32, height=16)
+    r = pathlab.render(scene, "nee", spp=8, variance=True)
+    path = tmp_path / "r.exr"
+    pathlab.write_exr(path, r)
+    back = pathlab.read_exr(path)
+    assert np.array_equal(back.image, r.image) and np.array_equal(back.variance, r.variance)
+    assert back.metadata == r.metadata and back.spp == 8
+    # The CLI reads what Python wrote (and scores it against itself perfectly).
+    out = cli("compare", path, path, "--json").stdout
+    assert '"rel_mse": 0.0' in out
+
+
+def test_adapters_and_device():
+    listed = pathlab.adapters()
+    assert listed and all("name" in a for a in listed)
+    assert pathlab.device()["name"] in [a["name"] for a in listed]

@@ -1,0 +1,102 @@
+//! A study's settings as a front-end gives them (the CLI's flags, Python's keywords), each
+//! optional, with the defaults of a full and of a quick study kept here, made into a `Study`.
+
+use std::path::PathBuf;
+use std::time::Duration;
+
+use crate::display::{DisplayTransform, Transfer};
+use crate::scene::{Overrides, Scene};
+
+use super::{ReferenceSource, Study, StudyError, StudyMethod};
+
+/// Every preset, the study's default methods.
+pub const DEFAULT_METHODS: [&str; 7] = ["plain", "halton", "cosine", "phong", "nee", "mis", "best"];
+
+/// What a study is asked for; `None` takes the default (a quick study's with `quick`).
+#[derive(Debug, Clone, Default)]
+pub struct StudyOptions {
+    /// Method names: presets and the biased demonstrations (default: every preset).
+    pub methods: Option<Vec<String>>,
+    /// Budgets of the equal-sample table (default 1,4,10,64,1000; quick 1,4,10,64,256).
+    pub spp: Option<Vec<u64>>,
+    /// Budgets of the equal-time table in seconds (default 0.5,2,8; quick 0.1,0.3).
+    pub times: Option<Vec<f64>>,
+    /// Seeds per cell (default 3; quick 2).
+    pub seeds: Option<u32>,
+    /// A reference EXR to load instead of rendering one.
+    pub reference: Option<PathBuf>,
+    /// Samples per pixel of a rendered reference (default 100000; quick 4096).
+    pub reference_spp: Option<u64>,
+    /// Method of a rendered reference (default `best`).
+    pub reference_method: Option<String>,
+    /// Image size (default: the reference file's, else quick's 128x64, else the scene's).
+    pub size: Option<(u32, u32)>,
+    pub max_depth: Option<u32>,
+    /// `Some(None)`: Russian roulette off.
+    pub rr_depth: Option<Option<u32>>,
+    /// Display transform of the display-referred metrics (default: the scene's).
+    pub display: Option<Transfer>,
+    /// Target relMSE of the time-to-target column.
+    pub target: Option<f64>,
+    /// A regions file (`study::regions`).
+    pub regions: Option<PathBuf>,
+    /// Interval between checkpoints of the reference render (default 5 minutes).
+    pub checkpoint_every: Option<Duration>,
+    /// The small study for trying things out and for CI.
+    pub quick: bool,
+}
+
+impl StudyOptions {
+    /// The study of `scene` (read from `scene_path`) into `out`; `command` is how it was asked
+    /// for, for the report. Checks names and sizes; `Study::validate` checks the rest.
+    pub fn study(&self, mut scene: Scene, scene_path: PathBuf, out: PathBuf, command: String) -> Result<Study, StudyError> {
+        let q = self.quick;
+        let names: Vec<String> = self.methods.clone().unwrap_or_else(|| DEFAULT_METHODS.iter().map(|s| s.to_string()).collect());
+        let methods = names.iter().map(|n| StudyMethod::by_name(n.trim())).collect::<Result<Vec<_>, _>>()?;
+        let reference = match &self.reference {
+            Some(path) => ReferenceSource::File(path.clone()),
+            None => {
+                let m = StudyMethod::by_name(self.reference_method.as_deref().unwrap_or("best"))?;
+                if m.biased {
+                    return Err(StudyError::Input(format!("reference method {} is a biased demonstration; a reference must be unbiased", m.name)));
+                }
+                ReferenceSource::Render { method: m.method, spp: self.reference_spp.unwrap_or(if q { 4096 } else { 100_000 }) }
+            }
+        };
+        // Size: given, else the reference file's, else quick's, else the scene's.
+        let file_size = match &self.reference {
+            Some(p) if self.size.is_none() => {
+                let (film, _) = crate::output::read_exr(p)?;
+                Some((film.width, film.height))
+            }
+            _ => None,
+        };
+        let size = self.size.or(file_size).or(q.then_some((128, 64)));
+        let overrides =
+            Overrides { width: size.map(|s| s.0), height: size.map(|s| s.1), max_depth: self.max_depth, rr_depth: self.rr_depth, spp: None };
+        overrides.apply(&mut scene).map_err(|e| StudyError::Input(e.to_string()))?;
+        let display = match self.display {
+            Some(transfer) => DisplayTransform { transfer, ..scene.display },
+            None => scene.display,
+        };
+        let regions = match &self.regions {
+            Some(path) => super::regions::load(path, scene.render.width, scene.render.height)?,
+            None => Vec::new(),
+        };
+        Ok(Study {
+            scene,
+            scene_path,
+            out,
+            methods,
+            spp: self.spp.clone().unwrap_or_else(|| if q { vec![1, 4, 10, 64, 256] } else { vec![1, 4, 10, 64, 1000] }),
+            times: self.times.clone().unwrap_or_else(|| if q { vec![0.1, 0.3] } else { vec![0.5, 2.0, 8.0] }),
+            seeds: self.seeds.unwrap_or(if q { 2 } else { 3 }),
+            reference,
+            regions,
+            display,
+            target: self.target,
+            checkpoint_every: self.checkpoint_every.unwrap_or(Duration::from_secs(300)),
+            command,
+        })
+    }
+}
