@@ -130,12 +130,18 @@ class _Progress:
 
     def _open(self, total: float, unit: str) -> None:
         if self.bar is None:
-            self.bar = self.tqdm(total=total, unit=unit, desc=self.description, leave=False)
+            whole = unit != "s"
+            self.bar = self.tqdm(total=int(total) if whole else total, unit=unit, desc=self.description, leave=False)
 
     def __call__(self, kind: str, position: float, total: float, text: str) -> None:
-        if kind in ("samples", "seconds"):
-            self._open(total, "spp" if kind == "samples" else "s")
-            self.bar.n = int(position) if kind == "samples" else round(position, 1)
+        if kind == "samples":
+            self._open(total, "spp")
+            self.bar.n = int(position)
+            self.bar.refresh()
+        elif kind == "seconds":
+            # A time budget: the bar runs over seconds, the samples so far beside it.
+            self._open(total, "s")
+            self.bar.n = round(position, 1)
             self.bar.set_postfix_str(text, refresh=False)
             self.bar.refresh()
         elif kind.startswith("begin-"):

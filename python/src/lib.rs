@@ -387,8 +387,8 @@ impl PyScene {
 // ---------------------------------------------------------------------------------------------
 // Methods and renders.
 
-fn choice<T: Named>(argument: &str, name: &str) -> PyResult<T> {
-    T::from_name(name).ok_or_else(|| PyValueError::new_err(format!("{argument}: unknown value '{name}'; one of {}", T::names().join(", "))))
+fn choice<T: Named>(argument: &'static str, name: &str) -> PyResult<T> {
+    pathlab::names::parse_name::<T>(argument, name).map_err(|e| PyValueError::new_err(format!("{argument}: {e}")))
 }
 
 fn method_of(method: &str, sampler: Option<&str>, bsdf: Option<&str>, lights: Option<&str>) -> PyResult<Method> {

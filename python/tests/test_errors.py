@@ -42,9 +42,9 @@ def small():
 
 
 def test_unknown_method_and_strategy():
-    with pytest.raises(ValueError, match="method: .*'nonsense'|method: .*nonsense"):
+    with pytest.raises(ValueError, match="method: unknown method `nonsense` \\(known: plain, "):
         pathlab.render(small(), "nonsense", spp=1)
-    with pytest.raises(ValueError, match="sampler: unknown value 'lattice'"):
+    with pytest.raises(ValueError, match="sampler: unknown sampler `lattice` \\(known: independent, "):
         pathlab.render(small(), "mis", spp=1, sampler="lattice")
     with pytest.raises(TypeError, match="method must be a str"):
         pathlab.render(small(), 3, spp=1)
@@ -101,3 +101,21 @@ def test_study_and_advise_refuse_bad_options(tmp_path):
         pathlab.study(small(), tmp_path, spp=4)
     with pytest.raises(ValueError, match="give target_rel_error or target_psnr"):
         pathlab.advise(small())
+
+
+def test_missing_vulkan_driver_says_how_to_install_one(tmp_path):
+    # A process whose Vulkan loader finds no driver (pointed at a manifest that does not exist).
+    import os
+    import subprocess
+    import sys
+
+    env = dict(os.environ, VK_ICD_FILENAMES=str(tmp_path / "none.json"), VK_DRIVER_FILES=str(tmp_path / "none.json"))
+    code = (
+        "import pathlab\n"
+        "try:\n    pathlab.device()\nexcept pathlab.GpuError as e:\n    print('GpuError:', e)\n"
+        "else:\n    print('no error')\n"
+    )
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    assert p.stdout.startswith("GpuError: no Vulkan, Metal or DX12 adapter found"), p.stdout
+    assert "apt-get install -y mesa-vulkan-drivers" in p.stdout

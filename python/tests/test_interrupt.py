@@ -13,8 +13,9 @@ import numpy as np
 import pathlab
 from conftest import STUDY
 
-# Long enough to be running when the signal comes (lavapipe renders ~10^7 samples/s).
-LONG = dict(width=256, height=128)
+# Long enough to be running when the signal comes (lavapipe renders ~10^7 samples/s), short
+# enough that a render which ignores the signal ends in seconds and fails the test, not hangs.
+LONG = dict(width=128, height=64)
 
 
 def interrupt_after(seconds):
@@ -35,7 +36,7 @@ def test_sigint_stops_a_render_within_a_second():
     timer, sent = interrupt_after(1.0)
     start = time.perf_counter()
     try:
-        pathlab.render(scene, "best", spp=1_000_000)
+        pathlab.render(scene, "best", time=6.0)
     except KeyboardInterrupt:
         raised = time.perf_counter()
     else:
@@ -55,7 +56,7 @@ def test_interrupted_renderer_continues_bit_for_bit():
     r = pathlab.Renderer(scene, "mis", seed=9)
     timer, sent = interrupt_after(0.8)
     try:
-        r.add(200_000)
+        r.add(20_000)
     except KeyboardInterrupt:
         latency = time.perf_counter() - sent["at"]
     else:
@@ -64,7 +65,7 @@ def test_interrupted_renderer_continues_bit_for_bit():
         timer.cancel()
     assert latency < 1.0
     done = r.spp
-    assert 0 < done < 200_000
+    assert 0 < done < 20_000
     r.add(7)
     small_total = done + 7
     assert np.array_equal(r.image, pathlab.render(scene, "mis", spp=small_total, seed=9).image)
@@ -84,11 +85,11 @@ def test_a_render_releases_the_gil():
     start = time.perf_counter()
     t.start()
     try:
-        r = pathlab.render(scene, "best", spp=512)
+        r = pathlab.render(scene, "best", time=0.5)
     finally:
         stop.set()
         t.join()
     during = [x for x in ticks if start + 0.1 < x < start + r.seconds]
     print(f"{len(during)} ticks of the other thread during a {r.seconds:.2f} s render")
-    # Holding the GIL, the render would let none through; released, ~200 per second.
-    assert r.seconds < 0.3 or len(during) >= 10
+    # Holding the GIL, the render would let none through; released, ~100 per second.
+    assert len(during) >= 10
