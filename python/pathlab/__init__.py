@@ -222,8 +222,6 @@ class Render:
     seconds: float
     rays: int
     metadata: Dict[str, str] = field(default_factory=dict)
-    #: True when Ctrl-C or a time limit stopped a render before its sample budget.
-    interrupted: bool = False
     #: A render to a target error: the estimate, whether it was reached, and its history.
     error_estimate: Optional[Dict[str, Any]] = None
 
@@ -243,7 +241,8 @@ class Render:
 
 
 def _render_of(parts: Tuple[Any, ...], variance: bool) -> Render:
-    image, var, spp, seconds, rays, metadata, interrupted, error = parts
+    # (An interrupted render raises KeyboardInterrupt instead of returning.)
+    image, var, spp, seconds, rays, metadata, _interrupted, error = parts
     return Render(
         image=image,
         variance=var if variance else None,
@@ -251,7 +250,6 @@ def _render_of(parts: Tuple[Any, ...], variance: bool) -> Render:
         seconds=seconds,
         rays=rays,
         metadata=dict(metadata),
-        interrupted=interrupted,
         error_estimate=json.loads(error) if error is not None else None,
     )
 

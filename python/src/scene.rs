@@ -1,0 +1,207 @@
+//! `pathlab.Scene`: a validated scene, its properties, and the keyword overrides of
+//! `load_scene` and `Scene.with_`.
+
+use std::path::PathBuf;
+
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use pathlab::scene::{Light, Overrides, Scene};
+
+use crate::SceneError;
+
+/// A validated scene: what `pathlab.load_scene` returns. Immutable; `with_` makes a changed copy.
+#[pyclass(frozen, name = "Scene", module = "pathlab")]
+pub(crate) struct PyScene {
+    pub(crate) scene: Scene,
+}
+
+pub(crate) fn scene_error(e: pathlab::scene::SceneError) -> PyErr {
+    // The exact text the CLI prints: `file:line:column: error: ...` (one line per finding).
+    SceneError::new_err(e.to_string())
+}
+
+/// Reads the keyword overrides of `load_scene` and `Scene.with_`; `what` names the call.
+pub(crate) fn overrides_of(kwargs: Option<&Bound<'_, PyDict>>, what: &str) -> PyResult<Overrides> {
+    let mut o = Overrides::default();
+    let Some(kwargs) = kwargs else { return Ok(o) };
+    for (key, value) in kwargs.iter() {
+        let key: String = key.extract()?;
+        let whole = |v: &Bound<'_, PyAny>| -> PyResult<u64> {
+            if v.is_instance_of::<pyo3::types::PyBool>() {
+                return Err(PyTypeError::new_err(format!("{what}: {key} must be an int, not bool")));
+            }
+            v.extract::<i64>().map_err(|_| {
+                PyTypeError::new_err(format!("{what}: {key} must be an int, not {}", type_name(v)))
+            }).and_then(|n| {
+                u64::try_from(n).ok().filter(|&n| n >= 1).ok_or_else(|| PyValueError::new_err(format!("{what}: {key} must be at least 1, not {n}")))
+            })
+        };
+        let small = |n: u64| u32::try_from(n).map_err(|_| PyValueError::new_err(format!("{what}: {key} must be below 2^32, not {n}")));
+        match key.as_str() {
+            "width" => o.width = Some(small(whole(&value)?)?),
+            "height" => o.height = Some(small(whole(&value)?)?),
+            "max_depth" => o.max_depth = Some(small(whole(&value)?)?),
+            "spp" => o.spp = Some(whole(&value)?),
+            "rr_depth" => {
+                o.rr_depth = Some(if value.is_none() || value.extract::<String>().is_ok_and(|s| s == "off") {
+                    None
+                } else {
+                    Some(small(whole(&value)?)?)
+                })
+            }
+            _ => {
+                return Err(PyTypeError::new_err(format!(
+                    "{what} got an unexpected keyword argument '{key}' (it takes width, height, max_depth, rr_depth, spp; \
+                     a Mitsuba scene's $name values go in defines={{...}})"
+                )))
+            }
+        }
+    }
+    Ok(o)
+}
+
+pub(crate) fn type_name(v: &Bound<'_, PyAny>) -> String {
+    v.get_type().name().map_or_else(|_| "?".into(), |n| n.to_string())
+}
+
+#[pyfunction]
+#[pyo3(signature = (path, defines, kwargs=None))]
+pub(crate) fn load_scene(py: Python<'_>, path: PathBuf, defines: Vec<(String, String)>, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<PyScene> {
+    let overrides = overrides_of(kwargs, "load_scene()")?;
+    if !defines.is_empty() && !pathlab::scene::is_mitsuba(&path) {
+        return Err(PyValueError::new_err(format!("load_scene(): defines are $name values of a Mitsuba XML scene; {} is not one", path.display())));
+    }
+    let mut scene = py.detach(|| Scene::load_with(&path, &defines)).map_err(scene_error)?;
+    overrides.apply(&mut scene).map_err(|e| PyValueError::new_err(format!("load_scene(): {e}")))?;
+    Ok(PyScene { scene })
+}
+
+pub(crate) fn vec3(v: impl Into<[f64; 3]>) -> (f64, f64, f64) {
+    let [x, y, z] = v.into();
+    (x, y, z)
+}
+
+#[pymethods]
+impl PyScene {
+    /// The file the scene was read from.
+    #[getter]
+    fn path(&self) -> PathBuf {
+        self.scene.path.clone()
+    }
+    #[getter]
+    fn width(&self) -> u32 {
+        self.scene.render.width
+    }
+    #[getter]
+    fn height(&self) -> u32 {
+        self.scene.render.height
+    }
+    /// (width, height) in pixels.
+    #[getter]
+    fn size(&self) -> (u32, u32) {
+        (self.scene.render.width, self.scene.render.height)
+    }
+    /// Path segments: 1 = emitters seen directly, 2 = direct lighting, ...
+    #[getter]
+    fn max_depth(&self) -> u32 {
+        self.scene.render.max_depth
+    }
+    /// Russian roulette from this scattering vertex on, or None.
+    #[getter]
+    fn rr_depth(&self) -> Option<u32> {
+        self.scene.render.rr_depth
+    }
+    /// The scene's default samples per pixel (`render.spp`), or None.
+    #[getter]
+    fn spp(&self) -> Option<u64> {
+        self.scene.render.spp
+    }
+    /// The canonical content hash (as `pathlab check` and every EXR header give it).
+    #[getter]
+    fn hash(&self) -> String {
+        self.scene.content_hash()
+    }
+    #[getter]
+    fn num_triangles(&self) -> usize {
+        self.scene.num_triangles()
+    }
+    #[getter]
+    fn num_materials(&self) -> usize {
+        self.scene.materials.len()
+    }
+    /// Findings that do not stop rendering, as the CLI prints them.
+    #[getter]
+    fn warnings(&self) -> Vec<String> {
+        self.scene.warnings.iter().map(ToString::to_string).collect()
+    }
+    /// The display transform of PNGs and display-referred metrics: (transfer, exposure).
+    #[getter]
+    fn display(&self) -> (String, f32) {
+        (self.scene.display.transfer.to_string(), self.scene.display.exposure)
+    }
+    /// The emitters: one dict per emissive sphere and per emissive mesh, with its radiance and
+    /// emitted power (luminance, the weight of power light selection).
+    #[getter]
+    fn lights<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
+        let s = &self.scene;
+        let mut out = Vec::new();
+        let mut mesh_power: Vec<(usize, usize, f64)> = Vec::new();
+        for light in s.lights() {
+            match light {
+                Light::Sphere(i) => {
+                    let d = PyDict::new(py);
+                    let sphere = &s.spheres[i];
+                    d.set_item("kind", "sphere")?;
+                    d.set_item("index", i)?;
+                    d.set_item("center", vec3(sphere.center))?;
+                    d.set_item("radius", sphere.radius)?;
+                    d.set_item("emission", vec3(s.materials[sphere.material].emission))?;
+                    d.set_item("power", s.light_power(light))?;
+                    out.push(d);
+                }
+                Light::Triangle { mesh, .. } => match mesh_power.last_mut() {
+                    Some((m, n, p)) if *m == mesh => {
+                        *n += 1;
+                        *p += s.light_power(light);
+                    }
+                    _ => mesh_power.push((mesh, 1, s.light_power(light))),
+                },
+            }
+        }
+        for (mesh, triangles, power) in mesh_power {
+            let d = PyDict::new(py);
+            d.set_item("kind", "mesh")?;
+            d.set_item("index", mesh)?;
+            d.set_item("triangles", triangles)?;
+            d.set_item("emission", vec3(s.materials[s.meshes[mesh].material].emission))?;
+            d.set_item("two_sided", s.meshes[mesh].two_sided_emission)?;
+            d.set_item("power", power)?;
+            out.push(d);
+        }
+        Ok(out)
+    }
+    /// A copy with render settings replaced: width, height, max_depth, rr_depth (an int, or
+    /// None / "off"), spp.
+    #[pyo3(signature = (**kwargs))]
+    fn with_(&self, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<PyScene> {
+        let overrides = overrides_of(kwargs, "Scene.with_()")?;
+        let mut scene = self.scene.clone();
+        overrides.apply(&mut scene).map_err(|e| PyValueError::new_err(format!("Scene.with_(): {e}")))?;
+        Ok(PyScene { scene })
+    }
+    fn __repr__(&self) -> String {
+        let r = &self.scene.render;
+        format!(
+            "pathlab.Scene('{}', {}x{}, max_depth={}, rr_depth={}, {} lights, {} triangles)",
+            self.scene.path.display(),
+            r.width,
+            r.height,
+            r.max_depth,
+            r.rr_depth.map_or("None".into(), |k| k.to_string()),
+            self.scene.lights().len(),
+            self.scene.num_triangles()
+        )
+    }
+}
