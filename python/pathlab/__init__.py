@@ -40,6 +40,7 @@ __all__ = [
     "load_scene",
     "render",
     "compare",
+    "to_display",
     "metrics",
     "study",
     "advise",
@@ -235,6 +236,11 @@ class Render:
         """(width, height) in pixels."""
         return (self.image.shape[1], self.image.shape[0])
 
+    def to_display(self, display: Optional[str] = None, *, exposure: Optional[float] = None) -> np.ndarray:
+        """The display image (float32 (H, W, 3) in [0, 1], for ``plt.imshow``): through
+        ``display`` (default: the header's transform, else sRGB) at ``exposure`` stops."""
+        return to_display(self.image, display or self.metadata.get("display", "srgb"), exposure=float(self.metadata.get("exposure", 0.0)) if exposure is None else exposure)
+
     def __repr__(self) -> str:
         w, h = self.size
         return f"pathlab.Render({w}x{h}, method={self.method!r}, spp={self.spp}, seconds={self.seconds:.3f}, rays={self.rays})"
@@ -386,6 +392,19 @@ class Renderer:
 
 # ---------------------------------------------------------------------------------------------
 # Comparing.
+
+
+def to_display(image: Union["Render", np.ndarray], display: str = "srgb", *, exposure: float = 0.0) -> np.ndarray:
+    """Linear radiance through a display transform (``"srgb"``, ``"gamma:2.2"``) at
+    ``exposure`` stops: float32 (H, W, 3) in [0, 1], what PNGs, figures and PSNR/SSIM/FLIP see."""
+    if isinstance(image, Render):
+        return image.to_display(display, exposure=exposure)
+    if not isinstance(display, str):
+        raise TypeError(f"display must be a str such as 'srgb' or 'gamma:2.2', not {type(display).__name__}")
+    if isinstance(exposure, bool) or not isinstance(exposure, (int, float)) or not np.isfinite(exposure):
+        raise ValueError(f"exposure must be a finite number of stops, not {exposure!r}")
+    return _pathlab.to_display(_image("image", image), display, float(exposure))
+
 
 
 def _variance_of(x: Any) -> Optional[np.ndarray]:

@@ -81,6 +81,7 @@ fn _pathlab(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(files::read_exr, m)?)?;
     m.add_function(wrap_pyfunction!(metrics::metric, m)?)?;
     m.add_function(wrap_pyfunction!(metrics::compare_json, m)?)?;
+    m.add_function(wrap_pyfunction!(metrics::to_display, m)?)?;
     m.add_function(wrap_pyfunction!(study::study_json, m)?)?;
     m.add_function(wrap_pyfunction!(study::advise_json, m)?)?;
     m.add_function(wrap_pyfunction!(device::adapters_json, m)?)?;

@@ -1,6 +1,6 @@
 //! Metrics on numpy arrays (dtype and shape checked by `pathlab/metrics.py`) and `compare`.
 
-use numpy::{PyReadonlyArray3, PyUntypedArrayMethods};
+use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray3, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
@@ -103,4 +103,15 @@ pub(crate) fn compare_json(
     let transform = transform_of(Some(display), exposure)?.expect("a display was given");
     let result = pathlab::metrics::compare_blocks(&t, &r, transform, with_variance, block).map_err(|e| PyValueError::new_err(e.to_string()))?;
     serde_json::to_string(&result).map_err(render_error)
+}
+
+/// The display image of linear radiance (float32 (H, W, 3), values in [0, 1]): what PNGs,
+/// figures and the display-referred metrics see.
+#[pyfunction]
+#[pyo3(signature = (image, display, exposure))]
+pub(crate) fn to_display<'py>(py: Python<'py>, image: PyReadonlyArray3<'py, f32>, display: &str, exposure: f32) -> PyResult<Bound<'py, PyAny>> {
+    let transform = transform_of(Some(display), exposure)?.expect("a display was given");
+    let shape = image.shape().to_vec();
+    let shown = display_image(&image, Some(&transform))?;
+    PyArray1::from_vec(py, shown.pixels.into_iter().flatten().collect()).reshape(shape).map(Bound::into_any)
 }

@@ -90,3 +90,18 @@ def test_compare_equals_cli_json(cli, tmp_path):
     assert pathlab.compare(pathlab.read_exr(pa), pathlab.read_exr(pb)) == theirs
     assert theirs["display"] == "gamma:1.6", "the reference's recorded display transform"
     assert theirs["z_test"] is not None
+
+
+def test_to_display_is_the_transform_compare_scores():
+    scene = pathlab.load_scene(STUDY, width=32, height=16)
+    a, b = pathlab.render(scene, "mis", spp=4), pathlab.render(scene, "best", spp=64)
+    # compare() scores the reference's recorded transform (gamma:1.6): the same PSNR as the
+    # metrics on the arrays to_display gives.
+    da, db = a.to_display(), b.to_display()
+    assert da.dtype == np.float32 and da.min() >= 0 and da.max() <= 1
+    assert pathlab.metrics.psnr(da, db) == pathlab.compare(a, b)["psnr"]
+    assert np.array_equal(pathlab.to_display(a.image, "gamma:1.6"), da)
+    srgb = pathlab.to_display(a.image)
+    x = np.clip(a.image.astype(np.float64), 0, 1)
+    expected = np.where(x <= 0.0031308, 12.92 * x, 1.055 * x ** (1 / 2.4) - 0.055)
+    assert np.abs(srgb - expected).max() < 1e-6
