@@ -35,13 +35,13 @@ impl Watch {
         }
         Python::attach(|py| {
             let mut result = py.check_signals();
-            if result.is_ok() {
-                if let Some(cb) = &self.callback {
-                    let mut last = self.last.lock().unwrap_or_else(|e| e.into_inner());
-                    if force || last.is_none_or(|t| t.elapsed() >= PROGRESS_INTERVAL) {
-                        *last = Some(Instant::now());
-                        result = cb.call1(py, (kind, position, total, text())).map(|_| ());
-                    }
+            if result.is_ok()
+                && let Some(cb) = &self.callback
+            {
+                let mut last = self.last.lock().unwrap_or_else(|e| e.into_inner());
+                if force || last.is_none_or(|t| t.elapsed() >= PROGRESS_INTERVAL) {
+                    *last = Some(Instant::now());
+                    result = cb.call1(py, (kind, position, total, text())).map(|_| ());
                 }
             }
             if let Err(e) = result {
