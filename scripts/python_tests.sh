@@ -18,7 +18,7 @@ cargo build --release --quiet --bin pathlab --manifest-path "$repo/Cargo.toml"
 start=$SECONDS
 [ -x "$venv/bin/python" ] || "$python" -m venv "$venv"
 "$venv/bin/python" -m pip install --quiet --disable-pip-version-check --upgrade pip
-"$venv/bin/pip" install --quiet --disable-pip-version-check pytest scikit-image tqdm numpy
+"$venv/bin/pip" install --quiet --disable-pip-version-check pytest scikit-image tqdm numpy mypy
 echo "python tests: test dependencies ready in $((SECONDS - start)) s"
 start=$SECONDS
 "$venv/bin/pip" install --quiet --disable-pip-version-check --force-reinstall --no-deps "$repo/python"

@@ -120,7 +120,7 @@ class _Progress:
         self.description = description
         if enabled:
             try:
-                from tqdm.auto import tqdm
+                from tqdm.auto import tqdm  # type: ignore[import-untyped]
             except ImportError:
                 warnings.warn("progress=True shows a tqdm bar: install tqdm (pip install tqdm)", stacklevel=3)
             else:
@@ -407,6 +407,10 @@ def to_display(image: Union["Render", np.ndarray], display: str = "srgb", *, exp
 
 
 
+def _spp(x: Any) -> int:
+    return x.spp if isinstance(x, Render) else 0
+
+
 def _variance_of(x: Any) -> Optional[np.ndarray]:
     if isinstance(x, Render) and x.variance is not None:
         return _image("variance", x.variance)
@@ -439,11 +443,11 @@ def compare(
     elif isinstance(exposure, bool) or not isinstance(exposure, (int, float)) or not np.isfinite(exposure):
         raise ValueError(f"exposure must be a finite number of stops, not {exposure!r}")
     block = _whole("block", block, 1)
-    spp = lambda x: x.spp if isinstance(x, Render) else 0  # noqa: E731
     out = _pathlab.compare_json(
-        t, _variance_of(test), spp(test), r, _variance_of(reference), spp(reference), display, float(exposure), block
+        t, _variance_of(test), _spp(test), r, _variance_of(reference), _spp(reference), display, float(exposure), block
     )
-    return json.loads(out)
+    result: Dict[str, Any] = json.loads(out)
+    return result
 
 
 # ---------------------------------------------------------------------------------------------
@@ -476,7 +480,8 @@ def study(scene: Union[Scene, PathLike], out_dir: PathLike, *, progress: bool = 
         text = _pathlab.study_json(s, out, options, _warnings_too(bar))
     finally:
         bar.close()
-    return json.loads(text)
+    results: Dict[str, Any] = json.loads(text)
+    return results
 
 
 def advise(
@@ -507,7 +512,8 @@ def advise(
         text = _pathlab.advise_json(s, names, target_rel_error, None if target_psnr is None else float(target_psnr), pilot, _name("display", display), _warnings_too(bar))
     finally:
         bar.close()
-    return json.loads(text)
+    table: List[Dict[str, Any]] = json.loads(text)
+    return table
 
 
 # ---------------------------------------------------------------------------------------------
@@ -545,13 +551,15 @@ def read_exr(path: PathLike) -> Render:
 
 def adapters() -> List[Dict[str, str]]:
     """Every graphics adapter wgpu can see, best first (name, device_type, backend, driver)."""
-    return json.loads(_pathlab.adapters_json())
+    listed: List[Dict[str, str]] = json.loads(_pathlab.adapters_json())
+    return listed
 
 
 def device() -> Dict[str, str]:
     """The adapter this process renders on (opening it if no render has yet). Raises
     ``GpuError`` saying how to install a Vulkan driver when there is none."""
-    return json.loads(_pathlab.device_info())
+    info: Dict[str, str] = json.loads(_pathlab.device_info())
+    return info
 
 
 def names() -> Dict[str, List[str]]:

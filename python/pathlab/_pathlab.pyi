@@ -3,7 +3,7 @@ package (``pathlab/__init__.py``), which checks arguments and builds ``Render``s
 the exceptions are the native ones, re-exported."""
 
 from os import PathLike
-from typing import Callable, List, Optional, Tuple, Union
+from typing import Any, Callable, Dict, List, Optional, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -57,7 +57,7 @@ class Scene:
     def display(self) -> Tuple[str, float]:
         """The display transform of the display-referred metrics: (transfer, exposure)."""
     @property
-    def lights(self) -> List[dict]:
+    def lights(self) -> List[Dict[str, Any]]:
         """One dict per emissive sphere (kind, index, center, radius, emission, power) and per
         emissive mesh (kind, index, triangles, emission, two_sided, power)."""
     def with_(
@@ -82,7 +82,7 @@ class NativeRenderer:
     def spp(self) -> int: ...
     def film(self) -> _Parts: ...
 
-def load_scene(path: Union[str, PathLike], defines: List[Tuple[str, str]], kwargs: Optional[dict] = None) -> Scene: ...
+def load_scene(path: Union[str, "PathLike[str]"], defines: List[Tuple[str, str]], kwargs: Optional[Dict[str, Any]] = None) -> Scene: ...
 def render(
     scene: Scene,
     method: str,
@@ -116,7 +116,7 @@ def compare_json(
     block: int,
 ) -> str: ...
 def to_display(image: npt.NDArray[np.float32], display: str, exposure: float) -> npt.NDArray[np.float32]: ...
-def study_json(scene: Scene, out: str, options: dict, progress: _Callback) -> str: ...
+def study_json(scene: Scene, out: str, options: Dict[str, Any], progress: _Callback) -> str: ...
 def advise_json(
     scene: Scene,
     methods: List[str],

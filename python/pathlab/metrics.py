@@ -12,7 +12,7 @@ Arrays are float (H, W, 3): ``float32`` is used as is, other float types are con
 
 from __future__ import annotations
 
-from typing import Any, Optional
+from typing import Any, Optional, Tuple
 
 import numpy as np
 
@@ -39,7 +39,7 @@ def _image(name: str, a: Any) -> np.ndarray:
     return out
 
 
-def _pair(test: Any, reference: Any):
+def _pair(test: Any, reference: Any) -> Tuple[np.ndarray, np.ndarray]:
     t, r = _image("test", test), _image("reference", reference)
     if t.shape != r.shape:
         raise ValueError(f"test is {t.shape} and reference {r.shape}: the shapes differ")
