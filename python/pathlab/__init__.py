@@ -384,7 +384,7 @@ class Renderer:
     @property
     def seconds(self) -> float:
         """Seconds of rendering over all adds."""
-        return self.render().seconds
+        return self._native.seconds
 
     def __repr__(self) -> str:
         return f"pathlab.Renderer({self.scene!r}, method={self.method!r}, spp={self.spp})"
@@ -503,9 +503,15 @@ def advise(
         target_rel_error = _positive("target_rel_error", target_rel_error)
     if target_psnr is not None and not (isinstance(target_psnr, (int, float)) and np.isfinite(target_psnr)):
         raise ValueError(f"target_psnr must be a finite number of dB, not {target_psnr!r}")
-    names = list(methods) if methods is not None else ["plain", "halton", "cosine", "phong", "nee", "mis", "best"]
-    for n in names:
-        _name("methods", n)
+    names: Optional[List[str]] = None  # None: every preset
+    if methods is not None:
+        if isinstance(methods, str) or not isinstance(methods, Sequence):
+            raise TypeError(f"methods must be a list of method names, not {type(methods).__name__}")
+        names = []
+        for n in methods:
+            if not isinstance(n, str):
+                raise TypeError(f"methods: a method name is a str, not {type(n).__name__}")
+            names.append(n)
     pilot = _positive("pilot_seconds", pilot_seconds)
     bar = _Progress(progress, "advise")
     try:

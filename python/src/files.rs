@@ -30,12 +30,10 @@ pub(crate) fn write_exr(
 #[pyfunction]
 #[allow(clippy::type_complexity)]
 pub(crate) fn read_exr<'py>(py: Python<'py>, path: PathBuf) -> PyResult<(Bound<'py, PyAny>, Option<Bound<'py, PyAny>>, u64, Vec<(String, String)>)> {
-    let exr = py.detach(|| pathlab::output::read_exr_image(&path)).map_err(|e| match &e {
-        pathlab::output::OutputError::Read { message, .. } if message.contains("No such file") => {
-            pyo3::exceptions::PyFileNotFoundError::new_err(e.to_string())
-        }
-        _ => render_error(e),
-    })?;
+    if !path.exists() {
+        return Err(pyo3::exceptions::PyFileNotFoundError::new_err(format!("{}: no such file", path.display())));
+    }
+    let exr = py.detach(|| pathlab::output::read_exr_image(&path)).map_err(render_error)?;
     let (image, variance) = film_arrays(py, &exr.film)?;
     // The checksum of the file's pixels (checked on reading) is the file's, not the render's.
     let metadata = exr.metadata.into_iter().filter(|(k, _)| k != pathlab::output::CHECKSUM_KEY).collect();

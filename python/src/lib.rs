@@ -56,7 +56,7 @@ pub(crate) fn render_error(e: impl std::fmt::Display) -> PyErr {
 /// The names a method, sampler, BSDF strategy or light strategy may take.
 #[pyfunction]
 fn names() -> Vec<(String, Vec<String>)> {
-    let presets: Vec<String> = pathlab::method::Preset::names().iter().map(|s| s.to_string()).chain(pathlab::method::named_variants().iter().map(|(n, _)| n.to_string())).collect();
+    let presets: Vec<String> = pathlab::method::method_names().iter().map(|s| s.to_string()).collect();
     let all = |v: Vec<&'static str>| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
     vec![
         ("method".into(), presets),

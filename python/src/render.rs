@@ -157,6 +157,12 @@ impl NativeRenderer {
         self.state.lock().unwrap_or_else(|e| e.into_inner()).renderer.spp()
     }
 
+    /// Seconds of rendering over all `add`s.
+    #[getter]
+    fn seconds(&self) -> f64 {
+        self.state.lock().unwrap_or_else(|e| e.into_inner()).seconds
+    }
+
     /// Reads the accumulators back: the parts of a `Render`.
     fn film<'py>(&self, py: Python<'py>) -> PyResult<RenderTuple<'py>> {
         let (readback, st_seconds, job, adapter) = py.detach(|| {

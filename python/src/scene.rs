@@ -22,35 +22,41 @@ pub(crate) fn scene_error(e: pathlab::scene::SceneError) -> PyErr {
     SceneError::new_err(e.to_string())
 }
 
+/// A whole number >= 1 given for `key` (a bool is not one).
+fn whole(what: &str, key: &str, v: &Bound<'_, PyAny>) -> PyResult<u64> {
+    if v.is_instance_of::<pyo3::types::PyBool>() {
+        return Err(PyTypeError::new_err(format!("{what}: {key} must be an int, not bool")));
+    }
+    let n = v.extract::<i64>().map_err(|_| PyTypeError::new_err(format!("{what}: {key} must be an int, not {}", type_name(v))))?;
+    u64::try_from(n).ok().filter(|&n| n >= 1).ok_or_else(|| PyValueError::new_err(format!("{what}: {key} must be at least 1, not {n}")))
+}
+
+fn small(what: &str, key: &str, n: u64) -> PyResult<u32> {
+    u32::try_from(n).map_err(|_| PyValueError::new_err(format!("{what}: {key} must be below 2^32, not {n}")))
+}
+
+/// `rr_depth` as Python gives it: a scattering vertex >= 1, or None / "off" (no Russian
+/// roulette).
+pub(crate) fn rr_depth_of(what: &str, v: &Bound<'_, PyAny>) -> PyResult<Option<u32>> {
+    if v.is_none() || v.extract::<String>().is_ok_and(|s| s == "off") {
+        return Ok(None);
+    }
+    Ok(Some(small(what, "rr_depth", whole(what, "rr_depth", v)?)?))
+}
+
 /// Reads the keyword overrides of `load_scene` and `Scene.with_`; `what` names the call.
 pub(crate) fn overrides_of(kwargs: Option<&Bound<'_, PyDict>>, what: &str) -> PyResult<Overrides> {
     let mut o = Overrides::default();
     let Some(kwargs) = kwargs else { return Ok(o) };
     for (key, value) in kwargs.iter() {
         let key: String = key.extract()?;
-        let whole = |v: &Bound<'_, PyAny>| -> PyResult<u64> {
-            if v.is_instance_of::<pyo3::types::PyBool>() {
-                return Err(PyTypeError::new_err(format!("{what}: {key} must be an int, not bool")));
-            }
-            v.extract::<i64>().map_err(|_| {
-                PyTypeError::new_err(format!("{what}: {key} must be an int, not {}", type_name(v)))
-            }).and_then(|n| {
-                u64::try_from(n).ok().filter(|&n| n >= 1).ok_or_else(|| PyValueError::new_err(format!("{what}: {key} must be at least 1, not {n}")))
-            })
-        };
-        let small = |n: u64| u32::try_from(n).map_err(|_| PyValueError::new_err(format!("{what}: {key} must be below 2^32, not {n}")));
+        let dimension = |v: &Bound<'_, PyAny>| small(what, &key, whole(what, &key, v)?);
         match key.as_str() {
-            "width" => o.width = Some(small(whole(&value)?)?),
-            "height" => o.height = Some(small(whole(&value)?)?),
-            "max_depth" => o.max_depth = Some(small(whole(&value)?)?),
-            "spp" => o.spp = Some(whole(&value)?),
-            "rr_depth" => {
-                o.rr_depth = Some(if value.is_none() || value.extract::<String>().is_ok_and(|s| s == "off") {
-                    None
-                } else {
-                    Some(small(whole(&value)?)?)
-                })
-            }
+            "width" => o.width = Some(dimension(&value)?),
+            "height" => o.height = Some(dimension(&value)?),
+            "max_depth" => o.max_depth = Some(dimension(&value)?),
+            "spp" => o.spp = Some(whole(what, &key, &value)?),
+            "rr_depth" => o.rr_depth = Some(rr_depth_of(what, &value)?),
             _ => {
                 return Err(PyTypeError::new_err(format!(
                     "{what} got an unexpected keyword argument '{key}' (it takes width, height, max_depth, rr_depth, spp; \

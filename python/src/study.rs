@@ -9,14 +9,14 @@ use pyo3::types::PyDict;
 
 use pathlab::display::Transfer;
 use pathlab::estimate::target::Target;
-use pathlab::method::Method;
+use pathlab::method::{Method, Preset};
 use pathlab::progress::Reporter as _;
 use pathlab::study::{StudyOptions, StudyOutcome};
 
 use crate::device::device;
 use crate::metrics::transform_of;
 use crate::render_error;
-use crate::scene::{type_name, PyScene};
+use crate::scene::{rr_depth_of, type_name, PyScene};
 use crate::watch::Watch;
 
 pub(crate) fn opt<'py, T: FromPyObjectOwned<'py>>(options: &Bound<'py, PyDict>, key: &str, what: &str) -> PyResult<Option<T>> {
@@ -41,11 +41,7 @@ pub(crate) fn study_json(py: Python<'_>, scene: &PyScene, out: PathBuf, options:
             return Err(PyTypeError::new_err(format!("study() got an unexpected keyword argument '{key}' (options: {})", KNOWN.join(", "))));
         }
     }
-    let rr_depth = match options.get_item("rr_depth")? {
-        None => None,
-        Some(v) if v.is_none() || v.extract::<String>().is_ok_and(|s| s == "off") => Some(None),
-        Some(v) => Some(Some(v.extract::<u32>().map_err(|_| PyTypeError::new_err("rr_depth must be an int >= 1, None or 'off'"))?)),
-    };
+    let rr_depth = options.get_item("rr_depth")?.map(|v| rr_depth_of("study()", &v)).transpose()?;
     let display = opt::<String>(options, "display", "a str such as 'srgb' or 'gamma:2.2'")?
         .map(|d| d.parse::<Transfer>().map_err(|e| PyValueError::new_err(format!("display: {}", e.0))))
         .transpose()?;
@@ -93,7 +89,7 @@ pub(crate) fn study_json(py: Python<'_>, scene: &PyScene, out: PathBuf, options:
 pub(crate) fn advise_json(
     py: Python<'_>,
     scene: &PyScene,
-    methods: Vec<String>,
+    methods: Option<Vec<String>>,
     target_rel_error: Option<f64>,
     target_psnr: Option<f64>,
     pilot_seconds: f64,
@@ -105,6 +101,8 @@ pub(crate) fn advise_json(
         (None, Some(db)) => Target::Psnr(db),
         _ => return Err(PyValueError::new_err("advise(): give target_rel_error or target_psnr (one of them)")),
     };
+    // Default: every preset (the methods whose error falls to any target).
+    let methods = methods.unwrap_or_else(|| Preset::ALL.iter().map(|p| p.name().to_string()).collect());
     let mut list = Vec::new();
     for name in &methods {
         let m = Method::from_name(name).map_err(|e| PyValueError::new_err(format!("methods: {e}")))?;

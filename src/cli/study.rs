@@ -9,7 +9,7 @@ use clap::Args;
 
 use pathlab::gpu::{adapter_summary, Gpu, PathTracerPipelines};
 use pathlab::render::ctrl_c_flag;
-use pathlab::study::{parse_list, StudyOptions, StudyOutcome};
+use pathlab::study::{parse_list, StudyError, StudyOptions, StudyOutcome};
 
 use super::progress::Terminal;
 use super::{load_scene, RrDepth, SceneOverrides, EXIT_INTERRUPTED};
@@ -73,9 +73,6 @@ pub fn run(args: StudyArgs) -> anyhow::Result<i32> {
     if !(args.checkpoint_every.is_finite() && args.checkpoint_every > 0.0) {
         bail!("--checkpoint-every must be a positive number of seconds");
     }
-    if args.overrides.max_depth == Some(0) {
-        bail!("--max-depth must be at least 1");
-    }
     let options = StudyOptions {
         methods: args.methods.as_deref().map(|m| m.split(',').map(str::trim).filter(|s| !s.is_empty()).map(String::from).collect()),
         spp: args.spp.as_deref().map(|s| parse_list(s, "--spp")).transpose()?,
@@ -94,7 +91,10 @@ pub fn run(args: StudyArgs) -> anyhow::Result<i32> {
         quick: args.quick,
     };
     let command = std::env::args().map(|a| if a.contains(' ') { format!("'{a}'") } else { a }).collect::<Vec<_>>().join(" ");
-    let study = options.study(scene, args.scene.clone(), args.out.clone(), command)?;
+    let study = options.study(scene, args.scene.clone(), args.out.clone(), command).map_err(|e| match e {
+        StudyError::Override(o) => super::flag_error(o),
+        e => e.into(),
+    })?;
     let loaded = study.validate()?;
 
     let gpu = Gpu::new(args.adapter.as_deref())?;

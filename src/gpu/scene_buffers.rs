@@ -57,13 +57,13 @@ pub const BSDF_KIND_PHONG: u32 = 0;
 pub const BSDF_KIND_CONDUCTOR: u32 = 1;
 /// Material kind: rough conductor (Torrance-Sparrow).
 pub const BSDF_KIND_ROUGH_CONDUCTOR: u32 = 2;
-/// Material flag: a rough conductor's distribution is GGX (else Beckmann).
-pub const MATERIAL_GGX: u32 = 4;
 
 /// Material flag: emits.
 pub const MATERIAL_EMISSIVE: u32 = 1;
 /// Material flag: the BSDF is one-sided (black seen from behind).
 pub const MATERIAL_ONE_SIDED: u32 = 2;
+/// Material flag: a rough conductor's distribution is GGX (else Beckmann).
+pub const MATERIAL_GGX: u32 = 4;
 
 /// A triangle as the kernel reads it (`Triangle`, bvh.wgsl): vertices, material, the light it
 /// is (`u32::MAX`: none) and flags.

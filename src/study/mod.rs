@@ -37,6 +37,9 @@ use runs::{RunRecord, RunSpec, Table};
 pub enum StudyError {
     #[error("{0}")]
     Input(String),
+    /// A size or depth override that is impossible (named by the scene file's field).
+    #[error(transparent)]
+    Override(#[from] crate::scene::OverrideError),
     #[error(transparent)]
     Render(#[from] RenderError),
     #[error(transparent)]

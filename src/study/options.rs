@@ -5,12 +5,10 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 use crate::display::{DisplayTransform, Transfer};
+use crate::method::Preset;
 use crate::scene::{Overrides, Scene};
 
 use super::{ReferenceSource, Study, StudyError, StudyMethod};
-
-/// Every preset, the study's default methods.
-pub const DEFAULT_METHODS: [&str; 7] = ["plain", "halton", "cosine", "phong", "nee", "mis", "best"];
 
 /// What a study is asked for; `None` takes the default (a quick study's with `quick`).
 #[derive(Debug, Clone, Default)]
@@ -51,8 +49,11 @@ impl StudyOptions {
     /// for, for the report. Checks names and sizes; `Study::validate` checks the rest.
     pub fn study(&self, mut scene: Scene, scene_path: PathBuf, out: PathBuf, command: String) -> Result<Study, StudyError> {
         let q = self.quick;
-        let names: Vec<String> = self.methods.clone().unwrap_or_else(|| DEFAULT_METHODS.iter().map(|s| s.to_string()).collect());
-        let methods = names.iter().map(|n| StudyMethod::by_name(n.trim())).collect::<Result<Vec<_>, _>>()?;
+        // Default: every preset.
+        let methods = match &self.methods {
+            Some(names) => names.iter().map(|n| StudyMethod::by_name(n.trim())).collect::<Result<Vec<_>, _>>()?,
+            None => Preset::ALL.iter().map(|p| StudyMethod::by_name(p.name())).collect::<Result<Vec<_>, _>>()?,
+        };
         let reference = match &self.reference {
             Some(path) => ReferenceSource::File(path.clone()),
             None => {
@@ -74,7 +75,7 @@ impl StudyOptions {
         let size = self.size.or(file_size).or(q.then_some((128, 64)));
         let overrides =
             Overrides { width: size.map(|s| s.0), height: size.map(|s| s.1), max_depth: self.max_depth, rr_depth: self.rr_depth, spp: None };
-        overrides.apply(&mut scene).map_err(|e| StudyError::Input(e.to_string()))?;
+        overrides.apply(&mut scene)?;
         let display = match self.display {
             Some(transfer) => DisplayTransform { transfer, ..scene.display },
             None => scene.display,
