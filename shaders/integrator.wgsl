@@ -132,8 +132,10 @@ fn sample_triangle_emitter(l: u32, x: vec3f, u: vec2f) -> EmitterSample {
 }
 
 // The contribution of one light sample, picked with probability `prob`: f |cos| / (prob pdf)
-// times the emission, unless shadowed, weighted against BSDF sampling under MIS. n_s: shading normal, n_g: geometric normal, both on wo's side.
-fn direct_light(es: EmitterSample, prob: f32, origin: vec3f, n_s: vec3f, n_g: vec3f, wo: vec3f, m: Bsdf) -> vec3f {
+// times the emission, unless shadowed, weighted against BSDF sampling under MIS. x: the shading
+// point, origin: x offset off its surface; n_s: shading normal, n_g: geometric normal, both on
+// wo's side.
+fn direct_light(es: EmitterSample, prob: f32, x: vec3f, origin: vec3f, n_s: vec3f, n_g: vec3f, wo: vec3f, m: Bsdf) -> vec3f {
     // Density of the light strategy: selection times the light's own.
     let pdf = prob * es.pdf;
     let cos_i = dot(es.wi, n_s);
@@ -143,8 +145,14 @@ fn direct_light(es: EmitterSample, prob: f32, origin: vec3f, n_s: vec3f, n_g: ve
         // Directions below the geometric surface do not scatter (for both strategies).
         contributes = contributes && dot(es.wi, n_g) > 0.0;
     }
+    // The shadow ray runs from the offset origin to the sampled point itself, stopping short of
+    // it by a relative 1e-4 (Mitsuba's spawn_ray_to). Run along wi from the offset origin
+    // instead, its end would be displaced by the offset too: past the plane of a light that
+    // faces the offset direction at a slant, so that the light hid its own sample.
+    let to_light = x + es.wi * es.dist - origin;
+    let shadow_dist = length(to_light);
     // The branch spares GPUs the shadow ray of samples that cannot contribute.
-    if (contributes && !occluded(origin, es.wi, es.dist * (1.0 - 1e-4), es.skip)) {
+    if (contributes && !occluded(origin, to_light / shadow_dist, shadow_dist * (1.0 - 1e-4), es.skip)) {
         return path_weight(e.f, cos_i, pdf) * es.emission * mis_weight(pdf, e.pdf);
     }
     return vec3f(0.0);
@@ -161,11 +169,11 @@ fn estimate_direct(id: SampleId, dim_base: u32, x: vec3f, n_s: vec3f, n_g: vec3f
         // itself folds away. No `continue`: the loops stay simple counted ones.
         for (var l = 0u; l < NUM_SPHERE_LIGHTS; l++) {
             let u = sample_2d(id.pixel, id.index, dim_base + 4u + 2u * l, id.seed);
-            radiance += direct_light(sample_sphere_emitter(l, x, u, vertex_object, from_inside), 1.0, origin, n_s, n_g, wo, m);
+            radiance += direct_light(sample_sphere_emitter(l, x, u, vertex_object, from_inside), 1.0, x, origin, n_s, n_g, wo, m);
         }
         for (var l = NUM_SPHERE_LIGHTS; l < NUM_LIGHTS; l++) {
             let u = sample_2d(id.pixel, id.index, dim_base + 4u + 2u * l, id.seed);
-            radiance += direct_light(sample_triangle_emitter(l, x, u), 1.0, origin, n_s, n_g, wo, m);
+            radiance += direct_light(sample_triangle_emitter(l, x, u), 1.0, x, origin, n_s, n_g, wo, m);
         }
     } else {
         let chosen = select_light(sample_1d(id.pixel, id.index, dim_base + 4u, id.seed));
@@ -176,7 +184,7 @@ fn estimate_direct(id: SampleId, dim_base: u32, x: vec3f, n_s: vec3f, n_g: vec3f
         } else {
             es = sample_triangle_emitter(chosen.index, x, u);
         }
-        radiance += direct_light(es, chosen.prob, origin, n_s, n_g, wo, m);
+        radiance += direct_light(es, chosen.prob, x, origin, n_s, n_g, wo, m);
     }
     return radiance;
 }
