@@ -35,6 +35,8 @@ emission = 20
 [[meshes]]
 file = "ico$k.ply"
 material = "grey"
+# Flat, as measured before meshes without normals were given smooth ones (Mitsuba's rule).
+face_normals = true
 [[spheres]]
 center = [1.5, 1.5, 1.5]
 radius = 0.3

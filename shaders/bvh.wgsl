@@ -63,10 +63,37 @@ fn triangle_at(i: u32) -> Triangle {
     return triangles[i];
 }
 
-// Whether the triangle emits along w, a direction arriving at it: on the side its winding
-// normal cross(p1 - p0, p2 - p0) faces, or on both where it is two-sided.
-fn triangle_emits_along(tri: Triangle, w: vec3f) -> bool {
-    return dot(cross(tri.p1 - tri.p0, tri.p2 - tri.p0), w) < 0.0 || (tri.flags & TRIANGLE_TWO_SIDED) != 0u;
+// The shading normal of triangle i at barycentrics `bary` (of p1 and p2): its vertex normals
+// interpolated where it has them, else n, its unit winding normal.
+fn triangle_shading_normal(i: u32, tri: Triangle, n: vec3f, bary: vec2f) -> vec3f {
+    if (HAS_SHADING_NORMALS && (tri.flags & TRIANGLE_HAS_NORMALS) != 0u) {
+        let tn = triangle_normals[i];
+        let interpolated = (1.0 - bary.x - bary.y) * tn.n0 + bary.x * tn.n1 + bary.y * tn.n2;
+        return select(n, normalize(interpolated), dot(interpolated, interpolated) > 0.0);
+    }
+    return n;
+}
+
+// Barycentrics (of p1 and p2) of a point p in the triangle's plane: the solution of
+// p - p0 = b1 e1 + b2 e2 in the least-squares sense (Cramer's rule on the normal equations).
+fn triangle_barycentrics(tri: Triangle, p: vec3f) -> vec2f {
+    let e1 = tri.p1 - tri.p0;
+    let e2 = tri.p2 - tri.p0;
+    let d = p - tri.p0;
+    let d11 = dot(e1, e1);
+    let d12 = dot(e1, e2);
+    let d22 = dot(e2, e2);
+    let d1 = dot(d, e1);
+    let d2 = dot(d, e2);
+    return vec2f(d22 * d1 - d12 * d2, d11 * d2 - d12 * d1) / (d11 * d22 - d12 * d12);
+}
+
+// Whether the triangle emits along w, a direction arriving at a point of it whose shading normal
+// is n_s: on the side n_s faces, or on both where it is two-sided. Mitsuba decides the emitting
+// side in the shading frame (Frame3f::cos_theta(si.wi) > 0 in its area emitter); for a
+// triangle without vertex normals that is the side of its winding normal cross(p1 - p0, p2 - p0).
+fn triangle_emits_along(tri: Triangle, n_s: vec3f, w: vec3f) -> bool {
+    return dot(n_s, w) < 0.0 || (tri.flags & TRIANGLE_TWO_SIDED) != 0u;
 }
 
 // Traversal steps taken by this invocation so far, and whether the guard stopped one.

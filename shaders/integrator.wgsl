@@ -123,11 +123,17 @@ fn sample_sphere_emitter(l: u32, x: vec3f, u: vec2f, vertex_object: u32, from_in
     return EmitterSample(ls.wi, ls.dist, ls.pdf, emission, l);
 }
 
-// Triangle light l: emits towards x when x is on its front side, or it is two-sided.
+// Triangle light l: emits towards x when x is on the front side of the sampled point (in its
+// shading frame), or it is two-sided.
 fn sample_triangle_emitter(l: u32, x: vec3f, u: vec2f) -> EmitterSample {
-    let tri = triangle_at(light_table[l].object);
+    let i = light_table[l].object;
+    let tri = triangle_at(i);
     let ls = sample_triangle_light(tri.p0, tri.p1, tri.p2, x, u);
-    let emission = select(vec3f(0.0), materials[tri.material].emission, triangle_emits_along(tri, ls.wi));
+    var n_s = cross(tri.p1 - tri.p0, tri.p2 - tri.p0);
+    if (HAS_SHADING_NORMALS) {
+        n_s = triangle_shading_normal(i, tri, normalize(n_s), triangle_barycentrics(tri, x + ls.wi * ls.dist));
+    }
+    let emission = select(vec3f(0.0), materials[tri.material].emission, triangle_emits_along(tri, n_s, ls.wi));
     return EmitterSample(ls.wi, ls.dist, ls.pdf, emission, INVALID);
 }
 
@@ -247,7 +253,7 @@ fn radiance_along(hit: Hit, ray_d: vec3f) -> vec3f {
     let emission = materials[hit.material].emission;
     if (NUM_TRIANGLES > 0u && hit.object >= first_triangle_object()) {
         let tri = triangle_at(hit.object - first_triangle_object());
-        return select(vec3f(0.0), emission, triangle_emits_along(tri, ray_d));
+        return select(vec3f(0.0), emission, triangle_emits_along(tri, hit.shading_normal, ray_d));
     }
     return emission;
 }
@@ -270,15 +276,20 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
     // Segments of the path so far.
     var depth = 1u;
     loop {
-        // Scattering vertex: geometric normal turned towards the viewer (two-sided surfaces),
-        // the shading normal turned to the same side.
+        // Scattering vertex. The side the viewer is on is decided in the shading frame, as
+        // Mitsuba does (Frame3f::cos_theta(si.wi) > 0): `from_inside` (the back of a one-sided
+        // BSDF, which scatters nothing) and the side the shading normal n_s is turned to (a
+        // two-sided BSDF's frame, as Mitsuba's `twosided` flips it). The geometric normal n_g
+        // is turned to the viewer's geometric side: rays leave on that side, and directions
+        // below it do not scatter.
         let x = ray_o + ray_d * hit.t;
         let wo = -ray_d;
-        let from_inside = dot(hit.normal, wo) < 0.0;
+        var from_inside = dot(hit.normal, wo) < 0.0;
         let n_g = select(hit.normal, -hit.normal, from_inside);
         var n_s = n_g;
         if (HAS_SHADING_NORMALS) {
-            n_s = select(hit.shading_normal, -hit.shading_normal, dot(hit.shading_normal, n_g) < 0.0);
+            from_inside = dot(hit.shading_normal, wo) < 0.0;
+            n_s = select(hit.shading_normal, -hit.shading_normal, from_inside);
         }
         let m = material_bsdf(hit.material);
         let dim_base = DIM_FIRST_VERTEX + (depth - 1u) * dims_per_vertex();

@@ -87,13 +87,7 @@ fn intersect_scene(o: vec3f, d: vec3f) -> Hit {
         if (th.index != INVALID) {
             let tri = triangle_at(th.index);
             let n = normalize(cross(tri.p1 - tri.p0, tri.p2 - tri.p0));
-            var shading = n;
-            if (HAS_SHADING_NORMALS && (tri.flags & TRIANGLE_HAS_NORMALS) != 0u) {
-                let tn = triangle_normals[th.index];
-                let interpolated = (1.0 - th.bary.x - th.bary.y) * tn.n0 + th.bary.x * tn.n1 + th.bary.y * tn.n2;
-                shading = select(n, normalize(interpolated), dot(interpolated, interpolated) > 0.0);
-            }
-            hit = Hit(th.t, n, tri.material, first_triangle_object() + th.index, shading);
+            hit = Hit(th.t, n, tri.material, first_triangle_object() + th.index, triangle_shading_normal(th.index, tri, n, th.bary));
         }
     }
     return hit;

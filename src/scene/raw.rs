@@ -34,6 +34,8 @@ pub(crate) struct RawMesh {
     pub file: Spanned<String>,
     pub material: Spanned<String>,
     pub transform: Option<Spanned<RawTransform>>,
+    /// Flat shading with the face normals (default false: the file's vertex normals, or smooth
+    /// ones recomputed where it has none, as Mitsuba's `face_normals`).
     pub face_normals: Option<Spanned<bool>>,
     /// Reverses every triangle's winding: the front side (of emission and of one-sided
     /// materials) becomes the back (Mitsuba's `flip_normals`).

@@ -11,7 +11,7 @@ use toml::Spanned;
 use crate::display::{DisplayTransform, Transfer};
 
 use super::diagnostic::SourceMap;
-use super::mesh::{self, shapes, Mesh, MeshData};
+use super::mesh::{self, shapes, Mesh, MeshData, Shading};
 use super::raw::{RawColor, RawMaterial, RawRotations, RawScale, RawScene, RawTransform};
 use super::transform::Transform;
 use super::{
@@ -265,9 +265,9 @@ type Resolve<'r> = dyn FnMut(&mut Checker, &Spanned<String>, &str) -> usize + 'r
 fn check_meshes(ck: &mut Checker, raw: &RawScene, materials: &[Material], resolve: &mut Resolve) -> Vec<Mesh> {
     let base = ck.file.parent().map(Path::to_path_buf).unwrap_or_default();
     let mut meshes = Vec::new();
-    let mut add = |ck: &mut Checker, table: String, source: String, data: MeshData, transform: Transform, face_normals: bool,
+    let mut add = |ck: &mut Checker, table: String, source: String, data: MeshData, transform: Transform, shading: Shading,
                    flip_normals: bool, two_sided_emission: bool, material: usize, span: Range<usize>| {
-        let (mut placed, placement) = mesh::place(&data, &transform, face_normals);
+        let (mut placed, placement) = mesh::place(&data, &transform, shading);
         if flip_normals {
             placed.flip_normals();
         }
@@ -321,10 +321,11 @@ fn check_meshes(ck: &mut Checker, raw: &RawScene, materials: &[Material], resolv
                 message: note.clone(),
             });
         }
-        let face_normals = m.face_normals.as_ref().is_some_and(|f| *f.get_ref());
+        // Mitsuba's rule: smooth unless `face_normals`, with normals recomputed where the file has none.
+        let shading = if m.face_normals.as_ref().is_some_and(|f| *f.get_ref()) { Shading::Faceted } else { Shading::Smooth };
         let two_sided = m.two_sided_emission.as_ref().is_some_and(|f| *f.get_ref());
         let flip = m.flip_normals.as_ref().is_some_and(|f| *f.get_ref());
-        add(ck, table, file.display().to_string(), data, transform, face_normals, flip, two_sided, material, span);
+        add(ck, table, file.display().to_string(), data, transform, shading, flip, two_sided, material, span);
     }
     for (kind, list, make) in [("rectangles", &raw.rectangles, shapes::rectangle as fn() -> MeshData), ("cubes", &raw.cubes, shapes::cube)] {
         for (i, s) in list.iter().enumerate() {
@@ -335,7 +336,7 @@ fn check_meshes(ck: &mut Checker, raw: &RawScene, materials: &[Material], resolv
             let transform = check_transform(ck, s.transform.as_ref(), &format!("{table}.transform"));
             let two_sided = s.two_sided_emission.as_ref().is_some_and(|f| *f.get_ref());
             let flip = s.flip_normals.as_ref().is_some_and(|f| *f.get_ref());
-            add(ck, table.clone(), table, make(), transform, true, flip, two_sided, material, span);
+            add(ck, table.clone(), table, make(), transform, Shading::Faceted, flip, two_sided, material, span);
         }
     }
     meshes

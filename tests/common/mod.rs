@@ -120,18 +120,20 @@ pub fn mitsuba_fixture(name: &str) -> Film {
 /// `first_seed`) and z-tests each against `reference` on blocks, Šidák-corrected over the
 /// channels and over the renders plus one (the power check): at least 99.75% of a render's
 /// channels must pass. Then the render of `scaled` (its image times 1.05) must be rejected on
-/// its blocks. Panics with the report on any failure.
+/// its blocks. Panics with the report on any failure; returns the renders, in `methods`' order.
 #[allow(dead_code)]
-pub fn agrees_with_reference(reference: &Film, scene: &Scene, methods: &[Method], plan: impl Fn(&Method) -> (u64, u32), first_seed: u32, scaled: Method) {
+pub fn agrees_with_reference(reference: &Film, scene: &Scene, methods: &[Method], plan: impl Fn(&Method) -> (u64, u32), first_seed: u32, scaled: Method) -> Vec<Film> {
     use pathlab::stats::{sidak, z_test};
     const MIN_PASS: f64 = 0.9975;
     let alpha = sidak(0.01, methods.len() + 1);
     let mut report = Vec::new();
     let mut failed = Vec::new();
     let mut power = None;
+    let mut films = Vec::new();
     for (k, method) in methods.iter().enumerate() {
         let (spp, block) = plan(method);
         let film = render(scene, *method, spp, first_seed + k as u32);
+        films.push(film.clone());
         let z = z_test(&reference.downsample(block), &film.downsample(block), alpha);
         report.push(format!(
             "{} ({spp} spp, {block}x{block} blocks): {:.4} of {} channels pass |z| <= {:.2}; max |z| {:.2}, mean z {:+.3}",
@@ -155,4 +157,5 @@ pub fn agrees_with_reference(reference: &Film, scene: &Scene, methods: &[Method]
     biased.mean.iter_mut().flatten().for_each(|c| *c *= 1.05);
     let z = z_test(&reference.downsample(block), &biased.downsample(block), alpha);
     assert!(z.pass_fraction < MIN_PASS, "a 5% bias passes: {:.4}", z.pass_fraction);
+    films
 }

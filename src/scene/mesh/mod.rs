@@ -93,9 +93,6 @@ pub struct Placement {
     pub degenerate: usize,
 }
 
-/// The mesh in world space: positions through `transform`, normals through its inverse
-/// transpose (dropped when `face_normals`), windings reversed by a mirroring transform so that
-/// faces keep their side, and zero-area triangles dropped.
 impl MeshData {
     /// Reverses every triangle's winding and every vertex normal: front and back swap
     /// (Mitsuba's `flip_normals`).
@@ -109,12 +106,25 @@ impl MeshData {
     }
 }
 
-pub fn place(data: &MeshData, transform: &Transform, face_normals: bool) -> (MeshData, Placement) {
+/// How a placed mesh is shaded.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Shading {
+    /// Face normals throughout (Mitsuba's `face_normals`; the built-in shapes).
+    Faceted,
+    /// The file's vertex normals, or, for a file without any, smooth normals recomputed from
+    /// the faces as Mitsuba does (`vertex_normals`).
+    Smooth,
+}
+
+/// The mesh in world space: positions through `transform`, normals through its inverse
+/// transpose (recomputed from the world-space faces where the file has none; none with
+/// `Shading::Faceted`), windings reversed by a mirroring transform so that faces keep their
+/// side, and zero-area triangles dropped.
+pub fn place(data: &MeshData, transform: &Transform, shading: Shading) -> (MeshData, Placement) {
     let positions: Vec<DVec3> = data.positions.iter().map(|&p| transform.point(p)).collect();
-    let normals = if face_normals { Vec::new() } else { data.normals.iter().map(|&n| transform.normal(n)).collect() };
     let flip = transform.swaps_handedness();
     let mut placement = Placement::default();
-    let triangles = data
+    let triangles: Vec<[u32; 3]> = data
         .triangles
         .iter()
         .filter(|t| {
@@ -125,7 +135,33 @@ pub fn place(data: &MeshData, transform: &Transform, face_normals: bool) -> (Mes
         })
         .map(|&[a, b, c]| if flip { [a, c, b] } else { [a, b, c] })
         .collect();
+    let normals = match shading {
+        Shading::Faceted => Vec::new(),
+        Shading::Smooth if data.normals.is_empty() => vertex_normals(&positions, &triangles),
+        Shading::Smooth => data.normals.iter().map(|&n| transform.normal(n)).collect(),
+    };
     (MeshData { positions, normals, triangles, notes: Vec::new() }, placement)
+}
+
+/// Smooth vertex normals for a mesh without any, as Mitsuba's `Mesh::recompute_vertex_normals`
+/// makes them (Thürmer and Wüthrich 1998, "Computing vertex normals from polygonal facets"):
+/// at each vertex, the sum of the unit normals of the faces around it, each weighted by the
+/// face's interior angle at that vertex, normalised. Faces of zero area add nothing; a vertex no
+/// face uses gets the zero vector (the kernel then takes the face normal). Vertices are shared
+/// as the file shares them: an OBJ vertex is one distinct position/texture/normal index triple,
+/// as in Mitsuba's OBJ reader.
+pub fn vertex_normals(positions: &[DVec3], triangles: &[[u32; 3]]) -> Vec<DVec3> {
+    let mut normals = vec![DVec3::ZERO; positions.len()];
+    for t in triangles {
+        let p = t.map(|i| positions[i as usize]);
+        let n = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+        for k in 0..3 {
+            // The interior angle at corner k, between its two edges.
+            let (a, b) = (p[(k + 1) % 3] - p[k], p[(k + 2) % 3] - p[k]);
+            normals[t[k] as usize] += n * a.cross(b).length().atan2(a.dot(b));
+        }
+    }
+    normals.iter().map(|n| n.normalize_or_zero()).collect()
 }
 
 /// Checks every vertex, normal and index: finite values, indices within the vertex list.

@@ -64,7 +64,7 @@ pub fn to_toml(path: &Path, defines: &[(String, String)], out_dir: &Path) -> Res
     let (mut raw, _, _) = translate(path, defines)?;
     for m in &mut raw.meshes {
         let m = m.get_mut();
-        let file = PathBuf::from(m.file.get_ref());
+        let file = path.parent().unwrap_or(Path::new("")).join(m.file.get_ref());
         let relative = relative_to(&file, out_dir);
         m.file = Spanned::new(m.file.span(), relative.display().to_string());
     }
@@ -104,7 +104,14 @@ fn translate(path: &Path, defines: &[(String, String)]) -> Result<(RawScene, Sou
         bsdfs: BTreeMap::new(),
         shape_count: 0,
     };
-    let raw = t.scene(path, &loaded.objects);
+    let mut raw = t.scene(path, &loaded.objects);
+    // Mesh files as the scene model names them: relative to the main file's folder (where the
+    // validation looks), each found beside the XML file that names it.
+    let main_dir = path.parent().unwrap_or(Path::new(""));
+    for m in raw.iter_mut().flat_map(|r| r.meshes.iter_mut()) {
+        let m = m.get_mut();
+        m.file = Spanned::new(m.file.span(), relative_to(Path::new(m.file.get_ref()), main_dir).display().to_string());
+    }
     let mut diagnostics = t.diagnostics;
     if let Some(v) = loaded.version.as_deref().filter(|v| !v.starts_with("3.")) {
         diagnostics.push(Diagnostic {
