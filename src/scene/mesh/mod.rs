@@ -184,3 +184,32 @@ pub(crate) fn check(path: &Path, data: &MeshData, line_of_vertex: impl Fn(usize)
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The unit cube's 8 shared corners, each face split into two triangles along one diagonal
+    /// or the other: a corner lies in one or two triangles of each of its three faces, but its
+    /// angles there sum to a right angle either way, so angle weighting gives every corner the
+    /// symmetric normal (+-1, +-1, +-1) / sqrt(3), where area or count weighting would tilt it
+    /// towards the faces whose diagonal runs through it.
+    #[test]
+    fn recomputed_vertex_normals_weigh_faces_by_their_angle_at_the_vertex() {
+        let positions: Vec<DVec3> = (0..8).map(|i| DVec3::new((i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64) * 2.0 - 1.0).collect();
+        // Faces outward, counter-clockwise: (a, b, c, d), split as (a, b, c) + (a, c, d), or along the other diagonal.
+        let faces = [[0, 2, 3, 1], [4, 5, 7, 6], [0, 1, 5, 4], [2, 6, 7, 3], [0, 4, 6, 2], [1, 3, 7, 5]];
+        let mut triangles = Vec::new();
+        for (k, [a, b, c, d]) in faces.into_iter().enumerate() {
+            if k % 2 == 0 { triangles.extend([[a, b, c], [a, c, d]]) } else { triangles.extend([[a, b, d], [b, c, d]]) }
+        }
+        let normals = vertex_normals(&positions, &triangles);
+        for (p, n) in positions.iter().zip(&normals) {
+            assert!((*n - *p / 3f64.sqrt()).length() < 1e-12, "corner {p}: normal {n}");
+        }
+        // A vertex no face uses has none.
+        let mut more = positions.clone();
+        more.push(DVec3::ZERO);
+        assert_eq!(vertex_normals(&more, &triangles)[8], DVec3::ZERO);
+    }
+}
