@@ -197,6 +197,9 @@ fn bad_xml_is_refused_with_file_line_column_plugin_and_parameter() {
         (small("<bsdf type=\"roughconductor\" id=\"r\"><float name=\"alpha\" value=\"NaN\"/></bsdf>"), "NaN", "must be a finite number > 0 (got NaN)"),
         (small("<bsdf type=\"conductor\" id=\"r\"><string name=\"material\" value=\"Cu\"/></bsdf>"), "Cu", "the named material \"Cu\" is not supported"),
         (small("<bsdf type=\"roughconductor\" id=\"r\"><string name=\"distribution\" value=\"phong\"/></bsdf>"), "phong\"", "unknown distribution \"phong\""),
+        (small("").replace("value=\"45\"", "value=\"inf\""), "inf\"", "`fov` must be a finite angle in (0, 180) degrees (got inf)"),
+        (small("").replace("value=\"45\"", "value=\"180\""), "180\"", "`fov` must be a finite angle in (0, 180) degrees (got 180)"),
+        (small("<shape type=\"cube\"><transform name=\"to_world\"><rotate y=\"0\" angle=\"-17\"/></transform></shape>"), "<rotate y=\"0\"", "<rotate> has a zero axis"),
     ];
     for (text, at, message) in &cases {
         let (d, path) = refused(text);

@@ -451,7 +451,17 @@ impl Translator<'_> {
             }
         }
         let mut p = Props::of(o);
-        let fov = self.positive(&mut p, "fov");
+        // The field of view, an angle in (0, 180) degrees; `fov_given`: written, if wrongly.
+        let fov_at = p.props.iter().find(|q| q.name == "fov").map(|q| q.value_at);
+        let fov_given = fov_at.is_some();
+        let fov = match (self.float(&mut p, "fov"), fov_at) {
+            (Some(v), Some(at)) if v.is_finite() && v > 0.0 && v < 180.0 => Some((v, at)),
+            (Some(v), Some(at)) => {
+                self.error(at, "fov", format!("`fov` must be a finite angle in (0, 180) degrees (got {v})"));
+                None
+            }
+            _ => None,
+        };
         let axis = self.string(&mut p, "fov_axis");
         for clip in ["near_clip", "far_clip"] {
             if let Some(prop) = p.take(clip) {
@@ -471,12 +481,11 @@ impl Translator<'_> {
         let to_world = self.transform(&mut p, "to_world");
         self.finish(p, "fov, fov_axis, to_world, near_clip, far_clip");
         let Some((fov, fov_at)) = fov else {
-            self.error(o.at, "fov", "<sensor type=\"perspective\"> needs `fov` (degrees)");
+            if !fov_given {
+                self.error(o.at, "fov", "<sensor type=\"perspective\"> needs `fov` (degrees)");
+            }
             return (None, film, spp);
         };
-        if fov >= 180.0 {
-            self.error(fov_at, "fov", format!("`fov` must be below 180 degrees (got {fov})"));
-        }
         // The field of view along one image axis (pathlab's fov_x or fov_y).
         let (w, h) = (film.0.max(1) as f64, film.1.max(1) as f64);
         let half = (fov.to_radians() / 2.0).tan();

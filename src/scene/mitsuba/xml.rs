@@ -492,6 +492,9 @@ impl Loader<'_> {
             "scale" => OpKind::Scale(vec3(self, 1.0, true)?),
             "rotate" => {
                 let axis = vec3(self, 0.0, false)?;
+                if axis == DVec3::ZERO {
+                    return self.bad(at, "axis", "<rotate> has a zero axis: give x, y, z (or `value`) with a component other than 0");
+                }
                 let Some(angle) = self.opt_attr(node, "angle", base)? else { return self.bad(at, "angle", "<rotate> needs an angle (degrees)") };
                 let Ok(angle) = angle.trim().parse::<f64>() else { return self.bad(at, "angle", format!("`{angle}` is not a number")) };
                 OpKind::Rotate(axis, angle)
