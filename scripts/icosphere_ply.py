@@ -55,4 +55,5 @@ def main():
         out.write(b''.join(struct.pack('<B3i', 3, *t) for t in f))
 
 
-main()
+if __name__ == "__main__":
+    main()

@@ -9,40 +9,11 @@
 
 Usage: scripts/lamp_meshes.py [OUT_DIR]
 """
-import math
 import os
 import sys
 
-
-def icosphere(k):
-    t = (1 + 5 ** 0.5) / 2
-    v = [(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0), (0, -1, t), (0, 1, t),
-         (0, -1, -t), (0, 1, -t), (t, 0, -1), (t, 0, 1), (-t, 0, -1), (-t, 0, 1)]
-    f = [(0, 11, 5), (0, 5, 1), (0, 1, 7), (0, 7, 10), (0, 10, 11), (1, 5, 9), (5, 11, 4),
-         (11, 10, 2), (10, 7, 6), (7, 1, 8), (3, 9, 4), (3, 4, 2), (3, 2, 6), (3, 6, 8),
-         (3, 8, 9), (4, 9, 5), (2, 4, 11), (6, 2, 10), (8, 6, 7), (9, 8, 1)]
-
-    def unit(p):
-        n = math.sqrt(sum(c * c for c in p))
-        return tuple(c / n for c in p)
-
-    v = [unit(p) for p in v]
-    for _ in range(k):
-        mids = {}
-
-        def mid(a, b):
-            key = (min(a, b), max(a, b))
-            if key not in mids:
-                v.append(unit(tuple((v[a][i] + v[b][i]) / 2 for i in range(3))))
-                mids[key] = len(v) - 1
-            return mids[key]
-
-        g = []
-        for a, b, c in f:
-            ab, bc, ca = mid(a, b), mid(b, c), mid(c, a)
-            g += [(a, ab, ca), (b, bc, ab), (c, ca, bc), (ab, bc, ca)]
-        f = g
-    return v, f
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from icosphere_ply import icosphere  # noqa: E402
 
 
 def write(path, text):
