@@ -358,20 +358,7 @@ fn assert_convex(lamp: &Lamp, scene: &Scene) {
 /// plain, cosine, nee, mis and best; those that sample lights with every light selection and
 /// both triangle samplings.
 fn methods() -> Vec<Method> {
-    let mut out = Vec::new();
-    for preset in [Preset::Plain, Preset::Cosine, Preset::Nee, Preset::Mis, Preset::Best] {
-        let base = preset.method();
-        if base.lights == LightSampling::None {
-            out.push(base);
-            continue;
-        }
-        for select in LightSelect::ALL {
-            for triangles in TriangleSampling::ALL {
-                out.push(Method { select: Some(select), triangles, ..base });
-            }
-        }
-    }
-    out
+    triangle_light_methods_of(&[Preset::Plain, Preset::Cosine, Preset::Nee, Preset::Mis, Preset::Best])
 }
 
 /// plain, cosine, nee, mis and best, with each light selection and triangle sampling once.

@@ -86,9 +86,17 @@ pub fn not_run(test: &str, why: &str) {
 /// triangle sampling, and `mis` with the balance heuristic: the methods a scene with triangle
 /// lights is held to.
 pub fn triangle_light_methods() -> Vec<Method> {
+    let mut methods = triangle_light_methods_of(&Preset::ALL);
+    methods.push(Method { lights: pathlab::method::LightSampling::MisBalance, ..Preset::Mis.method() });
+    methods
+}
+
+/// `presets`, and each of them that samples lights with every light selection and triangle
+/// sampling.
+pub fn triangle_light_methods_of(presets: &[Preset]) -> Vec<Method> {
     use pathlab::method::{LightSampling, LightSelect, TriangleSampling};
     let mut methods = Vec::new();
-    for preset in Preset::ALL {
+    for &preset in presets {
         let base = preset.method();
         if base.lights == LightSampling::None {
             methods.push(base);
@@ -100,7 +108,6 @@ pub fn triangle_light_methods() -> Vec<Method> {
             }
         }
     }
-    methods.push(Method { lights: LightSampling::MisBalance, ..Preset::Mis.method() });
     methods
 }
 

@@ -451,10 +451,9 @@ impl Translator<'_> {
             }
         }
         let mut p = Props::of(o);
-        // The field of view, an angle in (0, 180) degrees; `fov_given`: written, if wrongly.
-        let fov_at = p.props.iter().find(|q| q.name == "fov").map(|q| q.value_at);
-        let fov_given = fov_at.is_some();
-        let fov = match (self.float(&mut p, "fov"), fov_at) {
+        // The field of view, an angle in (0, 180) degrees; `written`: where its value is, if any.
+        let written = p.props.iter().find(|q| q.name == "fov").map(|q| q.value_at);
+        let fov = match (self.float(&mut p, "fov"), written) {
             (Some(v), Some(at)) if v.is_finite() && v > 0.0 && v < 180.0 => Some((v, at)),
             (Some(v), Some(at)) => {
                 self.error(at, "fov", format!("`fov` must be a finite angle in (0, 180) degrees (got {v})"));
@@ -481,7 +480,7 @@ impl Translator<'_> {
         let to_world = self.transform(&mut p, "to_world");
         self.finish(p, "fov, fov_axis, to_world, near_clip, far_clip");
         let Some((fov, fov_at)) = fov else {
-            if !fov_given {
+            if written.is_none() {
                 self.error(o.at, "fov", "<sensor type=\"perspective\"> needs `fov` (degrees)");
             }
             return (None, film, spp);
