@@ -41,6 +41,8 @@ fn default_output_metadata_png_and_variance() {
     assert!(out.status.success(), "{stderr}");
     assert!(stderr.contains("wrote study.exr"), "{stderr}");
     assert!(stderr.contains("adapter: "), "the chosen adapter is printed: {stderr}");
+    // 32x16 is the scene's 2:1 and every flag given applies: nothing to note.
+    assert!(!stderr.contains("note:"), "{stderr}");
     let (film, metadata) = read_exr(&dir.join("study.exr")).unwrap();
     assert_eq!((film.width, film.height, film.spp), (32, 16, 8));
     assert_eq!(meta(&metadata, "method"), "nee");
@@ -55,6 +57,33 @@ fn default_output_metadata_png_and_variance() {
     assert!(film.variance.iter().flatten().any(|&v| v > 0.0), "variance channels present");
     let png = image::open(dir.join("preview.png")).unwrap();
     assert_eq!((png.width(), png.height()), (32, 16));
+}
+
+/// A size of another aspect ratio, and flags the scene cannot use, are each noted once; the
+/// render goes ahead.
+#[test]
+fn a_new_framing_and_flags_without_effect_are_noted_once() {
+    let dir = temp_dir("notes");
+    let out = pathlab()
+        .current_dir(&dir)
+        .arg("render")
+        .arg(study())
+        .args(["--width", "16", "--height", "16", "--spp", "1", "--method", "mis", "--quiet"])
+        .args(["--triangle-sampling", "solid-angle", "--microfacet-sampling", "ndf"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let notes: Vec<&str> = stderr.lines().filter(|l| l.starts_with("note: ")).collect();
+    assert_eq!(notes.len(), 3, "{stderr}");
+    // The study scene gives fov_x: at 16x16 the horizontal angle stays, more is seen vertically.
+    assert!(notes.iter().any(|n| n.contains("16x16 has another aspect ratio than the scene's 1024x512")
+        && n.contains("the horizontal field of view (fov_x)")
+        && n.contains("more is seen above and below")), "{stderr}");
+    assert!(notes.contains(&"note: --triangle-sampling has no effect: the scene has no emissive triangles"), "{stderr}");
+    assert!(notes.contains(&"note: --microfacet-sampling has no effect: the scene has no rough conductor"), "{stderr}");
+    let (film, _) = read_exr(&dir.join("study.exr")).unwrap();
+    assert_eq!((film.width, film.height), (16, 16));
 }
 
 #[test]

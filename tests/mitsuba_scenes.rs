@@ -114,7 +114,10 @@ fn includes_defaults_defines_and_refs_work_as_in_mitsuba_and_convert_keeps_the_s
     // The matrix camera: at (0, 0, 4) looking down -z; a diagonal field of view.
     assert_eq!(s.camera.position.to_array(), [0.0, 0.0, 4.0]);
     assert!((s.camera.look_at - glam::DVec3::new(0.0, 0.0, 3.0)).length() < 1e-12);
-    let pathlab::scene::Fov::X(fx) = s.camera.fov else { panic!("{:?}", s.camera.fov) };
+    // The rule is kept (another size reframes as Mitsuba would); at the film's size it is this
+    // horizontal angle.
+    assert_eq!(s.camera.fov, pathlab::scene::Fov::Diagonal(50.0));
+    let pathlab::scene::Fov::X(fx) = s.camera.fov.resolve(24, 16) else { panic!("{:?}", s.camera.fov) };
     let expected = 2.0 * ((25f64.to_radians()).tan() * 24.0 / (24f64 * 24.0 + 16.0 * 16.0).sqrt()).atan().to_degrees();
     assert!((fx - expected).abs() < 1e-9, "{fx} vs {expected}");
     // --define overrides a default, like Mitsuba's -D.

@@ -462,7 +462,8 @@ def study(scene: Union[Scene, PathLike], out_dir: PathLike, *, progress: bool = 
     ``time`` (list of seconds), ``seeds``, ``reference`` (an EXR path), ``reference_spp``,
     ``reference_method``, ``size`` ((width, height)), ``max_depth``, ``rr_depth``, ``display``,
     ``target``, ``regions`` (a regions TOML), ``checkpoint_every`` (seconds) and ``quick``
-    (a small study: 128x64, a 4096-spp reference, two seeds).
+    (a small study: the scene's aspect ratio at 128 pixels on the longer side, a 4096-spp
+    reference, two seeds).
     """
     s = _scene(scene)
     out = _path("out_dir", out_dir)

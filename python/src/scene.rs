@@ -80,8 +80,16 @@ pub(crate) fn load_scene(py: Python<'_>, path: PathBuf, defines: Vec<(String, St
         return Err(PyValueError::new_err(format!("load_scene(): defines are $name values of a Mitsuba XML scene; {} is not one", path.display())));
     }
     let mut scene = py.detach(|| Scene::load_with(&path, &defines)).map_err(scene_error)?;
-    overrides.apply(&mut scene).map_err(|e| PyValueError::new_err(format!("load_scene(): {e}")))?;
+    let reframing = overrides.apply(&mut scene).map_err(|e| PyValueError::new_err(format!("load_scene(): {e}")))?;
+    warn_reframing(py, reframing)?;
     Ok(PyScene { scene })
+}
+
+/// Tells, as a `UserWarning` at the caller's line, how a new size changes the framing.
+fn warn_reframing(py: Python<'_>, reframing: Option<pathlab::scene::Reframing>) -> PyResult<()> {
+    let Some(r) = reframing else { return Ok(()) };
+    let message = std::ffi::CString::new(r.to_string()).unwrap_or_default();
+    PyErr::warn(py, &py.get_type::<pyo3::exceptions::PyUserWarning>(), &message, 1)
 }
 
 pub(crate) fn vec3(v: impl Into<[f64; 3]>) -> (f64, f64, f64) {
@@ -191,10 +199,11 @@ impl PyScene {
     /// A copy with render settings replaced: width, height, max_depth, rr_depth (an int, or
     /// None / "off"), spp.
     #[pyo3(signature = (**kwargs))]
-    fn with_(&self, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<PyScene> {
+    fn with_(&self, py: Python<'_>, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<PyScene> {
         let overrides = overrides_of(kwargs, "Scene.with_()")?;
         let mut scene = self.scene.clone();
-        overrides.apply(&mut scene).map_err(|e| PyValueError::new_err(format!("Scene.with_(): {e}")))?;
+        let reframing = overrides.apply(&mut scene).map_err(|e| PyValueError::new_err(format!("Scene.with_(): {e}")))?;
+        warn_reframing(py, reframing)?;
         Ok(PyScene { scene })
     }
     fn __repr__(&self) -> String {

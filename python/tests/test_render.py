@@ -53,6 +53,9 @@ def test_scene_properties_and_with():
     assert small.size == (64, 32) and small.max_depth == 3 and small.rr_depth == 2
     assert scene.size == (1024, 512), "with_ returns a copy"
     assert small.with_(rr_depth=None).rr_depth is None
+    # Another aspect ratio changes the framing, and says how (the study scene keeps fov_x).
+    with pytest.warns(UserWarning, match="16x16 has another aspect ratio than the scene's 1024x512.*fov_x"):
+        assert scene.with_(width=16, height=16).size == (16, 16)
     cornell = pathlab.load_scene(CORNELL_XML, defines={"spp": 16})
     assert cornell.spp == 16 and cornell.lights[0]["kind"] == "mesh"
     assert "pathlab.Scene(" in repr(cornell)

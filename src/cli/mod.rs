@@ -289,7 +289,9 @@ impl SceneOverrides {
             rr_depth: self.rr_depth.map(|RrDepth(rr)| rr),
             spp: None,
         };
-        overrides.apply(scene).map_err(flag_error)?;
+        if let Some(reframing) = overrides.apply(scene).map_err(flag_error)? {
+            eprintln!("note: {reframing}");
+        }
         Ok(match self.display {
             Some(transfer) => pathlab::display::DisplayTransform { transfer, ..scene.display },
             None => scene.display,

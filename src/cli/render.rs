@@ -11,7 +11,7 @@ use pathlab::estimate::target::Target;
 use pathlab::gpu::{adapter_summary, Gpu, PathTracerPipelines};
 use pathlab::method::{BsdfSampling, LightSampling, LightSelect, Method, MicrofacetSampling, Preset, Sampler, TriangleSampling};
 use pathlab::render::{ctrl_c_flag, default_output, Budget, CheckpointPlan, ErrorPlan, OutputFiles, RenderJob, Resume, MAX_SPP};
-use pathlab::scene::Overrides;
+use pathlab::scene::{ApplicableOptions, Overrides};
 use pathlab::shard::{default_part_name, shard_range};
 
 use pathlab::progress::Reporter as _;
@@ -42,13 +42,15 @@ pub struct RenderArgs {
     /// with emissive meshes, else `all`).
     #[arg(long, value_parser = named::<LightSelect>())]
     light_select: Option<LightSelect>,
-    /// How triangle lights are sampled.
-    #[arg(long, value_parser = named::<TriangleSampling>(), default_value = "area")]
-    triangle_sampling: TriangleSampling,
+    /// How triangle lights are sampled (default: area). Noted once where the scene has no
+    /// emissive triangles or the method samples no lights.
+    #[arg(long, value_parser = named::<TriangleSampling>())]
+    triangle_sampling: Option<TriangleSampling>,
     /// How rough conductors' microfacet normals are sampled where the BSDF strategy samples the
-    /// material (`--bsdf phong`): visible normals (Mitsuba's default) or the distribution.
-    #[arg(long, value_parser = named::<MicrofacetSampling>(), default_value = "vndf")]
-    microfacet_sampling: MicrofacetSampling,
+    /// material (`--bsdf phong`): visible normals (vndf, Mitsuba's default) or the distribution.
+    /// Noted once where the scene has no rough conductor or the strategy is another.
+    #[arg(long, value_parser = named::<MicrofacetSampling>())]
+    microfacet_sampling: Option<MicrofacetSampling>,
     /// Samples per pixel (default: the scene's render.spp, else 64).
     #[arg(long, conflicts_with = "time")]
     spp: Option<u64>,
@@ -134,6 +136,31 @@ pub(crate) fn method_of(preset: Preset, sampler: Option<Sampler>, bsdf: Option<B
     m
 }
 
+/// A note for each of the method's finer flags given where it cannot change the image.
+fn inapplicable_flags(args: &RenderArgs, scene: &pathlab::scene::Scene, method: &Method) -> Vec<String> {
+    let has = ApplicableOptions::of_scene(scene);
+    let can = has.with_method(method);
+    let no_lights = format!("the method samples no lights (--lights {})", method.lights);
+    let mut notes = Vec::new();
+    if args.light_select.is_some() && !can.light_select {
+        let why = if has.light_select { no_lights.clone() } else { "the scene has one light".to_string() };
+        notes.push(format!("--light-select has no effect: {why}"));
+    }
+    if args.triangle_sampling.is_some() && !can.triangle_sampling {
+        let why = if has.triangle_sampling { no_lights.clone() } else { "the scene has no emissive triangles".to_string() };
+        notes.push(format!("--triangle-sampling has no effect: {why}"));
+    }
+    if args.microfacet_sampling.is_some() && !can.microfacet_sampling {
+        let why = if has.microfacet_sampling {
+            format!("the BSDF strategy is {}, not the material's own (phong)", method.bsdf)
+        } else {
+            "the scene has no rough conductor".to_string()
+        };
+        notes.push(format!("--microfacet-sampling has no effect: {why}"));
+    }
+    notes
+}
+
 pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
     // Everything the user gave is checked before any GPU work.
     let mut scene = load_scene(&args.scene)?;
@@ -144,7 +171,9 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
         rr_depth: args.rr_depth.map(|super::RrDepth(rr)| rr),
         spp: None,
     };
-    overrides.apply(&mut scene).map_err(super::flag_error)?;
+    if let Some(reframing) = overrides.apply(&mut scene).map_err(super::flag_error)? {
+        eprintln!("note: {reframing}");
+    }
     let spp = match args.spp {
         Some(0) => bail!("--spp must be at least 1"),
         Some(n) => n,
@@ -160,10 +189,13 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
     }
     let method = Method {
         select: args.light_select,
-        triangles: args.triangle_sampling,
-        microfacet: args.microfacet_sampling,
+        triangles: args.triangle_sampling.unwrap_or(TriangleSampling::Area),
+        microfacet: args.microfacet_sampling.unwrap_or(MicrofacetSampling::Vndf),
         ..method_of(args.method, args.sampler, args.bsdf, args.lights)
     };
+    for note in inapplicable_flags(&args, &scene, &method) {
+        eprintln!("note: {note}");
+    }
     // A part of a split render: a sample range, written as raw accumulators.
     let part = match (&args.samples, args.shard) {
         (Some(r), _) => Some((r.clone(), None)),

@@ -56,8 +56,9 @@ pub struct StudyArgs {
     /// Seconds between checkpoints of the reference render.
     #[arg(long, default_value_t = 300.0)]
     checkpoint_every: f64,
-    /// A small study for trying things out and for CI: 128x64, spp 1,4,10,64,256, time
-    /// 0.1,0.3, 2 seeds, a 4096-spp reference (each overridable by its own flag).
+    /// A small study for trying things out and for CI: the scene's aspect ratio at 128 pixels
+    /// on the longer side, spp 1,4,10,64,256, time 0.1,0.3, 2 seeds, a 4096-spp reference
+    /// (each overridable by its own flag).
     #[arg(long)]
     quick: bool,
     /// No progress bars.

@@ -3,10 +3,12 @@
 
 use std::path::Path;
 
+use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 
 use crate::output::{write_rgb8_png, OutputError};
 
+use super::palette::curve_style;
 use super::text::FONT_BYTES;
 
 /// One method's points and fitted line ln y = intercept + slope ln x.
@@ -59,19 +61,33 @@ pub fn write_log_log(path: &Path, title: &str, x_label: &str, y_label: &str, ser
                 .label_style(("sans-serif", 13))
                 .draw()?;
             for (i, s) in series.iter().enumerate() {
-                let colour = Palette99::pick(i).to_rgba();
+                let style = curve_style(i);
+                let colour = RGBColor(style.rgb[0], style.rgb[1], style.rgb[2]).to_rgba();
                 let label = match s.fit {
                     Some((slope, _)) => format!("{} (slope {slope:.2})", s.name),
                     None => s.name.clone(),
                 };
-                chart
-                    .draw_series(s.points.iter().filter(|(x, y)| *x > 0.0 && *y > 0.0).map(|&(x, y)| Circle::new((x, y), 3, colour.filled())))?
-                    .label(label)
-                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2)));
+                let points = s.points.iter().filter(|(x, y)| *x > 0.0 && *y > 0.0);
+                // Beyond the palette's ten colours: dashed lines and hollow markers.
+                let legend = move |(x, y): (i32, i32)| {
+                    let ends = vec![(x, y), (x + 20, y)];
+                    if style.dashed {
+                        DashedPathElement::new(ends, 5, 3, colour.stroke_width(2)).into_dyn()
+                    } else {
+                        PathElement::new(ends, colour.stroke_width(2)).into_dyn()
+                    }
+                };
+                let marker = if style.dashed { colour.stroke_width(1) } else { colour.filled() };
+                chart.draw_series(points.map(|&(x, y)| Circle::new((x, y), 3, marker)))?.label(label).legend(legend);
                 if let Some((slope, intercept)) = s.fit {
                     let (lo, hi) = s.points.iter().fold((f64::MAX, f64::MIN), |(lo, hi), (x, _)| (lo.min(*x), hi.max(*x)));
                     let at = |x: f64| (intercept + slope * x.ln()).exp();
-                    chart.draw_series(LineSeries::new([(lo, at(lo)), (hi, at(hi))], colour.stroke_width(1)))?;
+                    let line = [(lo, at(lo)), (hi, at(hi))];
+                    if style.dashed {
+                        chart.draw_series(DashedLineSeries::new(line, 8, 5, colour.stroke_width(2)))?;
+                    } else {
+                        chart.draw_series(LineSeries::new(line, colour.stroke_width(1)))?;
+                    }
                 }
             }
             chart

@@ -4,7 +4,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use crate::scene::{Fov, Scene};
+use crate::scene::Scene;
 
 use super::scene_buffers::f3;
 
@@ -38,21 +38,11 @@ impl FrameParams {
     /// Camera and render settings of `scene`; sample range, seed and tile are set per frame.
     pub fn for_scene(scene: &Scene) -> FrameParams {
         let cam = &scene.camera;
-        let (w, h) = (scene.render.width as f64, scene.render.height as f64);
         let forward = (cam.look_at - cam.position).normalize();
         let right = forward.cross(cam.up).normalize();
         let up = right.cross(forward);
         // Half-extents of the image plane at distance 1 along `forward`.
-        let (half_w, half_h) = match cam.fov {
-            Fov::X(deg) => {
-                let hw = (deg.to_radians() / 2.0).tan();
-                (hw, hw * h / w)
-            }
-            Fov::Y(deg) => {
-                let hh = (deg.to_radians() / 2.0).tan();
-                (hh * w / h, hh)
-            }
-        };
+        let (half_w, half_h) = cam.fov.half_extents(scene.render.width, scene.render.height);
         FrameParams {
             camera_origin: f3(cam.position),
             width: scene.render.width,

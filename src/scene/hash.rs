@@ -58,9 +58,11 @@ pub fn canonical_encoding(scene: &Scene) -> String {
     line("camera.position", vec3(c.position));
     line("camera.look_at", vec3(c.look_at));
     line("camera.up", vec3(c.up));
-    match c.fov {
-        Fov::X(deg) => line("camera.fov_x", real(deg)),
+    // The field of view at the render's size: what the image depends on (a scene written with
+    // `fov_axis` hashes as its resolved angle).
+    match c.fov.resolve(scene.render.width, scene.render.height) {
         Fov::Y(deg) => line("camera.fov_y", real(deg)),
+        fov => line("camera.fov_x", real(fov.degrees())),
     }
     let r = &scene.render;
     line("render.width", r.width.to_string());

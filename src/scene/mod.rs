@@ -1,7 +1,7 @@
 //! Scenes: the TOML format (`raw`), its validation (`validate`), object-to-world transforms
 //! (`transform`), triangle meshes from OBJ and PLY files and Mitsuba's built-in shapes (`mesh`),
-//! the lights in kernel order with their power (`lights`), the validated model, and its
-//! identity (`hash`).
+//! the lights in kernel order with their power (`lights`), the validated model, its identity
+//! (`hash`), and which of a method's options can change its image (`ApplicableOptions`).
 //!
 //! A `Scene` has passed every check: all numbers are finite and in range, every material name
 //! resolves, planes do not emit, meshes are in world space with their zero-area triangles
@@ -21,10 +21,12 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 
+use crate::method::{BsdfSampling, LightSampling, Method};
+
 pub use diagnostic::{Diagnostic, SceneError, Severity};
 pub use lights::{AliasTable, Light};
 pub use mesh::Mesh;
-pub use overrides::{OverrideError, Overrides};
+pub use overrides::{OverrideError, Overrides, Reframing};
 pub use transform::Transform;
 
 // Most objects of each kind a scene may have: the capacities of the kernel's uniform buffers
@@ -52,11 +54,76 @@ pub struct Camera {
     pub fov: Fov,
 }
 
-/// Field of view in degrees, along one image axis; the other follows from the aspect ratio.
+/// Field of view in degrees along one image axis, or by one of Mitsuba's other `fov_axis`
+/// rules; the other angle follows from the image's aspect ratio. The rule is kept, not resolved
+/// at load, so that a new image size frames the scene as Mitsuba would frame it at that size.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Fov {
     X(f64),
     Y(f64),
+    /// Along the shorter side (`fov_axis="smaller"`; the horizontal one on a square image).
+    Smaller(f64),
+    /// Along the longer side (`fov_axis="larger"`; the horizontal one on a square image).
+    Larger(f64),
+    /// Along the image diagonal (`fov_axis="diagonal"`).
+    Diagonal(f64),
+}
+
+impl Fov {
+    /// The same field of view at a `width` x `height` image, as an angle along x or along y.
+    pub fn resolve(self, width: u32, height: u32) -> Fov {
+        let (w, h) = (width.max(1) as f64, height.max(1) as f64);
+        match self {
+            Fov::X(_) | Fov::Y(_) => self,
+            Fov::Smaller(deg) => if w <= h { Fov::X(deg) } else { Fov::Y(deg) },
+            Fov::Larger(deg) => if w >= h { Fov::X(deg) } else { Fov::Y(deg) },
+            // tan(fov_x / 2) = tan(fov_d / 2) w / sqrt(w^2 + h^2).
+            Fov::Diagonal(deg) => {
+                let half = (deg.to_radians() / 2.0).tan();
+                Fov::X(2.0 * (half * w / (w * w + h * h).sqrt()).atan().to_degrees())
+            }
+        }
+    }
+
+    /// Half-extents (horizontal, vertical) of the image plane at distance 1, at `width` x `height`.
+    pub fn half_extents(self, width: u32, height: u32) -> (f64, f64) {
+        let (w, h) = (width as f64, height as f64);
+        match self.resolve(width, height) {
+            Fov::X(deg) => {
+                let hw = (deg.to_radians() / 2.0).tan();
+                (hw, hw * h / w)
+            }
+            Fov::Y(deg) => {
+                let hh = (deg.to_radians() / 2.0).tan();
+                (hh * w / h, hh)
+            }
+            _ => unreachable!("resolve gives an angle along x or y"),
+        }
+    }
+
+    /// The full angles (horizontal, vertical) in degrees at `width` x `height`.
+    pub fn angles(self, width: u32, height: u32) -> (f64, f64) {
+        let (hw, hh) = self.half_extents(width, height);
+        (2.0 * hw.atan().to_degrees(), 2.0 * hh.atan().to_degrees())
+    }
+
+    /// The angle as written, in degrees.
+    pub fn degrees(self) -> f64 {
+        match self {
+            Fov::X(d) | Fov::Y(d) | Fov::Smaller(d) | Fov::Larger(d) | Fov::Diagonal(d) => d,
+        }
+    }
+
+    /// The scene-file key that gives this field of view (`fov_x`, ..., `fov_diagonal`).
+    pub fn key(self) -> &'static str {
+        match self {
+            Fov::X(_) => "fov_x",
+            Fov::Y(_) => "fov_y",
+            Fov::Smaller(_) => "fov_smaller",
+            Fov::Larger(_) => "fov_larger",
+            Fov::Diagonal(_) => "fov_diagonal",
+        }
+    }
 }
 
 /// The `[render]` table.
@@ -302,6 +369,43 @@ impl Scene {
     }
 }
 
+/// Which of a method's finer options (`select`, `triangles`, `microfacet`) can change the image
+/// of a scene: the viewer offers only these, `render` notes the others once.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ApplicableOptions {
+    /// The light selection: next event estimation is on and the scene has more than one light.
+    pub light_select: bool,
+    /// Triangle-light sampling: light sampling is on and some triangle emits.
+    pub triangle_sampling: bool,
+    /// Microfacet sampling: the BSDF strategy samples the material and some conductor is rough.
+    pub microfacet_sampling: bool,
+}
+
+impl ApplicableOptions {
+    /// What the scene has, whatever the method.
+    pub fn of_scene(scene: &Scene) -> ApplicableOptions {
+        let f = scene.features();
+        ApplicableOptions {
+            light_select: f.num_lights > 1,
+            triangle_sampling: f.num_lights > f.num_sphere_lights,
+            microfacet_sampling: scene.materials.iter().any(|m| m.conductor.as_ref().is_some_and(|c| c.rough.is_some())),
+        }
+    }
+
+    /// What can matter with `method` on the scene: light options need light sampling (without
+    /// it, emitters are found only by BSDF-sampled rays, weighted 1), microfacet sampling needs
+    /// the material's own strategy.
+    pub fn with_method(self, method: &Method) -> ApplicableOptions {
+        let lights = method.lights != LightSampling::None;
+        let material = matches!(method.bsdf, BsdfSampling::Phong | BsdfSampling::PhongLobeOnly);
+        ApplicableOptions {
+            light_select: self.light_select && lights,
+            triangle_sampling: self.triangle_sampling && lights,
+            microfacet_sampling: self.microfacet_sampling && material,
+        }
+    }
+}
+
 /// What a scene requires of the path-tracing kernel; each becomes a WGSL `override` constant,
 /// so a pipeline carries only the code its scene uses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -388,5 +492,36 @@ mod tests {
         // Spheres 0 and 2 emit: they become kernel spheres 0 and 1.
         assert_eq!(s.light_spheres(), vec![0, 2]);
         assert_eq!(s.gpu_sphere_order(), vec![0, 2, 1]);
+    }
+}
+
+#[cfg(test)]
+mod applicable_options {
+    use super::*;
+    use crate::method::Preset;
+
+    fn scene(name: &str) -> Scene {
+        Scene::load(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes").join(name)).unwrap()
+    }
+
+    #[test]
+    fn options_apply_where_the_scene_has_what_they_sample_and_the_method_samples_it() {
+        let mis = Preset::Mis.method();
+        // The study scene: two sphere lights, Phong only.
+        let study = ApplicableOptions::of_scene(&scene("study.toml"));
+        assert_eq!(study, ApplicableOptions { light_select: true, triangle_sampling: false, microfacet_sampling: false });
+        // The Cornell box: one triangle light (two triangles), no conductor.
+        let cornell = ApplicableOptions::of_scene(&scene("cornell_box.toml"));
+        assert_eq!(cornell, ApplicableOptions { light_select: true, triangle_sampling: true, microfacet_sampling: false });
+        // Veach's scene: four sphere lights, rough conductors; microfacet sampling only with the
+        // material's own strategy.
+        let veach = ApplicableOptions::of_scene(&scene("veach_mis.xml"));
+        assert_eq!(veach, ApplicableOptions { light_select: true, triangle_sampling: false, microfacet_sampling: true });
+        assert_eq!(veach.with_method(&mis), veach);
+        assert!(!veach.with_method(&Preset::Nee.method()).microfacet_sampling);
+        // Without light sampling the light options cannot matter.
+        let plain = cornell.with_method(&Preset::Plain.method());
+        assert_eq!(plain, ApplicableOptions { light_select: false, triangle_sampling: false, microfacet_sampling: false });
+        assert_eq!(cornell.with_method(&Preset::Nee.method()), cornell);
     }
 }

@@ -105,6 +105,10 @@ pub(crate) struct RawCamera {
     pub up: Spanned<[f64; 3]>,
     pub fov_x: Option<Spanned<f64>>,
     pub fov_y: Option<Spanned<f64>>,
+    /// Mitsuba's `fov_axis` rules `smaller`, `larger` and `diagonal`, kept as written.
+    pub fov_smaller: Option<Spanned<f64>>,
+    pub fov_larger: Option<Spanned<f64>>,
+    pub fov_diagonal: Option<Spanned<f64>>,
 }
 
 #[derive(Debug, Deserialize, Serialize)]

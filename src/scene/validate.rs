@@ -396,16 +396,26 @@ fn check_camera(ck: &mut Checker, raw: &RawScene) -> Camera {
         }
         v
     };
-    let fov = match (&c.fov_x, &c.fov_y) {
-        (Some(x), None) => Fov::X(check_fov(ck, x, "camera.fov_x")),
-        (None, Some(y)) => Fov::Y(check_fov(ck, y, "camera.fov_y")),
-        (Some(_), Some(y)) => {
-            ck.error(y.span(), "camera.fov_y", "give exactly one of fov_x and fov_y, not both");
-            Fov::Y(90.0)
-        }
-        (None, None) => {
-            ck.error(raw.camera.span(), "camera", "missing field of view: give exactly one of fov_x and fov_y");
+    // Exactly one of the keys gives the field of view.
+    let given: Vec<(&str, &Spanned<f64>, fn(f64) -> Fov)> = [
+        ("fov_x", &c.fov_x, Fov::X as fn(f64) -> Fov),
+        ("fov_y", &c.fov_y, Fov::Y),
+        ("fov_smaller", &c.fov_smaller, Fov::Smaller),
+        ("fov_larger", &c.fov_larger, Fov::Larger),
+        ("fov_diagonal", &c.fov_diagonal, Fov::Diagonal),
+    ]
+    .into_iter()
+    .filter_map(|(key, v, make)| v.as_ref().map(|v| (key, v, make)))
+    .collect();
+    let fov = match given.as_slice() {
+        [(key, v, make)] => make(check_fov(ck, v, &format!("camera.{key}"))),
+        [] => {
+            ck.error(raw.camera.span(), "camera", "missing field of view: give exactly one of fov_x and fov_y (or fov_smaller, fov_larger, fov_diagonal)");
             Fov::X(90.0)
+        }
+        [(first, ..), (second, v, _), ..] => {
+            ck.error(v.span(), &format!("camera.{second}"), format!("give exactly one field of view, not both {first} and {second}"));
+            Fov::Y(90.0)
         }
     };
     Camera { position, look_at, up, fov }

@@ -92,6 +92,8 @@ pub struct Study {
     pub checkpoint_every: Duration,
     /// The command line, for the report.
     pub command: String,
+    /// How the study's size changes the scene's framing, if it does (told when it runs).
+    pub reframing: Option<crate::scene::Reframing>,
 }
 
 /// How a study ended.
@@ -161,6 +163,9 @@ impl Study {
     ) -> Result<StudyOutcome, StudyError> {
         let dir = &self.out;
         let started = std::time::Instant::now();
+        if let Some(reframing) = &self.reframing {
+            reporter.note(&format!("note: {reframing}"));
+        }
         reporter.stage("[1/4] reference");
         let reference = match (&self.reference, loaded) {
             (_, Some(r)) => r,

@@ -27,7 +27,7 @@ pub struct StudyOptions {
     pub reference_spp: Option<u64>,
     /// Method of a rendered reference (default `best`).
     pub reference_method: Option<String>,
-    /// Image size (default: the reference file's, else quick's 128x64, else the scene's).
+    /// Image size (default: the reference file's, else quick's (`quick_size`), else the scene's).
     pub size: Option<(u32, u32)>,
     pub max_depth: Option<u32>,
     /// `Some(None)`: Russian roulette off.
@@ -72,10 +72,10 @@ impl StudyOptions {
             }
             _ => None,
         };
-        let size = self.size.or(file_size).or(q.then_some((128, 64)));
+        let size = self.size.or(file_size).or(q.then(|| quick_size(scene.render.width, scene.render.height)));
         let overrides =
             Overrides { width: size.map(|s| s.0), height: size.map(|s| s.1), max_depth: self.max_depth, rr_depth: self.rr_depth, spp: None };
-        overrides.apply(&mut scene)?;
+        let reframing = overrides.apply(&mut scene)?;
         let display = match self.display {
             Some(transfer) => DisplayTransform { transfer, ..scene.display },
             None => scene.display,
@@ -98,6 +98,50 @@ impl StudyOptions {
             target: self.target,
             checkpoint_every: self.checkpoint_every.unwrap_or(Duration::from_secs(300)),
             command,
+            reframing,
         })
+    }
+}
+
+/// A quick study's image size: the scene's aspect ratio, its longer side 128 pixels and the
+/// other rounded to a whole pixel (at least 1).
+pub fn quick_size(width: u32, height: u32) -> (u32, u32) {
+    const LONGER: u32 = 128;
+    let short = |a: u32, b: u32| ((LONGER as f64 * a as f64 / b as f64).round() as u32).max(1);
+    if width >= height { (LONGER, short(height, width)) } else { (short(width, height), LONGER) }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cornell_box() -> (Scene, PathBuf) {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/cornell_box.toml");
+        (Scene::load(&path).unwrap(), path)
+    }
+
+    /// The study renders `study.scene` at its size: the quick study of the square Cornell box
+    /// is square (it was 128x64, cutting off the ceiling light), and keeps the framing.
+    #[test]
+    fn a_square_scenes_quick_study_renders_square_images() {
+        let (scene, path) = cornell_box();
+        let quick = StudyOptions { quick: true, ..StudyOptions::default() };
+        let study = quick.study(scene.clone(), path.clone(), "out".into(), String::new()).unwrap();
+        assert_eq!((study.scene.render.width, study.scene.render.height), (128, 128));
+        assert_eq!(study.reframing, None);
+        // A size of another aspect ratio is the user's to choose, and is told.
+        let wide = StudyOptions { quick: true, size: Some((128, 64)), ..StudyOptions::default() };
+        let study = wide.study(scene, path, "out".into(), String::new()).unwrap();
+        assert_eq!((study.scene.render.width, study.scene.render.height), (128, 64));
+        assert!(study.reframing.expect("a reframing").to_string().contains("less is seen above and below"));
+    }
+
+    #[test]
+    fn the_quick_size_keeps_the_aspect_ratio() {
+        assert_eq!(quick_size(512, 256), (128, 64));
+        assert_eq!(quick_size(256, 256), (128, 128));
+        assert_eq!(quick_size(1920, 1080), (128, 72));
+        assert_eq!(quick_size(600, 800), (96, 128));
+        assert_eq!(quick_size(10_000, 1), (128, 1));
     }
 }

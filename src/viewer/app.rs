@@ -197,8 +197,13 @@ impl ViewerApp {
                 self.apply_overrides();
             }
             Action::Size(size) => {
+                let before = (self.driver.scene.render.width, self.driver.scene.render.height);
                 self.size = Some(size);
                 self.apply_overrides();
+                let after = (self.driver.scene.render.width, self.driver.scene.render.height);
+                if let Some(reframing) = crate::scene::Reframing::of(before, after, self.driver.scene.camera.fov) {
+                    self.notify(reframing.to_string(), false);
+                }
             }
             Action::PendingSize(size) => self.pending_size = size,
             Action::View(v) => self.view = v,

@@ -7,7 +7,8 @@ use std::time::Instant;
 use egui::{Color32, RichText, Ui};
 
 use crate::display::{DisplayTransform, Transfer};
-use crate::method::{BsdfSampling, LightSampling, LightSelect, Method, Preset, Sampler, TriangleSampling};
+use crate::method::{BsdfSampling, LightSampling, LightSelect, Method, MicrofacetSampling, Preset, Sampler, TriangleSampling};
+use crate::scene::ApplicableOptions;
 
 use crate::display::View;
 use super::driver::Driver;
@@ -131,18 +132,35 @@ fn method_section(app: &PanelState, ui: &mut Ui, actions: &mut Vec<Action>) {
                 next = Some(Method { lights: l, ..method });
             }
             ui.end_row();
-            ui.label("light select");
-            let selects: Vec<Option<LightSelect>> = [None].into_iter().chain(LightSelect::ALL.map(Some)).collect();
-            let select_label = |s: Option<LightSelect>| s.map_or_else(|| "scene default".to_string(), |s| s.name().to_string());
-            if let Some(select) = choose(ui, ("select", i), method.select, &selects, select_label) {
-                next = Some(Method { select, ..method });
+            // The finer options only where they can change this scene's image: shown where the
+            // scene can use them, enabled where the method does.
+            let has = ApplicableOptions::of_scene(&app.driver.scene);
+            let can = has.with_method(&method);
+            if has.light_select {
+                ui.label("light select");
+                let selects: Vec<Option<LightSelect>> = [None].into_iter().chain(LightSelect::ALL.map(Some)).collect();
+                let select_label = |s: Option<LightSelect>| s.map_or_else(|| "scene default".to_string(), |s| s.name().to_string());
+                if let Some(select) = ui.add_enabled_ui(can.light_select, |ui| choose(ui, ("select", i), method.select, &selects, select_label)).inner {
+                    next = Some(Method { select, ..method });
+                }
+                ui.end_row();
             }
-            ui.end_row();
-            ui.label("triangles");
-            if let Some(t) = choose(ui, ("triangles", i), method.triangles, &TriangleSampling::ALL, |t: TriangleSampling| t.name().to_string()) {
-                next = Some(Method { triangles: t, ..method });
+            if has.triangle_sampling {
+                ui.label("triangles");
+                let name = |t: TriangleSampling| t.name().to_string();
+                if let Some(t) = ui.add_enabled_ui(can.triangle_sampling, |ui| choose(ui, ("triangles", i), method.triangles, &TriangleSampling::ALL, name)).inner {
+                    next = Some(Method { triangles: t, ..method });
+                }
+                ui.end_row();
             }
-            ui.end_row();
+            if has.microfacet_sampling {
+                ui.label("microfacets");
+                let name = |m: MicrofacetSampling| m.name().to_string();
+                if let Some(m) = ui.add_enabled_ui(can.microfacet_sampling, |ui| choose(ui, ("microfacets", i), method.microfacet, &MicrofacetSampling::ALL, name)).inner {
+                    next = Some(Method { microfacet: m, ..method });
+                }
+                ui.end_row();
+            }
         });
         if method.is_biased() {
             ui.label(RichText::new("biased on purpose: it converges to the wrong image").color(ERROR_RED));

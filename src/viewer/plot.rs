@@ -2,7 +2,9 @@
 //! per method run since the window opened. Switching or resetting a method starts a new curve
 //! and keeps the old ones, so methods can be compared at equal time.
 
-use egui_plot::{Legend, Line, Plot, PlotPoints, Points};
+use egui_plot::{Legend, Line, LineStyle, Plot, PlotPoints, Points};
+
+use crate::figures::palette::curve_style;
 
 use super::live_metrics::LivePoint;
 
@@ -41,17 +43,6 @@ impl Curves {
     }
 }
 
-/// Curve colours (Okabe-Ito, distinguishable with colour-vision deficiencies).
-const PALETTE: [egui::Color32; 7] = [
-    egui::Color32::from_rgb(230, 159, 0),
-    egui::Color32::from_rgb(86, 180, 233),
-    egui::Color32::from_rgb(0, 158, 115),
-    egui::Color32::from_rgb(240, 228, 66),
-    egui::Color32::from_rgb(0, 114, 178),
-    egui::Color32::from_rgb(213, 94, 0),
-    egui::Color32::from_rgb(204, 121, 167),
-];
-
 /// Labels a log10 axis value with the number it stands for, at 1, 2 and 5 times powers of ten
 /// only (the grid has lines in between).
 fn power_of_ten(log10: f64) -> String {
@@ -82,7 +73,8 @@ pub fn show(ui: &mut egui::Ui, curves: &Curves) -> egui::Rect {
         .allow_scroll(false);
     let response = plot.show(ui, |plot_ui| {
         for (i, curve) in curves.curves.iter().enumerate() {
-            let colour = PALETTE[i % PALETTE.len()];
+            let style = curve_style(i);
+            let colour = egui::Color32::from_rgb(style.rgb[0], style.rgb[1], style.rgb[2]);
             let points: Vec<[f64; 2]> = curve
                 .points
                 .iter()
@@ -92,7 +84,8 @@ pub fn show(ui: &mut egui::Ui, curves: &Curves) -> egui::Rect {
             if points.is_empty() {
                 continue;
             }
-            plot_ui.line(Line::new(curve.label.clone(), PlotPoints::from(points.clone())).width(2.0).color(colour));
+            let line_style = if style.dashed { LineStyle::dashed_loose() } else { LineStyle::Solid };
+            plot_ui.line(Line::new(curve.label.clone(), PlotPoints::from(points.clone())).width(2.0).color(colour).style(line_style));
             plot_ui.points(Points::new(curve.label.clone(), PlotPoints::from(points)).radius(2.5).color(colour));
         }
     });

@@ -22,7 +22,7 @@ use super::raw::{
     RawCamera, RawColor, RawMaterial, RawMesh, RawRender, RawRotation, RawRotations, RawScale, RawScene, RawShape,
     RawSphere, RawTransform,
 };
-use super::{validate, Scene, SceneError};
+use super::{validate, Fov, Scene, SceneError};
 use xml::{describe, compose, Object, OpKind, Prop, TransformOp, Value};
 
 /// Mitsuba's defaults where a file says nothing.
@@ -485,22 +485,20 @@ impl Translator<'_> {
             }
             return (None, film, spp);
         };
-        // The field of view along one image axis (pathlab's fov_x or fov_y).
-        let (w, h) = (film.0.max(1) as f64, film.1.max(1) as f64);
-        let half = (fov.to_radians() / 2.0).tan();
-        let (fov_x, fov_y) = match axis.as_ref().map_or("x", |(a, _)| a.as_str()) {
-            "x" => (Some(fov), None),
-            "y" => (None, Some(fov)),
-            "smaller" => if w <= h { (Some(fov), None) } else { (None, Some(fov)) },
-            "larger" => if w >= h { (Some(fov), None) } else { (None, Some(fov)) },
-            // tan(fov_x / 2) = tan(fov_d / 2) w / sqrt(w^2 + h^2), at the film's size.
-            "diagonal" => (Some(2.0 * (half * w / (w * w + h * h).sqrt()).atan().to_degrees()), None),
+        // The field of view by its rule, kept as Mitsuba's: resolved at whatever size renders.
+        let fov = match axis.as_ref().map_or("x", |(a, _)| a.as_str()) {
+            "x" => Fov::X(fov),
+            "y" => Fov::Y(fov),
+            "smaller" => Fov::Smaller(fov),
+            "larger" => Fov::Larger(fov),
+            "diagonal" => Fov::Diagonal(fov),
             other => {
                 let at = axis.as_ref().map_or(o.at, |(_, at)| *at);
                 self.error(at, "fov_axis", format!("unknown fov_axis \"{other}\" (x, y, smaller, larger, diagonal)"));
-                (Some(fov), None)
+                Fov::X(fov)
             }
         };
+        let given = |f: Fov, key: &str| (f.key() == key).then(|| spanned(fov_at, f.degrees()));
         let (position, look_at, up) = match to_world {
             None => (DVec3::ZERO, DVec3::Z, DVec3::Y),
             // A look-at alone is kept as written.
@@ -525,8 +523,11 @@ impl Translator<'_> {
             position: spanned(o.at, position.to_array()),
             look_at: spanned(o.at, look_at.to_array()),
             up: spanned(o.at, up.to_array()),
-            fov_x: fov_x.map(|f| spanned(fov_at, f)),
-            fov_y: fov_y.map(|f| spanned(fov_at, f)),
+            fov_x: given(fov, "fov_x"),
+            fov_y: given(fov, "fov_y"),
+            fov_smaller: given(fov, "fov_smaller"),
+            fov_larger: given(fov, "fov_larger"),
+            fov_diagonal: given(fov, "fov_diagonal"),
         };
         (Some((camera, fov_at)), film, spp)
     }
