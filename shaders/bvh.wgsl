@@ -1,5 +1,5 @@
-// bvh.wgsl — triangles and the bounding volume hierarchy over them (src/accel/: the CPU twin,
-// built there and checked against brute force). Nodes are 32 bytes; an interior node's two
+// bvh.wgsl — triangles and the bounding volume hierarchy over them (built on the host, whose
+// `Bvh::closest` and `Bvh::any` are this traversal's CPU twins, checked against brute force). Nodes are 32 bytes; an interior node's two
 // children are adjacent; a leaf's triangles are a contiguous range of `triangles` (the host
 // stores them in leaf order). Traversal visits the nearer child first and keeps the farther on
 // a stack of BVH_MAX_DEPTH entries, the deepest node the builder makes.
@@ -48,7 +48,7 @@ struct BvhNode {
 @group(0) @binding(BINDING_TRIANGLES) var<storage, read> triangles: array<Triangle>;
 @group(0) @binding(BINDING_TRIANGLE_NORMALS) var<storage, read> triangle_normals: array<TriangleNormals>;
 @group(0) @binding(BINDING_BVH_NODES) var<storage, read> bvh_nodes: array<BvhNode>;
-// Scenes of at most BRUTE_FORCE_TRIANGLES triangles (generated from src/gpu/pipeline.rs) also
+// Scenes of at most BRUTE_FORCE_TRIANGLES triangles (generated from src/accel/mod.rs) also
 // have them in a uniform buffer, and test every one in turn at lane-uniform indices instead of
 // traversing the BVH: on SIMD CPU drivers a divergent traversal of a small BVH through
 // storage loads (lane by lane on lavapipe) costs more than testing every triangle from a

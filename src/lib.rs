@@ -6,19 +6,19 @@
 //!   operations report to their front-end (the library prints nothing);
 //! - `film`: the per-pixel accumulator and the film (mean, variance of the mean) made of it;
 //! - `method`: samplers, BSDF sampling, light sampling and the study's presets;
+//! - `display`: the display transform (sRGB or gamma, exposure) of PNGs, figures and metrics;
 //! - `scene`: the TOML scene format with its triangle meshes (OBJ, PLY, Mitsuba's rectangle and
 //!   cube), parsed and validated before any GPU work, its lights, and its canonical content hash;
-//! - `display`: the display transform (sRGB or gamma, exposure) of PNGs, figures and metrics;
 //! - `output`: EXR and PNG files, written atomically;
 //! - `stats`: quantiles, Šidák correction, per-pixel z-tests, power-law fits;
 //! - `metrics`: MSE, relative MSE, bias, PSNR, SSIM, FLIP;
 //! - `estimate`: error estimates without a reference, and target errors;
 //! - `figures`: error maps, plots and image grids with an embedded font;
-//! - `sequences`: the CPU twin of the WGSL samplers;
-//! - `shaders`: assembly and naga validation of the WGSL kernels in `shaders/`, with the
-//!   constants and bindings generated from the Rust definitions;
 //! - `accel`: the watertight ray-triangle test and the BVH over triangles (built on the CPU, flat
 //!   for the GPU; the CPU twins of `shaders/bvh.wgsl`);
+//! - `shaders`: assembly and naga validation of the WGSL kernels in `shaders/`, with the
+//!   constants and bindings generated from the Rust definitions;
+//! - `sequences`: the CPU twin of the WGSL samplers;
 //! - `gpu`: device, specialised pipelines, scene buffers;
 //! - `render`: the renderer, checkpoints, rendering to a target, one `RenderJob` for every command;
 //! - `shard`: sample ranges of split renders and their exact merge;

@@ -115,18 +115,10 @@ pub struct Method {
     pub sampler: Sampler,
     pub bsdf: BsdfSampling,
     pub lights: LightSampling,
-    /// Light selection; `None`: the scene's default (`LightSelect::default_for`).
+    /// Light selection; `None`: the scene's default (`Scene::default_light_select`).
     pub select: Option<LightSelect>,
     pub triangles: TriangleSampling,
     pub microfacet: MicrofacetSampling,
-}
-
-impl LightSelect {
-    /// `power` for scenes with emissive meshes (a mesh of a thousand triangles is a thousand
-    /// lights), else `all`, which keeps the images of sphere-lit scenes as they were.
-    pub fn default_for(has_triangle_lights: bool) -> LightSelect {
-        if has_triangle_lights { LightSelect::Power } else { LightSelect::All }
-    }
 }
 
 impl Preset {
@@ -193,6 +185,34 @@ pub fn biased_demonstrations() -> [(&'static str, Method); 2] {
 /// heuristic (the second MIS heuristic of Veach's comparison).
 pub fn named_variants() -> [(&'static str, Method); 1] {
     [("mis-balance", Method { lights: LightSampling::MisBalance, ..Preset::Mis.method() })]
+}
+
+/// Parts of a method given one by one (the CLI's `--sampler`, `--bsdf`, `--lights`,
+/// `--light-select`, `--triangle-sampling`, `--microfacet-sampling`; Python's keywords), each
+/// replacing that part of a named method (`Method::from_name`, the one parser of method names
+/// for every front-end).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct MethodParts {
+    pub sampler: Option<Sampler>,
+    pub bsdf: Option<BsdfSampling>,
+    pub lights: Option<LightSampling>,
+    pub select: Option<LightSelect>,
+    pub triangles: Option<TriangleSampling>,
+    pub microfacet: Option<MicrofacetSampling>,
+}
+
+impl MethodParts {
+    /// `method` with the given parts replaced.
+    pub fn apply(&self, method: Method) -> Method {
+        Method {
+            sampler: self.sampler.unwrap_or(method.sampler),
+            bsdf: self.bsdf.unwrap_or(method.bsdf),
+            lights: self.lights.unwrap_or(method.lights),
+            select: self.select.or(method.select),
+            triangles: self.triangles.unwrap_or(method.triangles),
+            microfacet: self.microfacet.unwrap_or(method.microfacet),
+        }
+    }
 }
 
 impl Method {

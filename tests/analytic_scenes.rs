@@ -279,7 +279,7 @@ radius = 0.5
 material = "lamp"
 "#,
     );
-    let f = scene.features();
+    let f = pathlab::gpu::SceneFeatures::of(&scene);
     assert_eq!((f.num_planes, f.num_occluding_planes, f.light_interiors_reachable), (2, 1, false));
     for (name, method) in unbiased_methods() {
         let film = render(&scene, method, 16, 3);

@@ -177,7 +177,7 @@ fn light_and_bsdf_sampling_see_the_same_emitting_side_on_a_lamp_with_splayed_nor
     std::fs::write(dir.path().join("lamp.obj"), obj).unwrap();
     std::fs::write(dir.path().join("scene.toml"), text).unwrap();
     let scene = Scene::load(dir.path().join("scene.toml")).unwrap();
-    assert!(scene.features().has_shading_normals);
+    assert!(pathlab::gpu::SceneFeatures::of(&scene).has_shading_normals);
     let methods = [
         (Preset::Cosine.method(), 4096),
         (Preset::Phong.method(), 4096),

@@ -45,7 +45,7 @@ fn load_with(files: &[(&str, &str)], scene: &str) -> Result<Scene, SceneError> {
 
 /// A cube [-2, 2]^3 as an OBJ of n x n quads per face, wound inwards (the normals face the
 /// inside): 12 n^2 triangles, through the BVH once there are more than
-/// `gpu::BRUTE_FORCE_TRIANGLES`.
+/// `accel::BRUTE_FORCE_TRIANGLES`.
 fn inward_cube_obj(n: usize) -> String {
     let mut obj = String::new();
     let mut count = 0;
@@ -83,7 +83,7 @@ fn a_closed_emitting_box_gives_the_analytic_radiance_for_every_method_and_light_
     assert_eq!(one_sided.num_triangles(), 12);
     // 192 triangles (192 lights): through the BVH. `all` would trace 192 shadow rays a vertex.
     let fine = load_with(&[("box.obj", &inward_cube_obj(4))], &box_scene("[[meshes]]\nfile = \"box.obj\"\nmaterial = \"wall\"\n")).unwrap();
-    assert!(fine.num_triangles() as u32 > pathlab::gpu::BRUTE_FORCE_TRIANGLES);
+    assert!(fine.num_triangles() as u32 > pathlab::accel::BRUTE_FORCE_TRIANGLES);
     use pathlab::method::{LightSelect, TriangleSampling};
     let fine_methods = [
         Preset::Plain.method(),

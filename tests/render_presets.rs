@@ -88,7 +88,7 @@ fn unspecialised_pipeline_renders_the_same_image() {
     scene.render.width = 48;
     scene.render.height = 24;
     scene.render.max_depth = 3;
-    let f = scene.features();
+    let f = pathlab::gpu::SceneFeatures::of(&scene);
     assert_ne!(f, f.all_on(), "the study scene should be specialised");
     for preset in [Preset::Plain, Preset::Nee, Preset::Mis, Preset::Best] {
         let a = finish(Renderer::unspecialised(gpu(), pipelines(), &scene, preset.method(), 5).expect("renderer"), 16);

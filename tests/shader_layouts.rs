@@ -13,7 +13,7 @@ use pathlab::accel::BvhNode;
 use pathlab::gpu::{pipeline_constants, FrameParams, GpuLight, GpuMaterial, GpuPlane, GpuSphere, GpuTriangle, GpuTriangleNormals, PipelineKey};
 use pathlab::method::{BsdfSampling, LightSampling, LightSelect, Preset, Sampler, TriangleSampling};
 use pathlab::names::Named;
-use pathlab::scene::SceneFeatures;
+use pathlab::gpu::SceneFeatures;
 use pathlab::shaders::{self, bindings};
 
 fn module(source: &str) -> naga::Module {
@@ -88,7 +88,7 @@ fn overrides_set_by_the_host_are_those_the_module_declares() {
         has_environment: true,
         light_interiors_reachable: true,
     };
-    let key = PipelineKey::new(Preset::Best.method(), features, true);
+    let key = PipelineKey::new(Preset::Best.method(), features, pathlab::method::LightSelect::Power);
     let mut set: Vec<&str> = pipeline_constants(&key).into_iter().map(|(n, _)| n).collect();
     declared.sort_unstable();
     set.sort_unstable();
@@ -157,7 +157,7 @@ fn display_constants_are_the_rust_ones() {
 fn the_bvh_stack_and_triangle_flags_are_the_rust_ones() {
     let pt = module(&shaders::path_tracer_source());
     assert_eq!(const_u32(&pt, "BVH_MAX_DEPTH"), Some(pathlab::accel::bvh::MAX_DEPTH as u32));
-    assert_eq!(const_u32(&pt, "BRUTE_FORCE_TRIANGLES"), Some(pathlab::gpu::BRUTE_FORCE_TRIANGLES));
+    assert_eq!(const_u32(&pt, "BRUTE_FORCE_TRIANGLES"), Some(pathlab::accel::BRUTE_FORCE_TRIANGLES));
     assert_eq!(const_u32(&pt, "TRIANGLE_TWO_SIDED"), Some(pathlab::gpu::TRIANGLE_TWO_SIDED));
     assert_eq!(const_u32(&pt, "MATERIAL_EMISSIVE"), Some(pathlab::gpu::MATERIAL_EMISSIVE));
     assert_eq!(const_u32(&pt, "MATERIAL_ONE_SIDED"), Some(pathlab::gpu::MATERIAL_ONE_SIDED));

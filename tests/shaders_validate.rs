@@ -3,7 +3,7 @@
 
 use pathlab::gpu::{pipeline_constants, PipelineKey, NO_TRAVERSAL_GUARD};
 use pathlab::method::{BsdfSampling, LightSampling, LightSelect, MicrofacetSampling, Method, Sampler, TriangleSampling};
-use pathlab::scene::SceneFeatures;
+use pathlab::gpu::SceneFeatures;
 use pathlab::shaders;
 
 /// Scene shapes: (spheres, planes, sphere lights, triangles, triangle lights, shading normals,

@@ -10,7 +10,7 @@ use pyo3::prelude::*;
 
 use pathlab::estimate::target::Target;
 use pathlab::film::Film;
-use pathlab::method::{BsdfSampling, LightSampling, Method, Sampler};
+use pathlab::method::{BsdfSampling, LightSampling, Method, MethodParts, Sampler};
 use pathlab::names::Named;
 use pathlab::render::{Budget, ErrorPlan, RenderJob, RenderOutcome, RenderStats, Renderer, MAX_SPP};
 
@@ -23,18 +23,16 @@ pub(crate) fn choice<T: Named>(argument: &'static str, name: &str) -> PyResult<T
     pathlab::names::parse_name::<T>(argument, name).map_err(|e| PyValueError::new_err(format!("{argument}: {e}")))
 }
 
+/// The method named `method` (`Method::from_name`, the CLI's parser) with the parts given.
 pub(crate) fn method_of(method: &str, sampler: Option<&str>, bsdf: Option<&str>, lights: Option<&str>) -> PyResult<Method> {
-    let mut m = Method::from_name(method).map_err(|e| PyValueError::new_err(format!("method: {e}")))?;
-    if let Some(s) = sampler {
-        m.sampler = choice::<Sampler>("sampler", s)?;
-    }
-    if let Some(b) = bsdf {
-        m.bsdf = choice::<BsdfSampling>("bsdf", b)?;
-    }
-    if let Some(l) = lights {
-        m.lights = choice::<LightSampling>("lights", l)?;
-    }
-    Ok(m)
+    let named = Method::from_name(method).map_err(|e| PyValueError::new_err(format!("method: {e}")))?;
+    let parts = MethodParts {
+        sampler: sampler.map(|s| choice::<Sampler>("sampler", s)).transpose()?,
+        bsdf: bsdf.map(|b| choice::<BsdfSampling>("bsdf", b)).transpose()?,
+        lights: lights.map(|l| choice::<LightSampling>("lights", l)).transpose()?,
+        ..MethodParts::default()
+    };
+    Ok(parts.apply(named))
 }
 
 /// (H, W, 3) float32 arrays of a film's mean and variance of the mean.

@@ -9,6 +9,7 @@ import threading
 import time
 
 import numpy as np
+import pytest
 
 import pathlab
 from conftest import STUDY
@@ -16,6 +17,16 @@ from conftest import STUDY
 # Long enough to be running when the signal comes (lavapipe renders ~10^7 samples/s), short
 # enough that a render which ignores the signal ends in seconds and fails the test, not hangs.
 LONG = dict(width=128, height=64)
+
+
+@pytest.fixture(autouse=True)
+def sigint_raises_keyboard_interrupt():
+    """Python's own SIGINT handler for each test, whatever the suite was started from: a shell
+    job started with `cmd &` in a script ignores SIGINT, and Python then installs no handler
+    (the signal would be ignored, not raised). The disposition found is restored afterwards."""
+    before = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, before)
 
 
 def interrupt_after(seconds):

@@ -7,4 +7,8 @@ pub mod bvh;
 pub mod triangle;
 
 pub use bvh::{Bvh, BvhNode, Triangle};
+
+/// Scenes of at most this many triangles test them all in turn from a uniform buffer instead of
+/// traversing the BVH (generated into the WGSL; see bvh.wgsl).
+pub const BRUTE_FORCE_TRIANGLES: u32 = 64;
 pub use triangle::ShearedRay;

@@ -11,21 +11,22 @@ use anyhow::{bail, Context};
 use clap::Args;
 use serde::Serialize;
 
-use pathlab::gpu::{adapter_summary, Gpu, PathTracerPipelines, PipelineKey};
-use pathlab::method::Preset;
+use pathlab::gpu::{adapter_summary, Gpu, PathTracerPipelines, PipelineKey, SceneFeatures};
+use pathlab::method::{Method, Preset};
 use pathlab::render::{Budget, Renderer};
 use pathlab::scene::Scene;
 
-use super::{load_scene, named, parse_size};
+use super::{load_scene, parse_size};
 
 #[derive(Args)]
 pub struct BenchArgs {
     /// Scene file (default: the study scene).
     #[arg(default_value = "assets/scenes/study.toml")]
     scene: PathBuf,
-    /// Presets to measure (default: all).
-    #[arg(long, value_parser = named::<Preset>(), value_delimiter = ',')]
-    methods: Vec<Preset>,
+    /// Methods to measure, comma-separated: any method name, as `render --method` (default:
+    /// every preset).
+    #[arg(long, value_parser = super::parse_method, value_delimiter = ',')]
+    methods: Vec<Method>,
     /// Image sizes, WxH (default: 256x128 and 1024x512).
     #[arg(long = "size", value_parser = parse_size)]
     sizes: Vec<(u32, u32)>,
@@ -91,14 +92,14 @@ pub fn run(args: BenchArgs) -> anyhow::Result<i32> {
     if !(args.seconds.is_finite() && args.seconds > 0.0) {
         bail!("--seconds must be positive");
     }
-    let methods = if args.methods.is_empty() { Preset::ALL.to_vec() } else { args.methods.clone() };
+    let methods = if args.methods.is_empty() { Preset::ALL.iter().map(|p| p.method()).collect() } else { args.methods.clone() };
     let sizes = if args.sizes.is_empty() { vec![(256, 128), (1024, 512)] } else { args.sizes.clone() };
     let gpu = Gpu::new(args.adapter.as_deref())?;
     eprintln!("adapter: {}", adapter_summary(&gpu.info));
     let mut records = Vec::new();
     let variants: &[bool] = if args.unspecialised { &[true, false] } else { &[true] };
     for &(width, height) in &sizes {
-        for &preset in &methods {
+        for &method in &methods {
             for &specialised in variants {
                 let mut scene = base.clone();
                 scene.render.width = width;
@@ -107,8 +108,8 @@ pub fn run(args: BenchArgs) -> anyhow::Result<i32> {
                 if let Some(super::RrDepth(rr)) = args.rr_depth {
                     scene.render.rr_depth = rr;
                 }
-                let record = measure(&gpu, &scene, &args, preset, specialised)
-                    .with_context(|| format!("{} at {width}x{height}", preset.name()))?;
+                let record = measure(&gpu, &scene, &args, method, specialised)
+                    .with_context(|| format!("{} at {width}x{height}", method.name()))?;
                 if !args.json {
                     print_row(&record, records.is_empty());
                 }
@@ -124,12 +125,12 @@ pub fn run(args: BenchArgs) -> anyhow::Result<i32> {
 
 /// One (method, size, specialisation) measurement: a fresh pipeline cache (so the record
 /// carries its own compile time), a 1-spp first frame, 0.5 s of warm-up, then the timed interval.
-fn measure(gpu: &Gpu, scene: &Scene, args: &BenchArgs, preset: Preset, specialised: bool) -> anyhow::Result<Record> {
+fn measure(gpu: &Gpu, scene: &Scene, args: &BenchArgs, method: Method, specialised: bool) -> anyhow::Result<Record> {
     let never = AtomicBool::new(false);
-    let method = preset.method();
-    let features = if specialised { scene.features() } else { scene.features().all_on() };
+    let features = SceneFeatures::of(scene);
+    let features = if specialised { features } else { features.all_on() };
     let pipelines = PathTracerPipelines::new(&gpu.device);
-    let (_, created) = pipelines.get(&gpu.device, PipelineKey::new(method, features, scene.has_triangle_lights()));
+    let (_, created) = pipelines.get(&gpu.device, PipelineKey::new(method, features, scene.default_light_select()));
     let mut renderer = if specialised {
         Renderer::new(gpu, &pipelines, scene, method, 0)?
     } else {
@@ -149,7 +150,7 @@ fn measure(gpu: &Gpu, scene: &Scene, args: &BenchArgs, preset: Preset, specialis
     let samples = width as f64 * height as f64 * spp as f64;
     Ok(Record {
         scene: args.scene.display().to_string(),
-        method: preset.name().into(),
+        method: method.name(),
         sampler: method.sampler.name().into(),
         bsdf: method.bsdf.name().into(),
         lights: method.lights.name().into(),

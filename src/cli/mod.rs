@@ -156,7 +156,7 @@ fn convert(path: &std::path::Path, output: Option<&std::path::Path>) -> anyhow::
 
 fn check(path: &std::path::Path) -> anyhow::Result<()> {
     let scene = load_scene(path)?;
-    let f = scene.features();
+    let f = pathlab::gpu::SceneFeatures::of(&scene);
     println!(
         "{}: valid; {}x{}, max_depth {}, Russian roulette {}, {} materials, {} spheres ({} lights), {} planes ({} can shadow a light), \
          {} meshes ({} triangles, {} emissive{}), specular {}, conductors {}, environment {}, light interiors reachable {}; \
@@ -179,7 +179,7 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
         scene.materials.iter().filter(|m| m.conductor.is_some()).count(),
         if f.has_environment { "yes" } else { "no" },
         if f.light_interiors_reachable { "yes" } else { "no" },
-        pathlab::method::LightSelect::default_for(scene.has_triangle_lights()),
+        scene.default_light_select(),
         scene.content_hash(),
     );
     if f.num_triangles > 0 {
@@ -212,6 +212,12 @@ pub(crate) fn named<T: Named + Clone + Send + Sync>() -> impl clap::builder::Typ
         clap::builder::PossibleValue::new(v.name()).help(help)
     });
     clap::builder::PossibleValuesParser::new(values).map(|s| T::from_name(&s).expect("a possible value"))
+}
+
+/// Parses a method name: a preset, a named variant or biased demonstration, or parts
+/// `SAMPLER/BSDF/LIGHTS`, each with `+OPTION`s (`Method::from_name`, as Python and every command).
+pub(crate) fn parse_method(s: &str) -> Result<pathlab::method::Method, String> {
+    pathlab::method::Method::from_name(s.trim()).map_err(|e| e.to_string())
 }
 
 /// Parses an image size `WxH`.

@@ -9,7 +9,7 @@ use clap::Args;
 use pathlab::display::{DisplayTransform, Transfer};
 use pathlab::estimate::target::Target;
 use pathlab::gpu::{adapter_summary, Gpu, PathTracerPipelines};
-use pathlab::method::{BsdfSampling, LightSampling, LightSelect, Method, MicrofacetSampling, Preset, Sampler, TriangleSampling};
+use pathlab::method::{BsdfSampling, LightSampling, LightSelect, Method, MethodParts, MicrofacetSampling, Sampler, TriangleSampling};
 use pathlab::render::{ctrl_c_flag, default_output, Budget, CheckpointPlan, ErrorPlan, OutputFiles, RenderJob, Resume, MAX_SPP};
 use pathlab::scene::{ApplicableOptions, Overrides};
 use pathlab::shard::{default_part_name, shard_range};
@@ -17,7 +17,7 @@ use pathlab::shard::{default_part_name, shard_range};
 use pathlab::progress::Reporter as _;
 
 use super::progress::Terminal;
-use super::{load_scene, named, parse_duration, EXIT_INTERRUPTED};
+use super::{load_scene, named, parse_duration, parse_method, EXIT_INTERRUPTED};
 
 /// Samples per pixel when neither `--spp`, `--time` nor the scene's `render.spp` says.
 const DEFAULT_SPP: u64 = 64;
@@ -26,9 +26,12 @@ const DEFAULT_SPP: u64 = 64;
 pub struct RenderArgs {
     /// Scene file (TOML).
     scene: PathBuf,
-    /// Sampling method preset.
-    #[arg(long, value_parser = named::<Preset>(), default_value = "best")]
-    method: Preset,
+    /// Sampling method: a preset (plain, halton, cosine, phong, nee, mis, best), mis-balance, a
+    /// biased demonstration (phong-lobe-only, nee-double-count), or its parts
+    /// SAMPLER/BSDF/LIGHTS; each may add +SELECT, +solid-angle, +ndf (e.g. mis+power). The
+    /// flags below replace its parts.
+    #[arg(long, value_parser = parse_method, default_value = "best")]
+    method: Method,
     /// Override the preset's sampler.
     #[arg(long, value_parser = named::<Sampler>())]
     sampler: Option<Sampler>,
@@ -122,19 +125,6 @@ pub struct RenderArgs {
     adapter: Option<String>,
 }
 
-pub(crate) fn method_of(preset: Preset, sampler: Option<Sampler>, bsdf: Option<BsdfSampling>, lights: Option<LightSampling>) -> Method {
-    let mut m = preset.method();
-    if let Some(s) = sampler {
-        m.sampler = s;
-    }
-    if let Some(b) = bsdf {
-        m.bsdf = b;
-    }
-    if let Some(l) = lights {
-        m.lights = l;
-    }
-    m
-}
 
 /// A note for each of the method's finer flags given where it cannot change the image.
 fn inapplicable_flags(args: &RenderArgs, scene: &pathlab::scene::Scene, method: &Method) -> Vec<String> {
@@ -187,12 +177,15 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
     if args.exposure.is_some_and(|e| !e.is_finite()) {
         bail!("--exposure must be finite");
     }
-    let method = Method {
+    let parts = MethodParts {
+        sampler: args.sampler,
+        bsdf: args.bsdf,
+        lights: args.lights,
         select: args.light_select,
-        triangles: args.triangle_sampling.unwrap_or(TriangleSampling::Area),
-        microfacet: args.microfacet_sampling.unwrap_or(MicrofacetSampling::Vndf),
-        ..method_of(args.method, args.sampler, args.bsdf, args.lights)
+        triangles: args.triangle_sampling,
+        microfacet: args.microfacet_sampling,
     };
+    let method = parts.apply(args.method);
     for note in inapplicable_flags(&args, &scene, &method) {
         eprintln!("note: {note}");
     }

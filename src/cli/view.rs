@@ -10,11 +10,7 @@ use pathlab::method::Method;
 use pathlab::output::read_exr;
 use pathlab::viewer::{View, ViewerOptions};
 
-use super::{load_scene, parse_size, SceneOverrides, named};
-
-fn parse_method(s: &str) -> Result<Method, String> {
-    Method::from_name(s).map_err(|e| e.to_string())
-}
+use super::{load_scene, named, parse_method, parse_size, SceneOverrides};
 
 #[derive(Args)]
 pub struct ViewArgs {

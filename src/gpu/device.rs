@@ -42,9 +42,32 @@ pub struct Gpu {
     pub features: wgpu::Features,
 }
 
+/// Switches Mesa's device-select layer off, once, unless the user configures it.
+///
+/// Mesa's implicit Vulkan layer VK_LAYER_MESA_device_select connects to Wayland and X11 to find
+/// the display's GPU when adapters are enumerated; on a headless machine (a server, a
+/// container, CI) libwayland then prints "error: XDG_RUNTIME_DIR is invalid or not set in the
+/// environment." (twice), which reads like a failure. pathlab picks its adapter itself
+/// (`--adapter`, PATHLAB_ADAPTER), so the layer is switched off by the variable its manifest
+/// names (NODEVICE_SELECT), unless the user configures the layer (MESA_VK_DEVICE_SELECT) or has
+/// decided (NODEVICE_SELECT set). Every Vulkan instance of the library (the CLI's, Python's,
+/// the tests') is made after this; the CLI also calls it first thing, before any thread starts.
+pub fn quiet_device_select() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        if std::env::var_os("NODEVICE_SELECT").is_none() && std::env::var_os("MESA_VK_DEVICE_SELECT").is_none() {
+            // SAFETY: called once, before the process's first Vulkan instance: the loader, which
+            // reads the variable, has not started, and pathlab's own threads read no
+            // environment meanwhile (the CLI calls this while single-threaded).
+            unsafe { std::env::set_var("NODEVICE_SELECT", "1") };
+        }
+    });
+}
+
 /// An instance on the native compute-capable APIs (Vulkan, Metal, DX12), unless `WGPU_BACKEND`
 /// says otherwise. OpenGL is left out: it is not a supported target and probing it is noisy.
 fn new_instance() -> wgpu::Instance {
+    quiet_device_select();
     let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
     desc.backends = wgpu::Backends::from_env().unwrap_or(wgpu::Backends::PRIMARY);
     wgpu::Instance::new(desc)

@@ -1,16 +1,19 @@
-//! Everything that talks to wgpu: the device (`device`), the path-tracing pipelines and their
+//! Everything that talks to wgpu: the device (`device`), the kernel's view of a scene (its
+//! features and object order, `features`), the path-tracing pipelines and their
 //! specialisation constants (`pipeline`), the per-dispatch uniform and camera (`frame_params`),
 //! the scene's GPU buffers (`scene_buffers`), and a harness for small single-dispatch kernels
 //! (`kernel`).
 
 mod device;
+pub mod features;
 mod frame_params;
 mod kernel;
 mod pipeline;
 mod scene_buffers;
 
-pub use device::{adapter_summary, list_adapters, wait_for_submission, Gpu, GpuError, ADAPTER_ENV};
+pub use device::{adapter_summary, list_adapters, quiet_device_select, wait_for_submission, Gpu, GpuError, ADAPTER_ENV};
+pub use features::SceneFeatures;
 pub use kernel::KernelRun;
-pub use pipeline::{loop_iterations_per_sample, pipeline_constants, LoopBound, BRUTE_FORCE_TRIANGLES, PathTracerPipelines, PipelineKey, PipelineStats, NO_TRAVERSAL_GUARD};
+pub use pipeline::{loop_iterations_per_sample, pipeline_constants, LoopBound, PathTracerPipelines, PipelineKey, PipelineStats, NO_TRAVERSAL_GUARD};
 pub use frame_params::FrameParams;
 pub use scene_buffers::{max_triangles, BSDF_KIND_CONDUCTOR, BSDF_KIND_PHONG, BSDF_KIND_ROUGH_CONDUCTOR, MATERIAL_EMISSIVE, MATERIAL_GGX, MATERIAL_ONE_SIDED, TRIANGLE_HAS_NORMALS, TRIANGLE_TWO_SIDED, GpuLight, GpuMaterial, GpuPlane, GpuSphere, GpuTriangle, GpuTriangleNormals, PackedTriangles, SceneBuffers};

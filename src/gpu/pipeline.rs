@@ -8,12 +8,8 @@ use std::time::{Duration, Instant};
 use wgpu::util::DeviceExt;
 
 use crate::method::{LightSelect, Method};
-use crate::scene::SceneFeatures;
+use super::features::SceneFeatures;
 use crate::shaders::{self, bindings};
-
-/// Scenes of at most this many triangles test them all in turn from a uniform buffer instead of
-/// traversing the BVH (generated into the WGSL; see bvh.wgsl).
-pub const BRUTE_FORCE_TRIANGLES: u32 = 64;
 
 /// `TRAVERSAL_BUDGET` of a pipeline whose traversal is bounded by the host: no guard.
 pub const NO_TRAVERSAL_GUARD: u32 = u32::MAX;
@@ -30,10 +26,11 @@ pub struct PipelineKey {
 }
 
 impl PipelineKey {
-    /// The key of `method` on a scene with `features`: the scene's default light selection
-    /// where the method leaves it open, no traversal guard.
-    pub fn new(method: Method, features: SceneFeatures, has_triangle_lights: bool) -> PipelineKey {
-        let select = Some(method.select.unwrap_or(LightSelect::default_for(has_triangle_lights)));
+    /// The key of `method` on a scene with `features`: `default_select` (the scene's,
+    /// `Scene::default_light_select`) where the method leaves the selection open, no traversal
+    /// guard.
+    pub fn new(method: Method, features: SceneFeatures, default_select: LightSelect) -> PipelineKey {
+        let select = Some(method.select.unwrap_or(default_select));
         PipelineKey { method: Method { select, ..method }, features, traversal_budget: NO_TRAVERSAL_GUARD }
     }
 }

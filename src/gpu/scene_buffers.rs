@@ -206,6 +206,24 @@ pub struct SceneBuffers {
     pub small_triangles: wgpu::Buffer,
 }
 
+impl SceneBuffers {
+    /// The bind-group entries of every scene buffer, each at its binding (`shaders::bindings`):
+    /// a new buffer of the scene is listed here and nowhere else.
+    pub fn entries(&self) -> Vec<wgpu::BindGroupEntry<'_>> {
+        use crate::shaders::bindings::{self, entry};
+        vec![
+            entry(bindings::SPHERES, &self.spheres),
+            entry(bindings::PLANES, &self.planes),
+            entry(bindings::MATERIALS, &self.materials),
+            entry(bindings::TRIANGLES, &self.triangles),
+            entry(bindings::TRIANGLE_NORMALS, &self.triangle_normals),
+            entry(bindings::BVH_NODES, &self.bvh_nodes),
+            entry(bindings::LIGHTS, &self.lights),
+            entry(bindings::SMALL_TRIANGLES, &self.small_triangles),
+        ]
+    }
+}
+
 /// A read-only storage buffer holding `items` (at least one zeroed element).
 fn storage_array<T: Pod + Zeroable>(device: &wgpu::Device, label: &str, items: &[T]) -> wgpu::Buffer {
     let mut bytes = bytemuck::cast_slice::<T, u8>(items).to_vec();
@@ -267,10 +285,9 @@ impl SceneBuffers {
             .collect()
     }
 
-    /// The spheres in kernel order (`Scene::gpu_sphere_order`): the lights first.
+    /// The spheres in kernel order (`features::sphere_order`): the lights first.
     pub fn pack_spheres(scene: &Scene) -> Vec<GpuSphere> {
-        scene
-            .gpu_sphere_order()
+        super::features::sphere_order(scene)
             .into_iter()
             .map(|i| {
                 let s = &scene.spheres[i];
@@ -279,10 +296,9 @@ impl SceneBuffers {
             .collect()
     }
 
-    /// The planes in kernel order (`Scene::gpu_plane_order`): those that can occlude a light first.
+    /// The planes in kernel order (`features::plane_order`): those that can occlude a light first.
     pub fn pack_planes(scene: &Scene) -> Vec<GpuPlane> {
-        scene
-            .gpu_plane_order()
+        super::features::plane_order(scene)
             .into_iter()
             .map(|i| {
                 let p = &scene.planes[i];
@@ -306,8 +322,8 @@ impl SceneBuffers {
             bvh_nodes: storage_array(device, "bvh nodes", &packed.bvh.nodes),
             lights: storage_array(device, "lights", &packed.lights),
             small_triangles: {
-                let n = packed.triangles.len().min(super::BRUTE_FORCE_TRIANGLES as usize);
-                uniform_array(device, "small triangles", &packed.triangles[..n], super::BRUTE_FORCE_TRIANGLES as usize)
+                let n = packed.triangles.len().min(crate::accel::BRUTE_FORCE_TRIANGLES as usize);
+                uniform_array(device, "small triangles", &packed.triangles[..n], crate::accel::BRUTE_FORCE_TRIANGLES as usize)
             },
         }
     }

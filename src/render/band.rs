@@ -51,22 +51,14 @@ impl Band {
                 mapped_at_creation: true,
             });
             accum.unmap();
+            // The band's own buffers, the pipelines' table, then the scene's (each at its binding).
+            let mut entries =
+                vec![entry(bindings::FRAME, &params_buffer), entry(bindings::ACCUM, &accum), entry(bindings::HALTON_PRIMES, &pipelines.halton_primes)];
+            entries.extend(scene_buffers.entries());
             let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("path tracer"),
                 layout: &pipelines.bind_group_layout,
-                entries: &[
-                    entry(bindings::FRAME, &params_buffer),
-                    entry(bindings::SPHERES, &scene_buffers.spheres),
-                    entry(bindings::PLANES, &scene_buffers.planes),
-                    entry(bindings::MATERIALS, &scene_buffers.materials),
-                    entry(bindings::ACCUM, &accum),
-                    entry(bindings::HALTON_PRIMES, &pipelines.halton_primes),
-                    entry(bindings::TRIANGLES, &scene_buffers.triangles),
-                    entry(bindings::TRIANGLE_NORMALS, &scene_buffers.triangle_normals),
-                    entry(bindings::BVH_NODES, &scene_buffers.bvh_nodes),
-                    entry(bindings::LIGHTS, &scene_buffers.lights),
-                    entry(bindings::SMALL_TRIANGLES, &scene_buffers.small_triangles),
-                ],
+                entries: &entries,
             });
             bands.push(Band { y0, rows, params_buffer, accum, bind_group });
         }

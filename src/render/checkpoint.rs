@@ -91,7 +91,7 @@ impl CheckpointKey {
             ("sampler", self.method.sampler.to_string()),
             ("bsdf", self.method.bsdf.to_string()),
             ("lights", self.method.lights.to_string()),
-            // `default`: the scene's (LightSelect::default_for).
+            // `default`: the scene's (Scene::default_light_select).
             ("light_select", self.method.select.map_or("default".to_string(), |s| s.to_string())),
             ("triangle_sampling", self.method.triangles.to_string()),
             ("microfacet_sampling", self.method.microfacet.to_string()),

@@ -8,7 +8,7 @@ use std::time::Duration;
 
 use crate::estimate::ErrorEstimate;
 use crate::film::AccumPixel;
-use crate::gpu::{loop_iterations_per_sample, max_triangles, FrameParams, Gpu, GpuError, PackedTriangles, PathTracerPipelines, PipelineKey, SceneBuffers};
+use crate::gpu::{loop_iterations_per_sample, max_triangles, FrameParams, Gpu, GpuError, PackedTriangles, PathTracerPipelines, PipelineKey, SceneBuffers, SceneFeatures};
 use crate::method::Method;
 use crate::scene::Scene;
 
@@ -128,13 +128,13 @@ impl Renderer {
         seed: u32,
         band_bytes: u64,
     ) -> Result<Renderer, RenderError> {
-        Renderer::build(gpu, pipelines, scene, PipelineKey::new(method, scene.features(), scene.has_triangle_lights()), seed, band_bytes)
+        Renderer::build(gpu, pipelines, scene, PipelineKey::new(method, SceneFeatures::of(scene), scene.default_light_select()), seed, band_bytes)
     }
 
     /// Like `new`, with a pipeline that has every optional feature on
     /// (`SceneFeatures::all_on`): to measure what specialisation to the scene gains.
     pub fn unspecialised(gpu: &Gpu, pipelines: &PathTracerPipelines, scene: &Scene, method: Method, seed: u32) -> Result<Renderer, RenderError> {
-        let key = PipelineKey::new(method, scene.features().all_on(), scene.has_triangle_lights());
+        let key = PipelineKey::new(method, SceneFeatures::of(scene).all_on(), scene.default_light_select());
         Renderer::build(gpu, pipelines, scene, key, seed, u64::MAX)
     }
 

@@ -70,6 +70,7 @@ fn format_errors(diagnostics: &[Diagnostic]) -> String {
 }
 
 /// Maps byte offsets of a source text to 1-based (line, column).
+#[derive(Clone)]
 pub(crate) struct LineIndex {
     line_starts: Vec<usize>,
 }
@@ -91,11 +92,12 @@ impl LineIndex {
 /// The text files a scene was read from (a Mitsuba file and its includes; one TOML file), laid
 /// end to end: a global byte offset names one file and a position in it, so that spans from
 /// any of them can travel in one `Spanned` and still name file, line and column.
-#[derive(Default)]
+#[derive(Default, Clone)]
 pub(crate) struct SourceMap {
     files: Vec<SourceFile>,
 }
 
+#[derive(Clone)]
 struct SourceFile {
     path: PathBuf,
     base: usize,

@@ -8,6 +8,7 @@
 use glam::DVec3;
 
 use super::Scene;
+use crate::method::LightSelect;
 
 /// One light.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -36,6 +37,13 @@ impl Scene {
     /// Whether any mesh emits.
     pub fn has_triangle_lights(&self) -> bool {
         self.meshes.iter().any(|m| self.materials[m.material].is_emissive())
+    }
+
+    /// The light selection of a method that leaves it open (the one place it is decided):
+    /// `power` for scenes with emissive meshes (a mesh of a thousand triangles is a thousand
+    /// lights), else `all`, which keeps the images of sphere-lit scenes as they were.
+    pub fn default_light_select(&self) -> LightSelect {
+        if self.has_triangle_lights() { LightSelect::Power } else { LightSelect::All }
     }
 
     /// Emitted power of a light, in luminance: pi times area times radiance for a diffuse

@@ -283,42 +283,6 @@ impl Scene {
             .collect()
     }
 
-    /// The features a pipeline must support to render this scene.
-    pub fn features(&self) -> SceneFeatures {
-        let num_sphere_lights = self.light_spheres().len() as u32;
-        let num_triangle_lights: usize =
-            self.meshes.iter().filter(|m| self.materials[m.material].is_emissive()).map(|m| m.triangles.len()).sum();
-        SceneFeatures {
-            num_spheres: self.spheres.len() as u32,
-            num_planes: self.planes.len() as u32,
-            num_lights: num_sphere_lights + num_triangle_lights as u32,
-            num_sphere_lights,
-            num_triangles: self.num_triangles() as u32,
-            has_shading_normals: self.meshes.iter().any(|m| !m.normals.is_empty()),
-            rr_depth: self.render.rr_depth.unwrap_or(0),
-            has_specular: self.materials.iter().any(|m| m.specular.max_element() > 0.0),
-            has_conductors: self.materials.iter().any(|m| m.conductor.is_some()),
-            has_environment: self.render.environment.max_element() > 0.0,
-            num_occluding_planes: self.occluding_planes().len() as u32,
-            light_interiors_reachable: self.light_interiors_reachable(),
-        }
-    }
-
-    /// Order of the spheres in the kernel: the lights first (in scene order), so that light l
-    /// is sphere l, then the others.
-    pub fn gpu_sphere_order(&self) -> Vec<usize> {
-        let lights = self.light_spheres();
-        let others = (0..self.spheres.len()).filter(|i| !lights.contains(i));
-        lights.iter().copied().chain(others).collect()
-    }
-
-    /// Order of the planes in the kernel: `occluding_planes()` first, then the others.
-    pub fn gpu_plane_order(&self) -> Vec<usize> {
-        let occluding = self.occluding_planes();
-        let others = (0..self.planes.len()).filter(|i| !occluding.contains(i));
-        occluding.iter().copied().chain(others).collect()
-    }
-
     /// Planes that can lie between a path vertex and a light. Planes are opaque and infinite,
     /// so every path vertex is on the camera's side of each plane (or on it); a plane with the
     /// camera and every light sphere strictly on the same side cannot block a shadow ray (the
@@ -384,10 +348,9 @@ pub struct ApplicableOptions {
 impl ApplicableOptions {
     /// What the scene has, whatever the method.
     pub fn of_scene(scene: &Scene) -> ApplicableOptions {
-        let f = scene.features();
         ApplicableOptions {
-            light_select: f.num_lights > 1,
-            triangle_sampling: f.num_lights > f.num_sphere_lights,
+            light_select: scene.lights().len() > 1,
+            triangle_sampling: scene.has_triangle_lights(),
             microfacet_sampling: scene.materials.iter().any(|m| m.conductor.as_ref().is_some_and(|c| c.rough.is_some())),
         }
     }
@@ -402,47 +365,6 @@ impl ApplicableOptions {
             light_select: self.light_select && lights,
             triangle_sampling: self.triangle_sampling && lights,
             microfacet_sampling: self.microfacet_sampling && material,
-        }
-    }
-}
-
-/// What a scene requires of the path-tracing kernel; each becomes a WGSL `override` constant,
-/// so a pipeline carries only the code its scene uses.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct SceneFeatures {
-    pub num_spheres: u32,
-    pub num_planes: u32,
-    /// Lights: the emissive spheres, then the emissive triangles.
-    pub num_lights: u32,
-    pub num_sphere_lights: u32,
-    pub num_triangles: u32,
-    /// Some mesh has vertex normals (interpolated as shading normals).
-    pub has_shading_normals: bool,
-    /// Russian roulette from this vertex on; 0: none.
-    pub rr_depth: u32,
-    /// Planes that shadow rays must test (the first ones in kernel order).
-    pub num_occluding_planes: u32,
-    pub has_specular: bool,
-    /// Some material is a conductor (smooth or rough): the microfacet code is compiled in.
-    pub has_conductors: bool,
-    pub has_environment: bool,
-    /// False when no path vertex can be inside a light: sampling lights from inside (by area)
-    /// is compiled out, leaving cone sampling alone.
-    pub light_interiors_reachable: bool,
-}
-
-impl SceneFeatures {
-    /// Every optional feature on (specular lobe, environment lookups, shadow tests of every
-    /// plane, light sampling from inside), the object counts kept: the kernel a scene gets
-    /// without specialisation, for comparisons. It renders the same image, more slowly.
-    pub fn all_on(self) -> SceneFeatures {
-        SceneFeatures {
-            has_specular: true,
-            has_conductors: true,
-            has_environment: true,
-            num_occluding_planes: self.num_planes,
-            light_interiors_reachable: true,
-            ..self
         }
     }
 }
@@ -468,10 +390,9 @@ mod tests {
         let s = scene_with("");
         assert!(s.occluding_planes().is_empty());
         assert!(!s.light_interiors_reachable());
-        // A wall between camera and light must be tested, and comes first in kernel order.
+        // A wall between camera and light must be tested.
         let s = scene_with("[[planes]]\npoint = [0, 0, -3]\nnormal = [0, 0, 1]\nmaterial = \"grey\"\n");
         assert_eq!(s.occluding_planes(), vec![1]);
-        assert_eq!(s.gpu_plane_order(), vec![1, 0]);
         assert!(!s.light_interiors_reachable());
     }
 
@@ -484,14 +405,6 @@ mod tests {
         assert!(s.light_interiors_reachable());
         let s = scene_with("[[spheres]]\ncenter = [0, 3, -5]\nradius = 1\nmaterial = \"grey\"\n");
         assert!(!s.light_interiors_reachable());
-    }
-
-    #[test]
-    fn lights_come_first_in_kernel_order() {
-        let s = scene_with("[[spheres]]\ncenter = [3, 0, -5]\nradius = 1\nmaterial = \"grey\"\n[[spheres]]\ncenter = [-3, 0, -5]\nradius = 1\nmaterial = \"lamp\"\n");
-        // Spheres 0 and 2 emit: they become kernel spheres 0 and 1.
-        assert_eq!(s.light_spheres(), vec![0, 2]);
-        assert_eq!(s.gpu_sphere_order(), vec![0, 2, 1]);
     }
 }
 

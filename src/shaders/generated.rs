@@ -22,7 +22,7 @@ pub fn generated_constants() -> String {
          const MAX_MATERIALS: u32 = {MAX_MATERIALS}u;\n\
          // The BVH traversal stack: the deepest node the builder makes (src/accel/bvh.rs).\n\
          const BVH_MAX_DEPTH: u32 = {}u;\n\
-         // Scenes of at most this many triangles test them all from a uniform buffer (src/gpu/pipeline.rs).\n\
+         // Scenes of at most this many triangles test them all from a uniform buffer (src/accel/mod.rs).\n\
          const BRUTE_FORCE_TRIANGLES: u32 = {}u;\n\
          // Values of the `override` choices SAMPLER, BSDF_SAMPLING, LIGHT_SAMPLING, LIGHT_SELECT,\n\
          // TRIANGLE_SAMPLING, MICROFACET_SAMPLING (src/method.rs), the microfacet distributions\n\
@@ -36,7 +36,7 @@ pub fn generated_constants() -> String {
          // Binding numbers of group 0 (src/shaders/bindings.rs).\n\
          {}{}",
         crate::accel::bvh::MAX_DEPTH,
-        crate::gpu::BRUTE_FORCE_TRIANGLES,
+        crate::accel::BRUTE_FORCE_TRIANGLES,
         wgsl_constants::<Sampler>("SAMPLER"),
         wgsl_constants::<BsdfSampling>("BSDF"),
         wgsl_constants::<LightSampling>("LIGHTS"),

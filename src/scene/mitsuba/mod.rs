@@ -37,12 +37,16 @@ const SHAPES: &str = "obj, ply, rectangle, cube, sphere";
 
 /// Reads and validates a Mitsuba 3 scene; `defines` override its `<default>`s (`--define`).
 pub(super) fn load(path: &Path, defines: &[(String, String)]) -> Result<Scene, SceneError> {
+    load_with_raw(path, defines).map(|(scene, _)| scene)
+}
+
+/// The validated scene and the translation it was made from (translated once).
+fn load_with_raw(path: &Path, defines: &[(String, String)]) -> Result<(Scene, RawScene), SceneError> {
     let (raw, sources, diagnostics) = translate(path, defines)?;
-    let scene = validate::validate(&raw, path, sources, diagnostics)?;
+    let scene = validate::validate(&raw, path, sources.clone(), diagnostics)?;
     // pathlab's sphere lights also emit inwards, Mitsuba's only outwards: the same image only
     // where no path vertex can be inside one.
     if scene.light_interiors_reachable() {
-        let (raw, sources, _) = translate(path, defines)?;
         let light = scene.light_spheres().first().map_or(0, |&i| raw.spheres[i].span().start);
         let d = sources.diagnostic(
             Severity::Error,
@@ -54,14 +58,13 @@ pub(super) fn load(path: &Path, defines: &[(String, String)]) -> Result<Scene, S
         );
         return Err(SceneError::Invalid(vec![d]));
     }
-    Ok(scene)
+    Ok((scene, raw))
 }
 
 /// The TOML text of a Mitsuba scene (`pathlab convert`): the scene model it is translated into,
 /// mesh files named relative to `out_dir` where they lie below it. The scene is validated first.
 pub fn to_toml(path: &Path, defines: &[(String, String)], out_dir: &Path) -> Result<(String, Vec<Diagnostic>), SceneError> {
-    let scene = load(path, defines)?;
-    let (mut raw, _, _) = translate(path, defines)?;
+    let (scene, mut raw) = load_with_raw(path, defines)?;
     for m in &mut raw.meshes {
         let m = m.get_mut();
         let file = path.parent().unwrap_or(Path::new("")).join(m.file.get_ref());
@@ -202,6 +205,89 @@ impl Props {
     }
 }
 
+/// A Rust type a property can be read as (`Translator::get`): the element kinds it accepts,
+/// and what the error names otherwise.
+trait PropKind: Sized {
+    const EXPECTED: &'static str;
+    /// The value as `Self`, or the value back where it is another kind.
+    fn read(value: Value) -> Result<Self, Value>;
+}
+
+/// A colour property: an `<rgb>`, a constant `<spectrum>`, or a `<float>` for all three channels.
+struct Rgb([f64; 3]);
+
+impl PropKind for f64 {
+    const EXPECTED: &'static str = "a <float>";
+    fn read(value: Value) -> Result<f64, Value> {
+        match value {
+            Value::Float(v) => Ok(v),
+            Value::Integer(v) => Ok(v as f64),
+            other => Err(other),
+        }
+    }
+}
+
+impl PropKind for i64 {
+    const EXPECTED: &'static str = "an <integer>";
+    fn read(value: Value) -> Result<i64, Value> {
+        match value {
+            Value::Integer(v) => Ok(v),
+            other => Err(other),
+        }
+    }
+}
+
+impl PropKind for bool {
+    const EXPECTED: &'static str = "a <boolean>";
+    fn read(value: Value) -> Result<bool, Value> {
+        match value {
+            Value::Boolean(v) => Ok(v),
+            other => Err(other),
+        }
+    }
+}
+
+impl PropKind for String {
+    const EXPECTED: &'static str = "a <string>";
+    fn read(value: Value) -> Result<String, Value> {
+        match value {
+            Value::String(v) => Ok(v),
+            other => Err(other),
+        }
+    }
+}
+
+impl PropKind for Rgb {
+    const EXPECTED: &'static str = "an <rgb> or a constant <spectrum>";
+    fn read(value: Value) -> Result<Rgb, Value> {
+        match value {
+            Value::Color(c) => Ok(Rgb(c)),
+            Value::Float(v) => Ok(Rgb([v; 3])),
+            other => Err(other),
+        }
+    }
+}
+
+impl PropKind for DVec3 {
+    const EXPECTED: &'static str = "a <point>";
+    fn read(value: Value) -> Result<DVec3, Value> {
+        match value {
+            Value::Point(v) | Value::Vector(v) => Ok(v),
+            other => Err(other),
+        }
+    }
+}
+
+impl PropKind for Vec<TransformOp> {
+    const EXPECTED: &'static str = "a <transform>";
+    fn read(value: Value) -> Result<Vec<TransformOp>, Value> {
+        match value {
+            Value::Transform(ops) => Ok(ops),
+            other => Err(other),
+        }
+    }
+}
+
 impl Findings for Translator<'_> {
     fn sources(&self) -> &SourceMap {
         self.sources
@@ -227,113 +313,71 @@ impl Translator<'_> {
         self.error(prop.at, &prop.name, format!("`{}` of {what} must be {expected}, not <{}>", prop.name, prop.value.kind()));
     }
 
-    fn float(&mut self, p: &mut Props, name: &str) -> Option<f64> {
-        let prop = p.take(name)?;
-        match prop.value {
-            Value::Float(v) => Some(v),
-            Value::Integer(v) => Some(v as f64),
-            _ => {
+    /// The one typed getter: takes property `name` of `p` and reads it as a `T`, refusing
+    /// another kind of element with what was expected. Returns the value and the property.
+    fn get<T: PropKind>(&mut self, p: &mut Props, name: &str) -> Option<(T, Prop)> {
+        let mut prop = p.take(name)?;
+        let value = std::mem::replace(&mut prop.value, Value::Boolean(false));
+        match T::read(value) {
+            Ok(v) => Some((v, prop)),
+            Err(value) => {
+                prop.value = value;
                 let what = p.what();
-                self.wrong_kind(&prop, &what, "a <float>");
+                self.wrong_kind(&prop, &what, T::EXPECTED);
                 None
             }
         }
+    }
+
+    fn float(&mut self, p: &mut Props, name: &str) -> Option<f64> {
+        self.get::<f64>(p, name).map(|(v, _)| v)
     }
 
     /// A finite float > 0.
     fn positive(&mut self, p: &mut Props, name: &str) -> Option<(f64, usize)> {
-        let prop = p.props.iter().find(|q| q.name == name).map(|q| q.value_at)?;
-        let v = self.float(p, name)?;
+        let (v, prop) = self.get::<f64>(p, name)?;
         if !(v.is_finite() && v > 0.0) {
             let what = p.what();
-            self.error(prop, name, format!("`{name}` of {what} must be a finite number > 0 (got {v})"));
+            self.error(prop.value_at, name, format!("`{name}` of {what} must be a finite number > 0 (got {v})"));
             return None;
         }
-        Some((v, prop))
+        Some((v, prop.value_at))
     }
 
     fn integer(&mut self, p: &mut Props, name: &str) -> Option<(i64, usize)> {
-        let prop = p.take(name)?;
-        match prop.value {
-            Value::Integer(v) => Some((v, prop.value_at)),
-            _ => {
-                let what = p.what();
-                self.wrong_kind(&prop, &what, "an <integer>");
-                None
-            }
-        }
+        self.get::<i64>(p, name).map(|(v, prop)| (v, prop.value_at))
     }
 
     fn boolean(&mut self, p: &mut Props, name: &str) -> Option<bool> {
-        let prop = p.take(name)?;
-        match prop.value {
-            Value::Boolean(v) => Some(v),
-            _ => {
-                let what = p.what();
-                self.wrong_kind(&prop, &what, "a <boolean>");
-                None
-            }
-        }
+        self.get::<bool>(p, name).map(|(v, _)| v)
     }
 
     fn string(&mut self, p: &mut Props, name: &str) -> Option<(String, usize)> {
-        let prop = p.take(name)?;
-        match prop.value {
-            Value::String(v) => Some((v, prop.value_at)),
-            _ => {
-                let what = p.what();
-                self.wrong_kind(&prop, &what, "a <string>");
-                None
-            }
-        }
+        self.get::<String>(p, name).map(|(v, prop)| (v, prop.value_at))
     }
 
     /// A colour: finite, non-negative channels.
     fn color(&mut self, p: &mut Props, name: &str) -> Option<([f64; 3], usize)> {
-        let prop = p.take(name)?;
-        let what = p.what();
-        match prop.value {
-            Value::Color(c) => {
-                if !c.iter().all(|v| v.is_finite() && *v >= 0.0) {
-                    self.error(prop.value_at, name, format!("`{name}` of {what} must be finite and >= 0 in every channel (got {c:?})"));
-                    return None;
-                }
-                Some((c, prop.value_at))
-            }
-            Value::Float(v) if v.is_finite() && v >= 0.0 => Some(([v; 3], prop.value_at)),
-            _ => {
-                self.wrong_kind(&prop, &what, "an <rgb> or a constant <spectrum>");
-                None
-            }
+        let (c, prop) = self.get::<Rgb>(p, name)?;
+        if !c.0.iter().all(|v| v.is_finite() && *v >= 0.0) {
+            let what = p.what();
+            self.error(prop.value_at, name, format!("`{name}` of {what} must be finite and >= 0 in every channel (got {:?})", c.0));
+            return None;
         }
+        Some((c.0, prop.value_at))
     }
 
     fn point(&mut self, p: &mut Props, name: &str) -> Option<DVec3> {
-        let prop = p.take(name)?;
-        match prop.value {
-            Value::Point(v) | Value::Vector(v) if v.is_finite() => Some(v),
-            Value::Point(_) | Value::Vector(_) => {
-                self.error(prop.value_at, name, format!("`{name}` must be finite"));
-                None
-            }
-            _ => {
-                let what = p.what();
-                self.wrong_kind(&prop, &what, "a <point>");
-                None
-            }
+        let (v, prop) = self.get::<DVec3>(p, name)?;
+        if !v.is_finite() {
+            self.error(prop.value_at, name, format!("`{name}` must be finite"));
+            return None;
         }
+        Some(v)
     }
 
     fn transform(&mut self, p: &mut Props, name: &str) -> Option<(Vec<TransformOp>, usize)> {
-        let prop = p.take(name)?;
-        match prop.value {
-            Value::Transform(ops) => Some((ops, prop.at)),
-            _ => {
-                let what = p.what();
-                self.wrong_kind(&prop, &what, "a <transform>");
-                None
-            }
-        }
+        self.get::<Vec<TransformOp>>(p, name).map(|(ops, prop)| (ops, prop.at))
     }
 
     fn scene(&mut self, path: &Path, objects: &[Object]) -> Option<RawScene> {

@@ -1,0 +1,106 @@
+//! The kernel's view of a scene: which features its pipeline is specialised to
+//! (`SceneFeatures`, each a WGSL `override` constant) and the order its objects take in the
+//! scene buffers (lights first, occluding planes first). The scene itself knows nothing of it.
+
+use crate::scene::Scene;
+
+/// What a scene requires of the path-tracing kernel; each becomes a WGSL `override` constant,
+/// so a pipeline carries only the code its scene uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct SceneFeatures {
+    pub num_spheres: u32,
+    pub num_planes: u32,
+    /// Lights: the emissive spheres, then the emissive triangles.
+    pub num_lights: u32,
+    pub num_sphere_lights: u32,
+    pub num_triangles: u32,
+    /// Some mesh has vertex normals (interpolated as shading normals).
+    pub has_shading_normals: bool,
+    /// Russian roulette from this vertex on; 0: none.
+    pub rr_depth: u32,
+    /// Planes that shadow rays must test (the first ones in kernel order).
+    pub num_occluding_planes: u32,
+    pub has_specular: bool,
+    /// Some material is a conductor (smooth or rough): the microfacet code is compiled in.
+    pub has_conductors: bool,
+    pub has_environment: bool,
+    /// False when no path vertex can be inside a light: sampling lights from inside (by area)
+    /// is compiled out, leaving cone sampling alone.
+    pub light_interiors_reachable: bool,
+}
+
+impl SceneFeatures {
+    /// The features a pipeline must support to render `scene`.
+    pub fn of(scene: &Scene) -> SceneFeatures {
+        let num_sphere_lights = scene.light_spheres().len() as u32;
+        let num_triangle_lights: usize =
+            scene.meshes.iter().filter(|m| scene.materials[m.material].is_emissive()).map(|m| m.triangles.len()).sum();
+        SceneFeatures {
+            num_spheres: scene.spheres.len() as u32,
+            num_planes: scene.planes.len() as u32,
+            num_lights: num_sphere_lights + num_triangle_lights as u32,
+            num_sphere_lights,
+            num_triangles: scene.num_triangles() as u32,
+            has_shading_normals: scene.meshes.iter().any(|m| !m.normals.is_empty()),
+            rr_depth: scene.render.rr_depth.unwrap_or(0),
+            has_specular: scene.materials.iter().any(|m| m.specular.max_element() > 0.0),
+            has_conductors: scene.materials.iter().any(|m| m.conductor.is_some()),
+            has_environment: scene.render.environment.max_element() > 0.0,
+            num_occluding_planes: scene.occluding_planes().len() as u32,
+            light_interiors_reachable: scene.light_interiors_reachable(),
+        }
+    }
+
+    /// Every optional feature on (specular lobe, environment lookups, shadow tests of every
+    /// plane, light sampling from inside), the object counts kept: the kernel a scene gets
+    /// without specialisation, for comparisons. It renders the same image, more slowly.
+    pub fn all_on(self) -> SceneFeatures {
+        SceneFeatures {
+            has_specular: true,
+            has_conductors: true,
+            has_environment: true,
+            num_occluding_planes: self.num_planes,
+            light_interiors_reachable: true,
+            ..self
+        }
+    }
+}
+
+/// Order of the spheres in the kernel: the lights first (in scene order), so that light l
+/// is sphere l, then the others.
+pub fn sphere_order(scene: &Scene) -> Vec<usize> {
+    let lights = scene.light_spheres();
+    let others = (0..scene.spheres.len()).filter(|i| !lights.contains(i));
+    lights.iter().copied().chain(others).collect()
+}
+
+/// Order of the planes in the kernel: `Scene::occluding_planes` first, then the others.
+pub fn plane_order(scene: &Scene) -> Vec<usize> {
+    let occluding = scene.occluding_planes();
+    let others = (0..scene.planes.len()).filter(|i| !occluding.contains(i));
+    occluding.iter().copied().chain(others).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lights_and_occluding_planes_come_first_in_kernel_order() {
+        let text = "[camera]\nposition = [0, 0, 1]\nlook_at = [0, 0, 0]\nup = [0, 1, 0]\nfov_x = 90\n\
+             [render]\nwidth = 8\nheight = 8\nmax_depth = 2\n\
+             [materials.lamp]\nemission = 1\n[materials.grey]\ndiffuse = 0.5\n\
+             [[spheres]]\ncenter = [0, 0, -5]\nradius = 1\nmaterial = \"lamp\"\n\
+             [[spheres]]\ncenter = [3, 0, -5]\nradius = 1\nmaterial = \"grey\"\n\
+             [[spheres]]\ncenter = [-3, 0, -5]\nradius = 1\nmaterial = \"lamp\"\n\
+             [[planes]]\npoint = [0, -2, 0]\nnormal = [0, 1, 0]\nmaterial = \"grey\"\n\
+             [[planes]]\npoint = [0, 0, -3]\nnormal = [0, 0, 1]\nmaterial = \"grey\"\n";
+        let s = Scene::parse(text, "test.toml").unwrap();
+        // Spheres 0 and 2 emit: they become kernel spheres 0 and 1.
+        assert_eq!(sphere_order(&s), vec![0, 2, 1]);
+        // The wall between camera and lights can occlude them: it comes first.
+        assert_eq!(plane_order(&s), vec![1, 0]);
+        let f = SceneFeatures::of(&s);
+        assert_eq!((f.num_spheres, f.num_sphere_lights, f.num_lights, f.num_occluding_planes), (3, 2, 2, 1));
+    }
+}
