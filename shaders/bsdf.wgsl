@@ -1,16 +1,12 @@
-// bsdf.wgsl — the BSDFs and their sampling strategies: the normalised modified Phong BRDF,
-//
-//   f(wi, wo) = kd / pi + ks (n + 2) / (2 pi) max(0, dot(wi, r))^n,   r = mirror of wo about n_s,
-//
-// and conductors (Mitsuba's `conductor` and `roughconductor`): a smooth mirror (a delta lobe)
-// and Torrance-Sparrow microfacet reflection,
-//
-//   f(wi, wo) = F(wo . h) D(h) G(wo, wi, h) / (4 cos(theta_o) cos(theta_i)),   h = (wi + wo) / |wi + wo|,
-//
-// with the distributions, shadowing and Fresnel term of microfacet.wgsl. n_s is the shading
-// normal turned towards wo (which side a one-sided material shows is decided by the
-// integrator); directions on the other side get f = 0 (no transmission). Each lobe has its
-// `eval_*`, `pdf_*` and `sample_*`; `eval_pdf_bsdf` and `sample_bsdf` dispatch on the material.
+// bsdf.wgsl — what every BSDF shares: the sampling strategies that do not depend on the
+// material (uniform sphere, hemisphere, cosine), the sample and evaluation records, and the one
+// place a sampled contribution becomes a path weight. Each kind of BSDF is one file of
+// shaders/bsdfs/ (phong.wgsl, conductor.wgsl, rough_conductor.wgsl) with its `eval_pdf_*`,
+// `sample_*` and the two entry points the dispatcher calls; the dispatcher `eval_pdf_bsdf`,
+// `sample_bsdf` and `bsdf_is_delta`, the kinds' numbers `BSDF_KIND_*` and one `HAS_<KIND>`
+// override per kind are generated from the registry (src/scene/bsdf_kind.rs). n_s is the
+// shading normal turned towards wo (which side a one-sided material shows is decided by the
+// integrator); directions on the other side get f = 0 (no transmission yet).
 //
 // Naming: wo points to the viewer (Mitsuba's wi), wi is the scattered direction (Mitsuba's wo).
 
@@ -21,34 +17,6 @@
 
 // How directions are sampled at a scattering vertex (set through pipeline constants).
 override BSDF_SAMPLING: u32 = BSDF_PHONG;
-// False when every material has ks = 0: the Phong lobe is compiled out.
-override HAS_SPECULAR: bool = true;
-// False when no material is a conductor: the conductor lobes are compiled out.
-override HAS_CONDUCTORS: bool = true;
-
-// The kinds of BSDF (`Material.kind`), as src/gpu/scene_buffers.rs numbers them (checked by
-// tests/shader_layouts.rs).
-const BSDF_KIND_PHONG: u32 = 0u;
-const BSDF_KIND_CONDUCTOR: u32 = 1u;
-const BSDF_KIND_ROUGH_CONDUCTOR: u32 = 2u;
-
-struct Conductor {
-    // Complex index of refraction eta + i k, per channel.
-    eta: vec3f,
-    k: vec3f,
-    // Mitsuba's specular_reflectance: a factor on the Fresnel term.
-    reflectance: vec3f,
-    alpha: f32,
-    distribution: u32,
-}
-
-struct Phong {
-    kd: vec3f,
-    ks: vec3f,
-    n: f32,
-    // Probability of sampling the Phong lobe in the one-sample mixture: lum(ks) / (lum(kd) + lum(ks)).
-    p_spec: f32,
-}
 
 struct BsdfSample {
     wi: vec3f,
@@ -113,179 +81,9 @@ fn sample_generic_strategy(n_s: vec3f, u_dir: vec2f) -> vec3f {
     return frame_to_world(frame_from_normal(n_s), local);
 }
 
-// f(wi, wo) and the sampling density at wi together, for unit wo, wi and a shading normal n_s
-// with dot(wo, n_s) > 0: the Phong lobe cos^n(alpha) serves both, so it is computed once.
-fn eval_pdf_phong(m: Phong, n_s: vec3f, wo: vec3f, wi: vec3f) -> BsdfEval {
-    let cos_i = dot(wi, n_s);
-    // cos^n of the angle between wi and the mirror direction of wo (zero outside the lobe).
-    var lobe = 0.0;
-    if (HAS_SPECULAR || BSDF_SAMPLING == BSDF_PHONG_LOBE_ONLY) {
-        lobe = phong_cos_pow(one_minus_cos_between(wi, reflect_about(wo, n_s)), m.n);
-    }
-
-    // Normalised modified Phong: kd / pi + ks (n + 2) / (2 pi) cos^n(alpha), none below the surface.
-    var f = m.kd * INV_PI;
-    if (HAS_SPECULAR) {
-        f += m.ks * ((m.n + 2.0) * INV_2PI * lobe);
-    }
-    f = select(vec3f(0.0), f, cos_i > 0.0 && dot(wo, n_s) > 0.0);
-
-    var pdf: f32;
-    switch (BSDF_SAMPLING) {
-        case BSDF_UNIFORM_SPHERE: {
-            pdf = pdf_uniform_sphere();
-        }
-        case BSDF_UNIFORM_HEMISPHERE: {
-            pdf = pdf_uniform_hemisphere(cos_i);
-        }
-        case BSDF_COSINE: {
-            pdf = pdf_cosine_hemisphere(cos_i);
-        }
-        case BSDF_PHONG_LOBE_ONLY: {
-            // Solid-angle pdf of the Phong lobe: (n + 1) / (2 pi) cos^n(alpha).
-            pdf = (m.n + 1.0) * INV_2PI * lobe;
-        }
-        default: {
-            // One-sample mixture: P_d cos / pi + P_s (n + 1) / (2 pi) cos^n(alpha), over the
-            // whole sphere (the Phong lobe also reaches below the surface, where f = 0).
-            pdf = (1.0 - m.p_spec) * pdf_cosine_hemisphere(cos_i);
-            if (HAS_SPECULAR) {
-                pdf += m.p_spec * ((m.n + 1.0) * INV_2PI * lobe);
-            }
-        }
-    }
-    return BsdfEval(f, pdf);
-}
-
-// f(wi, wo) alone.
-fn eval_phong(m: Phong, n_s: vec3f, wo: vec3f, wi: vec3f) -> vec3f {
-    return eval_pdf_phong(m, n_s, wo, wi).f;
-}
-
-// A direction from the Phong mixture: u_lobe picks the lobe, u_dir places the direction. The
-// cosine lobe is the Phong lobe of exponent 1 around n_s (cos(theta) = v^(1/2)), so both lobes
-// share one warp and one frame instead of computing both and discarding one.
-fn sample_phong_mixture_direction(m: Phong, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> vec3f {
-    let specular = HAS_SPECULAR && u_lobe < m.p_spec;
-    let axis = select(n_s, reflect_about(wo, n_s), specular);
-    let exponent = select(1.0, m.n, specular);
-    return frame_to_world(frame_from_normal(axis), square_to_phong_lobe(u_dir, exponent));
-}
-
-// Samples wi with the pipeline's strategy. Samples below the surface keep their pdf and get
-// weight 0: they count in the estimator but contribute nothing.
-fn sample_phong(m: Phong, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> BsdfSample {
-    var wi: vec3f;
-    switch (BSDF_SAMPLING) {
-        case BSDF_UNIFORM_SPHERE: {
-            wi = frame_to_world(frame_from_normal(n_s), square_to_uniform_sphere(u_dir));
-        }
-        case BSDF_UNIFORM_HEMISPHERE: {
-            wi = frame_to_world(frame_from_normal(n_s), square_to_uniform_hemisphere(u_dir));
-        }
-        case BSDF_COSINE: {
-            wi = frame_to_world(frame_from_normal(n_s), square_to_cosine_hemisphere(u_dir));
-        }
-        case BSDF_PHONG_LOBE_ONLY: {
-            wi = frame_to_world(frame_from_normal(reflect_about(wo, n_s)), square_to_phong_lobe(u_dir, m.n));
-        }
-        default: {
-            wi = sample_phong_mixture_direction(m, n_s, wo, u_dir, u_lobe);
-        }
-    }
-    let e = eval_pdf_phong(m, n_s, wo, wi);
-    return BsdfSample(wi, e.pdf, path_weight(e.f, dot(wi, n_s), e.pdf), false);
-}
-
-// ---- Rough conductor (Torrance-Sparrow; Mitsuba's roughconductor term for term) ----
-
-// f(wi, wo) |cos(theta_i)| and the density of the pipeline's strategy at wi, in the local
-// frame of n_s (+z; wo.z > 0): with h the half vector,
-//   f cos(theta_i) = F(wo . h) D(h) G(wo, wi, h) / (4 cos(theta_o)),
-// zero unless both directions are above the surface; the density of microfacet sampling is
-// the normal's density times the Jacobian of reflection, 1 / (4 wi . h).
-struct ConductorEval {
-    f_cos: vec3f,
-    pdf: f32,
-}
-
-fn eval_pdf_rough_conductor_local(c: Conductor, wo: vec3f, wi: vec3f) -> ConductorEval {
-    let h = normalize(wo + wi);
-    let above = wo.z > 0.0 && wi.z > 0.0;
-    let d = eval_microfacet_d(h, c.alpha, c.distribution);
-    let g = smith_g(wo, wi, h, c.alpha, c.distribution);
-    let f = fresnel_conductor(dot(wo, h), c.eta, c.k) * c.reflectance;
-    let value = select(vec3f(0.0), f * (d * g / (4.0 * wo.z)), above && d != 0.0);
-    var pdf = pdf_generic_strategy(wi.z);
-    if (pdf < 0.0) {
-        pdf = select(0.0, pdf_microfacet(wo, h, c.alpha, c.distribution) / (4.0 * dot(wi, h)),
-                     above && dot(wo, h) > 0.0 && dot(wi, h) > 0.0);
-    }
-    return ConductorEval(value, pdf);
-}
-
-// A direction reflected about a microfacet normal drawn by the pipeline's microfacet strategy
-// (for the material strategies `phong` and `phong-lobe-only`), or by a generic strategy.
-fn sample_rough_conductor(c: Conductor, n_s: vec3f, wo: vec3f, u_dir: vec2f) -> BsdfSample {
-    let frame = frame_from_normal(n_s);
-    let wo_l = frame_to_local(frame, wo);
-    var wi_l: vec3f;
-    if (pdf_generic_strategy(1.0) < 0.0) {
-        let m = sample_microfacet(wo_l, u_dir, c.alpha, c.distribution).m;
-        wi_l = 2.0 * dot(wo_l, m) * m - wo_l;
-    } else {
-        wi_l = frame_to_local(frame, sample_generic_strategy(n_s, u_dir));
-    }
-    let e = eval_pdf_rough_conductor_local(c, wo_l, wi_l);
-    // path_weight's f |cos| / pdf, with f |cos| already formed.
-    return BsdfSample(frame_to_world(frame, wi_l), e.pdf, path_weight(e.f_cos, 1.0, e.pdf), false);
-}
-
-// ---- Smooth conductor: a mirror, a delta lobe (eval and pdf are 0 for every given wi) ----
-
-// The mirror direction, weighted by F(cos(theta_o)) times the reflectance, whatever the
-// pipeline's strategy (no other strategy can find a delta lobe).
-fn sample_conductor(c: Conductor, n_s: vec3f, wo: vec3f) -> BsdfSample {
-    let cos_o = dot(wo, n_s);
-    let weight = select(vec3f(0.0), fresnel_conductor(cos_o, c.eta, c.k) * c.reflectance, cos_o > 0.0);
-    return BsdfSample(reflect_about(wo, n_s), 0.0, weight, true);
-}
-
-// ---- Dispatch on the material ----
-
+// Every kind's parameters (the kind's own struct in its file); `kind` is a BSDF_KIND_*.
 struct Bsdf {
     kind: u32,
     phong: Phong,
     conductor: Conductor,
-}
-
-// f(wi, wo) and the pipeline's sampling density at wi, as `eval_pdf_phong` for every kind.
-fn eval_pdf_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, wi: vec3f) -> BsdfEval {
-    if (HAS_CONDUCTORS && b.kind != BSDF_KIND_PHONG) {
-        if (b.kind == BSDF_KIND_CONDUCTOR) {
-            return BsdfEval(vec3f(0.0), 0.0);
-        }
-        let frame = frame_from_normal(n_s);
-        let wi_l = frame_to_local(frame, wi);
-        let e = eval_pdf_rough_conductor_local(b.conductor, frame_to_local(frame, wo), wi_l);
-        // f = (f cos) / cos, zero where cos is (f cos is zero there too).
-        return BsdfEval(select(vec3f(0.0), e.f_cos / wi_l.z, wi_l.z > 0.0), e.pdf);
-    }
-    return eval_pdf_phong(b.phong, n_s, wo, wi);
-}
-
-// Samples wi with the pipeline's strategy for the material.
-fn sample_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> BsdfSample {
-    if (HAS_CONDUCTORS && b.kind != BSDF_KIND_PHONG) {
-        if (b.kind == BSDF_KIND_CONDUCTOR) {
-            return sample_conductor(b.conductor, n_s, wo);
-        }
-        return sample_rough_conductor(b.conductor, n_s, wo, u_dir);
-    }
-    return sample_phong(b.phong, n_s, wo, u_dir, u_lobe);
-}
-
-// Whether the material's only lobe is a delta (next event estimation cannot contribute).
-fn bsdf_is_delta(b: Bsdf) -> bool {
-    return HAS_CONDUCTORS && b.kind == BSDF_KIND_CONDUCTOR;
 }

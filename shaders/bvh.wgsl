@@ -14,9 +14,8 @@ override HAS_SHADING_NORMALS: bool = false;
 // image with the reason). 0xffffffff: no guard.
 override TRAVERSAL_BUDGET: u32 = 0xffffffffu;
 
-// Flags of a triangle.
-const TRIANGLE_TWO_SIDED: u32 = 1u;
-const TRIANGLE_HAS_NORMALS: u32 = 2u;
+// Flags of a triangle: TRIANGLE_TWO_SIDED, TRIANGLE_HAS_NORMALS (generated from
+// src/shaders/flags.rs).
 
 struct Triangle {
     p0: vec3f,

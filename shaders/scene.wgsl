@@ -50,11 +50,8 @@ struct Material {
     kind: u32,
 }
 
-// Flags of a material.
-const MATERIAL_EMISSIVE: u32 = 1u;
-const MATERIAL_ONE_SIDED: u32 = 2u;
-// A rough conductor's distribution is GGX (else Beckmann).
-const MATERIAL_GGX: u32 = 4u;
+// Flags of a material: MATERIAL_EMISSIVE, MATERIAL_ONE_SIDED and MATERIAL_GGX (a rough
+// conductor's distribution is GGX, else Beckmann), generated from src/shaders/flags.rs.
 
 struct FrameParams {
     camera_origin: vec3f,
@@ -92,12 +89,12 @@ struct FrameParams {
 @group(0) @binding(BINDING_MATERIALS) var<uniform> materials: array<Material, MAX_MATERIALS>;
 
 // The BSDF of material i. Fields are read one by one, and a conductor's only where the
-// pipeline has conductors: a dynamically indexed uniform read costs per byte on SIMD CPU
+// pipeline has other kinds than Phong: a dynamically indexed uniform read costs per byte on SIMD CPU
 // drivers (reading the whole 80-byte Material cost the study scene a quarter of its speed).
 fn material_bsdf(i: u32) -> Bsdf {
     let phong = Phong(materials[i].diffuse, materials[i].specular, materials[i].glossiness, materials[i].p_spec);
     var b = Bsdf(BSDF_KIND_PHONG, phong, Conductor(vec3f(0.0), vec3f(1.0), vec3f(1.0), 1.0, DISTRIBUTION_BECKMANN));
-    if (HAS_CONDUCTORS) {
+    if (bsdf_kinds_vary()) {
         b.kind = materials[i].kind;
         let distribution = select(DISTRIBUTION_BECKMANN, DISTRIBUTION_GGX, (materials[i].flags & MATERIAL_GGX) != 0u);
         b.conductor = Conductor(materials[i].eta, materials[i].k, materials[i].specular, materials[i].alpha, distribution);

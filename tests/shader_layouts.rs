@@ -84,7 +84,7 @@ fn overrides_set_by_the_host_are_those_the_module_declares() {
         rr_depth: 3,
         num_occluding_planes: 1,
         has_specular: true,
-        has_conductors: true,
+        bsdf_kinds: u32::MAX,
         has_environment: true,
         light_interiors_reachable: true,
     };
@@ -158,14 +158,36 @@ fn the_bvh_stack_and_triangle_flags_are_the_rust_ones() {
     let pt = module(&shaders::path_tracer_source());
     assert_eq!(const_u32(&pt, "BVH_MAX_DEPTH"), Some(pathlab::accel::bvh::MAX_DEPTH as u32));
     assert_eq!(const_u32(&pt, "BRUTE_FORCE_TRIANGLES"), Some(pathlab::accel::BRUTE_FORCE_TRIANGLES));
-    assert_eq!(const_u32(&pt, "TRIANGLE_TWO_SIDED"), Some(pathlab::gpu::TRIANGLE_TWO_SIDED));
-    assert_eq!(const_u32(&pt, "MATERIAL_EMISSIVE"), Some(pathlab::gpu::MATERIAL_EMISSIVE));
-    assert_eq!(const_u32(&pt, "MATERIAL_ONE_SIDED"), Some(pathlab::gpu::MATERIAL_ONE_SIDED));
-    assert_eq!(const_u32(&pt, "MATERIAL_GGX"), Some(pathlab::gpu::MATERIAL_GGX));
-    assert_eq!(const_u32(&pt, "BSDF_KIND_PHONG"), Some(pathlab::gpu::BSDF_KIND_PHONG));
-    assert_eq!(const_u32(&pt, "BSDF_KIND_CONDUCTOR"), Some(pathlab::gpu::BSDF_KIND_CONDUCTOR));
-    assert_eq!(const_u32(&pt, "BSDF_KIND_ROUGH_CONDUCTOR"), Some(pathlab::gpu::BSDF_KIND_ROUGH_CONDUCTOR));
-    assert_eq!(const_u32(&pt, "TRIANGLE_HAS_NORMALS"), Some(pathlab::gpu::TRIANGLE_HAS_NORMALS));
+    use pathlab::shaders::flags;
+    assert_eq!(const_u32(&pt, "TRIANGLE_TWO_SIDED"), Some(flags::TRIANGLE_TWO_SIDED));
+    assert_eq!(const_u32(&pt, "MATERIAL_EMISSIVE"), Some(flags::MATERIAL_EMISSIVE));
+    assert_eq!(const_u32(&pt, "MATERIAL_ONE_SIDED"), Some(flags::MATERIAL_ONE_SIDED));
+    assert_eq!(const_u32(&pt, "MATERIAL_GGX"), Some(flags::MATERIAL_GGX));
+    assert_eq!(const_u32(&pt, "TRIANGLE_HAS_NORMALS"), Some(flags::TRIANGLE_HAS_NORMALS));
+}
+
+/// The registry of BSDF kinds: every kind has its number, its file with both entry points, and
+/// its override, which the pipeline sets.
+#[test]
+fn every_bsdf_kind_of_the_registry_is_in_the_kernel() {
+    use pathlab::scene::BsdfKind;
+    let pt = module(&shaders::path_tracer_source());
+    assert_eq!(shaders::files::BSDF_KINDS.len(), BsdfKind::ALL.len());
+    for (k, (file, _)) in BsdfKind::ALL.iter().zip(shaders::files::BSDF_KINDS) {
+        assert_eq!(const_u32(&pt, &format!("BSDF_KIND_{}", k.stem().to_uppercase())), Some(k.constant()), "{k}");
+        assert_eq!(file, format!("bsdfs/{}.wgsl", k.stem()));
+        for f in [format!("eval_pdf_{}_bsdf", k.stem()), format!("sample_{}_bsdf", k.stem())] {
+            assert!(pt.functions.iter().any(|(_, g)| g.name.as_deref() == Some(f.as_str())), "{f} missing");
+        }
+        assert!(pt.overrides.iter().any(|(_, o)| o.name.as_deref() == Some(k.has_override())), "{}", k.has_override());
+    }
+    // A pipeline sets each kind's override: on for the kinds its scene uses.
+    let scene = pathlab::scene::Scene::load(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/veach_mis.xml")).unwrap();
+    let features = pathlab::gpu::SceneFeatures::of(&scene);
+    let key = PipelineKey::new(Preset::Mis.method(), features, scene.default_light_select());
+    let constants = pipeline_constants(&key);
+    let on = |name: &str| constants.iter().find(|(n, _)| *n == name).map(|(_, v)| *v);
+    assert_eq!((on("HAS_PHONG"), on("HAS_CONDUCTOR"), on("HAS_ROUGH_CONDUCTOR")), (Some(1.0), Some(0.0), Some(1.0)));
 }
 
 #[cfg(feature = "viewer")]

@@ -41,7 +41,7 @@ fn every_override_permutation_validates() {
                                     rr_depth: if on { 2 } else { 0 },
                                     num_occluding_planes: if on { num_planes } else { 0 },
                                     has_specular: on,
-                                    has_conductors: on,
+                                    bsdf_kinds: if on { u32::MAX } else { pathlab::scene::BsdfKind::Phong.bit() },
                                     has_environment: on,
                                     light_interiors_reachable: on,
                                 };

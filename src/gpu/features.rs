@@ -2,7 +2,7 @@
 //! (`SceneFeatures`, each a WGSL `override` constant) and the order its objects take in the
 //! scene buffers (lights first, occluding planes first). The scene itself knows nothing of it.
 
-use crate::scene::Scene;
+use crate::scene::{BsdfKind, Scene};
 
 /// What a scene requires of the path-tracing kernel; each becomes a WGSL `override` constant,
 /// so a pipeline carries only the code its scene uses.
@@ -21,8 +21,8 @@ pub struct SceneFeatures {
     /// Planes that shadow rays must test (the first ones in kernel order).
     pub num_occluding_planes: u32,
     pub has_specular: bool,
-    /// Some material is a conductor (smooth or rough): the microfacet code is compiled in.
-    pub has_conductors: bool,
+    /// The BSDF kinds some material has (`BsdfKind::bit`): each a `HAS_<KIND>` override.
+    pub bsdf_kinds: u32,
     pub has_environment: bool,
     /// False when no path vertex can be inside a light: sampling lights from inside (by area)
     /// is compiled out, leaving cone sampling alone.
@@ -44,7 +44,7 @@ impl SceneFeatures {
             has_shading_normals: scene.meshes.iter().any(|m| !m.normals.is_empty()),
             rr_depth: scene.render.rr_depth.unwrap_or(0),
             has_specular: scene.materials.iter().any(|m| m.specular.max_element() > 0.0),
-            has_conductors: scene.materials.iter().any(|m| m.conductor.is_some()),
+            bsdf_kinds: scene.materials.iter().fold(0, |kinds, m| kinds | m.bsdf_kind().bit()),
             has_environment: scene.render.environment.max_element() > 0.0,
             num_occluding_planes: scene.occluding_planes().len() as u32,
             light_interiors_reachable: scene.light_interiors_reachable(),
@@ -57,7 +57,7 @@ impl SceneFeatures {
     pub fn all_on(self) -> SceneFeatures {
         SceneFeatures {
             has_specular: true,
-            has_conductors: true,
+            bsdf_kinds: BsdfKind::ALL.iter().fold(0, |kinds, k| kinds | k.bit()),
             has_environment: true,
             num_occluding_planes: self.num_planes,
             light_interiors_reachable: true,

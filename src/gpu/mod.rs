@@ -16,4 +16,4 @@ pub use features::SceneFeatures;
 pub use kernel::KernelRun;
 pub use pipeline::{loop_iterations_per_sample, pipeline_constants, LoopBound, PathTracerPipelines, PipelineKey, PipelineStats, NO_TRAVERSAL_GUARD};
 pub use frame_params::FrameParams;
-pub use scene_buffers::{max_triangles, BSDF_KIND_CONDUCTOR, BSDF_KIND_PHONG, BSDF_KIND_ROUGH_CONDUCTOR, MATERIAL_EMISSIVE, MATERIAL_GGX, MATERIAL_ONE_SIDED, TRIANGLE_HAS_NORMALS, TRIANGLE_TWO_SIDED, GpuLight, GpuMaterial, GpuPlane, GpuSphere, GpuTriangle, GpuTriangleNormals, PackedTriangles, SceneBuffers};
+pub use scene_buffers::{max_triangles, GpuLight, GpuMaterial, GpuPlane, GpuSphere, GpuTriangle, GpuTriangleNormals, PackedTriangles, SceneBuffers};

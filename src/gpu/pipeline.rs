@@ -9,6 +9,7 @@ use wgpu::util::DeviceExt;
 
 use crate::method::{LightSelect, Method};
 use super::features::SceneFeatures;
+use crate::scene::BsdfKind;
 use crate::shaders::{self, bindings};
 
 /// `TRAVERSAL_BUDGET` of a pipeline whose traversal is bounded by the host: no guard.
@@ -39,7 +40,9 @@ impl PipelineKey {
 pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
     let f = &key.features;
     let select = key.method.select.unwrap_or(LightSelect::All);
-    vec![
+    // One HAS_<KIND> per BSDF kind of the registry.
+    let kinds = BsdfKind::ALL.map(|k| (k.has_override(), (f.bsdf_kinds & k.bit() != 0) as u32 as f64));
+    let mut constants = vec![
         ("SAMPLER", key.method.sampler.constant() as f64),
         ("BSDF_SAMPLING", key.method.bsdf.constant() as f64),
         ("LIGHT_SAMPLING", key.method.lights.constant() as f64),
@@ -56,10 +59,11 @@ pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
         ("TRAVERSAL_BUDGET", key.traversal_budget as f64),
         ("NUM_OCCLUDING_PLANES", f.num_occluding_planes as f64),
         ("HAS_SPECULAR", f.has_specular as u32 as f64),
-        ("HAS_CONDUCTORS", f.has_conductors as u32 as f64),
         ("HAS_ENVIRONMENT", f.has_environment as u32 as f64),
         ("LIGHT_INTERIORS_REACHABLE", f.light_interiors_reachable as u32 as f64),
-    ]
+    ];
+    constants.extend(kinds);
+    constants
 }
 
 /// Upper bounds on the loop back-edges one sample of the path tracer executes in one

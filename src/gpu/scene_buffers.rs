@@ -14,6 +14,7 @@ use wgpu::util::DeviceExt;
 use crate::accel::{Bvh, BvhNode};
 use crate::scene::lights::luminance;
 use crate::scene::{AliasTable, Light, Scene, MAX_MATERIALS, MAX_PLANES, MAX_SPHERES};
+use crate::shaders::flags::{MATERIAL_EMISSIVE, MATERIAL_GGX, MATERIAL_ONE_SIDED, TRIANGLE_HAS_NORMALS, TRIANGLE_TWO_SIDED};
 
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
@@ -47,23 +48,9 @@ pub struct GpuMaterial {
     pub eta: [f32; 3],
     pub alpha: f32,
     pub k: [f32; 3],
-    /// `BSDF_KIND_*`.
+    /// The `BsdfKind` (its `constant()`, generated into the WGSL as `BSDF_KIND_*`).
     pub kind: u32,
 }
-
-/// Material kind: normalised modified Phong.
-pub const BSDF_KIND_PHONG: u32 = 0;
-/// Material kind: smooth conductor (a mirror).
-pub const BSDF_KIND_CONDUCTOR: u32 = 1;
-/// Material kind: rough conductor (Torrance-Sparrow).
-pub const BSDF_KIND_ROUGH_CONDUCTOR: u32 = 2;
-
-/// Material flag: emits.
-pub const MATERIAL_EMISSIVE: u32 = 1;
-/// Material flag: the BSDF is one-sided (black seen from behind).
-pub const MATERIAL_ONE_SIDED: u32 = 2;
-/// Material flag: a rough conductor's distribution is GGX (else Beckmann).
-pub const MATERIAL_GGX: u32 = 4;
 
 /// A triangle as the kernel reads it (`Triangle`, bvh.wgsl): vertices, material, the light it
 /// is (`u32::MAX`: none) and flags.
@@ -77,11 +64,6 @@ pub struct GpuTriangle {
     pub p2: [f32; 3],
     pub flags: u32,
 }
-
-/// Flag: emits on both sides.
-pub const TRIANGLE_TWO_SIDED: u32 = 1;
-/// Flag: has vertex normals (`GpuTriangleNormals` at the same index).
-pub const TRIANGLE_HAS_NORMALS: u32 = 2;
 
 /// A triangle's vertex normals (`TriangleNormals`, bvh.wgsl).
 #[repr(C)]
@@ -264,15 +246,13 @@ impl SceneBuffers {
                     eta: [0.0; 3],
                     alpha: 0.0,
                     k: [0.0; 3],
-                    kind: BSDF_KIND_PHONG,
+                    kind: m.bsdf_kind().constant(),
                 };
                 if let Some(c) = &m.conductor {
                     g.specular = f3(c.reflectance);
                     g.eta = f3(c.eta);
                     g.k = f3(c.k);
-                    g.kind = BSDF_KIND_CONDUCTOR;
                     if let Some((distribution, alpha)) = c.rough {
-                        g.kind = BSDF_KIND_ROUGH_CONDUCTOR;
                         g.alpha = alpha as f32;
                         if distribution == crate::scene::Distribution::Ggx {
                             flags |= MATERIAL_GGX;

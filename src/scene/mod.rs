@@ -7,6 +7,7 @@
 //! resolves, planes do not emit, meshes are in world space with their zero-area triangles
 //! dropped. Nothing here touches the GPU.
 
+mod bsdf_kind;
 mod diagnostic;
 pub mod hash;
 pub mod lights;
@@ -23,6 +24,7 @@ use glam::DVec3;
 
 use crate::method::{BsdfSampling, LightSampling, Method};
 
+pub use bsdf_kind::BsdfKind;
 pub use diagnostic::{Diagnostic, SceneError, Severity};
 pub use lights::{AliasTable, Light};
 pub use mesh::Mesh;
@@ -185,6 +187,15 @@ pub struct Material {
 impl Material {
     pub fn is_emissive(&self) -> bool {
         self.emission.max_element() > 0.0
+    }
+
+    /// The kind of its BSDF (`BsdfKind`, the registry of kinds).
+    pub fn bsdf_kind(&self) -> BsdfKind {
+        match &self.conductor {
+            None => BsdfKind::Phong,
+            Some(Conductor { rough: None, .. }) => BsdfKind::Conductor,
+            Some(_) => BsdfKind::RoughConductor,
+        }
     }
 }
 

@@ -6,9 +6,9 @@ use crate::display::{Transfer, View};
 use crate::metrics::linear::REL_MSE_EPSILON;
 use crate::method::{BsdfSampling, LightSampling, LightSelect, MicrofacetSampling, Sampler, TriangleSampling};
 use crate::names::wgsl_constants;
-use crate::scene::{Distribution, MAX_MATERIALS, MAX_PLANES, MAX_SPHERES};
+use crate::scene::{BsdfKind, Distribution, MAX_MATERIALS, MAX_PLANES, MAX_SPHERES};
 
-use super::{bindings, HALTON_DIMENSIONS};
+use super::{bindings, flags, HALTON_DIMENSIONS};
 
 /// The generated prelude of every module.
 pub fn generated_constants() -> String {
@@ -33,6 +33,9 @@ pub fn generated_constants() -> String {
          const TRANSFER_SRGB: u32 = {}u;\n\
          const TRANSFER_GAMMA: u32 = {}u;\n\
          const REL_EPSILON: f32 = {:?};\n\
+         // The kinds of BSDF (src/scene/bsdf_kind.rs) and the flags of materials and\n\
+         // triangles (src/shaders/flags.rs).\n\
+         {}{}\
          // Binding numbers of group 0 (src/shaders/bindings.rs).\n\
          {}{}",
         crate::accel::bvh::MAX_DEPTH,
@@ -48,7 +51,53 @@ pub fn generated_constants() -> String {
         Transfer::Srgb.code(),
         Transfer::Gamma(1.0).code(),
         REL_MSE_EPSILON,
+        wgsl_constants::<BsdfKind>("BSDF_KIND"),
+        flags::wgsl(),
         bindings::wgsl(&bindings::PATH_TRACER),
         bindings::wgsl(&bindings::DISPLAY),
     )
+}
+
+/// The BSDF dispatch, generated from the registry (`scene::BsdfKind`): one `HAS_<KIND>`
+/// override per kind, and `eval_pdf_bsdf`, `sample_bsdf` and `bsdf_is_delta` calling each
+/// kind's entry points (`eval_pdf_<stem>_bsdf`, `sample_<stem>_bsdf` in
+/// `shaders/bsdfs/<stem>.wgsl`). The first kind (Phong) answers for a material no other kind
+/// claims.
+pub fn bsdf_dispatch() -> String {
+    let mut s = String::new();
+    for k in BsdfKind::ALL {
+        s += &format!("// Some material is {}: its code is compiled in.\noverride {}: bool = true;\n", k.name(), k.has_override());
+    }
+    let (first, rest) = BsdfKind::ALL.split_first().expect("a kind");
+    let is = |k: &BsdfKind| format!("{} && b.kind == BSDF_KIND_{}", k.has_override(), k.stem().to_uppercase());
+    // Whether materials may differ in kind (else the kernel need not read it).
+    let others: Vec<&str> = rest.iter().map(|k| k.has_override()).collect();
+    s += &format!("\n// Whether a material may be of a kind other than {}.\nfn bsdf_kinds_vary() -> bool {{\n    return {};\n}}\n", first.name(), others.join(" || "));
+    s += "\n// f(wi, wo) and the pipeline's sampling density at wi, by the material's kind.\n\
+          fn eval_pdf_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, wi: vec3f) -> BsdfEval {\n";
+    for k in rest {
+        s += &format!("    if ({}) {{\n        return eval_pdf_{}_bsdf(b, n_s, wo, wi);\n    }}\n", is(k), k.stem());
+    }
+    s += &format!(
+        "    if ({}) {{\n        return eval_pdf_{}_bsdf(b, n_s, wo, wi);\n    }}\n    return BsdfEval(vec3f(0.0), 0.0);\n}}\n",
+        first.has_override(),
+        first.stem()
+    );
+    s += "\n// Samples wi with the pipeline's strategy for the material's kind.\n\
+          fn sample_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> BsdfSample {\n";
+    for k in rest {
+        s += &format!("    if ({}) {{\n        return sample_{}_bsdf(b, n_s, wo, u_dir, u_lobe);\n    }}\n", is(k), k.stem());
+    }
+    s += &format!(
+        "    if ({}) {{\n        return sample_{}_bsdf(b, n_s, wo, u_dir, u_lobe);\n    }}\n    return BsdfSample(n_s, 0.0, vec3f(0.0), false);\n}}\n",
+        first.has_override(),
+        first.stem()
+    );
+    let delta: Vec<String> = BsdfKind::ALL.iter().filter(|k| k.is_delta()).map(|k| format!("({})", is(k))).collect();
+    s += &format!(
+        "\n// Whether the material's only lobe is a delta (next event estimation cannot contribute).\n\
+         fn bsdf_is_delta(b: Bsdf) -> bool {{\n    return {};\n}}\n",
+        if delta.is_empty() { "false".to_string() } else { delta.join(" || ") }
+    );
+    s
 }

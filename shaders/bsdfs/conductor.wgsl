@@ -1,0 +1,31 @@
+// bsdfs/conductor.wgsl — Mitsuba's smooth `conductor`: a mirror, a delta lobe (eval and pdf
+// are 0 for every given wi), with the exact Fresnel term of a complex index eta + i k
+// (microfacet.wgsl's fresnel_conductor). `Conductor` also holds the rough conductor's roughness.
+
+struct Conductor {
+    // Complex index of refraction eta + i k, per channel.
+    eta: vec3f,
+    k: vec3f,
+    // Mitsuba's specular_reflectance: a factor on the Fresnel term.
+    reflectance: vec3f,
+    alpha: f32,
+    distribution: u32,
+}
+
+// The mirror direction, weighted by F(cos(theta_o)) times the reflectance, whatever the
+// pipeline's strategy (no other strategy can find a delta lobe).
+fn sample_conductor(c: Conductor, n_s: vec3f, wo: vec3f) -> BsdfSample {
+    let cos_o = dot(wo, n_s);
+    let weight = select(vec3f(0.0), fresnel_conductor(cos_o, c.eta, c.k) * c.reflectance, cos_o > 0.0);
+    return BsdfSample(reflect_about(wo, n_s), 0.0, weight, true);
+}
+
+// The dispatcher's entry points (generated from src/scene/bsdf_kind.rs): no direction but the
+// mirror's has a density.
+fn eval_pdf_conductor_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, wi: vec3f) -> BsdfEval {
+    return BsdfEval(vec3f(0.0), 0.0);
+}
+
+fn sample_conductor_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> BsdfSample {
+    return sample_conductor(b.conductor, n_s, wo);
+}

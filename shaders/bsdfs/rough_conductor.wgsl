@@ -1,0 +1,63 @@
+// bsdfs/rough_conductor.wgsl — Mitsuba's `roughconductor` term for term: Torrance-Sparrow
+// microfacet reflection,
+//
+//   f(wi, wo) = F(wo . h) D(h) G(wo, wi, h) / (4 cos(theta_o) cos(theta_i)),   h = (wi + wo) / |wi + wo|,
+//
+// with the distributions, shadowing and Fresnel term of microfacet.wgsl, its normals sampled by
+// the pipeline's microfacet strategy (MICROFACET_SAMPLING) where the BSDF strategy is the
+// material's own.
+
+// f(wi, wo) |cos(theta_i)| and the density of the pipeline's strategy at wi, in the local
+// frame of n_s (+z; wo.z > 0): with h the half vector,
+//   f cos(theta_i) = F(wo . h) D(h) G(wo, wi, h) / (4 cos(theta_o)),
+// zero unless both directions are above the surface; the density of microfacet sampling is
+// the normal's density times the Jacobian of reflection, 1 / (4 wi . h).
+struct ConductorEval {
+    f_cos: vec3f,
+    pdf: f32,
+}
+
+fn eval_pdf_rough_conductor_local(c: Conductor, wo: vec3f, wi: vec3f) -> ConductorEval {
+    let h = normalize(wo + wi);
+    let above = wo.z > 0.0 && wi.z > 0.0;
+    let d = eval_microfacet_d(h, c.alpha, c.distribution);
+    let g = smith_g(wo, wi, h, c.alpha, c.distribution);
+    let f = fresnel_conductor(dot(wo, h), c.eta, c.k) * c.reflectance;
+    let value = select(vec3f(0.0), f * (d * g / (4.0 * wo.z)), above && d != 0.0);
+    var pdf = pdf_generic_strategy(wi.z);
+    if (pdf < 0.0) {
+        pdf = select(0.0, pdf_microfacet(wo, h, c.alpha, c.distribution) / (4.0 * dot(wi, h)),
+                     above && dot(wo, h) > 0.0 && dot(wi, h) > 0.0);
+    }
+    return ConductorEval(value, pdf);
+}
+
+// A direction reflected about a microfacet normal drawn by the pipeline's microfacet strategy
+// (for the material strategies `phong` and `phong-lobe-only`), or by a generic strategy.
+fn sample_rough_conductor(c: Conductor, n_s: vec3f, wo: vec3f, u_dir: vec2f) -> BsdfSample {
+    let frame = frame_from_normal(n_s);
+    let wo_l = frame_to_local(frame, wo);
+    var wi_l: vec3f;
+    if (pdf_generic_strategy(1.0) < 0.0) {
+        let m = sample_microfacet(wo_l, u_dir, c.alpha, c.distribution).m;
+        wi_l = 2.0 * dot(wo_l, m) * m - wo_l;
+    } else {
+        wi_l = frame_to_local(frame, sample_generic_strategy(n_s, u_dir));
+    }
+    let e = eval_pdf_rough_conductor_local(c, wo_l, wi_l);
+    // path_weight's f |cos| / pdf, with f |cos| already formed.
+    return BsdfSample(frame_to_world(frame, wi_l), e.pdf, path_weight(e.f_cos, 1.0, e.pdf), false);
+}
+
+// The dispatcher's entry points (generated from src/scene/bsdf_kind.rs).
+fn eval_pdf_rough_conductor_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, wi: vec3f) -> BsdfEval {
+    let frame = frame_from_normal(n_s);
+    let wi_l = frame_to_local(frame, wi);
+    let e = eval_pdf_rough_conductor_local(b.conductor, frame_to_local(frame, wo), wi_l);
+    // f = (f cos) / cos, zero where cos is (f cos is zero there too).
+    return BsdfEval(select(vec3f(0.0), e.f_cos / wi_l.z, wi_l.z > 0.0), e.pdf);
+}
+
+fn sample_rough_conductor_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> BsdfSample {
+    return sample_rough_conductor(b.conductor, n_s, wo, u_dir);
+}

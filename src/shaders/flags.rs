@@ -1,0 +1,28 @@
+//! Bit flags the host packs and the kernels test, defined once here and generated into the
+//! WGSL (`generated`).
+
+/// Material flag: emits.
+pub const MATERIAL_EMISSIVE: u32 = 1;
+/// Material flag: the BSDF is one-sided (black seen from behind).
+pub const MATERIAL_ONE_SIDED: u32 = 2;
+/// Material flag: a rough conductor's distribution is GGX (else Beckmann).
+pub const MATERIAL_GGX: u32 = 4;
+
+/// Triangle flag: emits on both sides.
+pub const TRIANGLE_TWO_SIDED: u32 = 1;
+/// Triangle flag: has vertex normals (`GpuTriangleNormals` at the same index).
+pub const TRIANGLE_HAS_NORMALS: u32 = 2;
+
+/// The WGSL declarations of every flag.
+pub fn wgsl() -> String {
+    [
+        ("MATERIAL_EMISSIVE", MATERIAL_EMISSIVE),
+        ("MATERIAL_ONE_SIDED", MATERIAL_ONE_SIDED),
+        ("MATERIAL_GGX", MATERIAL_GGX),
+        ("TRIANGLE_TWO_SIDED", TRIANGLE_TWO_SIDED),
+        ("TRIANGLE_HAS_NORMALS", TRIANGLE_HAS_NORMALS),
+    ]
+    .iter()
+    .map(|(name, value)| format!("const {name}: u32 = {value}u;\n"))
+    .collect()
+}
