@@ -449,3 +449,34 @@ mod applicable_options {
         assert_eq!(cornell.with_method(&Preset::Nee.method()), cornell);
     }
 }
+
+#[cfg(test)]
+mod texture_coordinates {
+    use super::*;
+
+    /// UVs reach the scene's meshes: an OBJ's with v flipped unless `flip_tex_coords = false`
+    /// (Mitsuba's default and property), a rectangle's by Mitsuba's parametrisation placed with
+    /// its vertices; the scene's hash does not change with them (they change no image yet).
+    #[test]
+    fn texture_coordinates_reach_the_scenes_meshes() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("tri.obj"), "v 0 0 -1\nv 1 0 -1\nv 0 1 -1\nvt 0 0\nvt 1 0.25\nvt 0 1\nf 1/1 2/2 3/3\n").unwrap();
+        let scene = |mesh: &str| {
+            let text = format!(
+                "[camera]\nposition = [0, 0, 1]\nlook_at = [0, 0, 0]\nup = [0, 1, 0]\nfov_x = 90\n\
+                 [render]\nwidth = 8\nheight = 8\nmax_depth = 2\n[materials.grey]\ndiffuse = 0.5\n\
+                 [[meshes]]\nfile = \"tri.obj\"\nmaterial = \"grey\"\n{mesh}\n\
+                 [[rectangles]]\nmaterial = \"grey\"\ntransform = {{ translate = [0, 0, -3] }}\n"
+            );
+            let path = dir.path().join("s.toml");
+            std::fs::write(&path, text).unwrap();
+            Scene::load(&path).unwrap()
+        };
+        let flipped = scene("");
+        assert_eq!(flipped.meshes[0].uvs, vec![[0.0, 1.0], [1.0, 0.75], [0.0, 0.0]]);
+        assert_eq!(flipped.meshes[1].uvs, vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]]);
+        let kept = scene("flip_tex_coords = false");
+        assert_eq!(kept.meshes[0].uvs, vec![[0.0, 0.0], [1.0, 0.25], [0.0, 1.0]]);
+        assert_eq!(flipped.content_hash(), kept.content_hash());
+    }
+}

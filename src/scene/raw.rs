@@ -42,6 +42,8 @@ pub(crate) struct RawMesh {
     pub flip_normals: Option<Spanned<bool>>,
     /// An emissive mesh emits on both sides (default: on its front only).
     pub two_sided_emission: Option<Spanned<bool>>,
+    /// Texture coordinates' v becomes 1 - v (default true, as Mitsuba's `flip_tex_coords`).
+    pub flip_tex_coords: Option<Spanned<bool>>,
 }
 
 /// `[[rectangles]]` and `[[cubes]]`: Mitsuba's built-in shapes.

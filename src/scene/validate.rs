@@ -278,7 +278,15 @@ fn check_meshes(ck: &mut Checker, raw: &RawScene, materials: &[Material], resolv
         if placement.degenerate > 0 {
             ck.warn(span.clone(), &table, format!("{} of {} triangles of {source} have zero area and are dropped", placement.degenerate, data.triangles.len()));
         }
-        let mesh = Mesh { source, material, two_sided_emission, positions: placed.positions, normals: placed.normals, triangles: placed.triangles };
+        let mesh = Mesh {
+            source,
+            material,
+            two_sided_emission,
+            positions: placed.positions,
+            normals: placed.normals,
+            uvs: placed.uvs,
+            triangles: placed.triangles,
+        };
         let emissive = materials.get(material).is_some_and(Material::is_emissive);
         if emissive && !(mesh.area() > 0.0) {
             ck.error(span, format!("{table}.material"), format!("{} is emissive but its total area is zero: it cannot be sampled as a light", mesh.source));
@@ -295,7 +303,7 @@ fn check_meshes(ck: &mut Checker, raw: &RawScene, materials: &[Material], resolv
         let material = resolve(ck, &m.material, &format!("{table}.material"));
         let transform = check_transform(ck, m.transform.as_ref(), &format!("{table}.transform"));
         let file = base.join(m.file.get_ref());
-        let data = match mesh::read_mesh_file(&file) {
+        let mut data = match mesh::read_mesh_file(&file) {
             Ok(d) => d,
             Err(e) => {
                 // The diagnostic points into the mesh file where it can, and names the scene's field.
@@ -325,6 +333,10 @@ fn check_meshes(ck: &mut Checker, raw: &RawScene, materials: &[Material], resolv
         let shading = if m.face_normals.as_ref().is_some_and(|f| *f.get_ref()) { Shading::Faceted } else { Shading::Smooth };
         let two_sided = m.two_sided_emission.as_ref().is_some_and(|f| *f.get_ref());
         let flip = m.flip_normals.as_ref().is_some_and(|f| *f.get_ref());
+        // Mitsuba's default: v becomes 1 - v (images start at their bottom row in OBJ and PLY).
+        if m.flip_tex_coords.as_ref().is_none_or(|f| *f.get_ref()) {
+            data.flip_tex_coords();
+        }
         add(ck, table, file.display().to_string(), data, transform, shading, flip, two_sided, material, span);
     }
     for (kind, list, make) in [("rectangles", &raw.rectangles, shapes::rectangle as fn() -> MeshData), ("cubes", &raw.cubes, shapes::cube)] {

@@ -18,6 +18,9 @@ pub struct MeshData {
     pub positions: Vec<DVec3>,
     /// Per-vertex normals (one per position), or empty.
     pub normals: Vec<DVec3>,
+    /// Per-vertex texture coordinates (u, v), one per position, or empty: as the file writes
+    /// them (`flip_tex_coords` turns v into 1 - v), or the built-in shape's parametrisation.
+    pub uvs: Vec<[f64; 2]>,
     pub triangles: Vec<[u32; 3]>,
     /// Findings that do not stop loading (e.g. ignored OBJ materials), with their line.
     pub notes: Vec<(Option<usize>, String)>,
@@ -36,6 +39,9 @@ pub struct Mesh {
     pub positions: Vec<DVec3>,
     /// Per-vertex shading normals, or empty (face normals).
     pub normals: Vec<DVec3>,
+    /// Per-vertex texture coordinates, or empty; ready for textures, they change no image yet
+    /// (and so are not part of the scene's hash).
+    pub uvs: Vec<[f64; 2]>,
     pub triangles: Vec<[u32; 3]>,
 }
 
@@ -104,6 +110,14 @@ impl MeshData {
             *n = -*n;
         }
     }
+
+    /// Turns every v into 1 - v (Mitsuba's `flip_tex_coords`, on by default for OBJ and PLY
+    /// files, whose images start at the bottom row).
+    pub fn flip_tex_coords(&mut self) {
+        for uv in &mut self.uvs {
+            uv[1] = 1.0 - uv[1];
+        }
+    }
 }
 
 /// How a placed mesh is shaded.
@@ -140,7 +154,7 @@ pub fn place(data: &MeshData, transform: &Transform, shading: Shading) -> (MeshD
         Shading::Smooth if data.normals.is_empty() => vertex_normals(&positions, &triangles),
         Shading::Smooth => data.normals.iter().map(|&n| transform.normal(n)).collect(),
     };
-    (MeshData { positions, normals, triangles, notes: Vec::new() }, placement)
+    (MeshData { positions, normals, uvs: data.uvs.clone(), triangles, notes: Vec::new() }, placement)
 }
 
 /// Smooth vertex normals for a mesh without any, as Mitsuba's `Mesh::recompute_vertex_normals`
@@ -175,6 +189,9 @@ pub(crate) fn check(path: &Path, data: &MeshData, line_of_vertex: impl Fn(usize)
     }
     if let Some(i) = data.normals.iter().position(|n| !n.is_finite()) {
         return Err(MeshFileError::new(path, line_of_vertex(i), format!("normal {i} is not finite ({})", data.normals[i])));
+    }
+    if let Some(i) = data.uvs.iter().position(|uv| !(uv[0].is_finite() && uv[1].is_finite())) {
+        return Err(MeshFileError::new(path, line_of_vertex(i), format!("texture coordinate {i} is not finite ({:?})", data.uvs[i])));
     }
     let n = data.positions.len();
     for (t, tri) in data.triangles.iter().enumerate() {

@@ -111,7 +111,16 @@ pub(super) fn read(path: &Path, bytes: &[u8]) -> Result<MeshData, MeshFileError>
             any_without_normals = true;
             data.normals.extend(std::iter::repeat_n(DVec3::ZERO, count));
         }
+        if m.texcoords.len() == 2 * count {
+            data.uvs.extend(m.texcoords.chunks_exact(2).map(|t| [t[0] as f64, t[1] as f64]));
+        } else {
+            data.uvs.extend(std::iter::repeat_n([0.0, 0.0], count));
+        }
         data.triangles.extend(m.indices.chunks_exact(3).map(|t| [base + t[0], base + t[1], base + t[2]]));
+    }
+    // Texture coordinates where some model has them (the others at (0, 0), as Mitsuba fills).
+    if !models.iter().any(|model| !model.mesh.texcoords.is_empty()) {
+        data.uvs.clear();
     }
     if any_without_normals {
         // Normals for some faces only: a shading normal of zero falls back to the face normal
@@ -144,6 +153,16 @@ mod tests {
         let d = read_text("v 0 0 0\nv 1 0 0\nv 1 1 0\nf -3 -2 -1\n").unwrap();
         assert_eq!(d.triangles.len(), 1);
         assert!(d.normals.is_empty());
+    }
+
+    #[test]
+    fn texture_coordinates_follow_their_vertices() {
+        let d = read_text("v 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0.25\nvt 1 1\nf 1/1 2/2 3/3\n").unwrap();
+        assert_eq!(d.uvs, vec![[0.0, 0.0], [1.0, 0.25], [1.0, 1.0]]);
+        let mut flipped = d.clone();
+        flipped.flip_tex_coords();
+        assert_eq!(flipped.uvs, vec![[0.0, 1.0], [1.0, 0.75], [1.0, 0.0]]);
+        assert!(read_text("v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\n").unwrap().uvs.is_empty());
     }
 
     #[test]

@@ -64,6 +64,10 @@ pub(super) fn read(path: &Path, bytes: &[u8]) -> Result<MeshData, MeshFileError>
     }
     let mut data = MeshData::default();
     let has_normals = ["nx", "ny", "nz"].iter().all(|k| vertices[0].contains_key(*k));
+    // Texture coordinates under any of the names PLY writers use (Mitsuba reads the same).
+    let uv_names = [["u", "v"], ["s", "t"], ["texture_u", "texture_v"], ["texture_s", "texture_t"]]
+        .into_iter()
+        .find(|names| names.iter().all(|k| vertices[0].contains_key(*k)));
     for (i, v) in vertices.iter().enumerate() {
         let get = |k: &str| {
             v.get(k).and_then(scalar).ok_or_else(|| MeshFileError::new(path, at(vertex_line, i), format!("vertex {i} has no numeric property `{k}`")))
@@ -71,6 +75,9 @@ pub(super) fn read(path: &Path, bytes: &[u8]) -> Result<MeshData, MeshFileError>
         data.positions.push(DVec3::new(get("x")?, get("y")?, get("z")?));
         if has_normals {
             data.normals.push(DVec3::new(get("nx")?, get("ny")?, get("nz")?));
+        }
+        if let Some([u, v]) = uv_names {
+            data.uvs.push([get(u)?, get(v)?]);
         }
     }
     let mut triangle_lines = Vec::new();
@@ -106,6 +113,21 @@ mod tests {
 
     const HEADER: &str = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n\
                           element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+
+    #[test]
+    fn texture_coordinates_under_their_usual_names() {
+        for (u, v) in [("u", "v"), ("s", "t"), ("texture_u", "texture_v")] {
+            let text = format!(
+                "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n\
+                 property float {u}\nproperty float {v}\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n\
+                 0 0 0 0 0\n1 0 0 1 0.25\n1 1 0 1 1\n3 0 1 2\n"
+            );
+            let d = read(Path::new("t.ply"), text.as_bytes()).unwrap();
+            assert_eq!(d.uvs, vec![[0.0, 0.0], [1.0, 0.25], [1.0, 1.0]], "{u} {v}");
+        }
+        let d = read(Path::new("q.ply"), format!("{HEADER}0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n").as_bytes()).unwrap();
+        assert!(d.uvs.is_empty());
+    }
 
     #[test]
     fn an_ascii_quad_and_its_errors() {

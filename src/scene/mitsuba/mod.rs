@@ -894,9 +894,8 @@ impl Translator<'_> {
             "obj" | "ply" => {
                 let file = self.string(&mut p, "filename");
                 let face_normals = self.boolean(&mut p, "face_normals");
-                // Texture coordinates: pathlab has no textures, so they change nothing.
-                let _ = p.take("flip_tex_coords");
-                self.finish(p, "filename, face_normals, flip_normals, to_world");
+                let flip_tex_coords = self.boolean(&mut p, "flip_tex_coords");
+                self.finish(p, "filename, face_normals, flip_normals, flip_tex_coords, to_world");
                 let Some((file, _)) = file else {
                     self.error(o.at, "filename", format!("<shape type=\"{}\"> needs <string name=\"filename\">", o.plugin));
                     return;
@@ -915,6 +914,7 @@ impl Translator<'_> {
                         face_normals: face_normals.map(|f| spanned(o.at, f)),
                         flip_normals,
                         two_sided_emission: None,
+                        flip_tex_coords: flip_tex_coords.map(|f| spanned(o.at, f)),
                     },
                 ));
             }
