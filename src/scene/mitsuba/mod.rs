@@ -216,77 +216,29 @@ trait PropKind: Sized {
 /// A colour property: an `<rgb>`, a constant `<spectrum>`, or a `<float>` for all three channels.
 struct Rgb([f64; 3]);
 
-impl PropKind for f64 {
-    const EXPECTED: &'static str = "a <float>";
-    fn read(value: Value) -> Result<f64, Value> {
-        match value {
-            Value::Float(v) => Ok(v),
-            Value::Integer(v) => Ok(v as f64),
-            other => Err(other),
+/// `PropKind` for `$t`: the element kinds (patterns of `Value`) it accepts, and the value each
+/// gives.
+macro_rules! prop_kind {
+    ($t:ty, $expected:literal, $($pattern:pat => $value:expr),+ $(,)?) => {
+        impl PropKind for $t {
+            const EXPECTED: &'static str = $expected;
+            fn read(value: Value) -> Result<$t, Value> {
+                match value {
+                    $($pattern => Ok($value),)+
+                    other => Err(other),
+                }
+            }
         }
-    }
+    };
 }
 
-impl PropKind for i64 {
-    const EXPECTED: &'static str = "an <integer>";
-    fn read(value: Value) -> Result<i64, Value> {
-        match value {
-            Value::Integer(v) => Ok(v),
-            other => Err(other),
-        }
-    }
-}
-
-impl PropKind for bool {
-    const EXPECTED: &'static str = "a <boolean>";
-    fn read(value: Value) -> Result<bool, Value> {
-        match value {
-            Value::Boolean(v) => Ok(v),
-            other => Err(other),
-        }
-    }
-}
-
-impl PropKind for String {
-    const EXPECTED: &'static str = "a <string>";
-    fn read(value: Value) -> Result<String, Value> {
-        match value {
-            Value::String(v) => Ok(v),
-            other => Err(other),
-        }
-    }
-}
-
-impl PropKind for Rgb {
-    const EXPECTED: &'static str = "an <rgb> or a constant <spectrum>";
-    fn read(value: Value) -> Result<Rgb, Value> {
-        match value {
-            Value::Color(c) => Ok(Rgb(c)),
-            Value::Float(v) => Ok(Rgb([v; 3])),
-            other => Err(other),
-        }
-    }
-}
-
-impl PropKind for DVec3 {
-    const EXPECTED: &'static str = "a <point>";
-    fn read(value: Value) -> Result<DVec3, Value> {
-        match value {
-            Value::Point(v) | Value::Vector(v) => Ok(v),
-            other => Err(other),
-        }
-    }
-}
-
-impl PropKind for Vec<TransformOp> {
-    const EXPECTED: &'static str = "a <transform>";
-    fn read(value: Value) -> Result<Vec<TransformOp>, Value> {
-        match value {
-            Value::Transform(ops) => Ok(ops),
-            other => Err(other),
-        }
-    }
-}
+prop_kind!(f64, "a <float>", Value::Float(v) => v, Value::Integer(v) => v as f64);
+prop_kind!(i64, "an <integer>", Value::Integer(v) => v);
+prop_kind!(bool, "a <boolean>", Value::Boolean(v) => v);
+prop_kind!(String, "a <string>", Value::String(v) => v);
+prop_kind!(Rgb, "an <rgb> or a constant <spectrum>", Value::Color(c) => Rgb(c), Value::Float(v) => Rgb([v; 3]));
+prop_kind!(DVec3, "a <point>", Value::Point(v) | Value::Vector(v) => v);
+prop_kind!(Vec<TransformOp>, "a <transform>", Value::Transform(ops) => ops);
 
 impl Findings for Translator<'_> {
     fn sources(&self) -> &SourceMap {
