@@ -215,7 +215,7 @@ impl PyScene {
             r.height,
             r.max_depth,
             r.rr_depth.map_or("None".into(), |k| k.to_string()),
-            self.scene.lights().len(),
+            self.scene.num_lights(),
             self.scene.num_triangles()
         )
     }

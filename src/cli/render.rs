@@ -125,7 +125,6 @@ pub struct RenderArgs {
     adapter: Option<String>,
 }
 
-
 /// A note for each of the method's finer flags given where it cannot change the image.
 fn inapplicable_flags(args: &RenderArgs, scene: &pathlab::scene::Scene, method: &Method) -> Vec<String> {
     let has = ApplicableOptions::of_scene(scene);

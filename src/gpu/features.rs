@@ -32,14 +32,11 @@ pub struct SceneFeatures {
 impl SceneFeatures {
     /// The features a pipeline must support to render `scene`.
     pub fn of(scene: &Scene) -> SceneFeatures {
-        let num_sphere_lights = scene.light_spheres().len() as u32;
-        let num_triangle_lights: usize =
-            scene.meshes.iter().filter(|m| scene.materials[m.material].is_emissive()).map(|m| m.triangles.len()).sum();
         SceneFeatures {
             num_spheres: scene.spheres.len() as u32,
             num_planes: scene.planes.len() as u32,
-            num_lights: num_sphere_lights + num_triangle_lights as u32,
-            num_sphere_lights,
+            num_lights: scene.num_lights() as u32,
+            num_sphere_lights: scene.light_spheres().len() as u32,
             num_triangles: scene.num_triangles() as u32,
             has_shading_normals: scene.meshes.iter().any(|m| !m.normals.is_empty()),
             rr_depth: scene.render.rr_depth.unwrap_or(0),

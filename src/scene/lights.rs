@@ -34,6 +34,13 @@ impl Scene {
         spheres.chain(triangles).collect()
     }
 
+    /// How many lights `lights()` lists (the emissive spheres, then every emissive triangle),
+    /// counted without listing them.
+    pub fn num_lights(&self) -> usize {
+        let triangles: usize = self.meshes.iter().filter(|m| self.materials[m.material].is_emissive()).map(|m| m.triangles.len()).sum();
+        self.light_spheres().len() + triangles
+    }
+
     /// Whether any mesh emits.
     pub fn has_triangle_lights(&self) -> bool {
         self.meshes.iter().any(|m| self.materials[m.material].is_emissive())

@@ -360,9 +360,9 @@ impl ApplicableOptions {
     /// What the scene has, whatever the method.
     pub fn of_scene(scene: &Scene) -> ApplicableOptions {
         ApplicableOptions {
-            light_select: scene.lights().len() > 1,
+            light_select: scene.num_lights() > 1,
             triangle_sampling: scene.has_triangle_lights(),
-            microfacet_sampling: scene.materials.iter().any(|m| m.conductor.as_ref().is_some_and(|c| c.rough.is_some())),
+            microfacet_sampling: scene.materials.iter().any(|m| m.bsdf_kind() == BsdfKind::RoughConductor),
         }
     }
 

@@ -73,25 +73,26 @@ pub fn bsdf_dispatch() -> String {
     // Whether materials may differ in kind (else the kernel need not read it).
     let others: Vec<&str> = rest.iter().map(|k| k.has_override()).collect();
     s += &format!("\n// Whether a material may be of a kind other than {}.\nfn bsdf_kinds_vary() -> bool {{\n    return {};\n}}\n", first.name(), others.join(" || "));
-    s += "\n// f(wi, wo) and the pipeline's sampling density at wi, by the material's kind.\n\
-          fn eval_pdf_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, wi: vec3f) -> BsdfEval {\n";
-    for k in rest {
-        s += &format!("    if ({}) {{\n        return eval_pdf_{}_bsdf(b, n_s, wo, wi);\n    }}\n", is(k), k.stem());
-    }
-    s += &format!(
-        "    if ({}) {{\n        return eval_pdf_{}_bsdf(b, n_s, wo, wi);\n    }}\n    return BsdfEval(vec3f(0.0), 0.0);\n}}\n",
-        first.has_override(),
-        first.stem()
+    // A dispatcher: each other kind where the material is of it, then the first kind.
+    let dispatch = |doc: &str, signature: &str, call: &str, none: &str| {
+        let call = |k: &BsdfKind| call.replace("{stem}", k.stem());
+        let mut f = format!("\n// {doc}\nfn {signature} {{\n");
+        for k in rest {
+            f += &format!("    if ({}) {{\n        return {};\n    }}\n", is(k), call(k));
+        }
+        f + &format!("    if ({}) {{\n        return {};\n    }}\n    return {none};\n}}\n", first.has_override(), call(first))
+    };
+    s += &dispatch(
+        "f(wi, wo) and the pipeline's sampling density at wi, by the material's kind.",
+        "eval_pdf_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, wi: vec3f) -> BsdfEval",
+        "eval_pdf_{stem}_bsdf(b, n_s, wo, wi)",
+        "BsdfEval(vec3f(0.0), 0.0)",
     );
-    s += "\n// Samples wi with the pipeline's strategy for the material's kind.\n\
-          fn sample_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> BsdfSample {\n";
-    for k in rest {
-        s += &format!("    if ({}) {{\n        return sample_{}_bsdf(b, n_s, wo, u_dir, u_lobe);\n    }}\n", is(k), k.stem());
-    }
-    s += &format!(
-        "    if ({}) {{\n        return sample_{}_bsdf(b, n_s, wo, u_dir, u_lobe);\n    }}\n    return BsdfSample(n_s, 0.0, vec3f(0.0), false);\n}}\n",
-        first.has_override(),
-        first.stem()
+    s += &dispatch(
+        "Samples wi with the pipeline's strategy for the material's kind.",
+        "sample_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> BsdfSample",
+        "sample_{stem}_bsdf(b, n_s, wo, u_dir, u_lobe)",
+        "BsdfSample(n_s, 0.0, vec3f(0.0), false)",
     );
     let delta: Vec<String> = BsdfKind::ALL.iter().filter(|k| k.is_delta()).map(|k| format!("({})", is(k))).collect();
     s += &format!(

@@ -103,6 +103,7 @@ fn method_section(app: &PanelState, ui: &mut Ui, actions: &mut Vec<Action>) {
     if want_split != split {
         actions.push(Action::Split(want_split));
     }
+    let has = ApplicableOptions::of_scene(&app.driver.scene);
     for i in 0..app.driver.slots.len() {
         let method = app.driver.slots[i].method;
         if app.driver.slots.len() > 1 {
@@ -134,7 +135,6 @@ fn method_section(app: &PanelState, ui: &mut Ui, actions: &mut Vec<Action>) {
             ui.end_row();
             // The finer options only where they can change this scene's image: shown where the
             // scene can use them, enabled where the method does.
-            let has = ApplicableOptions::of_scene(&app.driver.scene);
             let can = has.with_method(&method);
             if has.light_select {
                 ui.label("light select");
