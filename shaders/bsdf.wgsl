@@ -4,7 +4,7 @@
 // shaders/bsdfs/ (phong.wgsl, conductor.wgsl, rough_conductor.wgsl) with its `eval_pdf_*`,
 // `sample_*` and the two entry points the dispatcher calls; the dispatcher `eval_pdf_bsdf`,
 // `sample_bsdf` and `bsdf_is_delta`, the kinds' numbers `BSDF_KIND_*` and one `HAS_<KIND>`
-// override per kind are generated from the registry (src/scene/bsdf_kind.rs). n_s is the
+// override per kind are generated from the registry (src/scene/bsdfs/mod.rs). n_s is the
 // shading normal turned towards wo (which side a one-sided material shows is decided by the
 // integrator); directions on the other side get f = 0 (no transmission yet).
 //
@@ -81,9 +81,11 @@ fn sample_generic_strategy(n_s: vec3f, u_dir: vec2f) -> vec3f {
     return frame_to_world(frame_from_normal(n_s), local);
 }
 
-// Every kind's parameters (the kind's own struct in its file); `kind` is a BSDF_KIND_*.
+// A material's BSDF: its kind (a BSDF_KIND_*) and its parameter block, three slots whose
+// meaning is the kind's (each kind's file unpacks them, `<stem>_of`).
 struct Bsdf {
     kind: u32,
-    phong: Phong,
-    conductor: Conductor,
+    p0: vec4f,
+    p1: vec4f,
+    p2: vec4f,
 }

@@ -101,11 +101,15 @@ fn bad_conductor_parameters_are_refused_naming_the_field() {
         ("bsdf = \"roughconductor\"\nalpha = -0.5", "materials.m.alpha", "alpha must be > 0"),
         ("bsdf = \"roughconductor\"\nalpha = nan", "materials.m.alpha", "finite"),
         ("bsdf = \"roughconductor\"\ndistribution = \"phong\"", "materials.m.distribution", "unknown distribution"),
-        ("bsdf = \"conductor\"\ndiffuse = 0.5", "materials.m.diffuse", "belongs to Phong materials"),
-        ("bsdf = \"conductor\"\nalpha = 0.1", "materials.m.alpha", "belongs to a roughconductor"),
-        ("alpha = 0.1", "materials.m.alpha", "belongs to conductors"),
+        ("bsdf = \"conductor\"\ndiffuse = 0.5", "materials.m.diffuse", "belongs to bsdf = \"phong\""),
+        ("bsdf = \"conductor\"\nalpha = 0.1", "materials.m.alpha", "belongs to bsdf = \"roughconductor\""),
+        ("alpha = 0.1", "materials.m.alpha", "not a field of a phong material"),
         ("bsdf = \"plastic\"", "materials.m.bsdf", "unknown bsdf"),
         ("bsdf = \"conductor\"\neta = -1", "materials.m.eta", ">= 0"),
+        // Fields of no kind, and of the wrong type, name the field and what it should be.
+        ("shininess = 3", "materials.m.shininess", "unknown field `shininess` of a phong material (its fields: diffuse, specular, glossiness"),
+        ("bsdf = \"conductor\"\neta = \"gold\"", "materials.m.eta", "must be a number or an array of 3 numbers"),
+        ("bsdf = \"roughconductor\"\nalpha = [0.1, 0.2]", "materials.m.alpha", "must be a number"),
     ];
     for (material, field, message) in cases {
         let text = format!("{base}[materials.m]\n{material}\n[[spheres]]\ncenter = [0, 0, -3]\nradius = 1\nmaterial = \"m\"\n");
@@ -120,7 +124,7 @@ fn bad_conductor_parameters_are_refused_naming_the_field() {
     // Mitsuba clamps alpha to 1e-4; so does pathlab, saying so.
     let text = format!("{base}[materials.m]\nbsdf = \"roughconductor\"\nalpha = 1e-6\n[[spheres]]\ncenter = [0, 0, -3]\nradius = 1\nmaterial = \"m\"\n");
     let s = Scene::parse(&text, "c.toml").unwrap();
-    assert_eq!(s.materials[0].conductor.as_ref().unwrap().rough.unwrap().1, 1e-4);
+    assert!(matches!(&s.materials[0].bsdf, pathlab::scene::Bsdf::RoughConductor(r) if r.alpha == 1e-4));
     assert!(s.warnings.iter().any(|w| w.message.contains("clamped")));
 }
 

@@ -11,7 +11,7 @@ use std::process::Command;
 
 use common::*;
 use pathlab::method::Preset;
-use pathlab::scene::{Diagnostic, Scene, SceneError, Severity};
+use pathlab::scene::{Bsdf, BsdfKind, Diagnostic, Scene, SceneError, Severity};
 
 fn asset(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes").join(name)
@@ -88,12 +88,12 @@ fn structured_scene() -> tempfile::TempDir {
 fn the_veach_scene_loads_as_written() {
     let s = Scene::load(asset("veach_mis.xml")).unwrap();
     assert!(s.warnings.is_empty(), "{:?}", s.warnings);
-    let rough: Vec<f64> = s.materials.iter().filter_map(|m| m.conductor.as_ref()?.rough.map(|r| r.1)).collect();
+    let rough: Vec<f64> = s.materials.iter().filter_map(|m| match &m.bsdf { Bsdf::RoughConductor(r) => Some(r.alpha), _ => None }).collect();
     assert_eq!(rough.len(), 4);
     for alpha in [0.01, 0.05, 0.1, 0.25] {
         assert!(rough.contains(&alpha), "{rough:?}");
     }
-    assert!(s.materials.iter().filter(|m| m.conductor.is_some()).all(|m| m.two_sided));
+    assert!(s.materials.iter().filter(|m| m.bsdf_kind() != BsdfKind::Phong).all(|m| m.two_sided));
     assert_eq!((s.spheres.len(), s.light_spheres().len(), s.num_triangles()), (3, 3, 4 * 12 + 2 * 2));
     assert_eq!((s.render.width, s.render.height, s.render.max_depth, s.render.rr_depth), (1280, 720, 3, None));
     // The camera looks down -x from (28.28, 3.5, 0), up +y: not mirrored.
@@ -109,8 +109,9 @@ fn includes_defaults_defines_and_refs_work_as_in_mitsuba_and_convert_keeps_the_s
     assert_eq!(s.render.environment.to_array(), [0.1; 3]);
     assert_eq!((s.spheres.len(), s.meshes.len(), s.num_triangles()), (1, 1, 1));
     // The twosided grey; the sphere's default BSDF (diffuse 0.5, one-sided) with its emission.
-    assert!(s.materials.iter().any(|m| m.two_sided && m.diffuse.x == 0.4));
-    assert!(s.materials.iter().any(|m| !m.two_sided && m.diffuse.x == 0.5 && m.emission.x == 5.0));
+    let kd = |m: &pathlab::scene::Material| m.bsdf.as_phong().map_or(-1.0, |p| p.diffuse.x);
+    assert!(s.materials.iter().any(|m| m.two_sided && kd(m) == 0.4));
+    assert!(s.materials.iter().any(|m| !m.two_sided && kd(m) == 0.5 && m.emission.x == 5.0));
     // The matrix camera: at (0, 0, 4) looking down -z; a diagonal field of view.
     assert_eq!(s.camera.position.to_array(), [0.0, 0.0, 4.0]);
     assert!((s.camera.look_at - glam::DVec3::new(0.0, 0.0, 3.0)).length() < 1e-12);
@@ -188,7 +189,7 @@ fn bad_xml_is_refused_with_file_line_column_plugin_and_parameter() {
         (small("<shape type=\"sphere\"><float name=\"radius\" value=\"$r\"/></shape>"), "$r", "`$r` has no value"),
         (small("<shape type=\"obj\"><ref id=\"grey\"/></shape>"), "<shape type=\"obj\">", "needs <string name=\"filename\">"),
         (small("<shape type=\"cube\"><transform name=\"to_world\"><scale value=\"1, 0, 1\"/></transform></shape>"), "<scale value=\"1, 0, 1\"/>", "singular"),
-        (small("<bsdf type=\"roughplastic\" id=\"p\"/>"), "<bsdf type=\"roughplastic\"", "<bsdf type=\"roughplastic\"> is not supported (pathlab has diffuse, twosided, conductor, roughconductor, modphong)"),
+        (small("<bsdf type=\"roughplastic\" id=\"p\"/>"), "<bsdf type=\"roughplastic\"", "<bsdf type=\"roughplastic\"> is not supported (pathlab has diffuse, modphong, conductor, roughconductor, twosided)"),
         (small("<bsdf type=\"diffuse\" id=\"d\"><float name=\"roughness\" value=\"1\"/></bsdf>"), "<float name=\"roughness\"", "`roughness` of <bsdf type=\"diffuse\"> is not supported (pathlab reads: reflectance)"),
         (small("<shape type=\"sphere\"><float name=\"radius\" value=\"nan\"/></shape>"), "nan\"", "must be a finite number > 0 (got NaN)"),
         (small("<shape type=\"sphere\"><float name=\"radius\" value=\"-1\"/></shape>"), "-1\"", "must be a finite number > 0 (got -1)"),

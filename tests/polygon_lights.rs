@@ -288,7 +288,7 @@ fn exact_image(scene: &Scene) -> Vec<Option<f64>> {
         normals: (0..lamp.triangles.len()).map(|t| { let [a, b, c] = lamp.vertices(t); (b - a).cross(c - a) }).collect(),
     };
     let floor = &scene.materials[scene.meshes.iter().find(|m| !scene.materials[m.material].is_emissive()).unwrap().material];
-    let (rho, le) = (floor.diffuse.y, scene.materials[lamp.material].emission.y);
+    let (rho, le) = (floor.bsdf.as_phong().unwrap().diffuse.y, scene.materials[lamp.material].emission.y);
     // Per row: each pixel's integral, and whether a sub-pixel ray saw the light.
     let row = |py: usize| -> Vec<(f64, bool)> {
         (0..w)

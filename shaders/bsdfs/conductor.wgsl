@@ -20,12 +20,19 @@ fn sample_conductor(c: Conductor, n_s: vec3f, wo: vec3f) -> BsdfSample {
     return BsdfSample(reflect_about(wo, n_s), 0.0, weight, true);
 }
 
-// The dispatcher's entry points (generated from src/scene/bsdf_kind.rs): no direction but the
+// The parameter block as src/scene/bsdfs/conductor.rs packs it: p0 = (eta, alpha),
+// p1 = (k, the distribution's number), p2 = (reflectance, 0); the smooth conductor has
+// alpha 0 (its distribution is unused).
+fn conductor_of(b: Bsdf) -> Conductor {
+    return Conductor(b.p0.xyz, b.p1.xyz, b.p2.xyz, b.p0.w, u32(b.p1.w));
+}
+
+// The dispatcher's entry points (generated from src/scene/bsdfs/mod.rs): no direction but the
 // mirror's has a density.
 fn eval_pdf_conductor_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, wi: vec3f) -> BsdfEval {
     return BsdfEval(vec3f(0.0), 0.0);
 }
 
 fn sample_conductor_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> BsdfSample {
-    return sample_conductor(b.conductor, n_s, wo);
+    return sample_conductor(conductor_of(b), n_s, wo);
 }

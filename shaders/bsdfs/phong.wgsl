@@ -102,11 +102,16 @@ fn sample_phong(m: Phong, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> B
     return BsdfSample(wi, e.pdf, path_weight(e.f, dot(wi, n_s), e.pdf), false);
 }
 
-// The dispatcher's entry points (generated from src/scene/bsdf_kind.rs).
+// The parameter block as src/scene/bsdfs/phong.rs packs it: p0 = (kd, n), p1 = (ks, p_spec).
+fn phong_of(b: Bsdf) -> Phong {
+    return Phong(b.p0.xyz, b.p1.xyz, b.p0.w, b.p1.w);
+}
+
+// The dispatcher's entry points (generated from src/scene/bsdfs/mod.rs).
 fn eval_pdf_phong_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, wi: vec3f) -> BsdfEval {
-    return eval_pdf_phong(b.phong, n_s, wo, wi);
+    return eval_pdf_phong(phong_of(b), n_s, wo, wi);
 }
 
 fn sample_phong_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> BsdfSample {
-    return sample_phong(b.phong, n_s, wo, u_dir, u_lobe);
+    return sample_phong(phong_of(b), n_s, wo, u_dir, u_lobe);
 }

@@ -49,15 +49,15 @@ fn sample_rough_conductor(c: Conductor, n_s: vec3f, wo: vec3f, u_dir: vec2f) -> 
     return BsdfSample(frame_to_world(frame, wi_l), e.pdf, path_weight(e.f_cos, 1.0, e.pdf), false);
 }
 
-// The dispatcher's entry points (generated from src/scene/bsdf_kind.rs).
+// The dispatcher's entry points (generated from src/scene/bsdfs/mod.rs).
 fn eval_pdf_rough_conductor_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, wi: vec3f) -> BsdfEval {
     let frame = frame_from_normal(n_s);
     let wi_l = frame_to_local(frame, wi);
-    let e = eval_pdf_rough_conductor_local(b.conductor, frame_to_local(frame, wo), wi_l);
+    let e = eval_pdf_rough_conductor_local(conductor_of(b), frame_to_local(frame, wo), wi_l);
     // f = (f cos) / cos, zero where cos is (f cos is zero there too).
     return BsdfEval(select(vec3f(0.0), e.f_cos / wi_l.z, wi_l.z > 0.0), e.pdf);
 }
 
 fn sample_rough_conductor_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> BsdfSample {
-    return sample_rough_conductor(b.conductor, n_s, wo, u_dir);
+    return sample_rough_conductor(conductor_of(b), n_s, wo, u_dir);
 }

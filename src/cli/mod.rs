@@ -159,7 +159,7 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
     let f = pathlab::gpu::SceneFeatures::of(&scene);
     println!(
         "{}: valid; {}x{}, max_depth {}, Russian roulette {}, {} materials, {} spheres ({} lights), {} planes ({} can shadow a light), \
-         {} meshes ({} triangles, {} emissive{}), specular {}, conductors {}, environment {}, light interiors reachable {}; \
+         {} meshes ({} triangles, {} emissive{}), specular {}, BSDFs {}, environment {}, light interiors reachable {}; \
          default light selection {}; scene hash {}",
         path.display(),
         scene.render.width,
@@ -176,7 +176,13 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
         f.num_lights - f.num_sphere_lights,
         if f.has_shading_normals { ", with vertex normals" } else { "" },
         if f.has_specular { "yes" } else { "no" },
-        scene.materials.iter().filter(|m| m.conductor.is_some()).count(),
+        pathlab::scene::BsdfKind::ALL
+            .iter()
+            .map(|&k| (k, scene.materials.iter().filter(|m| m.bsdf_kind() == k).count()))
+            .filter(|&(_, n)| n > 0)
+            .map(|(k, n)| format!("{k} x{n}"))
+            .collect::<Vec<_>>()
+            .join(", "),
         if f.has_environment { "yes" } else { "no" },
         if f.light_interiors_reachable { "yes" } else { "no" },
         scene.default_light_select(),

@@ -40,7 +40,7 @@ impl SceneFeatures {
             num_triangles: scene.num_triangles() as u32,
             has_shading_normals: scene.meshes.iter().any(|m| !m.normals.is_empty()),
             rr_depth: scene.render.rr_depth.unwrap_or(0),
-            has_specular: scene.materials.iter().any(|m| m.specular.max_element() > 0.0),
+            has_specular: scene.materials.iter().any(|m| m.bsdf.as_phong().is_some_and(|p| p.specular.max_element() > 0.0)),
             bsdf_kinds: scene.materials.iter().fold(0, |kinds, m| kinds | m.bsdf_kind().bit()),
             has_environment: scene.render.environment.max_element() > 0.0,
             num_occluding_planes: scene.occluding_planes().len() as u32,

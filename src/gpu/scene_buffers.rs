@@ -12,9 +12,8 @@ use glam::DVec3;
 use wgpu::util::DeviceExt;
 
 use crate::accel::{Bvh, BvhNode};
-use crate::scene::lights::luminance;
 use crate::scene::{AliasTable, Light, Scene, MAX_MATERIALS, MAX_PLANES, MAX_SPHERES};
-use crate::shaders::flags::{MATERIAL_EMISSIVE, MATERIAL_GGX, MATERIAL_ONE_SIDED, TRIANGLE_HAS_NORMALS, TRIANGLE_TWO_SIDED};
+use crate::shaders::flags::{MATERIAL_EMISSIVE, MATERIAL_ONE_SIDED, TRIANGLE_HAS_NORMALS, TRIANGLE_TWO_SIDED};
 
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
@@ -37,19 +36,16 @@ pub struct GpuPlane {
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
 pub struct GpuMaterial {
-    pub diffuse: [f32; 3],
-    pub glossiness: f32,
-    pub specular: [f32; 3],
-    pub p_spec: f32,
     pub emission: [f32; 3],
-    /// `MATERIAL_EMISSIVE`, `MATERIAL_ONE_SIDED`, `MATERIAL_GGX`.
+    /// `MATERIAL_EMISSIVE`, `MATERIAL_ONE_SIDED`.
     pub flags: u32,
-    /// Conductors: eta + i k, roughness; `specular` holds the reflectance.
-    pub eta: [f32; 3],
-    pub alpha: f32,
-    pub k: [f32; 3],
+    /// The BSDF's parameter block (`Bsdf::pack`: its kind's file says what each slot holds).
+    pub p0: [f32; 4],
+    pub p1: [f32; 4],
+    pub p2: [f32; 4],
     /// The `BsdfKind` (its `constant()`, generated into the WGSL as `BSDF_KIND_*`).
     pub kind: u32,
+    pub _pad: [u32; 3],
 }
 
 /// A triangle as the kernel reads it (`Triangle`, bvh.wgsl): vertices, material, the light it
@@ -233,34 +229,16 @@ impl SceneBuffers {
             .materials
             .iter()
             .map(|m| {
-                let (ld, ls) = (luminance(m.diffuse), luminance(m.specular));
-                let p_spec = if ld + ls > 0.0 { ls / (ld + ls) } else { 0.0 };
-                let mut flags = if m.is_emissive() { MATERIAL_EMISSIVE } else { 0 } | if m.two_sided { 0 } else { MATERIAL_ONE_SIDED };
-                let mut g = GpuMaterial {
-                    diffuse: f3(m.diffuse),
-                    glossiness: m.glossiness as f32,
-                    specular: f3(m.specular),
-                    p_spec: p_spec as f32,
+                let [p0, p1, p2] = m.bsdf.pack();
+                GpuMaterial {
                     emission: f3(m.emission),
-                    flags,
-                    eta: [0.0; 3],
-                    alpha: 0.0,
-                    k: [0.0; 3],
+                    flags: if m.is_emissive() { MATERIAL_EMISSIVE } else { 0 } | if m.two_sided { 0 } else { MATERIAL_ONE_SIDED },
+                    p0,
+                    p1,
+                    p2,
                     kind: m.bsdf_kind().constant(),
-                };
-                if let Some(c) = &m.conductor {
-                    g.specular = f3(c.reflectance);
-                    g.eta = f3(c.eta);
-                    g.k = f3(c.k);
-                    if let Some((distribution, alpha)) = c.rough {
-                        g.alpha = alpha as f32;
-                        if distribution == crate::scene::Distribution::Ggx {
-                            flags |= MATERIAL_GGX;
-                        }
-                    }
-                    g.flags = flags;
+                    _pad: [0; 3],
                 }
-                g
             })
             .collect()
     }

@@ -34,16 +34,17 @@ use std::fmt::Write as _;
 
 use glam::DVec3;
 
-use super::{Fov, Scene};
+use super::bsdfs::BsdfPlugin;
+use super::{Bsdf, BsdfKind, Fov, Phong, Scene};
 
 /// Version of the encoding, recorded beside the hash in accumulator files.
 pub const SCENE_HASH_ENCODING: u32 = 1;
 
-fn real(x: f64) -> String {
+pub(crate) fn real(x: f64) -> String {
     format!("{:016x}", x.to_bits())
 }
 
-fn vec3(v: DVec3) -> String {
+pub(crate) fn vec3(v: DVec3) -> String {
     format!("{},{},{}", real(v.x), real(v.y), real(v.z))
 }
 
@@ -75,22 +76,21 @@ pub fn canonical_encoding(scene: &Scene) -> String {
     line("render.environment", vec3(r.environment));
     line("materials", scene.materials.len().to_string());
     for (i, m) in scene.materials.iter().enumerate() {
-        line(&format!("material.{i}.diffuse"), vec3(m.diffuse));
-        line(&format!("material.{i}.specular"), vec3(m.specular));
-        line(&format!("material.{i}.glossiness"), real(m.glossiness));
+        // Phong's three lines come before the emission, and every other kind's own lines after
+        // it, behind Phong's three at zero: the order of the scenes written before the BSDF
+        // registry, whose hashes stay.
+        let phong = match &m.bsdf {
+            Bsdf::Phong(p) => p,
+            _ => &Phong::BLACK,
+        };
+        phong.hash_lines(&mut |key, value| line(&format!("material.{i}.{key}"), value));
         line(&format!("material.{i}.emission"), vec3(m.emission));
         // Only one-sided materials add a line, so that scenes written before keep their hash.
         if !m.two_sided {
             line(&format!("material.{i}.two_sided"), "0".to_string());
         }
-        // Likewise conductors.
-        if let Some(c) = &m.conductor {
-            line(&format!("material.{i}.conductor.eta"), vec3(c.eta));
-            line(&format!("material.{i}.conductor.k"), vec3(c.k));
-            line(&format!("material.{i}.conductor.reflectance"), vec3(c.reflectance));
-            if let Some((d, alpha)) = c.rough {
-                line(&format!("material.{i}.conductor.rough"), format!("{d} {}", real(alpha)));
-            }
+        if m.bsdf.kind() != BsdfKind::Phong {
+            m.bsdf.hash_lines(&mut |key, value| line(&format!("material.{i}.{key}"), value));
         }
     }
     line("spheres", scene.spheres.len().to_string());

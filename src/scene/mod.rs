@@ -7,7 +7,8 @@
 //! resolves, planes do not emit, meshes are in world space with their zero-area triangles
 //! dropped. Nothing here touches the GPU.
 
-mod bsdf_kind;
+pub mod bsdfs;
+mod checker;
 mod diagnostic;
 pub mod hash;
 pub mod lights;
@@ -24,7 +25,7 @@ use glam::DVec3;
 
 use crate::method::{BsdfSampling, LightSampling, Method};
 
-pub use bsdf_kind::BsdfKind;
+pub use bsdfs::{Bsdf, BsdfKind, Conductor, Distribution, Phong, RoughConductor};
 pub use diagnostic::{Diagnostic, SceneError, Severity};
 pub use lights::{AliasTable, Light};
 pub use mesh::Mesh;
@@ -145,43 +146,16 @@ pub struct RenderSettings {
     pub spp: Option<u64>,
 }
 
-crate::names::named_enum! {
-    /// The microfacet distribution of a rough conductor (`shaders/microfacet.wgsl`).
-    pub enum Distribution("microfacet distribution") {
-        /// Beckmann's (Mitsuba's default).
-        Beckmann = "beckmann",
-        /// Trowbridge-Reitz / GGX: longer tails.
-        Ggx = "ggx",
-    }
-}
-
-/// A conductor (Mitsuba's `conductor` and `roughconductor`): Fresnel reflection of complex
-/// index eta + i k per channel, times `reflectance` (Mitsuba's specular_reflectance); smooth
-/// (a mirror, a delta lobe) or rough (Torrance-Sparrow with separable Smith shadowing).
-#[derive(Debug, Clone, PartialEq)]
-pub struct Conductor {
-    pub eta: DVec3,
-    pub k: DVec3,
-    pub reflectance: DVec3,
-    /// `None`: smooth; else the distribution and its roughness alpha (>= 1e-4, as Mitsuba clamps).
-    pub rough: Option<(Distribution, f64)>,
-}
-
-/// A material: normalised modified Phong, f = kd/pi + ks (n+2)/(2 pi) max(0, dot(wi, r))^n,
-/// or a conductor (then `diffuse` and `specular` are 0); either may emit.
+/// A material: a BSDF of one of the kinds of `bsdfs` (Phong by default), which may emit.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Material {
     pub name: String,
-    pub diffuse: DVec3,
-    pub specular: DVec3,
-    pub glossiness: f64,
     pub emission: DVec3,
     /// False: a one-sided BSDF (Mitsuba's default), black seen from behind: from the side its
     /// surface's normal points away from (a sphere's inside, a plane's back, a triangle's back
     /// by its winding). Emission is not affected (see `Mesh::two_sided_emission`).
     pub two_sided: bool,
-    /// `Some`: the material is a conductor, not Phong.
-    pub conductor: Option<Conductor>,
+    pub bsdf: Bsdf,
 }
 
 impl Material {
@@ -191,11 +165,7 @@ impl Material {
 
     /// The kind of its BSDF (`BsdfKind`, the registry of kinds).
     pub fn bsdf_kind(&self) -> BsdfKind {
-        match &self.conductor {
-            None => BsdfKind::Phong,
-            Some(Conductor { rough: None, .. }) => BsdfKind::Conductor,
-            Some(_) => BsdfKind::RoughConductor,
-        }
+        self.bsdf.kind()
     }
 }
 

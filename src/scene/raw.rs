@@ -124,26 +124,68 @@ pub(crate) struct RawRender {
     pub spp: Option<Spanned<i64>>,
 }
 
-#[derive(Debug, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
+/// `[materials.<name>]`: what every material has (`emission`, `two_sided`, the `bsdf` kind) and
+/// the fields of its BSDF kind, kept as written with their spans: the kind's file reads them
+/// (`scene::bsdfs`), so that a new kind adds its fields without touching this file.
+#[derive(Debug, Default)]
 pub(crate) struct RawMaterial {
-    pub diffuse: Option<Spanned<RawColor>>,
-    pub specular: Option<Spanned<RawColor>>,
-    pub glossiness: Option<Spanned<f64>>,
     pub emission: Option<Spanned<RawColor>>,
     /// Whether the back of a surface scatters too (default true); Mitsuba's BSDFs are
     /// one-sided unless wrapped in `twosided`.
     pub two_sided: Option<Spanned<bool>>,
-    /// `phong` (default), `conductor` or `roughconductor`.
+    /// The kind's `TOML_NAME` (`phong`, the default, `conductor`, `roughconductor`, ...).
     pub bsdf: Option<Spanned<String>>,
-    /// Rough conductors: `beckmann` (default) or `ggx`, and alpha (default 0.1).
-    pub distribution: Option<Spanned<String>>,
-    pub alpha: Option<Spanned<f64>>,
-    /// Conductors: the complex index of refraction eta + i k (default 0 + 1i: F = 1).
-    pub eta: Option<Spanned<RawColor>>,
-    pub k: Option<Spanned<RawColor>>,
-    /// Conductors: a factor on the Fresnel term (default 1).
-    pub specular_reflectance: Option<Spanned<RawColor>>,
+    /// The BSDF's fields, in the order written.
+    pub params: Vec<(String, Spanned<toml::Value>)>,
+}
+
+impl<'de> Deserialize<'de> for RawMaterial {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct MaterialVisitor;
+        impl<'de> Visitor<'de> for MaterialVisitor {
+            type Value = RawMaterial;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a material table")
+            }
+            fn visit_map<A: de::MapAccess<'de>>(self, mut map: A) -> Result<RawMaterial, A::Error> {
+                let mut m = RawMaterial::default();
+                while let Some(key) = map.next_key::<String>()? {
+                    match key.as_str() {
+                        "emission" => m.emission = Some(map.next_value()?),
+                        "two_sided" => m.two_sided = Some(map.next_value()?),
+                        "bsdf" => m.bsdf = Some(map.next_value()?),
+                        _ => {
+                            let value = map.next_value()?;
+                            m.params.push((key, value));
+                        }
+                    }
+                }
+                Ok(m)
+            }
+        }
+        deserializer.deserialize_map(MaterialVisitor)
+    }
+}
+
+/// The BSDF's kind and fields first, then emission and sidedness.
+impl Serialize for RawMaterial {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut map = serializer.serialize_map(None)?;
+        if let Some(b) = &self.bsdf {
+            map.serialize_entry("bsdf", b.get_ref())?;
+        }
+        for (k, v) in &self.params {
+            map.serialize_entry(k, v.get_ref())?;
+        }
+        if let Some(e) = &self.emission {
+            map.serialize_entry("emission", e.get_ref())?;
+        }
+        if let Some(t) = &self.two_sided {
+            map.serialize_entry("two_sided", t.get_ref())?;
+        }
+        map.end()
+    }
 }
 
 #[derive(Debug, Deserialize, Serialize)]

@@ -10,9 +10,10 @@ use toml::Spanned;
 
 use crate::display::{DisplayTransform, Transfer};
 
+use super::checker::Checker;
 use super::diagnostic::SourceMap;
 use super::mesh::{self, shapes, Mesh, MeshData, Shading};
-use super::raw::{RawColor, RawMaterial, RawRotations, RawScale, RawScene, RawTransform};
+use super::raw::{RawMaterial, RawRotations, RawScale, RawScene, RawTransform};
 use super::transform::Transform;
 use super::{
     Camera, Diagnostic, Fov, Material, Plane, RenderSettings, Scene, SceneError, Severity, Sphere, MAX_MATERIALS,
@@ -22,72 +23,6 @@ use super::{
 /// Largest accepted width, height or max_depth: beyond this the GPU buffers cannot be sized.
 const MAX_IMAGE_SIDE: i64 = 65_536;
 const MAX_DEPTH_LIMIT: i64 = 1024;
-
-struct Checker<'a> {
-    /// The scene file (mesh files are relative to its directory).
-    file: &'a Path,
-    /// Where the spans of the raw scene point: the TOML file, or a Mitsuba file and its includes.
-    sources: SourceMap,
-    diagnostics: Vec<Diagnostic>,
-}
-
-impl<'a> Checker<'a> {
-    fn report(&mut self, severity: Severity, span: Range<usize>, field: impl Into<String>, message: impl Into<String>) {
-        let d = self.sources.diagnostic(severity, span.start, field.into(), message.into());
-        self.diagnostics.push(d);
-    }
-
-    fn error(&mut self, span: Range<usize>, field: impl Into<String>, message: impl Into<String>) {
-        self.report(Severity::Error, span, field, message);
-    }
-
-    fn warn(&mut self, span: Range<usize>, field: impl Into<String>, message: impl Into<String>) {
-        self.report(Severity::Warning, span, field, message);
-    }
-
-    /// A finite number that also fits in f32 (the GPU's precision).
-    fn number(&mut self, value: &Spanned<f64>, field: &str) -> f64 {
-        let v = *value.get_ref();
-        if !v.is_finite() {
-            self.error(value.span(), field, format!("must be a finite number (got {v})"));
-            return 0.0;
-        }
-        if v.abs() > f32::MAX as f64 {
-            self.error(value.span(), field, format!("{v} is too large for 32-bit floats"));
-            return 0.0;
-        }
-        v
-    }
-
-    fn vector(&mut self, value: &Spanned<[f64; 3]>, field: &str) -> DVec3 {
-        let span = value.span();
-        let mut out = [0.0; 3];
-        for (o, &v) in out.iter_mut().zip(value.get_ref()) {
-            *o = self.number(&Spanned::new(span.clone(), v), field);
-        }
-        DVec3::from_array(out)
-    }
-
-    /// A colour: finite and non-negative in every channel.
-    fn color(&mut self, value: Option<&Spanned<RawColor>>, field: &str) -> DVec3 {
-        let Some(value) = value else { return DVec3::ZERO };
-        let c = self.vector(&Spanned::new(value.span(), value.get_ref().0), field);
-        if c.min_element() < 0.0 {
-            self.error(value.span(), field, format!("colour channels must be >= 0 (got {:?})", c.to_array()));
-            return DVec3::ZERO;
-        }
-        c
-    }
-
-    fn integer(&mut self, value: &Spanned<i64>, field: &str, min: i64, max: i64) -> u64 {
-        let v = *value.get_ref();
-        if v < min || v > max {
-            self.error(value.span(), field, format!("must be between {min} and {max} (got {v})"));
-            return min.max(1) as u64;
-        }
-        v as u64
-    }
-}
 
 pub(super) fn parse_and_validate(text: &str, file: &Path) -> Result<Scene, SceneError> {
     let raw: RawScene = match toml::from_str(text) {
@@ -460,113 +395,13 @@ fn check_materials(ck: &mut Checker, raw: &RawScene) -> (Vec<Material>, BTreeMap
     for (name, m) in &raw.materials {
         let span = m.span();
         let m: &RawMaterial = m.get_ref();
-        let field = |f: &str| format!("materials.{name}.{f}");
-        let diffuse = ck.color(m.diffuse.as_ref(), &field("diffuse"));
-        let specular = ck.color(m.specular.as_ref(), &field("specular"));
-        let emission = ck.color(m.emission.as_ref(), &field("emission"));
-        let glossiness = match &m.glossiness {
-            Some(n) => {
-                let v = ck.number(n, &field("glossiness"));
-                if v < 0.0 {
-                    ck.error(n.span(), field("glossiness"), format!("glossiness must be >= 0 (got {v})"));
-                }
-                v
-            }
-            None => {
-                if specular.max_element() > 0.0 {
-                    ck.error(span.clone(), field("glossiness"), "glossiness is required when specular is non-zero");
-                }
-                0.0
-            }
-        };
-        let total = diffuse + specular;
-        if total.max_element() > 1.0 {
-            ck.warn(
-                span.clone(),
-                format!("materials.{name}"),
-                format!("diffuse + specular = {:?} exceeds 1: the material is not energy conserving", total.to_array()),
-            );
-        }
+        let emission = ck.color(m.emission.as_ref(), &format!("materials.{name}.emission"));
         let two_sided = m.two_sided.as_ref().is_none_or(|t| *t.get_ref());
-        let conductor = check_conductor(ck, m, name, span.clone());
+        let bsdf = super::bsdfs::read(ck, name, span, m.bsdf.as_ref(), &m.params);
         names.insert(name.clone(), materials.len());
-        materials.push(Material { name: name.clone(), diffuse, specular, glossiness, emission, two_sided, conductor });
+        materials.push(Material { name: name.clone(), emission, two_sided, bsdf });
     }
     (materials, names)
-}
-
-/// Mitsuba's floor on a rough conductor's alpha (smaller values are clamped to it).
-const MIN_ALPHA: f64 = 1e-4;
-
-/// A material's `bsdf`: `phong` (default, no conductor), `conductor` or `roughconductor` (with
-/// Mitsuba's defaults: eta 0 + 1i, a perfect mirror's Fresnel term; beckmann; alpha 0.1), and
-/// the fields that belong to the other kind refused.
-fn check_conductor(ck: &mut Checker, m: &RawMaterial, name: &str, span: Range<usize>) -> Option<super::Conductor> {
-    let field = |f: &str| format!("materials.{name}.{f}");
-    let kind = m.bsdf.as_ref().map_or("phong", |b| b.get_ref().as_str());
-    let conductor_fields: [(&str, bool); 6] = [
-        ("distribution", m.distribution.is_some()),
-        ("alpha", m.alpha.is_some()),
-        ("eta", m.eta.is_some()),
-        ("k", m.k.is_some()),
-        ("specular_reflectance", m.specular_reflectance.is_some()),
-        ("", false),
-    ];
-    match kind {
-        "phong" => {
-            for (f, given) in conductor_fields {
-                if given {
-                    ck.error(span.clone(), field(f), format!("`{f}` belongs to conductors: give bsdf = \"conductor\" or \"roughconductor\""));
-                }
-            }
-            return None;
-        }
-        "conductor" | "roughconductor" => {}
-        other => {
-            let at = m.bsdf.as_ref().map_or(span.clone(), |b| b.span());
-            ck.error(at, field("bsdf"), format!("unknown bsdf \"{other}\" (known: \"phong\", \"conductor\", \"roughconductor\")"));
-            return None;
-        }
-    }
-    for (f, given) in [("diffuse", m.diffuse.is_some()), ("specular", m.specular.is_some()), ("glossiness", m.glossiness.is_some())] {
-        if given {
-            ck.error(span.clone(), field(f), format!("`{f}` belongs to Phong materials, not to a {kind}"));
-        }
-    }
-    let eta = m.eta.as_ref().map_or(DVec3::ZERO, |e| ck.color(Some(e), &field("eta")));
-    let k = m.k.as_ref().map_or(DVec3::ONE, |e| ck.color(Some(e), &field("k")));
-    let reflectance = m.specular_reflectance.as_ref().map_or(DVec3::ONE, |e| ck.color(Some(e), &field("specular_reflectance")));
-    if kind == "conductor" {
-        for (f, given) in conductor_fields.iter().take(2) {
-            if *given {
-                ck.error(span.clone(), field(f), format!("`{f}` belongs to a roughconductor; a conductor is smooth"));
-            }
-        }
-        return Some(super::Conductor { eta, k, reflectance, rough: None });
-    }
-    let distribution = match m.distribution.as_ref() {
-        None => super::Distribution::Beckmann,
-        Some(d) => match <super::Distribution as crate::names::Named>::from_name(d.get_ref()) {
-            Some(d) => d,
-            None => {
-                ck.error(d.span(), field("distribution"), format!("unknown distribution \"{}\" (known: \"beckmann\", \"ggx\")", d.get_ref()));
-                super::Distribution::Beckmann
-            }
-        },
-    };
-    let alpha = match m.alpha.as_ref() {
-        None => 0.1,
-        Some(a) => {
-            let v = ck.number(a, &field("alpha"));
-            if !(v > 0.0) && a.get_ref().is_finite() {
-                ck.error(a.span(), field("alpha"), format!("alpha must be > 0 (got {v}); a smooth conductor is bsdf = \"conductor\""));
-            } else if v < MIN_ALPHA && v > 0.0 {
-                ck.warn(a.span(), field("alpha"), format!("alpha {v} is below {MIN_ALPHA}: it is clamped to {MIN_ALPHA}, as Mitsuba does"));
-            }
-            v.max(MIN_ALPHA)
-        }
-    };
-    Some(super::Conductor { eta, k, reflectance, rough: Some((distribution, alpha)) })
 }
 
 fn too_many(count: usize, max: usize, what: &str) -> String {

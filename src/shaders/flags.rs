@@ -5,8 +5,6 @@
 pub const MATERIAL_EMISSIVE: u32 = 1;
 /// Material flag: the BSDF is one-sided (black seen from behind).
 pub const MATERIAL_ONE_SIDED: u32 = 2;
-/// Material flag: a rough conductor's distribution is GGX (else Beckmann).
-pub const MATERIAL_GGX: u32 = 4;
 
 /// Triangle flag: emits on both sides.
 pub const TRIANGLE_TWO_SIDED: u32 = 1;
@@ -18,7 +16,6 @@ pub fn wgsl() -> String {
     [
         ("MATERIAL_EMISSIVE", MATERIAL_EMISSIVE),
         ("MATERIAL_ONE_SIDED", MATERIAL_ONE_SIDED),
-        ("MATERIAL_GGX", MATERIAL_GGX),
         ("TRIANGLE_TWO_SIDED", TRIANGLE_TWO_SIDED),
         ("TRIANGLE_HAS_NORMALS", TRIANGLE_HAS_NORMALS),
     ]

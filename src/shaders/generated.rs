@@ -33,7 +33,7 @@ pub fn generated_constants() -> String {
          const TRANSFER_SRGB: u32 = {}u;\n\
          const TRANSFER_GAMMA: u32 = {}u;\n\
          const REL_EPSILON: f32 = {:?};\n\
-         // The kinds of BSDF (src/scene/bsdf_kind.rs) and the flags of materials and\n\
+         // The kinds of BSDF (src/scene/bsdfs/mod.rs) and the flags of materials and\n\
          // triangles (src/shaders/flags.rs).\n\
          {}{}\
          // Binding numbers of group 0 (src/shaders/bindings.rs).\n\

@@ -22,17 +22,15 @@ use super::raw::{
     RawCamera, RawColor, RawMaterial, RawMesh, RawRender, RawRotation, RawRotations, RawScale, RawScene, RawShape,
     RawSphere, RawTransform,
 };
-use super::{validate, Fov, Scene, SceneError};
+use super::bsdfs::{color_value, PluginProps, DEFAULT_REFLECTANCE};
+use super::{validate, BsdfKind, Fov, Scene, SceneError};
 use xml::{describe, compose, Object, OpKind, Prop, TransformOp, Value};
 
 /// Mitsuba's defaults where a file says nothing.
 const DEFAULT_FILM_SIZE: (i64, i64) = (768, 576);
 const DEFAULT_MAX_DEPTH: i64 = -1;
 const DEFAULT_RR_DEPTH: i64 = 5;
-const DEFAULT_REFLECTANCE: f64 = 0.5;
 
-/// The BSDFs pathlab reads, for messages.
-const BSDFS: &str = "diffuse, twosided, conductor, roughconductor, modphong";
 const SHAPES: &str = "obj, ply, rectangle, cube, sphere";
 
 /// Reads and validates a Mitsuba 3 scene; `defines` override its `<default>`s (`--define`).
@@ -135,32 +133,84 @@ fn translate(path: &Path, defines: &[(String, String)]) -> Result<(RawScene, Sou
     }
 }
 
-/// A BSDF as pathlab models it: normalised modified Phong (diffuse is ks = 0) or a conductor,
-/// one- or two-sided.
+/// A BSDF as the TOML material writes it: a kind of the registry (`scene::bsdfs`) with its
+/// fields, one- or two-sided.
 #[derive(Debug, Clone, PartialEq)]
 struct Bsdf {
-    diffuse: [f64; 3],
-    specular: [f64; 3],
-    glossiness: f64,
+    kind: BsdfKind,
+    fields: Vec<(&'static str, toml::Value)>,
     two_sided: bool,
-    conductor: Option<ConductorSpec>,
     /// Its name for the material table: the id, or made up from the shape.
     name: Option<String>,
 }
 
-/// `conductor` / `roughconductor` parameters, as the TOML material writes them.
-#[derive(Debug, Clone, PartialEq)]
-struct ConductorSpec {
-    eta: [f64; 3],
-    k: [f64; 3],
-    reflectance: Option<[f64; 3]>,
-    /// `None`: smooth; else (distribution, alpha).
-    rough: Option<(String, f64)>,
+impl Bsdf {
+    /// Mitsuba's BSDF of a shape without one: `diffuse` with its default reflectance.
+    fn default_diffuse() -> Bsdf {
+        Bsdf {
+            kind: BsdfKind::Phong,
+            fields: vec![("diffuse", color_value([DEFAULT_REFLECTANCE; 3]))],
+            two_sided: false,
+            name: Some("default-diffuse".into()),
+        }
+    }
 }
 
-impl Bsdf {
-    fn phong(diffuse: [f64; 3], specular: [f64; 3], glossiness: f64, name: Option<String>) -> Bsdf {
-        Bsdf { diffuse, specular, glossiness, two_sided: false, conductor: None, name }
+/// One plugin object's properties, read by a BSDF kind's `from_mitsuba` through the
+/// translator's getters.
+struct PluginReader<'t, 'a, 'o> {
+    t: &'t mut Translator<'a>,
+    p: Option<Props>,
+    o: &'o Object,
+}
+
+impl PluginReader<'_, '_, '_> {
+    fn props(&mut self) -> &mut Props {
+        self.p.as_mut().expect("props before finish")
+    }
+}
+
+impl PluginProps for PluginReader<'_, '_, '_> {
+    fn plugin(&self) -> &str {
+        &self.o.plugin
+    }
+    fn at(&self) -> usize {
+        self.o.at
+    }
+    fn texture(&self) -> Option<usize> {
+        self.o.children.iter().find(|c| c.tag == "texture").map(|t| t.at)
+    }
+    fn color(&mut self, name: &str) -> Option<[f64; 3]> {
+        let mut p = self.p.take().expect("props before finish");
+        let c = self.t.color(&mut p, name).map(|c| c.0);
+        self.p = Some(p);
+        c
+    }
+    fn float(&mut self, name: &str) -> Option<(f64, usize)> {
+        let mut p = self.p.take().expect("props before finish");
+        let v = self.t.get::<f64>(&mut p, name).map(|(v, prop)| (v, prop.value_at));
+        self.p = Some(p);
+        v
+    }
+    fn string(&mut self, name: &str) -> Option<(String, usize)> {
+        let mut p = self.p.take().expect("props before finish");
+        let v = self.t.string(&mut p, name);
+        self.p = Some(p);
+        v
+    }
+    fn take(&mut self, name: &str) -> Option<usize> {
+        self.props().take(name).map(|prop| prop.at)
+    }
+    fn error(&mut self, at: usize, name: &str, message: String) {
+        self.t.error(at, name, message);
+    }
+    fn warn(&mut self, at: usize, name: &str, message: String) {
+        self.t.warn(at, name, message);
+    }
+    fn finish(&mut self, reads: &str) {
+        if let Some(p) = self.p.take() {
+            self.t.finish(p, reads);
+        }
     }
 }
 
@@ -652,88 +702,10 @@ impl Translator<'_> {
     }
 
     fn bsdf_uncached(&mut self, o: &Object) -> Option<Bsdf> {
-        let mut p = Props::of(o);
         let name = o.id.clone();
         let b = match o.plugin.as_str() {
-            "diffuse" => {
-                if let Some(t) = o.children.iter().find(|c| c.tag == "texture") {
-                    self.error(t.at, "reflectance", "a textured reflectance is not supported (give <rgb name=\"reflectance\">)");
-                }
-                let kd = self.color(&mut p, "reflectance").map_or([DEFAULT_REFLECTANCE; 3], |c| c.0);
-                self.finish(p, "reflectance");
-                Some(Bsdf::phong(kd, [0.0; 3], 0.0, name))
-            }
-            "conductor" | "roughconductor" => {
-                let rough = o.plugin == "roughconductor";
-                if let Some(t) = o.children.iter().find(|c| c.tag == "texture") {
-                    self.error(t.at, "", "a textured parameter is not supported (give <rgb> or <float> values)");
-                }
-                if let Some((material, at)) = self.string(&mut p, "material") {
-                    if material != "none" {
-                        self.error(at, "material", format!("the named material \"{material}\" is not supported: give its complex index as <rgb name=\"eta\"> and <rgb name=\"k\">"));
-                    }
-                }
-                let eta = self.color(&mut p, "eta").map_or([0.0; 3], |c| c.0);
-                let k = self.color(&mut p, "k").map_or([1.0; 3], |c| c.0);
-                let reflectance = self.color(&mut p, "specular_reflectance").map(|c| c.0);
-                let mut spec = ConductorSpec { eta, k, reflectance, rough: None };
-                if rough {
-                    let distribution = match self.string(&mut p, "distribution") {
-                        None => "beckmann".to_string(),
-                        Some((d, at)) => {
-                            let d = d.to_ascii_lowercase();
-                            if d != "beckmann" && d != "ggx" {
-                                self.error(at, "distribution", format!("unknown distribution \"{d}\" (beckmann, ggx)"));
-                            }
-                            d
-                        }
-                    };
-                    for name in ["alpha_u", "alpha_v"] {
-                        if let Some(prop) = p.take(name) {
-                            self.error(prop.at, name, format!("`{name}`: anisotropic roughness is not supported (give one `alpha`)"));
-                        }
-                    }
-                    let alpha = match p.props.iter().find(|q| q.name == "alpha").map(|q| q.value_at) {
-                        None => Some(0.1),
-                        Some(at) => match self.float(&mut p, "alpha") {
-                            Some(a) if a.is_finite() && a > 0.0 => Some(a),
-                            Some(a) => {
-                                self.error(at, "alpha", format!("`alpha` of <bsdf type=\"roughconductor\"> must be a finite number > 0 (got {a})"));
-                                None
-                            }
-                            None => None,
-                        },
-                    };
-                    if let Some(prop) = p.take("sample_visible") {
-                        self.warn(
-                            prop.at,
-                            "sample_visible",
-                            "`sample_visible` is ignored: pathlab's microfacet sampling is --microfacet-sampling (vndf by default); the expected image is the same",
-                        );
-                    }
-                    spec.rough = alpha.map(|a| (distribution, a));
-                    self.finish(p, "distribution, alpha, eta, k, specular_reflectance, material=\"none\" (and, with a warning, sample_visible)");
-                    if spec.rough.is_none() {
-                        return None;
-                    }
-                } else {
-                    self.finish(p, "eta, k, specular_reflectance, material=\"none\"");
-                }
-                Some(Bsdf { conductor: Some(spec), ..Bsdf::phong([0.0; 3], [0.0; 3], 0.0, name) })
-            }
-            "modphong" => {
-                // The reference renderer's normalised modified Phong (shared/reference-renderer).
-                let kd = self.color(&mut p, "kd").map_or([DEFAULT_REFLECTANCE; 3], |c| c.0);
-                let ks = self.color(&mut p, "ks").map_or([0.0; 3], |c| c.0);
-                let n = self.float(&mut p, "n").unwrap_or(0.0);
-                self.finish(p, "kd, ks, n");
-                if !(n.is_finite() && n >= 0.0) {
-                    self.error(o.at, "n", format!("`n` of <bsdf type=\"modphong\"> must be finite and >= 0 (got {n})"));
-                }
-                Some(Bsdf::phong(kd, ks, n, name))
-            }
             "twosided" => {
-                self.finish(p, "one nested <bsdf>");
+                self.finish(Props::of(o), "one nested <bsdf>");
                 let inner: Vec<&Object> = o.children.iter().filter(|c| c.tag == "bsdf").collect();
                 match inner.as_slice() {
                     [one] => self.bsdf(one).map(|b| Bsdf { two_sided: true, name: name.or(b.name.clone()), ..b }),
@@ -747,10 +719,19 @@ impl Translator<'_> {
                     }
                 }
             }
-            other => {
-                self.error(o.at, "type", format!("<bsdf type=\"{other}\"> is not supported (pathlab has {BSDFS})"));
-                None
-            }
+            plugin => match BsdfKind::from_mitsuba_plugin(plugin) {
+                Some(kind) => {
+                    let mut reader = PluginReader { t: self, p: Some(Props::of(o)), o };
+                    let fields = kind.read_mitsuba(&mut reader);
+                    reader.finish("");
+                    fields.map(|fields| Bsdf { kind, fields, two_sided: false, name })
+                }
+                None => {
+                    let known = BsdfKind::all_mitsuba_plugins().join(", ");
+                    self.error(o.at, "type", format!("<bsdf type=\"{plugin}\"> is not supported (pathlab has {known}, twosided)"));
+                    None
+                }
+            },
         };
         for c in o.children.iter().filter(|c| c.tag != "bsdf" && c.tag != "texture") {
             self.error(c.at, "", format!("{} inside a <bsdf> is not supported", describe(&c.tag, &c.plugin)));
@@ -773,32 +754,12 @@ impl Translator<'_> {
             name = format!("{base}-{k}");
             k += 1;
         }
-        let color = |c: [f64; 3]| Some(spanned(at, RawColor(c)));
-        let specular = bsdf.specular.iter().any(|&s| s > 0.0);
-        let mut m = RawMaterial {
-            diffuse: color(bsdf.diffuse),
-            specular: if specular { color(bsdf.specular) } else { None },
-            glossiness: specular.then(|| spanned(at, bsdf.glossiness)),
-            emission: emission.and_then(color),
+        let m = RawMaterial {
+            emission: emission.map(|c| spanned(at, RawColor(c))),
             two_sided: if bsdf.two_sided { None } else { Some(spanned(at, false)) },
-            bsdf: None,
-            distribution: None,
-            alpha: None,
-            eta: None,
-            k: None,
-            specular_reflectance: None,
+            bsdf: (bsdf.kind != BsdfKind::ALL[0]).then(|| spanned(at, bsdf.kind.toml_name().to_string())),
+            params: bsdf.fields.iter().map(|(k, v)| (k.to_string(), spanned(at, v.clone()))).collect(),
         };
-        if let Some(c) = &bsdf.conductor {
-            m.diffuse = None;
-            m.bsdf = Some(spanned(at, if c.rough.is_some() { "roughconductor" } else { "conductor" }.to_string()));
-            m.eta = color(c.eta);
-            m.k = color(c.k);
-            m.specular_reflectance = c.reflectance.and_then(color);
-            if let Some((d, alpha)) = &c.rough {
-                m.distribution = Some(spanned(at, d.clone()));
-                m.alpha = Some(spanned(at, *alpha));
-            }
-        }
         self.materials.insert(name.clone(), spanned(at, m));
         self.material_keys.push((name.clone(), bsdf.clone(), emission));
         spanned(at, name)
@@ -829,7 +790,7 @@ impl Translator<'_> {
             }
         }
         let bsdf = match bsdf {
-            None => Bsdf::phong([DEFAULT_REFLECTANCE; 3], [0.0; 3], 0.0, Some("default-diffuse".into())),
+            None => Bsdf::default_diffuse(),
             Some(Some(b)) => b,
             Some(None) => return,
         };

@@ -1,0 +1,91 @@
+//! Mitsuba's smooth `conductor` (WGSL: `shaders/bsdfs/conductor.wgsl`): a mirror, a delta
+//! lobe, with the exact Fresnel term of a complex index eta + i k per channel, times
+//! `specular_reflectance`. TOML `eta`, `k` (default 0 + 1i: F = 1, a perfect mirror, as
+//! Mitsuba's `material="none"`), `specular_reflectance` (default 1).
+
+use glam::DVec3;
+
+use super::plugin::{color_value, BsdfParams, BsdfPlugin, Fields, PluginProps};
+use crate::scene::hash::vec3;
+
+/// Fresnel reflection of a complex index of refraction; also the rough conductor's.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Conductor {
+    pub eta: DVec3,
+    pub k: DVec3,
+    /// Mitsuba's specular_reflectance: a factor on the Fresnel term.
+    pub reflectance: DVec3,
+}
+
+impl Conductor {
+    /// The fields both conductors read, in TOML.
+    pub(crate) fn read_fresnel(f: &mut Fields) -> Conductor {
+        Conductor {
+            eta: f.color("eta", DVec3::ZERO),
+            k: f.color("k", DVec3::ONE),
+            reflectance: f.color("specular_reflectance", DVec3::ONE),
+        }
+    }
+
+    /// The properties both conductors read, in Mitsuba XML, as TOML fields.
+    pub(crate) fn mitsuba_fresnel(p: &mut dyn PluginProps) -> Vec<(&'static str, toml::Value)> {
+        if let Some(at) = p.texture() {
+            p.error(at, "", "a textured parameter is not supported (give <rgb> or <float> values)".into());
+        }
+        if let Some((material, at)) = p.string("material") {
+            if material != "none" {
+                p.error(at, "material", format!("the named material \"{material}\" is not supported: give its complex index as <rgb name=\"eta\"> and <rgb name=\"k\">"));
+            }
+        }
+        let eta = p.color("eta").unwrap_or([0.0; 3]);
+        let k = p.color("k").unwrap_or([1.0; 3]);
+        let mut fields = vec![("eta", color_value(eta)), ("k", color_value(k))];
+        if let Some(r) = p.color("specular_reflectance") {
+            fields.push(("specular_reflectance", color_value(r)));
+        }
+        fields
+    }
+
+    /// `conductor.eta`, `conductor.k`, `conductor.reflectance`.
+    pub(crate) fn fresnel_hash_lines(&self, line: &mut dyn FnMut(&str, String)) {
+        line("conductor.eta", vec3(self.eta));
+        line("conductor.k", vec3(self.k));
+        line("conductor.reflectance", vec3(self.reflectance));
+    }
+
+    /// `p0 = (eta, alpha)`, `p1 = (k, distribution)` (its number), `p2 = (reflectance, 0)`:
+    /// the layout of WGSL's `conductor_of`, with alpha 0 and Beckmann for the smooth one.
+    pub(crate) fn pack_with(&self, alpha: f64, distribution: super::distribution::Distribution) -> BsdfParams {
+        let (e, k, r) = (self.eta.as_vec3(), self.k.as_vec3(), self.reflectance.as_vec3());
+        [
+            [e.x, e.y, e.z, alpha as f32],
+            [k.x, k.y, k.z, distribution.constant() as f32],
+            [r.x, r.y, r.z, 0.0],
+        ]
+    }
+}
+
+impl BsdfPlugin for Conductor {
+    const TOML_NAME: &'static str = "conductor";
+    const FIELDS: &'static [&'static str] = &["eta", "k", "specular_reflectance"];
+    const MITSUBA_PLUGINS: &'static [&'static str] = &["conductor"];
+    const IS_DELTA: bool = true;
+
+    fn from_fields(f: &mut Fields) -> Conductor {
+        Conductor::read_fresnel(f)
+    }
+
+    fn from_mitsuba(p: &mut dyn PluginProps) -> Option<Vec<(&'static str, toml::Value)>> {
+        let fields = Conductor::mitsuba_fresnel(p);
+        p.finish("eta, k, specular_reflectance, material=\"none\"");
+        Some(fields)
+    }
+
+    fn hash_lines(&self, line: &mut dyn FnMut(&str, String)) {
+        self.fresnel_hash_lines(line);
+    }
+
+    fn pack(&self) -> BsdfParams {
+        self.pack_with(0.0, super::distribution::Distribution::Beckmann)
+    }
+}

@@ -1,0 +1,210 @@
+//! BSDFs, one file per kind, as Mitsuba 3 lays out `src/bsdfs/`. A kind's Rust file
+//! (`phong.rs`, `conductor.rs`, `rough_conductor.rs`) owns everything the host knows of it: its
+//! validated parameters, the fields of its TOML material, the properties of its Mitsuba
+//! plugins, its lines of the scene hash and its parameter block for the kernel. Its WGSL file,
+//! `shaders/bsdfs/<stem>.wgsl` (with `eval_pdf_<stem>_bsdf` and `sample_<stem>_bsdf`), is listed
+//! in `shaders::files::BSDF_KINDS`.
+//!
+//! The registry below is the one list a new kind joins. From it come `BsdfKind` (the kinds'
+//! numbers, `BSDF_KIND_*` in WGSL), `Bsdf` (a material's validated BSDF), one `HAS_<KIND>`
+//! override per kind (a pipeline compiles only the kinds its scene uses) and the kernel's
+//! dispatch (`shaders::bsdf_dispatch`). See the README's "Adding a BSDF".
+
+mod conductor;
+mod distribution;
+mod phong;
+mod plugin;
+mod rough_conductor;
+
+use std::ops::Range;
+use std::sync::OnceLock;
+
+use toml::Spanned;
+
+use super::checker::Checker;
+
+pub use conductor::Conductor;
+pub use distribution::Distribution;
+pub use phong::Phong;
+pub use rough_conductor::RoughConductor;
+pub(crate) use phong::DEFAULT_REFLECTANCE;
+pub use plugin::BsdfParams;
+pub(crate) use plugin::{color_value, BsdfPlugin, Fields, PluginProps};
+
+/// The registry: one line per kind (its variant, its name in messages and headers, its type).
+/// The first kind is the default of a TOML material without `bsdf`.
+macro_rules! bsdf_registry {
+    ($( $(#[doc = $doc:expr])* $variant:ident = $name:literal => $ty:ty ),+ $(,)?) => {
+        crate::names::named_enum! {
+            /// The kind of a material's BSDF (`Bsdf::kind`).
+            pub enum BsdfKind("BSDF kind") {
+                $( $(#[doc = $doc])* $variant = $name ),+
+            }
+        }
+
+        /// A material's BSDF: its kind with that kind's validated parameters.
+        #[derive(Debug, Clone, PartialEq)]
+        pub enum Bsdf {
+            $( $(#[doc = $doc])* $variant($ty) ),+
+        }
+
+        impl BsdfKind {
+            /// Its `bsdf = "…"` in a TOML material.
+            pub fn toml_name(self) -> &'static str {
+                match self { $( BsdfKind::$variant => <$ty as BsdfPlugin>::TOML_NAME ),+ }
+            }
+
+            /// The fields of its TOML material (besides `emission`, `two_sided`, `bsdf`).
+            pub fn fields(self) -> &'static [&'static str] {
+                match self { $( BsdfKind::$variant => <$ty as BsdfPlugin>::FIELDS ),+ }
+            }
+
+            /// The Mitsuba plugins it reads.
+            pub fn mitsuba_plugins(self) -> &'static [&'static str] {
+                match self { $( BsdfKind::$variant => <$ty as BsdfPlugin>::MITSUBA_PLUGINS ),+ }
+            }
+
+            /// Whether the kind's only lobe is a delta: next event estimation cannot
+            /// contribute, and only its own sampling finds its directions.
+            pub fn is_delta(self) -> bool {
+                match self { $( BsdfKind::$variant => <$ty as BsdfPlugin>::IS_DELTA ),+ }
+            }
+
+            fn read_fields(self, f: &mut Fields) -> Bsdf {
+                match self { $( BsdfKind::$variant => Bsdf::$variant(<$ty as BsdfPlugin>::from_fields(f)) ),+ }
+            }
+
+            pub(crate) fn read_mitsuba(self, p: &mut dyn PluginProps) -> Option<Vec<(&'static str, toml::Value)>> {
+                match self { $( BsdfKind::$variant => <$ty as BsdfPlugin>::from_mitsuba(p) ),+ }
+            }
+        }
+
+        impl Bsdf {
+            /// Its kind.
+            pub fn kind(&self) -> BsdfKind {
+                match self { $( Bsdf::$variant(_) => BsdfKind::$variant ),+ }
+            }
+
+            /// Its lines of the scene hash, each `(field, value)`.
+            pub fn hash_lines(&self, line: &mut dyn FnMut(&str, String)) {
+                match self { $( Bsdf::$variant(b) => b.hash_lines(line) ),+ }
+            }
+
+            /// Its parameter block for the kernel.
+            pub fn pack(&self) -> BsdfParams {
+                match self { $( Bsdf::$variant(b) => b.pack() ),+ }
+            }
+        }
+    };
+}
+
+bsdf_registry! {
+    /// The normalised modified Phong BRDF (the study's); `diffuse` is Phong without a lobe.
+    Phong = "phong" => Phong,
+    /// Mitsuba's smooth `conductor`: a mirror with the Fresnel term of a complex index.
+    Conductor = "conductor" => Conductor,
+    /// Mitsuba's `roughconductor`: Torrance-Sparrow microfacet reflection.
+    RoughConductor = "rough-conductor" => RoughConductor,
+}
+
+impl BsdfKind {
+    /// The stem of its WGSL file and functions (`rough_conductor`): its name with `_` for `-`.
+    pub fn stem(self) -> &'static str {
+        static STEMS: OnceLock<Vec<String>> = OnceLock::new();
+        &STEMS.get_or_init(|| BsdfKind::ALL.iter().map(|k| k.name().replace('-', "_")).collect())[self as usize]
+    }
+
+    /// The pipeline constant that compiles the kind in (`HAS_ROUGH_CONDUCTOR`).
+    pub fn has_override(self) -> &'static str {
+        static NAMES: OnceLock<Vec<String>> = OnceLock::new();
+        &NAMES.get_or_init(|| BsdfKind::ALL.iter().map(|k| format!("HAS_{}", k.stem().to_uppercase())).collect())[self as usize]
+    }
+
+    /// The bit of this kind in a set of kinds (`SceneFeatures::bsdf_kinds`).
+    pub fn bit(self) -> u32 {
+        1 << self.constant()
+    }
+
+    /// The kind whose TOML name is `name`.
+    pub fn from_toml_name(name: &str) -> Option<BsdfKind> {
+        BsdfKind::ALL.into_iter().find(|k| k.toml_name() == name)
+    }
+
+    /// The kind that reads the Mitsuba plugin `plugin`.
+    pub fn from_mitsuba_plugin(plugin: &str) -> Option<BsdfKind> {
+        BsdfKind::ALL.into_iter().find(|k| k.mitsuba_plugins().contains(&plugin))
+    }
+
+    /// Every Mitsuba plugin some kind reads, for messages.
+    pub fn all_mitsuba_plugins() -> Vec<&'static str> {
+        BsdfKind::ALL.iter().flat_map(|k| k.mitsuba_plugins().iter().copied()).collect()
+    }
+}
+
+impl Bsdf {
+    /// The Phong parameters, for the kind that has them.
+    pub fn as_phong(&self) -> Option<&Phong> {
+        match self {
+            Bsdf::Phong(p) => Some(p),
+            _ => None,
+        }
+    }
+}
+
+/// A material's BSDF from its TOML fields: the kind its `bsdf` names (the first kind's without
+/// one), fields of another kind refused saying which kind has them, then the kind's own check.
+pub(super) fn read(
+    ck: &mut Checker,
+    material: &str,
+    span: Range<usize>,
+    bsdf: Option<&Spanned<String>>,
+    params: &[(String, Spanned<toml::Value>)],
+) -> Bsdf {
+    let field = |f: &str| format!("materials.{material}.{f}");
+    let kind = match bsdf {
+        None => BsdfKind::ALL[0],
+        Some(b) => match BsdfKind::from_toml_name(b.get_ref()) {
+            Some(k) => k,
+            None => {
+                let known: Vec<String> = BsdfKind::ALL.iter().map(|k| format!("\"{}\"", k.toml_name())).collect();
+                ck.error(b.span(), field("bsdf"), format!("unknown bsdf \"{}\" (known: {})", b.get_ref(), known.join(", ")));
+                BsdfKind::ALL[0]
+            }
+        },
+    };
+    for (name, value) in params {
+        if kind.fields().contains(&name.as_str()) {
+            continue;
+        }
+        let owners: Vec<String> =
+            BsdfKind::ALL.iter().filter(|k| k.fields().contains(&name.as_str())).map(|k| format!("bsdf = \"{}\"", k.toml_name())).collect();
+        let message = if owners.is_empty() {
+            format!(
+                "unknown field `{name}` of a {} material (its fields: {}; every material's: emission, two_sided, bsdf)",
+                kind.toml_name(),
+                kind.fields().join(", ")
+            )
+        } else {
+            format!("`{name}` is not a field of a {} material: it belongs to {}", kind.toml_name(), owners.join(" and "))
+        };
+        ck.error(value.span(), field(name), message);
+    }
+    let mut f = Fields::new(ck, material, span, params);
+    kind.read_fields(&mut f)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_kind_has_its_own_stem_override_file_and_names() {
+        for k in BsdfKind::ALL {
+            assert_eq!(k.has_override(), format!("HAS_{}", k.stem().to_uppercase()));
+            assert_eq!(BsdfKind::from_toml_name(k.toml_name()), Some(k));
+            for p in k.mitsuba_plugins() {
+                assert_eq!(BsdfKind::from_mitsuba_plugin(p), Some(k));
+            }
+        }
+    }
+}

@@ -1,0 +1,105 @@
+//! The normalised modified Phong BRDF (the study's; WGSL: `shaders/bsdfs/phong.wgsl`),
+//!
+//!   f(wi, wo) = kd / pi + ks (n + 2) / (2 pi) max(0, dot(wi, r))^n,   r = mirror of wo,
+//!
+//! TOML `diffuse`, `specular`, `glossiness`; Mitsuba's `diffuse` (a Phong BRDF without lobe)
+//! and the reference renderer's `modphong`.
+
+use glam::DVec3;
+
+use super::plugin::{color_value, BsdfParams, BsdfPlugin, Fields, PluginProps};
+use crate::scene::lights::luminance;
+
+/// Mitsuba's default reflectance of `diffuse` (and the reference renderer's `kd`).
+pub(crate) const DEFAULT_REFLECTANCE: f64 = 0.5;
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Phong {
+    /// kd.
+    pub diffuse: DVec3,
+    /// ks.
+    pub specular: DVec3,
+    /// The exponent n.
+    pub glossiness: f64,
+}
+
+impl Phong {
+    /// A black Phong material (every parameter zero).
+    pub const BLACK: Phong = Phong { diffuse: DVec3::ZERO, specular: DVec3::ZERO, glossiness: 0.0 };
+}
+
+impl BsdfPlugin for Phong {
+    const TOML_NAME: &'static str = "phong";
+    const FIELDS: &'static [&'static str] = &["diffuse", "specular", "glossiness"];
+    const MITSUBA_PLUGINS: &'static [&'static str] = &["diffuse", "modphong"];
+    const IS_DELTA: bool = false;
+
+    fn from_fields(f: &mut Fields) -> Phong {
+        let diffuse = f.color("diffuse", DVec3::ZERO);
+        let specular = f.color("specular", DVec3::ZERO);
+        let glossiness = match f.number("glossiness") {
+            Some(n) => {
+                let v = *n.get_ref();
+                if v < 0.0 {
+                    f.error(n.span(), "glossiness", format!("glossiness must be >= 0 (got {v})"));
+                }
+                v
+            }
+            None => {
+                if !f.has("glossiness") && specular.max_element() > 0.0 {
+                    f.error(f.span(), "glossiness", "glossiness is required when specular is non-zero");
+                }
+                0.0
+            }
+        };
+        let total = diffuse + specular;
+        if total.max_element() > 1.0 {
+            f.warn_material(format!("diffuse + specular = {:?} exceeds 1: the material is not energy conserving", total.to_array()));
+        }
+        Phong { diffuse, specular, glossiness }
+    }
+
+    fn from_mitsuba(p: &mut dyn PluginProps) -> Option<Vec<(&'static str, toml::Value)>> {
+        let (kd, ks, n) = if p.plugin() == "diffuse" {
+            if let Some(at) = p.texture() {
+                p.error(at, "reflectance", "a textured reflectance is not supported (give <rgb name=\"reflectance\">)".into());
+            }
+            let kd = p.color("reflectance").unwrap_or([DEFAULT_REFLECTANCE; 3]);
+            p.finish("reflectance");
+            (kd, [0.0; 3], 0.0)
+        } else {
+            // The reference renderer's normalised modified Phong (shared/reference-renderer).
+            let kd = p.color("kd").unwrap_or([DEFAULT_REFLECTANCE; 3]);
+            let ks = p.color("ks").unwrap_or([0.0; 3]);
+            let n = p.float("n").map_or(0.0, |n| n.0);
+            p.finish("kd, ks, n");
+            if !(n.is_finite() && n >= 0.0) {
+                let at = p.at();
+                p.error(at, "n", format!("`n` of <bsdf type=\"modphong\"> must be finite and >= 0 (got {n})"));
+            }
+            (kd, ks, n)
+        };
+        let mut fields = vec![("diffuse", color_value(kd))];
+        if ks.iter().any(|&s| s > 0.0) {
+            fields.push(("specular", color_value(ks)));
+            fields.push(("glossiness", toml::Value::Float(n)));
+        }
+        Some(fields)
+    }
+
+    fn hash_lines(&self, line: &mut dyn FnMut(&str, String)) {
+        line("diffuse", crate::scene::hash::vec3(self.diffuse));
+        line("specular", crate::scene::hash::vec3(self.specular));
+        line("glossiness", crate::scene::hash::real(self.glossiness));
+    }
+
+    /// `p0 = (kd, n)`, `p1 = (ks, p_spec)` with p_spec the probability of sampling the Phong
+    /// lobe, the luminance ratio lum(ks) / (lum(kd) + lum(ks)).
+    fn pack(&self) -> BsdfParams {
+        let (ld, ls) = (luminance(self.diffuse), luminance(self.specular));
+        let p_spec = if ld + ls > 0.0 { ls / (ld + ls) } else { 0.0 };
+        let d = self.diffuse.as_vec3();
+        let s = self.specular.as_vec3();
+        [[d.x, d.y, d.z, self.glossiness as f32], [s.x, s.y, s.z, p_spec as f32], [0.0; 4]]
+    }
+}

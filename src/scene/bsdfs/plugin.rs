@@ -1,0 +1,154 @@
+//! What a kind of BSDF implements (`BsdfPlugin`), and what it is given to read its parameters:
+//! a TOML material's fields (`Fields`) and a Mitsuba plugin's properties (`PluginProps`).
+
+use std::ops::Range;
+
+use glam::DVec3;
+use toml::Spanned;
+
+use crate::scene::checker::Checker;
+use crate::scene::raw::RawColor;
+
+/// The parameter block of one material's BSDF as the kernel reads it (`Material.p0..p2` in
+/// scene.wgsl): three slots of four numbers, whose meaning the kind's two files agree on.
+pub type BsdfParams = [[f32; 4]; 3];
+
+/// What each kind of BSDF implements (one file each in `scene/bsdfs/`).
+pub(crate) trait BsdfPlugin: Sized {
+    /// Its `bsdf = "…"` in a TOML material.
+    const TOML_NAME: &'static str;
+    /// The fields of its TOML material, besides every material's `emission`, `two_sided` and
+    /// `bsdf`.
+    const FIELDS: &'static [&'static str];
+    /// The Mitsuba plugins it reads (`<bsdf type="…">`).
+    const MITSUBA_PLUGINS: &'static [&'static str];
+    /// Its only lobe is a delta (a mirror): next event estimation cannot contribute, and only its
+    /// own sampling finds its directions.
+    const IS_DELTA: bool;
+
+    /// Its parameters from a TOML material's fields, each checked (errors go to `f`).
+    fn from_fields(f: &mut Fields) -> Self;
+    /// A Mitsuba plugin's properties as the fields of a TOML material; `None` when an error was
+    /// reported.
+    fn from_mitsuba(p: &mut dyn PluginProps) -> Option<Vec<(&'static str, toml::Value)>>;
+    /// Its lines of the scene hash, each `(field, value)`.
+    fn hash_lines(&self, line: &mut dyn FnMut(&str, String));
+    /// Its parameter block.
+    fn pack(&self) -> BsdfParams;
+}
+
+/// The fields of one TOML material's BSDF, read by its kind's `from_fields`: each getter takes
+/// its field and checks it (errors name the material's field); fields no getter may take are
+/// refused before (`read`).
+pub(crate) struct Fields<'c, 'a> {
+    ck: &'c mut Checker<'a>,
+    material: &'c str,
+    span: Range<usize>,
+    params: &'c [(String, Spanned<toml::Value>)],
+}
+
+impl<'c, 'a> Fields<'c, 'a> {
+    pub(super) fn new(ck: &'c mut Checker<'a>, material: &'c str, span: Range<usize>, params: &'c [(String, Spanned<toml::Value>)]) -> Self {
+        Fields { ck, material, span, params }
+    }
+
+    /// The dotted name of field `f` (`materials.gold.eta`).
+    pub fn field(&self, f: &str) -> String {
+        format!("materials.{}.{f}", self.material)
+    }
+
+    /// Where the material is defined (for a missing field).
+    pub fn span(&self) -> Range<usize> {
+        self.span.clone()
+    }
+
+    fn raw(&self, name: &str) -> Option<&Spanned<toml::Value>> {
+        self.params.iter().find(|(k, _)| k == name).map(|(_, v)| v)
+    }
+
+    /// Field `name` as a `T`, or an error naming it and what it should be.
+    fn typed<T: serde::de::DeserializeOwned>(&mut self, name: &str, expected: &str) -> Option<Spanned<T>> {
+        let v = self.raw(name)?.clone();
+        match T::deserialize(v.get_ref().clone()) {
+            Ok(t) => Some(Spanned::new(v.span(), t)),
+            Err(_) => {
+                let field = self.field(name);
+                self.ck.error(v.span(), field, format!("`{name}` must be {expected} (got {})", v.get_ref()));
+                None
+            }
+        }
+    }
+
+    /// Whether the material gives field `name`.
+    pub fn has(&self, name: &str) -> bool {
+        self.raw(name).is_some()
+    }
+
+    /// A colour (finite, non-negative channels), or `default` when not given.
+    pub fn color(&mut self, name: &str, default: DVec3) -> DVec3 {
+        match self.typed::<RawColor>(name, "a number or an array of 3 numbers [r, g, b]") {
+            Some(c) => {
+                let field = self.field(name);
+                self.ck.color(Some(&c), &field)
+            }
+            None => default,
+        }
+    }
+
+    /// A finite number with its span, or `None` when not given (or not a number).
+    pub fn number(&mut self, name: &str) -> Option<Spanned<f64>> {
+        let v = self.typed::<f64>(name, "a number")?;
+        let field = self.field(name);
+        let checked = self.ck.number(&v, &field);
+        v.get_ref().is_finite().then(|| Spanned::new(v.span(), checked))
+    }
+
+    /// A string with its span, or `None` when not given (or not a string).
+    pub fn string(&mut self, name: &str) -> Option<Spanned<String>> {
+        self.typed::<String>(name, "a string")
+    }
+
+    pub fn error(&mut self, span: Range<usize>, name: &str, message: impl Into<String>) {
+        let field = self.field(name);
+        self.ck.error(span, field, message);
+    }
+
+    pub fn warn(&mut self, span: Range<usize>, name: &str, message: impl Into<String>) {
+        let field = self.field(name);
+        self.ck.warn(span, field, message);
+    }
+
+    /// A warning about the material as a whole.
+    pub fn warn_material(&mut self, message: impl Into<String>) {
+        let field = format!("materials.{}", self.material);
+        self.ck.warn(self.span.clone(), field, message);
+    }
+}
+
+/// A plugin's properties as a scene format gives them (Mitsuba's XML, `scene::mitsuba`), for a
+/// kind's `from_mitsuba`. Each getter takes its property and reports a value of the wrong type
+/// itself; what no getter took is refused by `finish`. Positions are byte offsets in the
+/// format's sources.
+pub(crate) trait PluginProps {
+    /// The plugin's name (`roughconductor`).
+    fn plugin(&self) -> &str;
+    /// Where the plugin's object starts.
+    fn at(&self) -> usize;
+    /// Where the first nested texture is, if any (no kind takes textures yet).
+    fn texture(&self) -> Option<usize>;
+    fn color(&mut self, name: &str) -> Option<[f64; 3]>;
+    /// A float and where its value is.
+    fn float(&mut self, name: &str) -> Option<(f64, usize)>;
+    fn string(&mut self, name: &str) -> Option<(String, usize)>;
+    /// Takes property `name` whatever its type, giving where it is.
+    fn take(&mut self, name: &str) -> Option<usize>;
+    fn error(&mut self, at: usize, name: &str, message: String);
+    fn warn(&mut self, at: usize, name: &str, message: String);
+    /// Refuses every property not taken, saying the plugin reads `reads`.
+    fn finish(&mut self, reads: &str);
+}
+
+/// A colour as a TOML field's value: one number when the channels agree (`RawColor`'s form).
+pub(crate) fn color_value(c: [f64; 3]) -> toml::Value {
+    toml::Value::try_from(RawColor(c)).expect("a colour is a TOML value")
+}
