@@ -2,7 +2,7 @@
 //! own estimated standard error with Šidák-corrected thresholds; the false-failure probability
 //! of each test is stated beside it. Seeds are fixed.
 
-mod common;
+use crate::common;
 
 use common::*;
 use pathlab::method::{BsdfSampling, Method, Preset};

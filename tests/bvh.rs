@@ -173,7 +173,7 @@ fn rays_through_shared_edges_and_vertices_of_a_closed_mesh_never_escape() {
 
 // ----- the kernel's traversal (bvh.wgsl) on lavapipe --------------------------------------------
 
-mod common;
+use crate::common;
 
 const BVH_KERNEL: &str = r#"
 struct TestRay { o: vec4f, d: vec4f }

@@ -3,7 +3,7 @@
 //! index samples globally, so the continuation must start at the right sample index). A
 //! checkpoint of another scene, method, seed or size is refused naming the field.
 
-mod common;
+use crate::common;
 
 use std::sync::atomic::AtomicBool;
 use std::time::Duration;

@@ -13,7 +13,7 @@
 //! that differs from the pdf function at the sampled direction by more than 1e-4 (relative),
 //! or a BSDF weight that differs from eval * cos / pdf.
 
-mod common;
+use crate::common;
 
 use std::f64::consts::PI;
 

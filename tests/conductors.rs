@@ -6,7 +6,7 @@
 //! (The microfacet lobes' sampling is tested in tests/chi2_sampling.rs; whole images against
 //! Mitsuba in tests/veach_mis.rs.)
 
-mod common;
+use crate::common;
 
 use common::*;
 use pathlab::method::{BsdfSampling, LightSampling, Method, MicrofacetSampling, Preset};

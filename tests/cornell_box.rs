@@ -11,7 +11,7 @@
 //! block sizes and sample counts per method are in `plan`. Power: the `mis` render with its
 //! image scaled by 1.05 is rejected.
 
-mod common;
+use crate::common;
 
 use common::*;
 use pathlab::method::{LightSampling, Preset};

@@ -9,7 +9,7 @@
 //! channels and renders at alpha = 0.01, at least 99.75% of channels passing): the file fails
 //! falsely with probability below 0.01. Power: `mis` scaled by 1.05 is rejected.
 
-mod common;
+use crate::common;
 
 use common::*;
 use pathlab::method::{BsdfSampling, LightSampling, Method, MicrofacetSampling, Preset};

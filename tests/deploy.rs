@@ -2,7 +2,7 @@
 //! stopped by `tests/slurm/single_node_cluster.sh`), and its merged image equals a single run;
 //! the Kubernetes manifests parse as Indexed Jobs whose completion index selects the shard.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

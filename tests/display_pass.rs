@@ -4,7 +4,7 @@
 //! Runs on the test adapter (lavapipe in CI), no window; the accumulators are split into
 //! several bands so that the band offsets are exercised.
 
-mod common;
+use crate::common;
 
 use common::{gpu, pipelines, study_scene};
 use pathlab::display::{DisplayTransform, Transfer};

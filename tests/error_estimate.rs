@@ -5,7 +5,7 @@
 //! `render --target-rel-error` stops at the target with a true error at or below it (within the
 //! same factor).
 
-mod common;
+use crate::common;
 
 use common::*;
 use pathlab::render::to_target::render_randomised;

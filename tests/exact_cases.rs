@@ -1,7 +1,7 @@
 //! Cases with an exact answer: direct views of emitters at max_depth 1, and the precision of
 //! the accumulator over a million samples per pixel.
 
-mod common;
+use crate::common;
 
 use common::*;
 use pathlab::method::Preset;

@@ -3,7 +3,7 @@
 //! answer where one is known. Known answers are z-tested (Šidák-corrected over all checks of
 //! this file, family alpha 1e-4: the false-failure probability of the file).
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::sync::atomic::AtomicBool;

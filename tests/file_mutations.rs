@@ -6,7 +6,7 @@
 //! A panic, a signal, a timeout, an unnamed refusal or an accepted wrong result fails the test.
 //! Deterministic: fixed seeds; no statistics involved.
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

@@ -15,7 +15,7 @@
 //! channels at alpha = 0.01) and 8x8 blocks (as above, over all pairs), so that a method that
 //! changes the expectation fails even where Mitsuba's noise would hide it.
 
-mod common;
+use crate::common;
 
 use common::*;
 use pathlab::film::Film;

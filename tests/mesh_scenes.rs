@@ -8,7 +8,7 @@
 //! against L (per channel, Šidák-corrected for alpha = 0.01 over all renders and channels of
 //! the file), so the file fails falsely with probability below 0.01.
 
-mod common;
+use crate::common;
 
 use common::*;
 use pathlab::method::{Method, Preset};

@@ -4,7 +4,7 @@
 //! refused with file, line, column, plugin and parameter, and mutated files never panic.
 //! Deterministic: fixed seeds, no statistics.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

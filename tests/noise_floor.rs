@@ -12,7 +12,7 @@
 //! correct prediction fails with probability below 1e-4. Leaving out one image's variance (the
 //! prediction 3 dB too high) or the display transform's slope fails it.
 
-mod common;
+use crate::common;
 
 use pathlab::display::DisplayTransform;
 use pathlab::method::Preset;

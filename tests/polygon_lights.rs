@@ -16,7 +16,7 @@
 //! grazing angles and just above the floor; planar and non-planar; 2 to 200 faces, through the
 //! brute-force path and through the BVH.
 
-mod common;
+use crate::common;
 
 use std::f64::consts::PI;
 

@@ -1,6 +1,6 @@
 //! Every preset renders the study scene sanely, and rendering is deterministic.
 
-mod common;
+use crate::common;
 
 use common::*;
 use pathlab::method::Preset;

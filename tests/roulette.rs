@@ -13,7 +13,7 @@
 //! survival probability the box's mean falls to 0.350 against 0.498 (z = -540 for mis), and
 //! only 42% of the Cornell box's channels pass against no roulette (mean z -7.4).
 
-mod common;
+use crate::common;
 
 use common::*;
 use pathlab::method::{LightSampling, Method, Preset};

@@ -3,7 +3,7 @@
 //! Integer-only paths (independent, Sobol') must agree bit for bit; Halton's final float
 //! division may differ by an ulp on GPUs whose division is not correctly rounded.
 
-mod common;
+use crate::common;
 
 use common::gpu;
 use pathlab::gpu::KernelRun;

@@ -9,7 +9,7 @@
 //! plain at 10 spp (see the README, "Reproducing the study"), so its own error moves the PSNR
 //! by far less than the tolerance. Deterministic: fixed seeds.
 
-mod common;
+use crate::common;
 
 use common::*;
 use pathlab::display::Transfer;

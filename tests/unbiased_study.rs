@@ -13,7 +13,7 @@
 //! sampling, the heaviest-tailed, with 262144 spp. Power: a 2% bias injected into a render is
 //! rejected at both levels, and so are the two biased demonstration methods.
 
-mod common;
+use crate::common;
 
 use common::*;
 use pathlab::method::{BsdfSampling, LightSampling, Method, Preset};

@@ -15,7 +15,7 @@
 //! passing, so the file fails falsely with probability below 0.01. Power: the `mis` render
 //! scaled by 1.05 is rejected.
 
-mod common;
+use crate::common;
 
 use common::*;
 use pathlab::method::{LightSampling, Method, MicrofacetSampling, Preset};

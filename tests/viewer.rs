@@ -5,7 +5,7 @@
 //! Needs `Xvfb` (Debian package `xvfb`); without it the tests say so and pass, except under CI
 //! (`CI` set), where they fail. The viewer tests run one at a time (they share two cores).
 
-mod common;
+use crate::common;
 
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};

@@ -2,7 +2,7 @@
 //! the split view alternates between its methods, and saving writes the EXR with the header
 //! `pathlab render` writes and a PNG of what is shown.
 
-mod common;
+use crate::common;
 
 use std::time::Duration;
 

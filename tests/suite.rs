@@ -1,0 +1,45 @@
+//! The integration tests as one binary: one link instead of one per file, and the test harness
+//! runs tests of different files side by side (`cargo test --release --test suite cornell_box::`
+//! runs one file's tests). Each module is one file of tests/, with its own opening comment;
+//! `common` is what they share.
+
+mod common;
+
+mod advise;
+mod analytic_scenes;
+mod bvh;
+mod checkpoint;
+mod chi2_sampling;
+mod cli_compare;
+mod cli_errors;
+mod cli_render;
+mod cli_study;
+mod conductors;
+mod cornell_box;
+mod cornell_conductors;
+mod deploy;
+#[cfg(feature = "viewer")]
+mod display_pass;
+mod error_estimate;
+mod exact_cases;
+mod extremes;
+mod file_mutations;
+mod lamps;
+mod mesh_scenes;
+mod metrics_fixtures;
+mod mitsuba_scenes;
+mod noise_floor;
+mod polygon_lights;
+mod render_presets;
+mod roulette;
+mod sampler_twin;
+mod shader_layouts;
+mod shaders_validate;
+mod shard_merge;
+mod study_reproduction;
+mod unbiased_study;
+mod veach_mis;
+#[cfg(feature = "viewer")]
+mod viewer;
+#[cfg(feature = "viewer")]
+mod viewer_driver;
