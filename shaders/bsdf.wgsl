@@ -6,7 +6,8 @@
 // `sample_bsdf` and `bsdf_is_delta`, the kinds' numbers `BSDF_KIND_*` and one `HAS_<KIND>`
 // override per kind are generated from the registry (src/scene/bsdfs/mod.rs). n_s is the
 // shading normal turned towards wo (which side a one-sided material shows is decided by the
-// integrator); directions on the other side get f = 0 (no transmission yet).
+// integrator); a kind that only reflects gives directions on the other side f = 0, one that
+// transmits (`bsdf_may_transmit`) scatters into them too.
 //
 // Naming: wo points to the viewer (Mitsuba's wi), wi is the scattered direction (Mitsuba's wo).
 
@@ -28,6 +29,10 @@ struct BsdfSample {
     // Drawn from a delta lobe (a mirror): `pdf` is 0, no other strategy can produce wi, so MIS
     // gives emission found along it full weight.
     delta: bool,
+    // The relative index of refraction across the surface along wi (Mitsuba's bs.eta): 1 for
+    // reflection, eta_it (inner over outer index, seen from wo's side) for refraction. The
+    // integrator's roulette follows its product.
+    eta: f32,
 }
 
 // The single place where a sampled contribution becomes a path weight: f |cos| / pdf.
@@ -81,11 +86,15 @@ fn sample_generic_strategy(n_s: vec3f, u_dir: vec2f) -> vec3f {
     return frame_to_world(frame_from_normal(n_s), local);
 }
 
-// A material's BSDF: its kind (a BSDF_KIND_*) and its parameter block, three slots whose
-// meaning is the kind's (each kind's file unpacks them, `<stem>_of`).
+// A material's BSDF at a surface point: its kind (a BSDF_KIND_*), its parameter block, three
+// slots whose meaning is the kind's (each kind's file unpacks them, `<stem>_of`), and the side
+// the viewer is on: `inside` when wo is against the surface's (shading) normal, where a
+// transmitting BSDF's relative index is the inverse (n_s, given turned towards wo, no longer
+// tells).
 struct Bsdf {
     kind: u32,
     p0: vec4f,
     p1: vec4f,
     p2: vec4f,
+    inside: bool,
 }

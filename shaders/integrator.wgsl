@@ -139,17 +139,24 @@ fn sample_triangle_emitter(l: u32, x: vec3f, u: vec2f) -> EmitterSample {
 
 // The contribution of one light sample, picked with probability `prob`: f |cos| / (prob pdf)
 // times the emission, unless shadowed, weighted against BSDF sampling under MIS. x: the shading
-// point, origin: x offset off its surface; n_s: shading normal, n_g: geometric normal, both on
-// wo's side.
-fn direct_light(es: EmitterSample, prob: f32, x: vec3f, origin: vec3f, n_s: vec3f, n_g: vec3f, wo: vec3f, m: Bsdf) -> vec3f {
+// point, origin: x offset off its surface on wo's side; n_s: shading normal, n_g: geometric
+// normal, both on wo's side. Where a BSDF may transmit, a light behind the surface is sampled
+// too, its shadow ray leaving from the other side.
+fn direct_light(es: EmitterSample, prob: f32, x: vec3f, origin_wo_side: vec3f, n_s: vec3f, n_g: vec3f, wo: vec3f, m: Bsdf) -> vec3f {
     // Density of the light strategy: selection times the light's own.
     let pdf = prob * es.pdf;
     let cos_i = dot(es.wi, n_s);
     let e = eval_pdf_bsdf(m, n_s, wo, es.wi);
     var contributes = pdf > 0.0 && cos_i > 0.0 && max3(e.f) > 0.0 && max3(es.emission) > 0.0;
+    var origin = origin_wo_side;
+    if (bsdf_may_transmit()) {
+        contributes = pdf > 0.0 && cos_i != 0.0 && max3(e.f) > 0.0 && max3(es.emission) > 0.0;
+        origin = offset_ray_origin(x, transmission_side(n_g, es.wi));
+    }
     if (HAS_SHADING_NORMALS) {
-        // Directions below the geometric surface do not scatter (for both strategies).
-        contributes = contributes && dot(es.wi, n_g) > 0.0;
+        // Directions on the other side of the geometric surface than of the shading one do not
+        // scatter (for both strategies): below it, for reflection.
+        contributes = contributes && same_side_of_both(es.wi, n_s, n_g);
     }
     // The shadow ray runs from the offset origin to the sampled point itself, stopping short of
     // it by a relative 1e-4 (Mitsuba's spawn_ray_to). Run along wi from the offset origin
@@ -162,6 +169,20 @@ fn direct_light(es: EmitterSample, prob: f32, x: vec3f, origin: vec3f, n_s: vec3
         return path_weight(e.f, cos_i, pdf) * es.emission * mis_weight(pdf, e.pdf);
     }
     return vec3f(0.0);
+}
+
+// n_g, turned to the side of wi (n_g is on wo's side): where a ray towards wi leaves from.
+fn transmission_side(n_g: vec3f, wi: vec3f) -> vec3f {
+    return select(n_g, -n_g, dot(wi, n_g) < 0.0);
+}
+
+// Whether wi lies on the same side of the geometric surface as of the shading one (both
+// normals on wo's side): above both for reflection; below both, where a BSDF may transmit.
+fn same_side_of_both(wi: vec3f, n_s: vec3f, n_g: vec3f) -> bool {
+    if (bsdf_may_transmit()) {
+        return dot(wi, n_g) * dot(wi, n_s) > 0.0;
+    }
+    return dot(wi, n_g) > 0.0;
 }
 
 // Next event estimation at vertex x: one shadow ray to each light (LIGHT_SELECT all), or to one
@@ -273,6 +294,8 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
     }
 
     var throughput = vec3f(1.0);
+    // The product of the relative indices of refraction crossed (1 without transmission).
+    var eta = 1.0;
     // Segments of the path so far.
     var depth = 1u;
     loop {
@@ -280,8 +303,9 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
         // Mitsuba does (Frame3f::cos_theta(si.wi) > 0): `from_inside` (the back of a one-sided
         // BSDF, which scatters nothing) and the side the shading normal n_s is turned to (a
         // two-sided BSDF's frame, as Mitsuba's `twosided` flips it). The geometric normal n_g
-        // is turned to the viewer's geometric side: rays leave on that side, and directions
-        // below it do not scatter.
+        // is turned to the viewer's geometric side: rays leave on that side (on wi's, where a BSDF
+        // transmits), and directions on its other side than the shading normal's do not
+        // scatter.
         let x = ray_o + ray_d * hit.t;
         let wo = -ray_d;
         var from_inside = dot(hit.normal, wo) < 0.0;
@@ -291,7 +315,8 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
             from_inside = dot(hit.shading_normal, wo) < 0.0;
             n_s = select(hit.shading_normal, -hit.shading_normal, from_inside);
         }
-        let m = material_bsdf(hit.material);
+        var m = material_bsdf(hit.material);
+        m.inside = from_inside;
         let dim_base = DIM_FIRST_VERTEX + (depth - 1u) * dims_per_vertex();
         // A one-sided BSDF seen from behind (the side its surface normal points away from)
         // scatters nothing: Mitsuba's rule for BSDFs not wrapped in `twosided`.
@@ -306,14 +331,22 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
         let bs = sample_bsdf(m, n_s, wo, u_dir, u_lobe);
         var scattered = scatters && max3(bs.weight) > 0.0;
         if (HAS_SHADING_NORMALS) {
-            scattered = scattered && dot(bs.wi, n_g) > 0.0;
+            scattered = scattered && same_side_of_both(bs.wi, n_s, n_g);
         }
         throughput *= bs.weight;
+        // The product of the relative indices crossed (Mitsuba's eta): radiance carried into a
+        // denser medium is scaled by 1 / eta^2, which roulette undoes.
+        if (bsdf_may_transmit()) {
+            eta *= bs.eta;
+        }
         // Russian roulette (Mitsuba's rule): from vertex RR_DEPTH on the path survives with
-        // probability q = min(max channel of the throughput, 0.95) (eta^2 = 1: no refraction),
-        // and a survivor's throughput is divided by q, so the expectation is unchanged.
+        // probability q = min(max channel of the throughput times eta^2, 0.95), and a survivor's
+        // throughput is divided by q, so the expectation is unchanged.
         if (RR_DEPTH > 0u && depth >= RR_DEPTH && scattered) {
-            let q = min(max3(throughput), 0.95);
+            var q = min(max3(throughput), 0.95);
+            if (bsdf_may_transmit()) {
+                q = min(max3(throughput) * (eta * eta), 0.95);
+            }
             if (sample_1d(id.pixel, id.index, dim_base + 3u, id.seed) < q) {
                 throughput /= q;
             } else {
@@ -322,6 +355,9 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
         }
         let prev = PrevVertex(x, hit.object, from_inside, bs.pdf, bs.delta);
         ray_o = offset_ray_origin(x, n_g);
+        if (bsdf_may_transmit()) {
+            ray_o = offset_ray_origin(x, transmission_side(n_g, bs.wi));
+        }
         ray_d = bs.wi;
         // A sample that cannot scatter (below the surface) ends the path untraced.
         hit = Hit(0.0, vec3f(0.0, 0.0, 1.0), 0u, INVALID, vec3f(0.0, 0.0, 1.0));

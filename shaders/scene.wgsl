@@ -92,7 +92,7 @@ struct FrameParams {
 // byte on SIMD CPU drivers (reading the whole 80-byte Material cost the study scene a quarter of
 // its speed).
 fn material_bsdf(i: u32) -> Bsdf {
-    var b = Bsdf(BSDF_KIND_PHONG, materials[i].p0, materials[i].p1, vec4f(0.0));
+    var b = Bsdf(BSDF_KIND_PHONG, materials[i].p0, materials[i].p1, vec4f(0.0), false);
     if (bsdf_kinds_vary()) {
         b.kind = materials[i].kind;
         b.p2 = materials[i].p2;

@@ -17,7 +17,7 @@ struct Conductor {
 fn sample_conductor(c: Conductor, n_s: vec3f, wo: vec3f) -> BsdfSample {
     let cos_o = dot(wo, n_s);
     let weight = select(vec3f(0.0), fresnel_conductor(cos_o, c.eta, c.k) * c.reflectance, cos_o > 0.0);
-    return BsdfSample(reflect_about(wo, n_s), 0.0, weight, true);
+    return BsdfSample(reflect_about(wo, n_s), 0.0, weight, true, 1.0);
 }
 
 // The parameter block as src/scene/bsdfs/conductor.rs packs it: p0 = (eta, alpha),

@@ -99,7 +99,7 @@ fn sample_phong(m: Phong, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> B
         }
     }
     let e = eval_pdf_phong(m, n_s, wo, wi);
-    return BsdfSample(wi, e.pdf, path_weight(e.f, dot(wi, n_s), e.pdf), false);
+    return BsdfSample(wi, e.pdf, path_weight(e.f, dot(wi, n_s), e.pdf), false, 1.0);
 }
 
 // The parameter block as src/scene/bsdfs/phong.rs packs it: p0 = (kd, n), p1 = (ks, p_spec).

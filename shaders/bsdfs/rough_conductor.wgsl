@@ -46,7 +46,7 @@ fn sample_rough_conductor(c: Conductor, n_s: vec3f, wo: vec3f, u_dir: vec2f) -> 
     }
     let e = eval_pdf_rough_conductor_local(c, wo_l, wi_l);
     // path_weight's f |cos| / pdf, with f |cos| already formed.
-    return BsdfSample(frame_to_world(frame, wi_l), e.pdf, path_weight(e.f_cos, 1.0, e.pdf), false);
+    return BsdfSample(frame_to_world(frame, wi_l), e.pdf, path_weight(e.f_cos, 1.0, e.pdf), false, 1.0);
 }
 
 // The dispatcher's entry points (generated from src/scene/bsdfs/mod.rs).

@@ -396,8 +396,15 @@ fn check_materials(ck: &mut Checker, raw: &RawScene) -> (Vec<Material>, BTreeMap
         let span = m.span();
         let m: &RawMaterial = m.get_ref();
         let emission = ck.color(m.emission.as_ref(), &format!("materials.{name}.emission"));
-        let two_sided = m.two_sided.as_ref().is_none_or(|t| *t.get_ref());
+        let mut two_sided = m.two_sided.as_ref().is_none_or(|t| *t.get_ref());
         let bsdf = super::bsdfs::read(ck, name, span, m.bsdf.as_ref(), &m.params);
+        if bsdf.kind().both_sides() {
+            if let Some(t) = m.two_sided.as_ref().filter(|t| !*t.get_ref()) {
+                let kind = bsdf.kind().toml_name();
+                ck.error(t.span(), format!("materials.{name}.two_sided"), format!("a {kind} scatters on both sides by its nature: two_sided = false does not apply"));
+            }
+            two_sided = true;
+        }
         names.insert(name.clone(), materials.len());
         materials.push(Material { name: name.clone(), emission, two_sided, bsdf });
     }

@@ -92,7 +92,13 @@ pub fn bsdf_dispatch() -> String {
         "Samples wi with the pipeline's strategy for the material's kind.",
         "sample_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> BsdfSample",
         "sample_{stem}_bsdf(b, n_s, wo, u_dir, u_lobe)",
-        "BsdfSample(n_s, 0.0, vec3f(0.0), false)",
+        "BsdfSample(n_s, 0.0, vec3f(0.0), false, 1.0)",
+    );
+    let transmit: Vec<&str> = BsdfKind::ALL.iter().filter(|k| k.transmits()).map(|k| k.has_override()).collect();
+    s += &format!(
+        "\n// Whether some material's BSDF may transmit (refract into the surface): the integrator's\n\
+         // two-sided handling of directions compiles in only then.\nfn bsdf_may_transmit() -> bool {{\n    return {};\n}}\n",
+        if transmit.is_empty() { "false".to_string() } else { transmit.join(" || ") }
     );
     let delta: Vec<String> = BsdfKind::ALL.iter().filter(|k| k.is_delta()).map(|k| format!("({})", is(k))).collect();
     s += &format!(

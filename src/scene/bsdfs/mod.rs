@@ -70,6 +70,16 @@ macro_rules! bsdf_registry {
                 match self { $( BsdfKind::$variant => <$ty as BsdfPlugin>::IS_DELTA ),+ }
             }
 
+            /// Whether it may transmit (refract into the surface).
+            pub fn transmits(self) -> bool {
+                match self { $( BsdfKind::$variant => <$ty as BsdfPlugin>::TRANSMITS ),+ }
+            }
+
+            /// Whether it scatters on both sides by its nature (a dielectric).
+            pub fn both_sides(self) -> bool {
+                match self { $( BsdfKind::$variant => <$ty as BsdfPlugin>::BOTH_SIDES ),+ }
+            }
+
             fn read_fields(self, f: &mut Fields) -> Bsdf {
                 match self { $( BsdfKind::$variant => Bsdf::$variant(<$ty as BsdfPlugin>::from_fields(f)) ),+ }
             }

@@ -25,6 +25,13 @@ pub(crate) trait BsdfPlugin: Sized {
     /// Its only lobe is a delta (a mirror): next event estimation cannot contribute, and only its
     /// own sampling finds its directions.
     const IS_DELTA: bool;
+    /// It may transmit (refract into the surface): the kernel's two-sided handling of
+    /// directions (ray offsets, next event estimation behind the surface, roulette's eta²)
+    /// compiles in where a scene has it.
+    const TRANSMITS: bool = false;
+    /// It scatters on both sides by its nature, as Mitsuba's dielectrics: a material of it is
+    /// two-sided whatever a Mitsuba file wraps it in (TOML's `two_sided = false` is refused).
+    const BOTH_SIDES: bool = false;
 
     /// Its parameters from a TOML material's fields, each checked (errors go to `f`).
     fn from_fields(f: &mut Fields) -> Self;

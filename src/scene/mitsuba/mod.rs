@@ -756,7 +756,8 @@ impl Translator<'_> {
         }
         let m = RawMaterial {
             emission: emission.map(|c| spanned(at, RawColor(c))),
-            two_sided: if bsdf.two_sided { None } else { Some(spanned(at, false)) },
+            // A kind that scatters on both sides by its nature is two-sided unwrapped.
+            two_sided: if bsdf.two_sided || bsdf.kind.both_sides() { None } else { Some(spanned(at, false)) },
             bsdf: (bsdf.kind != BsdfKind::ALL[0]).then(|| spanned(at, bsdf.kind.toml_name().to_string())),
             params: bsdf.fields.iter().map(|(k, v)| (k.to_string(), spanned(at, v.clone()))).collect(),
         };
