@@ -306,7 +306,14 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
         // is turned to the viewer's geometric side: rays leave on that side (on wi's, where a BSDF
         // transmits), and directions on its other side than the shading normal's do not
         // scatter.
-        let x = ray_o + ray_d * hit.t;
+        var x = ray_o + ray_d * hit.t;
+        if (bsdf_may_transmit() && hit.object < NUM_SPHERES) {
+            // The hit point projected back onto its sphere (pbrt's refinement): rays that cross
+            // a sphere leave from within 2e-5 of its surface, which o + t d misses by more
+            // after a few bounces inside.
+            let s = spheres[hit.object];
+            x = s.center + s.radius * normalize(x - s.center);
+        }
         let wo = -ray_d;
         var from_inside = dot(hit.normal, wo) < 0.0;
         let n_g = select(hit.normal, -hit.normal, from_inside);
