@@ -718,3 +718,99 @@ fn uniform_and_power_light_selection_fit_their_probabilities() {
     }
     println!("{}", report.join("\n"));
 }
+
+// ----- the smooth dielectric's two delta lobes ---------------------------------------------------
+
+const DIELECTRIC_KERNEL: &str = r#"
+struct TestParams { count: u32, seed: u32, inside: u32, _p1: u32, wo: vec4f }
+@group(0) @binding(0) var<storage, read> test_params: TestParams;
+@group(0) @binding(1) var<storage, read_write> test_out: array<vec4f>;
+
+@compute @workgroup_size(64)
+fn dielectric_main(@builtin(global_invocation_id) gid: vec3u) {
+    let i = gid.x;
+    if (i >= test_params.count) {
+        return;
+    }
+    let d = Dielectric(test_params.wo.w, vec3f(1.0), vec3f(1.0));
+    let u = sample_independent(i, 0u, 2u, test_params.seed);
+    let bs = sample_dielectric(d, test_params.inside != 0u, vec3f(0.0, 0.0, 1.0), test_params.wo.xyz, u);
+    test_out[2u * i] = vec4f(bs.wi, bs.weight.x);
+    test_out[2u * i + 1u] = vec4f(bs.eta, bs.pdf, select(0.0, 1.0, bs.delta), bs.weight.y - bs.weight.z);
+}
+"#;
+
+/// Fresnel's reflectance of unpolarised light, cos(theta_t) (signed) and eta_ti, in f64: the
+/// CPU twin of `fresnel_dielectric` (Mitsuba's fresnel.h).
+fn fresnel_dielectric(cos_i: f64, eta: f64) -> (f64, f64, f64) {
+    let (eta_it, eta_ti) = if cos_i >= 0.0 { (eta, 1.0 / eta) } else { (1.0 / eta, eta) };
+    let cos_t_sqr = 1.0 - (1.0 - cos_i * cos_i) * eta_ti * eta_ti;
+    let (ci, ct) = (cos_i.abs(), cos_t_sqr.max(0.0).sqrt());
+    let a_s = (ci - eta_it * ct) / (ci + eta_it * ct);
+    let a_p = (ct - eta_it * ci) / (ct + eta_it * ci);
+    let r = if eta == 1.0 { 0.0 } else if ci == 0.0 { 1.0 } else { 0.5 * (a_s * a_s + a_p * a_p) };
+    (r, -ct * cos_i.signum(), eta_ti)
+}
+
+/// The dielectric's lobe choice as a discrete distribution over {reflect, refract}: SAMPLES
+/// draws at one incidence, their counts against F and 1 - F (chi-square p-value), and every
+/// draw's direction, weight and relative index against the exact ones (hard failures).
+fn dielectric_chi_square(eta: f64, cos_o: f64, inside: bool, seed: u32) -> (f64, f64) {
+    let name = format!("dielectric eta {eta}, cos {cos_o}, {}", if inside { "inside" } else { "outside" });
+    let sin_o = (1.0 - cos_o * cos_o).max(0.0).sqrt();
+    let wo = [sin_o, 0.0, cos_o];
+    let params: [f32; 8] = [f32::from_bits(SAMPLES), f32::from_bits(seed), f32::from_bits(inside as u32), 0.0, wo[0] as f32, 0.0, wo[2] as f32, eta as f32];
+    let source = shaders::assemble(&shaders::LIBRARY, DIELECTRIC_KERNEL);
+    let run = KernelRun {
+        source: &source,
+        entry: "dielectric_main",
+        constants: &[],
+        inputs: vec![(0, bytemuck::cast_slice(&params).to_vec())],
+        uniforms: vec![],
+        output: (1, SAMPLES as u64 * 32),
+        workgroups: SAMPLES.div_ceil(64),
+    };
+    let out: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&run.run(gpu()).expect("dielectric kernel"));
+    // Mitsuba's cosine is in the frame of the surface normal: negative from inside.
+    let (r, cos_t, eta_ti) = fresnel_dielectric(if inside { -cos_o } else { cos_o }, eta as f32 as f64);
+    let mut counts = [0u64; 2];
+    for pair in out.chunks(2) {
+        let ([x, y, z, w], [eta_s, pdf, delta, wdiff]) = (pair[0], pair[1]);
+        assert!(delta == 1.0 && pdf == 0.0 && wdiff == 0.0, "{name}: a delta lobe has pdf 0 and a grey weight");
+        let (dir, weight, rel) = if z > 0.0 {
+            counts[0] += 1;
+            ([-wo[0], 0.0, wo[2]], 1.0, 1.0)
+        } else {
+            counts[1] += 1;
+            ([-eta_ti * wo[0], 0.0, -cos_t.abs()], eta_ti * eta_ti, 1.0 / eta_ti)
+        };
+        let err = (x as f64 - dir[0]).abs().max((y as f64 - dir[1]).abs()).max((z as f64 - dir[2]).abs());
+        assert!(err < 2e-6, "{name}: direction ({x}, {y}, {z}) instead of {dir:?}");
+        assert!((w as f64 - weight).abs() <= 2e-6 * weight, "{name}: weight {w} instead of {weight}");
+        assert!((eta_s as f64 - rel).abs() <= 2e-6 * rel, "{name}: relative index {eta_s} instead of {rel}");
+    }
+    (pooled_chi_square(&name, &[r, 1.0 - r], &counts, SAMPLES as f64), r)
+}
+
+/// Normal to grazing incidence from both sides, total internal reflection (inside at cos 0.2:
+/// F = 1, no refraction may be drawn), a diamond's index and an index-matched interface (F = 0).
+/// Fails falsely with probability below 0.01 (Šidák over the cases).
+#[test]
+fn the_dielectric_draws_its_two_lobes_with_the_fresnel_probabilities() {
+    let mut cases = Vec::new();
+    for eta in [1.5, 2.42, 1.0] {
+        for inside in [false, true] {
+            for cos_o in [1.0, 0.7, 0.2, 0.01] {
+                cases.push((eta, cos_o, inside));
+            }
+        }
+    }
+    let level = sidak(ALPHA, cases.len());
+    let mut report = Vec::new();
+    for (k, &(eta, cos_o, inside)) in cases.iter().enumerate() {
+        let (p, r) = dielectric_chi_square(eta, cos_o, inside, 9000 + k as u32);
+        report.push(format!("eta {eta}, cos {cos_o}, inside {inside}: F = {r:.5}, p = {p:.4}"));
+        assert!(p >= level, "chi-square rejects the dielectric's lobe choice: {}", report.last().unwrap());
+    }
+    println!("{}\n(level {level:.2e} per case)", report.join("\n"));
+}

@@ -18,6 +18,7 @@ mod conductors;
 mod cornell_box;
 mod cornell_conductors;
 mod deploy;
+mod dielectrics;
 #[cfg(feature = "viewer")]
 mod display_pass;
 mod error_estimate;

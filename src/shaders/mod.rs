@@ -36,10 +36,11 @@ pub mod files {
     pub const MICROFACET: (&str, &str) = ("microfacet.wgsl", include_str!("../../shaders/microfacet.wgsl"));
     pub const BSDF: (&str, &str) = ("bsdf.wgsl", include_str!("../../shaders/bsdf.wgsl"));
     /// One file per kind of the BSDF registry (`scene::BsdfKind`), in its order.
-    pub const BSDF_KINDS: [(&str, &str); 3] = [
+    pub const BSDF_KINDS: [(&str, &str); 4] = [
         ("bsdfs/phong.wgsl", include_str!("../../shaders/bsdfs/phong.wgsl")),
         ("bsdfs/conductor.wgsl", include_str!("../../shaders/bsdfs/conductor.wgsl")),
         ("bsdfs/rough_conductor.wgsl", include_str!("../../shaders/bsdfs/rough_conductor.wgsl")),
+        ("bsdfs/dielectric.wgsl", include_str!("../../shaders/bsdfs/dielectric.wgsl")),
     ];
     pub const LIGHTS: (&str, &str) = ("lights.wgsl", include_str!("../../shaders/lights.wgsl"));
     pub const SCENE: (&str, &str) = ("scene.wgsl", include_str!("../../shaders/scene.wgsl"));

@@ -11,6 +11,7 @@
 //! dispatch (`shaders::bsdf_dispatch`). See the README's "Adding a BSDF".
 
 mod conductor;
+mod dielectric;
 mod distribution;
 mod phong;
 mod plugin;
@@ -24,6 +25,7 @@ use toml::Spanned;
 use super::checker::Checker;
 
 pub use conductor::Conductor;
+pub use dielectric::Dielectric;
 pub use distribution::Distribution;
 pub use phong::Phong;
 pub use rough_conductor::RoughConductor;
@@ -115,6 +117,8 @@ bsdf_registry! {
     Conductor = "conductor" => Conductor,
     /// Mitsuba's `roughconductor`: Torrance-Sparrow microfacet reflection.
     RoughConductor = "rough-conductor" => RoughConductor,
+    /// Mitsuba's smooth `dielectric`: Fresnel reflection and refraction, two delta lobes.
+    Dielectric = "dielectric" => Dielectric,
 }
 
 impl BsdfKind {

@@ -1,0 +1,103 @@
+//! Mitsuba's smooth `dielectric` (WGSL: `shaders/bsdfs/dielectric.wgsl`): an interface between
+//! two indices of refraction, reflecting with the Fresnel term of unpolarised light and
+//! refracting the rest (two delta lobes, sampled with the Fresnel term as their probabilities,
+//! whatever the pipeline's BSDF strategy). TOML and Mitsuba `int_ior` (default 1.5046, Mitsuba's
+//! `bk7`), `ext_ior` (default 1.000277, `air`), `specular_reflectance` and
+//! `specular_transmittance` (factors on the two lobes, default 1). Both sides scatter: the
+//! inside of a closed surface is the denser medium.
+
+use glam::DVec3;
+
+use super::plugin::{color_value, BsdfParams, BsdfPlugin, Fields, PluginProps};
+use crate::scene::hash::{real, vec3};
+
+/// Mitsuba's default interior index (`bk7`, borosilicate glass).
+const DEFAULT_INT_IOR: f64 = 1.5046;
+/// Mitsuba's default exterior index (`air`).
+const DEFAULT_EXT_IOR: f64 = 1.000277;
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Dielectric {
+    /// The index of refraction inside (against the surface normal) and outside.
+    pub int_ior: f64,
+    pub ext_ior: f64,
+    /// Factors on the reflected and the refracted lobe (1: lossless).
+    pub reflectance: DVec3,
+    pub transmittance: DVec3,
+}
+
+impl Dielectric {
+    /// The relative index eta = int_ior / ext_ior.
+    pub fn eta(&self) -> f64 {
+        self.int_ior / self.ext_ior
+    }
+}
+
+impl BsdfPlugin for Dielectric {
+    const TOML_NAME: &'static str = "dielectric";
+    const FIELDS: &'static [&'static str] = &["int_ior", "ext_ior", "specular_reflectance", "specular_transmittance"];
+    const MITSUBA_PLUGINS: &'static [&'static str] = &["dielectric"];
+    const IS_DELTA: bool = true;
+    const TRANSMITS: bool = true;
+    const BOTH_SIDES: bool = true;
+
+    fn from_fields(f: &mut Fields) -> Dielectric {
+        let ior = |f: &mut Fields, name: &str, default: f64| match f.number(name) {
+            None => default,
+            Some(v) if *v.get_ref() > 0.0 => *v.get_ref(),
+            Some(v) => {
+                f.error(v.span(), name, format!("`{name}` must be an index of refraction > 0 (got {})", v.get_ref()));
+                default
+            }
+        };
+        let int_ior = ior(f, "int_ior", DEFAULT_INT_IOR);
+        let ext_ior = ior(f, "ext_ior", DEFAULT_EXT_IOR);
+        Dielectric {
+            int_ior,
+            ext_ior,
+            reflectance: f.color("specular_reflectance", DVec3::ONE),
+            transmittance: f.color("specular_transmittance", DVec3::ONE),
+        }
+    }
+
+    fn from_mitsuba(p: &mut dyn PluginProps) -> Option<Vec<(&'static str, toml::Value)>> {
+        if let Some(at) = p.texture() {
+            p.error(at, "", "a textured parameter is not supported (give <rgb> or <float> values)".into());
+        }
+        let mut fields = Vec::new();
+        for (name, default) in [("int_ior", DEFAULT_INT_IOR), ("ext_ior", DEFAULT_EXT_IOR)] {
+            // Mitsuba also takes a material's name (`bk7`): as a <string>, that is refused as
+            // not a <float>.
+            let v = match p.float(name) {
+                Some((v, _)) if v.is_finite() && v > 0.0 => v,
+                Some((v, at)) => {
+                    p.error(at, name, format!("`{name}` of <bsdf type=\"dielectric\"> must be a finite index of refraction > 0 (got {v})"));
+                    default
+                }
+                None => default,
+            };
+            fields.push((name, toml::Value::Float(v)));
+        }
+        for name in ["specular_reflectance", "specular_transmittance"] {
+            if let Some(c) = p.color(name) {
+                fields.push((name, color_value(c)));
+            }
+        }
+        p.finish("int_ior, ext_ior, specular_reflectance, specular_transmittance");
+        Some(fields)
+    }
+
+    fn hash_lines(&self, line: &mut dyn FnMut(&str, String)) {
+        line("dielectric.int_ior", real(self.int_ior));
+        line("dielectric.ext_ior", real(self.ext_ior));
+        line("dielectric.reflectance", vec3(self.reflectance));
+        line("dielectric.transmittance", vec3(self.transmittance));
+    }
+
+    /// `p0 = (reflectance, eta)`, `p1 = (transmittance, 0)`: the layout of WGSL's
+    /// `dielectric_of`.
+    fn pack(&self) -> BsdfParams {
+        let (r, t) = (self.reflectance.as_vec3(), self.transmittance.as_vec3());
+        [[r.x, r.y, r.z, self.eta() as f32], [t.x, t.y, t.z, 0.0], [0.0; 4]]
+    }
+}
