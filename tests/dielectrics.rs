@@ -29,9 +29,11 @@ const FURNACE: &str = "[camera]\nposition = [0, 0.3, 5]\nlook_at = [0, 0, 0]\nup
 
 /// The head-on pixels of a glass sphere of index 3 in a white furnace (unbounded depth,
 /// roulette from the first vertex): their mean over 16384 spp must be 1. Mitsuba 3.9.1 renders
-/// exactly 1 there (0.99982 at max_depth 8, the energy of paths with 6 internal reflections);
-/// this build renders 1.024 (at max_depth 5: 0.9757 against Mitsuba's 0.9882, so paths with two
-/// internal reflections are wrong). Fails falsely with probability below 0.01 (|z| > 2.58).
+/// exactly 1 there (0.99982 at max_depth 8, the energy of paths with 6 internal reflections).
+/// Before sphere hit points were projected back onto the sphere, pathlab rendered 1.115: after
+/// two reflections inside, the hit point had drifted off the surface by more than the ray
+/// offset, and a ray refracted out stayed inside. Fails falsely with probability below 0.01
+/// (|z| > 2.58).
 #[test]
 fn a_glass_sphere_of_index_3_seen_head_on_in_a_white_furnace_is_white() {
     let text = FURNACE
