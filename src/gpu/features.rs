@@ -54,7 +54,10 @@ impl SceneFeatures {
     pub fn all_on(self) -> SceneFeatures {
         SceneFeatures {
             has_specular: true,
-            bsdf_kinds: BsdfKind::ALL.iter().fold(0, |kinds, k| kinds | k.bit()),
+            // Every kind that only reflects; a transmitting kind only where the scene has one:
+            // compiling transmission in refines sphere hit points, which changes the image's
+            // rounding.
+            bsdf_kinds: BsdfKind::ALL.iter().filter(|k| !k.transmits()).fold(self.bsdf_kinds, |kinds, k| kinds | k.bit()),
             has_environment: true,
             num_occluding_planes: self.num_planes,
             light_interiors_reachable: true,
