@@ -84,59 +84,6 @@ fn camera_ray_direction(px: u32, py: u32, jitter: vec2f) -> vec3f {
     return normalize(frame.camera_forward + sx * frame.camera_right + sy * frame.camera_up);
 }
 
-// True when x is on the inner side of light sphere `s`: inside it, or on its surface reached
-// from inside (the vertex lies on the sphere itself and `from_inside` says which side).
-fn inside_light(s: u32, sphere: Sphere, x: vec3f, vertex_object: u32, from_inside: bool) -> bool {
-    if (!LIGHT_INTERIORS_REACHABLE) {
-        return false;
-    }
-    if (s == vertex_object) {
-        return from_inside;
-    }
-    let d = x - sphere.center;
-    return dot(d, d) < sphere.radius * sphere.radius;
-}
-
-// A light sample seen from a shading point: direction, distance, solid-angle density of the
-// light's strategy (selection not included), the radiance it carries towards x, and the sphere
-// the shadow ray must not count as a blocker (INVALID for triangles).
-struct EmitterSample {
-    wi: vec3f,
-    dist: f32,
-    pdf: f32,
-    emission: vec3f,
-    skip: u32,
-}
-
-// Sphere light l (sphere l): cone sampling from outside, area sampling from inside. A point on
-// a light's outer surface sees none of that light.
-fn sample_sphere_emitter(l: u32, x: vec3f, u: vec2f, vertex_object: u32, from_inside: bool) -> EmitterSample {
-    let sphere = spheres[l];
-    var ls: LightSample;
-    if (inside_light(l, sphere, x, vertex_object, from_inside)) {
-        ls = sample_sphere_light_area(sphere.center, sphere.radius, x, u);
-    } else {
-        ls = sample_sphere_light_cone(sphere.center, sphere.radius, x, u);
-    }
-    let on_outer_surface = l == vertex_object && !from_inside;
-    let emission = select(materials[sphere.material].emission, vec3f(0.0), on_outer_surface);
-    return EmitterSample(ls.wi, ls.dist, ls.pdf, emission, l);
-}
-
-// Triangle light l: emits towards x when x is on the front side of the sampled point (in its
-// shading frame), or it is two-sided.
-fn sample_triangle_emitter(l: u32, x: vec3f, u: vec2f) -> EmitterSample {
-    let i = light_table[l].object;
-    let tri = triangle_at(i);
-    let ls = sample_triangle_light(tri.p0, tri.p1, tri.p2, x, u);
-    var n_s = cross(tri.p1 - tri.p0, tri.p2 - tri.p0);
-    if (HAS_SHADING_NORMALS) {
-        n_s = triangle_shading_normal(i, tri, normalize(n_s), triangle_barycentrics(tri, x + ls.wi * ls.dist));
-    }
-    let emission = select(vec3f(0.0), materials[tri.material].emission, triangle_emits_along(tri, n_s, ls.wi));
-    return EmitterSample(ls.wi, ls.dist, ls.pdf, emission, INVALID);
-}
-
 // The contribution of one light sample, picked with probability `prob`: f |cos| / (prob pdf)
 // times the emission, unless shadowed, weighted against BSDF sampling under MIS. x: the shading
 // point, origin: x offset off its surface on wo's side; n_s: shading normal, n_g: geometric
@@ -164,8 +111,15 @@ fn direct_light(es: EmitterSample, prob: f32, x: vec3f, origin_wo_side: vec3f, n
     // faces the offset direction at a slant, so that the light hid its own sample.
     let to_light = x + es.wi * es.dist - origin;
     let shadow_dist = length(to_light);
+    var shadow_dir = to_light / shadow_dist;
+    var shadow_max = shadow_dist * (1.0 - 1e-4);
+    if (NUM_ENVIRONMENT_LIGHTS > 0u && es.dist >= INFINITY) {
+        // A light at infinity: the shadow ray runs along wi without end.
+        shadow_dir = es.wi;
+        shadow_max = INFINITY;
+    }
     // The branch spares GPUs the shadow ray of samples that cannot contribute.
-    if (contributes && !occluded(origin, to_light / shadow_dist, shadow_dist * (1.0 - 1e-4), es.skip)) {
+    if (contributes && !occluded(origin, shadow_dir, shadow_max, es.skip)) {
         return path_weight(e.f, cos_i, pdf) * es.emission * mis_weight(pdf, e.pdf);
     }
     return vec3f(0.0);
@@ -186,32 +140,24 @@ fn same_side_of_both(wi: vec3f, n_s: vec3f, n_g: vec3f) -> bool {
 }
 
 // Next event estimation at vertex x: one shadow ray to each light (LIGHT_SELECT all), or to one
-// light picked by uniform or power selection.
-fn estimate_direct(id: SampleId, dim_base: u32, x: vec3f, n_s: vec3f, n_g: vec3f, wo: vec3f, m: Bsdf,
-                   vertex_object: u32, from_inside: bool) -> vec3f {
+// light picked by uniform or power selection. Each light is sampled by its kind
+// (sample_emitter, generated).
+fn estimate_direct(id: SampleId, dim_base: u32, ctx: LightSampleContext, n_s: vec3f, n_g: vec3f, wo: vec3f, m: Bsdf) -> vec3f {
     var radiance = vec3f(0.0);
+    let x = ctx.x;
     let origin = offset_ray_origin(x, n_g);
     if (LIGHT_SELECT == LIGHT_SELECT_ALL) {
-        // Light l is sphere l: with the loop unrolled, the shadow ray's test of the light
-        // itself folds away. No `continue`: the loops stay simple counted ones.
-        for (var l = 0u; l < NUM_SPHERE_LIGHTS; l++) {
+        // With the loop unrolled over a scene's few lights, their kinds and the shadow ray's
+        // test of a sphere light itself fold away. No `continue`: the loop stays a simple
+        // counted one.
+        for (var l = 0u; l < NUM_LIGHTS; l++) {
             let u = sample_2d(id.pixel, id.index, dim_base + 4u + 2u * l, id.seed);
-            radiance += direct_light(sample_sphere_emitter(l, x, u, vertex_object, from_inside), 1.0, x, origin, n_s, n_g, wo, m);
-        }
-        for (var l = NUM_SPHERE_LIGHTS; l < NUM_LIGHTS; l++) {
-            let u = sample_2d(id.pixel, id.index, dim_base + 4u + 2u * l, id.seed);
-            radiance += direct_light(sample_triangle_emitter(l, x, u), 1.0, x, origin, n_s, n_g, wo, m);
+            radiance += direct_light(sample_emitter(l, ctx, u), 1.0, x, origin, n_s, n_g, wo, m);
         }
     } else {
         let chosen = select_light(sample_1d(id.pixel, id.index, dim_base + 4u, id.seed));
         let u = sample_2d(id.pixel, id.index, dim_base + 5u, id.seed);
-        var es: EmitterSample;
-        if (chosen.index < NUM_SPHERE_LIGHTS) {
-            es = sample_sphere_emitter(chosen.index, x, u, vertex_object, from_inside);
-        } else {
-            es = sample_triangle_emitter(chosen.index, x, u);
-        }
-        radiance += direct_light(es, chosen.prob, x, origin, n_s, n_g, wo, m);
+        radiance += direct_light(sample_emitter(chosen.index, ctx, u), chosen.prob, x, origin, n_s, n_g, wo, m);
     }
     return radiance;
 }
@@ -226,8 +172,11 @@ struct PrevVertex {
     delta: bool,
 }
 
-// The light an object is, or INVALID.
+// The light an object is (INVALID: an escaped ray, which found the environment), or INVALID.
 fn light_of(object: u32) -> u32 {
+    if (object == INVALID) {
+        return select(INVALID, first_environment_light(), NUM_ENVIRONMENT_LIGHTS > 0u);
+    }
     if (object < NUM_SPHERE_LIGHTS) {
         return object;
     }
@@ -237,11 +186,13 @@ fn light_of(object: u32) -> u32 {
     return INVALID;
 }
 
-// Weight of emission found by a BSDF-sampled ray. With NEE, lights were already sampled
-// from the previous vertex, so their emission counts 0; with MIS it gets the MIS weight
-// against the density next event estimation had for this direction: the selection probability
-// times the light's own density, so that both strategies describe one estimator. After a delta
-// lobe (a mirror) light sampling had no part (its shadow ray cannot follow the mirror): 1.
+// Weight of emission found by a BSDF-sampled ray (that hit an object, or escaped). With NEE,
+// lights were already sampled from the previous vertex, so their emission counts 0; with MIS it
+// gets the MIS weight against the density next event estimation had for this direction: the
+// selection probability times the light's own density, so that both strategies describe one
+// estimator. Emission that is no light of the table (the environment, unless sampled) counts 1.
+// After a delta lobe (a mirror) light sampling had no part (its shadow ray cannot follow the
+// mirror): 1.
 fn emitter_hit_weight(hit: Hit, ray_dir: vec3f, prev: PrevVertex) -> f32 {
     if (LIGHT_SAMPLING == LIGHTS_NONE || LIGHT_SAMPLING == LIGHTS_NEE_DOUBLE_COUNT || prev.delta) {
         return 1.0;
@@ -253,30 +204,21 @@ fn emitter_hit_weight(hit: Hit, ray_dir: vec3f, prev: PrevVertex) -> f32 {
     if (LIGHT_SAMPLING == LIGHTS_NEE) {
         return 0.0;
     }
-    var light_pdf: f32;
-    if (l < NUM_SPHERE_LIGHTS) {
-        let sphere = spheres[l];
-        let inside = inside_light(l, sphere, prev.position, prev.object, prev.from_inside);
-        light_pdf = pdf_sphere_light(sphere.center, sphere.radius, prev.position, inside, ray_dir);
-    } else {
-        let tri = triangle_at(light_table[l].object);
-        light_pdf = pdf_triangle_light(tri.p0, tri.p1, tri.p2, prev.position, ray_dir);
-    }
+    let light_pdf = pdf_emitter(l, LightSampleContext(prev.position, prev.object, prev.from_inside), ray_dir);
     return mis_weight(prev.bsdf_pdf, light_select_prob(l) * light_pdf);
 }
 
-// Radiance arriving along a ray that found `hit`: the environment when it escaped, else the
+// Radiance arriving along a ray that found `hit`: the environment's when it escaped, else the
 // emission of what it hit (zero for non-emitters; a one-sided triangle emits only on its front).
 fn radiance_along(hit: Hit, ray_d: vec3f) -> vec3f {
     if (hit.object == INVALID) {
-        return select(vec3f(0.0), frame.environment, HAS_ENVIRONMENT);
+        return eval_environment_emitter(ray_d);
     }
-    let emission = materials[hit.material].emission;
     if (NUM_TRIANGLES > 0u && hit.object >= first_triangle_object()) {
-        let tri = triangle_at(hit.object - first_triangle_object());
-        return select(vec3f(0.0), emission, triangle_emits_along(tri, hit.shading_normal, ray_d));
+        return eval_triangle_emitter(hit, ray_d);
     }
-    return emission;
+    // A sphere, or a plane (planes never emit: zero).
+    return eval_sphere_emitter(hit);
 }
 
 // Structure for SIMD CPU drivers as much as for GPUs: lavapipe runs 8 lanes in lockstep and
@@ -330,7 +272,7 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
         let scatters = !from_inside || (materials[hit.material].flags & MATERIAL_ONE_SIDED) == 0u;
 
         if (LIGHT_SAMPLING != LIGHTS_NONE && NUM_LIGHTS > 0u && scatters && !bsdf_is_delta(m)) {
-            radiance += throughput * estimate_direct(id, dim_base, x, n_s, n_g, wo, m, hit.object, from_inside);
+            radiance += throughput * estimate_direct(id, dim_base, LightSampleContext(x, hit.object, from_inside), n_s, n_g, wo, m);
         }
 
         let u_dir = sample_2d(id.pixel, id.index, dim_base, id.seed);
@@ -373,8 +315,10 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
         }
         depth++;
         if (scattered) {
+            // Escaped rays are weighted only where next event estimation samples the
+            // environment.
             var w = 1.0;
-            if (hit.object != INVALID) {
+            if (hit.object != INVALID || NUM_ENVIRONMENT_LIGHTS > 0u) {
                 w = emitter_hit_weight(hit, ray_d, prev);
             }
             radiance += throughput * radiance_along(hit, ray_d) * w;

@@ -1,4 +1,6 @@
-// lights.wgsl — sampling emissive spheres seen from a shading point x.
+// lights.wgsl — sampling the shapes area lights are made of, seen from a shading point x (as
+// pbrt-v4's Sphere::Sample and Triangle::Sample): spheres, then triangles. The emitters of
+// shaders/emitters/ call these; they read no scene, so the sampling tests run them alone.
 //
 // From outside a sphere, directions are drawn uniformly in the cone it subtends; from inside
 // (or from its inner surface), points are drawn uniformly on its area. Both densities are

@@ -4,8 +4,9 @@
 // Scene features, fixed per pipeline (set through pipeline constants).
 override NUM_SPHERES: u32 = 0u;
 override NUM_PLANES: u32 = 0u;
-// The lights (NUM_LIGHTS, NUM_SPHERE_LIGHTS) are declared in light_table.wgsl: the emissive
-// spheres are the first NUM_SPHERE_LIGHTS spheres (the host orders them so), light l is sphere l.
+// The lights' counts (NUM_LIGHTS, NUM_<KIND>_LIGHTS) are generated after light_table.wgsl:
+// the emissive spheres are the first NUM_SPHERE_LIGHTS spheres (the host orders them so), and
+// sphere light l is sphere l.
 // Planes that can lie between a path vertex and a light come first; the others (every light
 // and the camera strictly on the same side) are skipped by shadow rays.
 override NUM_OCCLUDING_PLANES: u32 = 0u;

@@ -119,7 +119,14 @@ pub struct Method {
     pub select: Option<LightSelect>,
     pub triangles: TriangleSampling,
     pub microfacet: MicrofacetSampling,
+    /// Whether next event estimation samples the constant environment as a light (then
+    /// escaped rays take the MIS weight against it); off by default, as Mitsuba's `path`
+    /// would not leave it, but as pathlab's images were before the environment was a light.
+    pub environment: bool,
 }
+
+/// The method-name suffix (`mis+env`) of `Method::environment`.
+pub const ENVIRONMENT_OPTION: &str = "env";
 
 impl Preset {
     pub const fn method(self) -> Method {
@@ -135,7 +142,7 @@ impl Preset {
             Preset::Mis => (S::Independent, B::Phong, L::Mis),
             Preset::Best => (S::Sobol, B::Phong, L::Mis),
         };
-        Method { sampler, bsdf, lights, select: None, triangles: TriangleSampling::Area, microfacet: MicrofacetSampling::Vndf }
+        Method { sampler, bsdf, lights, select: None, triangles: TriangleSampling::Area, microfacet: MicrofacetSampling::Vndf, environment: false }
     }
 }
 
@@ -199,6 +206,7 @@ pub struct MethodParts {
     pub select: Option<LightSelect>,
     pub triangles: Option<TriangleSampling>,
     pub microfacet: Option<MicrofacetSampling>,
+    pub environment: Option<bool>,
 }
 
 impl MethodParts {
@@ -211,6 +219,7 @@ impl MethodParts {
             select: self.select.or(method.select),
             triangles: self.triangles.unwrap_or(method.triangles),
             microfacet: self.microfacet.unwrap_or(method.microfacet),
+            environment: self.environment.unwrap_or(method.environment),
         }
     }
 }
@@ -228,13 +237,14 @@ impl Method {
 
     /// The same method with the light options of the defaults (no `+…` suffix).
     fn base(&self) -> Method {
-        Method { select: None, triangles: TriangleSampling::Area, microfacet: MicrofacetSampling::Vndf, ..*self }
+        Method { select: None, triangles: TriangleSampling::Area, microfacet: MicrofacetSampling::Vndf, environment: false, ..*self }
     }
 
     /// The one name a method is shown and recorded under (the inverse of `from_name`): its
     /// preset's, a biased demonstration's, or its parts `sampler/bsdf/lights`; then `+SELECT`
-    /// for a light selection given explicitly and `+solid-angle` for spherical-triangle
-    /// sampling (e.g. `mis+power+solid-angle`).
+    /// for a light selection given explicitly, `+solid-angle` for spherical-triangle
+    /// sampling, `+ndf` for microfacet sampling of the distribution and `+env` for a sampled
+    /// environment (e.g. `mis+power+solid-angle`).
     pub fn name(&self) -> String {
         let base = self.base();
         let mut name = if let Some(p) = base.preset() {
@@ -253,6 +263,9 @@ impl Method {
         if self.microfacet != MicrofacetSampling::Vndf {
             name = format!("{name}+{}", self.microfacet);
         }
+        if self.environment {
+            name = format!("{name}+{ENVIRONMENT_OPTION}");
+        }
         name
     }
 
@@ -267,8 +280,15 @@ impl Method {
                 method.triangles = t;
             } else if let Some(m) = MicrofacetSampling::from_name(option) {
                 method.microfacet = m;
+            } else if option == ENVIRONMENT_OPTION {
+                method.environment = true;
             } else {
-                let known: Vec<&str> = LightSelect::names().into_iter().chain(TriangleSampling::names()).chain(MicrofacetSampling::names()).collect();
+                let known: Vec<&str> = LightSelect::names()
+                    .into_iter()
+                    .chain(TriangleSampling::names())
+                    .chain(MicrofacetSampling::names())
+                    .chain([ENVIRONMENT_OPTION])
+                    .collect();
                 return Err(UnknownName { what: "light option", name: option.to_string(), known: known.join(", ") });
             }
         }
@@ -293,6 +313,7 @@ impl Method {
                 select: None,
                 triangles: TriangleSampling::Area,
                 microfacet: MicrofacetSampling::Vndf,
+                environment: false,
             }),
             _ => Err(unknown()),
         }
@@ -329,8 +350,10 @@ mod tests {
                     for select in [None, Some(LightSelect::All), Some(LightSelect::Uniform), Some(LightSelect::Power)] {
                         for triangles in TriangleSampling::ALL {
                             for microfacet in MicrofacetSampling::ALL {
-                                let m = Method { sampler, bsdf, lights, select, triangles, microfacet };
-                                assert_eq!(Method::from_name(&m.name()), Ok(m), "{}", m.name());
+                                for environment in [false, true] {
+                                    let m = Method { sampler, bsdf, lights, select, triangles, microfacet, environment };
+                                    assert_eq!(Method::from_name(&m.name()), Ok(m), "{}", m.name());
+                                }
                             }
                         }
                     }
@@ -342,6 +365,7 @@ mod tests {
         assert!(Method::from_name("sobol/phong").is_err());
         assert_eq!(Method::from_name("mis+power+solid-angle").unwrap().name(), "mis+power+solid-angle");
         assert!(Method::from_name("mis+brightest").is_err());
+        assert_eq!(Method::from_name("best+uniform+env").unwrap(), Method { select: Some(LightSelect::Uniform), environment: true, ..Preset::Best.method() });
     }
 
     #[test]

@@ -671,13 +671,13 @@ fn select_main(@builtin(global_invocation_id) gid: vec3u) {
 fn selection_chi_square(powers: &[f64], select: LightSelect, seed: u32) -> f64 {
     let table = pathlab::scene::AliasTable::new(powers);
     let entries: Vec<GpuLight> = (0..powers.len())
-        .map(|l| GpuLight { object: l as u32, power_prob: table.prob[l] as f32, alias_index: table.alias[l], threshold: table.threshold[l] as f32 })
+        .map(|l| GpuLight { object: l as u32, power_prob: table.prob[l] as f32, alias_index: table.alias[l], threshold: table.threshold[l] as f32, kind: 0 })
         .collect();
     let mut parts = shaders::LIBRARY.to_vec();
     parts.push(shaders::files::LIGHT_TABLE);
     let source = shaders::assemble(&parts, SELECT_KERNEL);
     let params: [u32; 4] = [SAMPLES, seed, 0, 0];
-    let constants = [("NUM_LIGHTS", powers.len() as f64), ("LIGHT_SELECT", select.constant() as f64)];
+    let constants = [("NUM_SPHERE_LIGHTS", powers.len() as f64), ("LIGHT_SELECT", select.constant() as f64)];
     let run = KernelRun {
         source: &source,
         entry: "select_main",

@@ -6,8 +6,6 @@
 //! A panic, a signal, a timeout, an unnamed refusal or an accepted wrong result fails the test.
 //! Deterministic: fixed seeds; no statistics involved.
 
-use crate::common;
-
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};

@@ -56,7 +56,7 @@ fn shared_structs_match_the_wgsl() {
     check_struct(&pt, "Triangle", size_of::<GpuTriangle>(), fields!(GpuTriangle: p0, material, p1, light, p2, flags));
     check_struct(&pt, "TriangleNormals", size_of::<GpuTriangleNormals>(), fields!(GpuTriangleNormals: n0, n1, n2));
     check_struct(&pt, "BvhNode", size_of::<BvhNode>(), fields!(BvhNode: lo, first, hi, count));
-    check_struct(&pt, "LightEntry", size_of::<GpuLight>(), fields!(GpuLight: object, power_prob, alias_index, threshold));
+    check_struct(&pt, "LightEntry", size_of::<GpuLight>(), fields!(GpuLight: object, power_prob, alias_index, threshold, kind));
     let display = module(&shaders::display_source());
     check_struct(&display, "AccumPixel", size_of::<AccumPixel>(), fields!(AccumPixel: sum, count, sum_err, rays_lo, sum_sq, rays_hi, sum_sq_err));
 }
@@ -73,12 +73,14 @@ fn const_u32(module: &naga::Module, name: &str) -> Option<u32> {
 #[test]
 fn overrides_set_by_the_host_are_those_the_module_declares() {
     let pt = module(&shaders::path_tracer_source());
-    let mut declared: Vec<&str> = pt.overrides.iter().filter_map(|(_, o)| o.name.as_deref()).collect();
+    // NUM_LIGHTS is the sum of the kinds' NUM_<KIND>_LIGHTS, computed in the WGSL itself.
+    let mut declared: Vec<&str> = pt.overrides.iter().filter_map(|(_, o)| o.name.as_deref()).filter(|&n| n != "NUM_LIGHTS").collect();
     let features = SceneFeatures {
         num_spheres: 2,
         num_planes: 1,
-        num_lights: 3,
         num_sphere_lights: 1,
+        num_triangle_lights: 2,
+        num_environment_lights: 1,
         num_triangles: 4,
         has_shading_normals: true,
         rr_depth: 3,
@@ -187,6 +189,37 @@ fn every_bsdf_kind_of_the_registry_is_in_the_kernel() {
     let constants = pipeline_constants(&key);
     let on = |name: &str| constants.iter().find(|(n, _)| *n == name).map(|(_, v)| *v);
     assert_eq!((on("HAS_PHONG"), on("HAS_CONDUCTOR"), on("HAS_ROUGH_CONDUCTOR")), (Some(1.0), Some(0.0), Some(1.0)));
+}
+
+/// Every kind of the emitter registry has its number, its WGSL file (in the registry's order),
+/// its three entry points and its count override; a pipeline counts the environment only where
+/// the method samples it.
+#[test]
+fn every_emitter_kind_of_the_registry_is_in_the_kernel() {
+    use pathlab::scene::EmitterKind;
+    let pt = module(&shaders::path_tracer_source());
+    assert_eq!(shaders::files::EMITTER_KINDS.len(), EmitterKind::ALL.len());
+    for (k, (file, _)) in EmitterKind::ALL.iter().zip(shaders::files::EMITTER_KINDS) {
+        assert_eq!(const_u32(&pt, &format!("EMITTER_KIND_{}", k.name().to_uppercase())), Some(k.constant()), "{k}");
+        assert_eq!(file, format!("emitters/{}.wgsl", k.name()));
+        for f in [format!("sample_{}_emitter", k.name()), format!("pdf_{}_emitter", k.name()), format!("eval_{}_emitter", k.name())] {
+            assert!(pt.functions.iter().any(|(_, g)| g.name.as_deref() == Some(f.as_str())), "{f} missing");
+        }
+        assert!(pt.overrides.iter().any(|(_, o)| o.name.as_deref() == Some(k.count_override())), "{}", k.count_override());
+    }
+    let mut scene = pathlab::scene::Scene::load(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/cornell_box.toml")).unwrap();
+    scene.render.environment = glam::DVec3::splat(0.5);
+    let features = pathlab::gpu::SceneFeatures::of(&scene);
+    let count = |method: pathlab::method::Method, name: &str| {
+        let key = PipelineKey::new(method, features, scene.default_light_select());
+        pipeline_constants(&key).into_iter().find(|(n, _)| *n == name).map(|(_, v)| v)
+    };
+    let mis = Preset::Mis.method();
+    assert_eq!(count(mis, "NUM_TRIANGLE_LIGHTS"), Some(scene.num_lights() as f64));
+    assert_eq!(count(mis, "NUM_ENVIRONMENT_LIGHTS"), Some(0.0));
+    assert_eq!(count(pathlab::method::Method { environment: true, ..mis }, "NUM_ENVIRONMENT_LIGHTS"), Some(1.0));
+    // Without light sampling nothing samples it.
+    assert_eq!(count(pathlab::method::Method { environment: true, ..Preset::Phong.method() }, "NUM_ENVIRONMENT_LIGHTS"), Some(0.0));
 }
 
 #[cfg(feature = "viewer")]

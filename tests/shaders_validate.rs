@@ -25,17 +25,19 @@ fn every_override_permutation_validates() {
                 for select in LightSelect::ALL {
                     for triangles in TriangleSampling::ALL {
                         for &(num_spheres, num_planes, num_sphere_lights, num_triangles, triangle_lights, has_shading_normals, budget) in &SHAPES {
-                            // Specular and environment on and off together, and the light
+                            // Specular and environment (shaded, and sampled as a light) on and off together, and the light
                             // interiors with them: each on and each off is compiled once.
                             for on in [false, true] {
                                 // Both microfacet strategies, each with conductors on and off.
                                 let microfacet = if (checked / 2) % 2 == 0 { MicrofacetSampling::Vndf } else { MicrofacetSampling::Ndf };
-                                let method = Method { sampler, bsdf, lights, select: Some(select), triangles, microfacet };
+                                let method = Method { sampler, bsdf, lights, select: Some(select), triangles, microfacet, environment: on };
                                 let features = SceneFeatures {
                                     num_spheres,
                                     num_planes,
-                                    num_lights: num_sphere_lights + triangle_lights,
                                     num_sphere_lights,
+                                    num_triangle_lights: triangle_lights,
+                                    // The environment as a light where it is on.
+                                    num_environment_lights: on as u32,
                                     num_triangles,
                                     has_shading_normals,
                                     rr_depth: if on { 2 } else { 0 },

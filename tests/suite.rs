@@ -19,6 +19,7 @@ mod cornell_box;
 mod cornell_conductors;
 mod deploy;
 mod dielectrics;
+mod environment_light;
 #[cfg(feature = "viewer")]
 mod display_pass;
 mod error_estimate;

@@ -182,6 +182,8 @@ impl PyScene {
                     }
                     _ => mesh_power.push((mesh, 1, s.light_power(light))),
                 },
+                // `lights()` lists the area lights; the environment is the scene's `environment`.
+                Light::Environment => {}
             }
         }
         for (mesh, triangles, power) in mesh_power {

@@ -173,7 +173,7 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
         f.num_occluding_planes,
         scene.meshes.len(),
         f.num_triangles,
-        f.num_lights - f.num_sphere_lights,
+        f.num_triangle_lights,
         if f.has_shading_normals { ", with vertex normals" } else { "" },
         if f.has_specular { "yes" } else { "no" },
         pathlab::scene::BsdfKind::ALL
@@ -190,7 +190,7 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
     );
     if f.num_triangles > 0 {
         let start = std::time::Instant::now();
-        let packed = pathlab::gpu::PackedTriangles::new(&scene);
+        let packed = pathlab::gpu::PackedTriangles::new(&scene, false);
         let built = start.elapsed();
         let b = &packed.bvh;
         println!(

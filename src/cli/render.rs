@@ -28,7 +28,7 @@ pub struct RenderArgs {
     scene: PathBuf,
     /// Sampling method: a preset (plain, halton, cosine, phong, nee, mis, best), mis-balance, a
     /// biased demonstration (phong-lobe-only, nee-double-count), or its parts
-    /// SAMPLER/BSDF/LIGHTS; each may add +SELECT, +solid-angle, +ndf (e.g. mis+power). The
+    /// SAMPLER/BSDF/LIGHTS; each may add +SELECT, +solid-angle, +ndf, +env (e.g. mis+power). The
     /// flags below replace its parts.
     #[arg(long, value_parser = parse_method, default_value = "best")]
     method: Method,
@@ -54,6 +54,12 @@ pub struct RenderArgs {
     /// Noted once where the scene has no rough conductor or the strategy is another.
     #[arg(long, value_parser = named::<MicrofacetSampling>())]
     microfacet_sampling: Option<MicrofacetSampling>,
+    /// Next event estimation samples the constant environment as a light, and rays that
+    /// escape take the MIS weight against it (as the method suffix `+env`; default: found by
+    /// escaping rays alone). Noted once where the environment is black or the method samples
+    /// no lights.
+    #[arg(long)]
+    sample_environment: bool,
     /// Samples per pixel (default: the scene's render.spp, else 64).
     #[arg(long, conflicts_with = "time")]
     spp: Option<u64>,
@@ -147,6 +153,10 @@ fn inapplicable_flags(args: &RenderArgs, scene: &pathlab::scene::Scene, method: 
         };
         notes.push(format!("--microfacet-sampling has no effect: {why}"));
     }
+    if args.sample_environment && !can.environment_sampling {
+        let why = if has.environment_sampling { no_lights.clone() } else { "the scene's environment is black".to_string() };
+        notes.push(format!("--sample-environment has no effect: {why}"));
+    }
     notes
 }
 
@@ -183,6 +193,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
         select: args.light_select,
         triangles: args.triangle_sampling,
         microfacet: args.microfacet_sampling,
+        environment: args.sample_environment.then_some(true),
     };
     let method = parts.apply(args.method);
     for note in inapplicable_flags(&args, &scene, &method) {

@@ -2,7 +2,7 @@
 //! (`SceneFeatures`, each a WGSL `override` constant) and the order its objects take in the
 //! scene buffers (lights first, occluding planes first). The scene itself knows nothing of it.
 
-use crate::scene::{BsdfKind, Scene};
+use crate::scene::{BsdfKind, EmitterKind, Scene};
 
 /// What a scene requires of the path-tracing kernel; each becomes a WGSL `override` constant,
 /// so a pipeline carries only the code its scene uses.
@@ -10,9 +10,12 @@ use crate::scene::{BsdfKind, Scene};
 pub struct SceneFeatures {
     pub num_spheres: u32,
     pub num_planes: u32,
-    /// Lights: the emissive spheres, then the emissive triangles.
-    pub num_lights: u32,
+    /// Lights of each kind (`EmitterKind`, each a `NUM_<KIND>_LIGHTS` override): the
+    /// emissive spheres, the emissive triangles, and the environment where next event
+    /// estimation samples it (`PipelineKey::new` decides, by the method).
     pub num_sphere_lights: u32,
+    pub num_triangle_lights: u32,
+    pub num_environment_lights: u32,
     pub num_triangles: u32,
     /// Some mesh has vertex normals (interpolated as shading normals).
     pub has_shading_normals: bool,
@@ -30,13 +33,28 @@ pub struct SceneFeatures {
 }
 
 impl SceneFeatures {
+    /// Lights of every kind: the light table's length.
+    pub fn num_lights(&self) -> u32 {
+        EmitterKind::ALL.iter().map(|&k| self.lights_of(k)).sum()
+    }
+
+    /// Lights of `kind`.
+    pub fn lights_of(&self, kind: EmitterKind) -> u32 {
+        match kind {
+            EmitterKind::Sphere => self.num_sphere_lights,
+            EmitterKind::Triangle => self.num_triangle_lights,
+            EmitterKind::Environment => self.num_environment_lights,
+        }
+    }
+
     /// The features a pipeline must support to render `scene`.
     pub fn of(scene: &Scene) -> SceneFeatures {
         SceneFeatures {
             num_spheres: scene.spheres.len() as u32,
             num_planes: scene.planes.len() as u32,
-            num_lights: scene.num_lights() as u32,
-            num_sphere_lights: scene.light_spheres().len() as u32,
+            num_sphere_lights: scene.lights_of(EmitterKind::Sphere).len() as u32,
+            num_triangle_lights: scene.lights_of(EmitterKind::Triangle).len() as u32,
+            num_environment_lights: scene.lights_of(EmitterKind::Environment).len() as u32,
             num_triangles: scene.num_triangles() as u32,
             has_shading_normals: scene.meshes.iter().any(|m| !m.normals.is_empty()),
             rr_depth: scene.render.rr_depth.unwrap_or(0),
@@ -101,6 +119,6 @@ mod tests {
         // The wall between camera and lights can occlude them: it comes first.
         assert_eq!(plane_order(&s), vec![1, 0]);
         let f = SceneFeatures::of(&s);
-        assert_eq!((f.num_spheres, f.num_sphere_lights, f.num_lights, f.num_occluding_planes), (3, 2, 2, 1));
+        assert_eq!((f.num_spheres, f.num_sphere_lights, f.num_lights(), f.num_occluding_planes), (3, 2, 2, 1));
     }
 }

@@ -7,9 +7,9 @@ use std::time::{Duration, Instant};
 
 use wgpu::util::DeviceExt;
 
-use crate::method::{LightSelect, Method};
+use crate::method::{LightSampling, LightSelect, Method};
 use super::features::SceneFeatures;
-use crate::scene::BsdfKind;
+use crate::scene::{BsdfKind, EmitterKind};
 use crate::shaders::{self, bindings};
 
 /// `TRAVERSAL_BUDGET` of a pipeline whose traversal is bounded by the host: no guard.
@@ -29,10 +29,23 @@ pub struct PipelineKey {
 impl PipelineKey {
     /// The key of `method` on a scene with `features`: `default_select` (the scene's,
     /// `Scene::default_light_select`) where the method leaves the selection open, no traversal
-    /// guard.
-    pub fn new(method: Method, features: SceneFeatures, default_select: LightSelect) -> PipelineKey {
+    /// guard. The environment is a light of the table only where the method samples it
+    /// (`Method::environment`, with light sampling on); every plane can then block a shadow
+    /// ray, which runs to infinity.
+    pub fn new(method: Method, mut features: SceneFeatures, default_select: LightSelect) -> PipelineKey {
         let select = Some(method.select.unwrap_or(default_select));
+        if !(method.environment && method.lights != LightSampling::None) {
+            features.num_environment_lights = 0;
+        }
+        if features.num_environment_lights > 0 {
+            features.num_occluding_planes = features.num_planes;
+        }
         PipelineKey { method: Method { select, ..method }, features, traversal_budget: NO_TRAVERSAL_GUARD }
+    }
+
+    /// Whether the light table holds the environment (`Scene::sampled_lights`).
+    pub fn samples_environment(&self) -> bool {
+        self.features.num_environment_lights > 0
     }
 }
 
@@ -51,8 +64,6 @@ pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
         ("MICROFACET_SAMPLING", key.method.microfacet.constant() as f64),
         ("NUM_SPHERES", f.num_spheres as f64),
         ("NUM_PLANES", f.num_planes as f64),
-        ("NUM_LIGHTS", f.num_lights as f64),
-        ("NUM_SPHERE_LIGHTS", f.num_sphere_lights as f64),
         ("NUM_TRIANGLES", f.num_triangles as f64),
         ("HAS_SHADING_NORMALS", f.has_shading_normals as u32 as f64),
         ("RR_DEPTH", f.rr_depth as f64),
@@ -63,6 +74,8 @@ pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
         ("LIGHT_INTERIORS_REACHABLE", f.light_interiors_reachable as u32 as f64),
     ];
     constants.extend(kinds);
+    // One NUM_<KIND>_LIGHTS per emitter kind (NUM_LIGHTS is their sum, in the WGSL).
+    constants.extend(EmitterKind::ALL.map(|k| (k.count_override(), f.lights_of(k) as f64)));
     constants
 }
 
@@ -94,7 +107,7 @@ impl LoopBound {
 pub fn loop_iterations_per_sample(key: &PipelineKey, max_depth: u32, bvh_nodes: u64, bvh_leaves: u64) -> LoopBound {
     use crate::method::Sampler;
     let f = &key.features;
-    let (s, p, l) = (f.num_spheres as u64, f.num_planes as u64, f.num_lights as u64);
+    let (s, p, l) = (f.num_spheres as u64, f.num_planes as u64, f.num_lights() as u64);
     // Iterations of one sample_1d call: Sobol' has no loop; Halton reverses at most 21 + 1
     // digits (base 3); Owen-scrambled Halton expands ~24 bits of digits, each with a few
     // rejection rounds of the hashed permutation.

@@ -81,6 +81,8 @@ pub struct GpuLight {
     pub power_prob: f32,
     pub alias_index: u32,
     pub threshold: f32,
+    /// Its `EmitterKind`.
+    pub kind: u32,
 }
 
 /// Most triangles one storage binding of `binding_limit` bytes holds (the triangle array is
@@ -109,14 +111,15 @@ impl PackedTriangles {
             + std::mem::size_of_val(&self.lights[..])
     }
 
-    /// Builds the BVH over every mesh triangle and lays the triangles out in its leaf order.
-    pub fn new(scene: &Scene) -> PackedTriangles {
+    /// Builds the BVH over every mesh triangle and lays the triangles out in its leaf order,
+    /// with the light table of `Scene::sampled_lights(sample_environment)`.
+    pub fn new(scene: &Scene, sample_environment: bool) -> PackedTriangles {
         // Scene order: (mesh, triangle) of every triangle; triangle t of mesh m is number
         // first[m] + t, and light_of[that] the light it is.
         let refs: Vec<(usize, usize)> =
             scene.meshes.iter().enumerate().flat_map(|(m, mesh)| (0..mesh.triangles.len()).map(move |t| (m, t))).collect();
         let first: Vec<usize> = scene.meshes.iter().scan(0, |n, mesh| Some(std::mem::replace(n, *n + mesh.triangles.len()))).collect();
-        let lights = scene.lights();
+        let lights = scene.sampled_lights(sample_environment);
         let mut light_of = vec![u32::MAX; refs.len()];
         for (l, light) in lights.iter().enumerate() {
             if let Light::Triangle { mesh, triangle } = *light {
@@ -143,8 +146,9 @@ impl PackedTriangles {
                 normals.push(GpuTriangleNormals { n0, _pad0: 0, n1, _pad1: 0, n2, _pad2: 0 });
             }
         }
-        // The light table: spheres are kernel spheres 0.., triangles are named by their index
-        // in leaf order.
+        // The light table, each kind's lights one range in `EmitterKind` order: sphere light l
+        // is kernel sphere l, a triangle is named by its index in leaf order, the environment
+        // by nothing.
         let weights: Vec<f64> = lights.iter().map(|&l| scene.light_power(l)).collect();
         let alias = AliasTable::new(&weights);
         let lights = lights
@@ -154,10 +158,12 @@ impl PackedTriangles {
                 object: match *light {
                     Light::Sphere(_) => l as u32,
                     Light::Triangle { mesh, triangle } => gpu_index[first[mesh] + triangle],
+                    Light::Environment => 0,
                 },
                 power_prob: alias.prob[l] as f32,
                 alias_index: alias.alias[l],
                 threshold: alias.threshold[l] as f32,
+                kind: light.kind().constant(),
             })
             .collect();
         PackedTriangles { triangles, normals, bvh, lights }
@@ -298,7 +304,7 @@ mod tests {
         assert_eq!(std::mem::size_of::<GpuMaterial>(), 80);
         assert_eq!(std::mem::size_of::<GpuTriangle>(), 48);
         assert_eq!(std::mem::size_of::<GpuTriangleNormals>(), 48);
-        assert_eq!(std::mem::size_of::<GpuLight>(), 16);
+        assert_eq!(std::mem::size_of::<GpuLight>(), 20);
     }
 
     #[test]

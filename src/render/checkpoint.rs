@@ -95,6 +95,7 @@ impl CheckpointKey {
             ("light_select", self.method.select.map_or("default".to_string(), |s| s.to_string())),
             ("triangle_sampling", self.method.triangles.to_string()),
             ("microfacet_sampling", self.method.microfacet.to_string()),
+            ("environment_sampling", if self.method.environment { "on" } else { "off" }.to_string()),
             ("seed", self.seed.to_string()),
             ("scene_hash", self.scene_hash.clone()),
         ]
@@ -207,6 +208,12 @@ impl Checkpoint {
             None => crate::method::MicrofacetSampling::Vndf,
             Some(v) => v.parse().map_err(|e| invalid(format!("pathlab:microfacet_sampling: {e}")))?,
         };
+        // Files written before the environment was a light never sampled it.
+        let environment = match header.get("environment_sampling") {
+            None | Some("off") => false,
+            Some("on") => true,
+            Some(v) => return Err(invalid(format!("pathlab:environment_sampling is `{v}`, not `on` or `off`"))),
+        };
         let method = Method {
             sampler: header.text("sampler").map_err(attr)?.parse().map_err(|e| invalid(format!("pathlab:sampler: {e}")))?,
             bsdf: header.text("bsdf").map_err(attr)?.parse().map_err(|e| invalid(format!("pathlab:bsdf: {e}")))?,
@@ -214,6 +221,7 @@ impl Checkpoint {
             select,
             triangles,
             microfacet,
+            environment,
         };
         let scene_hash = header.text("scene_hash").map_err(attr)?.to_string();
         if scene_hash.len() != 16 || !scene_hash.bytes().all(|b| b.is_ascii_hexdigit() && !b.is_ascii_uppercase()) {

@@ -145,7 +145,7 @@ impl Renderer {
         if count > max_triangles(binding) {
             return Err(RenderError::TooManyTriangles { count, limit: max_triangles(binding), binding });
         }
-        let packed = PackedTriangles::new(scene);
+        let packed = PackedTriangles::new(scene, key.samples_environment());
         let (width, height) = (scene.render.width, scene.render.height);
         let limit = gpu.limits.max_storage_buffer_binding_size.min(gpu.limits.max_buffer_size);
         let row_bytes = width as u64 * std::mem::size_of::<AccumPixel>() as u64;

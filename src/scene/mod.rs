@@ -1,6 +1,6 @@
 //! Scenes: the TOML format (`raw`), its validation (`validate`), object-to-world transforms
 //! (`transform`), triangle meshes from OBJ and PLY files and Mitsuba's built-in shapes (`mesh`),
-//! the lights in kernel order with their power (`lights`), the validated model, its identity
+//! the emitters, one file per kind, in kernel order with their power (`emitters`), the validated model, its identity
 //! (`hash`), and which of a method's options can change its image (`ApplicableOptions`).
 //!
 //! A `Scene` has passed every check: all numbers are finite and in range, every material name
@@ -10,8 +10,8 @@
 pub mod bsdfs;
 mod checker;
 mod diagnostic;
+pub mod emitters;
 pub mod hash;
-pub mod lights;
 pub mod mesh;
 pub mod mitsuba;
 pub mod overrides;
@@ -27,7 +27,7 @@ use crate::method::{BsdfSampling, LightSampling, Method};
 
 pub use bsdfs::{Bsdf, BsdfKind, Conductor, Distribution, Phong, RoughConductor};
 pub use diagnostic::{Diagnostic, SceneError, Severity};
-pub use lights::{AliasTable, Light};
+pub use emitters::{AliasTable, EmitterKind, Light};
 pub use mesh::Mesh;
 pub use overrides::{OverrideError, Overrides, Reframing};
 pub use transform::Transform;
@@ -314,7 +314,7 @@ impl Scene {
     }
 }
 
-/// Which of a method's finer options (`select`, `triangles`, `microfacet`) can change the image
+/// Which of a method's finer options (`select`, `triangles`, `microfacet`, `environment`) can change the image
 /// of a scene: the viewer offers only these, `render` notes the others once.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ApplicableOptions {
@@ -324,6 +324,8 @@ pub struct ApplicableOptions {
     pub triangle_sampling: bool,
     /// Microfacet sampling: the BSDF strategy samples the material and some conductor is rough.
     pub microfacet_sampling: bool,
+    /// Sampling the environment: light sampling is on and the environment is not black.
+    pub environment_sampling: bool,
 }
 
 impl ApplicableOptions {
@@ -333,6 +335,7 @@ impl ApplicableOptions {
             light_select: scene.num_lights() > 1,
             triangle_sampling: scene.has_triangle_lights(),
             microfacet_sampling: scene.materials.iter().any(|m| m.bsdf_kind() == BsdfKind::RoughConductor),
+            environment_sampling: scene.has_environment(),
         }
     }
 
@@ -346,6 +349,7 @@ impl ApplicableOptions {
             light_select: self.light_select && lights,
             triangle_sampling: self.triangle_sampling && lights,
             microfacet_sampling: self.microfacet_sampling && material,
+            environment_sampling: self.environment_sampling && lights,
         }
     }
 }
@@ -403,19 +407,19 @@ mod applicable_options {
         let mis = Preset::Mis.method();
         // The study scene: two sphere lights, Phong only.
         let study = ApplicableOptions::of_scene(&scene("study.toml"));
-        assert_eq!(study, ApplicableOptions { light_select: true, triangle_sampling: false, microfacet_sampling: false });
+        assert_eq!(study, ApplicableOptions { light_select: true, triangle_sampling: false, microfacet_sampling: false, environment_sampling: false });
         // The Cornell box: one triangle light (two triangles), no conductor.
         let cornell = ApplicableOptions::of_scene(&scene("cornell_box.toml"));
-        assert_eq!(cornell, ApplicableOptions { light_select: true, triangle_sampling: true, microfacet_sampling: false });
+        assert_eq!(cornell, ApplicableOptions { light_select: true, triangle_sampling: true, microfacet_sampling: false, environment_sampling: false });
         // Veach's scene: four sphere lights, rough conductors; microfacet sampling only with the
         // material's own strategy.
         let veach = ApplicableOptions::of_scene(&scene("veach_mis.xml"));
-        assert_eq!(veach, ApplicableOptions { light_select: true, triangle_sampling: false, microfacet_sampling: true });
+        assert_eq!(veach, ApplicableOptions { light_select: true, triangle_sampling: false, microfacet_sampling: true, environment_sampling: false });
         assert_eq!(veach.with_method(&mis), veach);
         assert!(!veach.with_method(&Preset::Nee.method()).microfacet_sampling);
         // Without light sampling the light options cannot matter.
         let plain = cornell.with_method(&Preset::Plain.method());
-        assert_eq!(plain, ApplicableOptions { light_select: false, triangle_sampling: false, microfacet_sampling: false });
+        assert_eq!(plain, ApplicableOptions { light_select: false, triangle_sampling: false, microfacet_sampling: false, environment_sampling: false });
         assert_eq!(cornell.with_method(&Preset::Nee.method()), cornell);
     }
 }

@@ -6,7 +6,7 @@ use crate::display::{Transfer, View};
 use crate::metrics::linear::REL_MSE_EPSILON;
 use crate::method::{BsdfSampling, LightSampling, LightSelect, MicrofacetSampling, Sampler, TriangleSampling};
 use crate::names::wgsl_constants;
-use crate::scene::{BsdfKind, Distribution, MAX_MATERIALS, MAX_PLANES, MAX_SPHERES};
+use crate::scene::{BsdfKind, Distribution, EmitterKind, MAX_MATERIALS, MAX_PLANES, MAX_SPHERES};
 
 use super::{bindings, flags, HALTON_DIMENSIONS};
 
@@ -33,9 +33,9 @@ pub fn generated_constants() -> String {
          const TRANSFER_SRGB: u32 = {}u;\n\
          const TRANSFER_GAMMA: u32 = {}u;\n\
          const REL_EPSILON: f32 = {:?};\n\
-         // The kinds of BSDF (src/scene/bsdfs/mod.rs) and the flags of materials and\n\
-         // triangles (src/shaders/flags.rs).\n\
-         {}{}\
+         // The kinds of BSDF (src/scene/bsdfs/mod.rs) and of emitter (src/scene/emitters/mod.rs),\n\
+         // and the flags of materials and triangles (src/shaders/flags.rs).\n\
+         {}{}{}\
          // Binding numbers of group 0 (src/shaders/bindings.rs).\n\
          {}{}",
         crate::accel::bvh::MAX_DEPTH,
@@ -52,6 +52,7 @@ pub fn generated_constants() -> String {
         Transfer::Gamma(1.0).code(),
         REL_MSE_EPSILON,
         wgsl_constants::<BsdfKind>("BSDF_KIND"),
+        wgsl_constants::<EmitterKind>("EMITTER_KIND"),
         flags::wgsl(),
         bindings::wgsl(&bindings::PATH_TRACER),
         bindings::wgsl(&bindings::DISPLAY),
@@ -105,6 +106,66 @@ pub fn bsdf_dispatch() -> String {
         "\n// Whether the material's only lobe is a delta (next event estimation cannot contribute).\n\
          fn bsdf_is_delta(b: Bsdf) -> bool {{\n    return {};\n}}\n",
         if delta.is_empty() { "false".to_string() } else { delta.join(" || ") }
+    );
+    s
+}
+
+/// The lights' counts, generated from the emitter registry (`scene::EmitterKind`): one
+/// `NUM_<KIND>_LIGHTS` override per kind (set by the host), `NUM_LIGHTS` (their sum) and
+/// where each kind's range of the light table starts (`first_<kind>_light`). They follow
+/// light_table.wgsl.
+pub fn light_counts() -> String {
+    let mut s = String::new();
+    for k in EmitterKind::ALL {
+        s += &format!("// Lights of kind {} (the host's count).\noverride {}: u32 = 0u;\n", k.name(), k.count_override());
+    }
+    let all: Vec<&str> = EmitterKind::ALL.iter().map(|k| k.count_override()).collect();
+    s += &format!("// Every light: the light table's length.\noverride NUM_LIGHTS: u32 = {};\n", all.join(" + "));
+    for (i, k) in EmitterKind::ALL.iter().enumerate() {
+        s += &format!(
+            "\n// The first light of kind {}: its lights are l in [first, first + {}).\nfn first_{}_light() -> u32 {{\n    return {};\n}}\n",
+            k.name(),
+            k.count_override(),
+            k.name(),
+            if i == 0 { "0u".to_string() } else { all[..i].join(" + ") }
+        );
+    }
+    s
+}
+
+/// The emitter dispatch, generated from the registry (`scene::EmitterKind`): `sample_emitter`
+/// and `pdf_emitter` calling each kind's entry points (`sample_<kind>_emitter`,
+/// `pdf_<kind>_emitter` in `shaders/emitters/<kind>.wgsl`) by light l's kind. A kind whose
+/// count is 0 compiles out; where every light is of one kind, its kind is not read from the
+/// table.
+pub fn emitter_dispatch() -> String {
+    let mut s = String::new();
+    s += "// Whether light l is of `kind`, of which the scene has `count`.\n\
+          fn light_is(l: u32, kind: u32, count: u32) -> bool {\n    \
+          return count > 0u && (count == NUM_LIGHTS || light_table[l].kind == kind);\n}\n";
+    let dispatch = |doc: &str, signature: &str, call: &str, none: &str| {
+        let mut f = format!("\n// {doc}\nfn {signature} {{\n");
+        for k in EmitterKind::ALL {
+            f += &format!(
+                "    if (light_is(l, EMITTER_KIND_{}, {})) {{\n        return {};\n    }}\n",
+                k.name().to_uppercase(),
+                k.count_override(),
+                call.replace("{kind}", k.name())
+            );
+        }
+        f + &format!("    return {none};\n}}\n")
+    };
+    s += &dispatch(
+        "A direction from ctx towards light l, by its kind.",
+        "sample_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> EmitterSample",
+        "sample_{kind}_emitter(l, ctx, u)",
+        "EmitterSample(vec3f(0.0, 0.0, 1.0), 0.0, 0.0, vec3f(0.0), INVALID)",
+    );
+    s += &dispatch(
+        "Solid-angle density with which light l's sampling gives wi from ctx, by its kind.",
+        "pdf_emitter(l: u32, ctx: LightSampleContext, wi: vec3f) -> f32",
+        "pdf_{kind}_emitter(l, ctx, wi)",
+        "0.0",
     );
     s
 }

@@ -161,6 +161,15 @@ fn method_section(app: &PanelState, ui: &mut Ui, actions: &mut Vec<Action>) {
                 }
                 ui.end_row();
             }
+            if has.environment_sampling {
+                ui.label("environment");
+                let mut sampled = method.environment;
+                let changed = ui.add_enabled_ui(can.environment_sampling, |ui| ui.checkbox(&mut sampled, "sampled by NEE").changed()).inner;
+                if changed {
+                    next = Some(Method { environment: sampled, ..method });
+                }
+                ui.end_row();
+            }
         });
         if method.is_biased() {
             ui.label(RichText::new("biased on purpose: it converges to the wrong image").color(ERROR_RED));

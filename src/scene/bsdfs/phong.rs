@@ -8,7 +8,7 @@
 use glam::DVec3;
 
 use super::plugin::{color_value, BsdfParams, BsdfPlugin, Fields, PluginProps};
-use crate::scene::lights::luminance;
+use crate::scene::emitters::luminance;
 
 /// Mitsuba's default reflectance of `diffuse` (and the reference renderer's `kd`).
 pub(crate) const DEFAULT_REFLECTANCE: f64 = 0.5;

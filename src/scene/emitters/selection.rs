@@ -1,23 +1,11 @@
-//! The scene's lights in kernel order, their emitted power, and the alias table power
-//! selection draws from.
-//!
-//! Light l is an emissive sphere (all of them first, in scene order: the kernel's sphere l) or
-//! an emissive triangle (then, mesh by mesh, triangle by triangle). This order fixes which
-//! sample dimensions each light uses when every light is sampled.
+//! How next event estimation picks among the lights: the default selection, the luminance
+//! that weighs a light's power, and the alias table power selection draws from
+//! (`shaders/light_table.wgsl`).
 
 use glam::DVec3;
 
-use super::Scene;
+use crate::scene::Scene;
 use crate::method::LightSelect;
-
-/// One light.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Light {
-    /// Index into `Scene::spheres`.
-    Sphere(usize),
-    /// Triangle `triangle` of `Scene::meshes[mesh]`.
-    Triangle { mesh: usize, triangle: usize },
-}
 
 /// Rec. 709 luminance, the weight of a colour in power selection.
 pub fn luminance(c: DVec3) -> f64 {
@@ -25,49 +13,11 @@ pub fn luminance(c: DVec3) -> f64 {
 }
 
 impl Scene {
-    /// Every light, in kernel order.
-    pub fn lights(&self) -> Vec<Light> {
-        let spheres = self.light_spheres().into_iter().map(Light::Sphere);
-        let triangles = self.meshes.iter().enumerate().filter(|(_, m)| self.materials[m.material].is_emissive()).flat_map(
-            |(mesh, m)| (0..m.triangles.len()).map(move |triangle| Light::Triangle { mesh, triangle }),
-        );
-        spheres.chain(triangles).collect()
-    }
-
-    /// How many lights `lights()` lists (the emissive spheres, then every emissive triangle),
-    /// counted without listing them.
-    pub fn num_lights(&self) -> usize {
-        let triangles: usize = self.meshes.iter().filter(|m| self.materials[m.material].is_emissive()).map(|m| m.triangles.len()).sum();
-        self.light_spheres().len() + triangles
-    }
-
-    /// Whether any mesh emits.
-    pub fn has_triangle_lights(&self) -> bool {
-        self.meshes.iter().any(|m| self.materials[m.material].is_emissive())
-    }
-
     /// The light selection of a method that leaves it open (the one place it is decided):
     /// `power` for scenes with emissive meshes (a mesh of a thousand triangles is a thousand
     /// lights), else `all`, which keeps the images of sphere-lit scenes as they were.
     pub fn default_light_select(&self) -> LightSelect {
         if self.has_triangle_lights() { LightSelect::Power } else { LightSelect::All }
-    }
-
-    /// Emitted power of a light, in luminance: pi times area times radiance for a diffuse
-    /// emitter, twice that for a two-sided one (spheres emit outwards only).
-    pub fn light_power(&self, light: Light) -> f64 {
-        use std::f64::consts::PI;
-        match light {
-            Light::Sphere(i) => {
-                let s = &self.spheres[i];
-                PI * 4.0 * PI * s.radius * s.radius * luminance(self.materials[s.material].emission)
-            }
-            Light::Triangle { mesh, triangle } => {
-                let m = &self.meshes[mesh];
-                let sides = if m.two_sided_emission { 2.0 } else { 1.0 };
-                PI * sides * m.triangle_area(triangle) * luminance(self.materials[m.material].emission)
-            }
-        }
     }
 }
 

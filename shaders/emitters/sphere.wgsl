@@ -1,0 +1,44 @@
+// emitters/sphere.wgsl — an emissive sphere: a diffuse area light emitting outwards
+// (src/scene/emitters/sphere.rs). The host orders the light spheres first, so sphere light l
+// is kernel sphere l. From outside, directions are drawn uniformly in the cone the sphere
+// subtends; from inside (reachable only where LIGHT_INTERIORS_REACHABLE), points uniformly on
+// its area (lights.wgsl). A point on a light's outer surface sees none of that light.
+
+// True when x is on the inner side of light sphere `s`: inside it, or on its surface reached
+// from inside (the vertex lies on the sphere itself and `from_inside` says which side).
+fn inside_light(s: u32, sphere: Sphere, ctx: LightSampleContext) -> bool {
+    if (!LIGHT_INTERIORS_REACHABLE) {
+        return false;
+    }
+    if (s == ctx.object) {
+        return ctx.from_inside;
+    }
+    let d = ctx.x - sphere.center;
+    return dot(d, d) < sphere.radius * sphere.radius;
+}
+
+// A direction from ctx towards sphere light l: cone sampling from outside, area sampling from
+// inside.
+fn sample_sphere_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> EmitterSample {
+    let sphere = spheres[l];
+    var ls: LightSample;
+    if (inside_light(l, sphere, ctx)) {
+        ls = sample_sphere_light_area(sphere.center, sphere.radius, ctx.x, u);
+    } else {
+        ls = sample_sphere_light_cone(sphere.center, sphere.radius, ctx.x, u);
+    }
+    let on_outer_surface = l == ctx.object && !ctx.from_inside;
+    let emission = select(materials[sphere.material].emission, vec3f(0.0), on_outer_surface);
+    return EmitterSample(ls.wi, ls.dist, ls.pdf, emission, l);
+}
+
+// Solid-angle density with which sample_sphere_emitter gives wi from ctx.
+fn pdf_sphere_emitter(l: u32, ctx: LightSampleContext, wi: vec3f) -> f32 {
+    let sphere = spheres[l];
+    return pdf_sphere_light(sphere.center, sphere.radius, ctx.x, inside_light(l, sphere, ctx), wi);
+}
+
+// Radiance a ray receives from the sphere it hit: its material's emission, on both sides.
+fn eval_sphere_emitter(hit: Hit) -> vec3f {
+    return materials[hit.material].emission;
+}

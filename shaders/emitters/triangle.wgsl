@@ -1,0 +1,31 @@
+// emitters/triangle.wgsl — an emissive mesh triangle: a diffuse area light emitting on the side
+// of its winding normal, or on both (src/scene/emitters/triangle.rs). light_table[l].object
+// names the triangle (its index in the BVH's leaf order); it is sampled by area or by solid
+// angle (TRIANGLE_SAMPLING, lights.wgsl).
+
+// A direction from ctx towards triangle light l. It emits towards x when x is on the front
+// side of the sampled point (in its shading frame), or it is two-sided.
+fn sample_triangle_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> EmitterSample {
+    let i = light_table[l].object;
+    let tri = triangle_at(i);
+    let ls = sample_triangle_light(tri.p0, tri.p1, tri.p2, ctx.x, u);
+    var n_s = cross(tri.p1 - tri.p0, tri.p2 - tri.p0);
+    if (HAS_SHADING_NORMALS) {
+        n_s = triangle_shading_normal(i, tri, normalize(n_s), triangle_barycentrics(tri, ctx.x + ls.wi * ls.dist));
+    }
+    let emission = select(vec3f(0.0), materials[tri.material].emission, triangle_emits_along(tri, n_s, ls.wi));
+    return EmitterSample(ls.wi, ls.dist, ls.pdf, emission, INVALID);
+}
+
+// Solid-angle density with which sample_triangle_emitter gives wi from ctx.
+fn pdf_triangle_emitter(l: u32, ctx: LightSampleContext, wi: vec3f) -> f32 {
+    let tri = triangle_at(light_table[l].object);
+    return pdf_triangle_light(tri.p0, tri.p1, tri.p2, ctx.x, wi);
+}
+
+// Radiance a ray along ray_d receives from the triangle it hit: the emission on its emitting
+// side(s), else none.
+fn eval_triangle_emitter(hit: Hit, ray_d: vec3f) -> vec3f {
+    let tri = triangle_at(hit.object - first_triangle_object());
+    return select(vec3f(0.0), materials[hit.material].emission, triangle_emits_along(tri, hit.shading_normal, ray_d));
+}

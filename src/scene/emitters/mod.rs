@@ -1,0 +1,120 @@
+//! Emitters, one file per kind, as Mitsuba 3 lays out `src/emitters/`: an emissive sphere
+//! (`sphere.rs`), an emissive triangle of a mesh (`triangle.rs`) and the constant environment
+//! (`environment.rs`). A kind's Rust file lists its lights in a scene and gives their emitted
+//! power; its WGSL file, `shaders/emitters/<kind>.wgsl`, has `sample_<kind>_emitter`,
+//! `pdf_<kind>_emitter` and `eval_<kind>_emitter`, and is listed in
+//! `shaders::files::EMITTER_KINDS`.
+//!
+//! `EmitterKind` is the one list a new kind joins. From it come the kinds' numbers
+//! (`EMITTER_KIND_*` in WGSL), one `NUM_<KIND>_LIGHTS` override per kind and the kernel's
+//! dispatch on a light's kind (`shaders::emitter_dispatch`). The light table holds each kind's
+//! lights as one contiguous range, the kinds in this order; which light next event estimation
+//! samples is `selection.rs`'s. See the README's "Adding an emitter".
+
+mod environment;
+mod selection;
+mod sphere;
+mod triangle;
+
+pub use selection::{luminance, AliasTable};
+
+use super::Scene;
+use crate::names::named_enum;
+
+named_enum! {
+    /// The kind of an emitter (`Light::kind`).
+    pub enum EmitterKind("emitter kind") {
+        /// An emissive sphere: a diffuse area light, emitting outwards.
+        Sphere = "sphere",
+        /// An emissive mesh triangle: a diffuse area light, one- or two-sided.
+        Triangle = "triangle",
+        /// The constant environment (Mitsuba's `constant`): radiance from every direction at
+        /// infinity.
+        Environment = "environment",
+    }
+}
+
+impl EmitterKind {
+    /// The pipeline constant that counts the lights of this kind (`NUM_SPHERE_LIGHTS`).
+    pub fn count_override(self) -> &'static str {
+        match self {
+            EmitterKind::Sphere => "NUM_SPHERE_LIGHTS",
+            EmitterKind::Triangle => "NUM_TRIANGLE_LIGHTS",
+            EmitterKind::Environment => "NUM_ENVIRONMENT_LIGHTS",
+        }
+    }
+}
+
+/// One light: an emitter next event estimation can sample.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Light {
+    /// Index into `Scene::spheres`.
+    Sphere(usize),
+    /// Triangle `triangle` of `Scene::meshes[mesh]`.
+    Triangle { mesh: usize, triangle: usize },
+    /// The constant environment (`RenderSettings::environment`).
+    Environment,
+}
+
+impl Light {
+    /// Its kind.
+    pub fn kind(&self) -> EmitterKind {
+        match self {
+            Light::Sphere(_) => EmitterKind::Sphere,
+            Light::Triangle { .. } => EmitterKind::Triangle,
+            Light::Environment => EmitterKind::Environment,
+        }
+    }
+}
+
+impl Scene {
+    /// The lights of `kind`, in kernel order.
+    pub fn lights_of(&self, kind: EmitterKind) -> Vec<Light> {
+        match kind {
+            EmitterKind::Sphere => sphere::lights(self),
+            EmitterKind::Triangle => triangle::lights(self),
+            EmitterKind::Environment => environment::lights(self),
+        }
+    }
+
+    /// The area lights (the emissive spheres, then every emissive triangle), in kernel order:
+    /// what next event estimation samples unless the environment is sampled too. This order
+    /// fixes which sample dimensions each light uses when every light is sampled.
+    pub fn lights(&self) -> Vec<Light> {
+        [EmitterKind::Sphere, EmitterKind::Triangle].into_iter().flat_map(|k| self.lights_of(k)).collect()
+    }
+
+    /// The lights next event estimation samples, in kernel order (the light table): the area
+    /// lights, then the environment where `sample_environment` and it is not black.
+    pub fn sampled_lights(&self, sample_environment: bool) -> Vec<Light> {
+        let mut lights = self.lights();
+        if sample_environment {
+            lights.extend(self.lights_of(EmitterKind::Environment));
+        }
+        lights
+    }
+
+    /// How many lights `lights()` lists, counted without listing them.
+    pub fn num_lights(&self) -> usize {
+        self.light_spheres().len() + triangle::count(self)
+    }
+
+    /// Whether any mesh emits.
+    pub fn has_triangle_lights(&self) -> bool {
+        triangle::count(self) > 0
+    }
+
+    /// Whether the environment emits (it is then a light NEE may sample).
+    pub fn has_environment(&self) -> bool {
+        self.render.environment.max_element() > 0.0
+    }
+
+    /// Emitted power of a light, in luminance (the weight of power selection).
+    pub fn light_power(&self, light: Light) -> f64 {
+        match light {
+            Light::Sphere(i) => sphere::power(self, i),
+            Light::Triangle { mesh, triangle } => triangle::power(self, mesh, triangle),
+            Light::Environment => environment::power(self),
+        }
+    }
+}
