@@ -35,13 +35,11 @@ named_enum! {
 }
 
 impl EmitterKind {
-    /// The pipeline constant that counts the lights of this kind (`NUM_SPHERE_LIGHTS`).
+    /// The pipeline constant that counts the lights of this kind (`NUM_SPHERE_LIGHTS`), from
+    /// its name.
     pub fn count_override(self) -> &'static str {
-        match self {
-            EmitterKind::Sphere => "NUM_SPHERE_LIGHTS",
-            EmitterKind::Triangle => "NUM_TRIANGLE_LIGHTS",
-            EmitterKind::Environment => "NUM_ENVIRONMENT_LIGHTS",
-        }
+        static NAMES: std::sync::OnceLock<Vec<String>> = std::sync::OnceLock::new();
+        &NAMES.get_or_init(|| EmitterKind::ALL.iter().map(|k| format!("NUM_{}_LIGHTS", k.name().to_uppercase())).collect())[self as usize]
     }
 }
 
