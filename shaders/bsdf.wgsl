@@ -1,10 +1,12 @@
 // bsdf.wgsl — what every BSDF shares: the sampling strategies that do not depend on the
 // material (uniform sphere, hemisphere, cosine), the sample and evaluation records, and the one
 // place a sampled contribution becomes a path weight. Each kind of BSDF is one file of
-// shaders/bsdfs/ (phong.wgsl, conductor.wgsl, rough_conductor.wgsl) with its `eval_pdf_*`,
-// `sample_*` and the two entry points the dispatcher calls; the dispatcher `eval_pdf_bsdf`,
-// `sample_bsdf` and `bsdf_is_delta`, the kinds' numbers `BSDF_KIND_*` and one `HAS_<KIND>`
-// override per kind are generated from the registry (src/scene/bsdfs/mod.rs). n_s is the
+// shaders/bsdfs/ (phong.wgsl, conductor.wgsl, rough_conductor.wgsl, dielectric.wgsl) with its
+// `eval_pdf_*`, `sample_*` and the two entry points the dispatcher calls, for the kind's own
+// strategy only; the dispatcher by kind (`eval_pdf_bsdf_of_kind`, `sample_bsdf_of_kind`),
+// `bsdf_is_delta`, the kinds' numbers `BSDF_KIND_*` and one `HAS_<KIND>` override per kind are
+// generated from the registry (src/scene/bsdfs/mod.rs). The generic strategies are applied
+// once, over every kind, by `eval_pdf_bsdf` and `sample_bsdf` below. n_s is the
 // shading normal turned towards wo (which side a one-sided material shows is decided by the
 // integrator); a kind that only reflects gives directions on the other side f = 0, one that
 // transmits (`bsdf_may_transmit`) scatters into them too.
@@ -84,6 +86,29 @@ fn sample_generic_strategy(n_s: vec3f, u_dir: vec2f) -> vec3f {
         }
     }
     return frame_to_world(frame_from_normal(n_s), local);
+}
+
+// f(wi, wo) and the density at wi of the pipeline's strategy: a generic one's, for every kind
+// that is not a delta (a delta lobe is found by its own sampling alone, whatever the strategy),
+// else the kind's own.
+fn eval_pdf_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, wi: vec3f) -> BsdfEval {
+    var e = eval_pdf_bsdf_of_kind(b, n_s, wo, wi);
+    let generic = pdf_generic_strategy(dot(wi, n_s));
+    if (generic >= 0.0 && !bsdf_is_delta(b)) {
+        e.pdf = generic;
+    }
+    return e;
+}
+
+// wi drawn by the pipeline's strategy: a generic one's direction, weighted by path_weight with
+// the kind's f, for every kind that is not a delta; else the kind's own sampling.
+fn sample_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> BsdfSample {
+    if (pdf_generic_strategy(1.0) >= 0.0 && !bsdf_is_delta(b)) {
+        let wi = sample_generic_strategy(n_s, u_dir);
+        let e = eval_pdf_bsdf(b, n_s, wo, wi);
+        return BsdfSample(wi, e.pdf, path_weight(e.f, dot(wi, n_s), e.pdf), false, 1.0);
+    }
+    return sample_bsdf_of_kind(b, n_s, wo, u_dir, u_lobe);
 }
 
 // A material's BSDF at a surface point: its kind (a BSDF_KIND_*), its parameter block, three

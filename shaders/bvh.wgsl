@@ -36,6 +36,13 @@ struct TriangleNormals {
     _pad2: u32,
 }
 
+// Texture coordinates at the three vertices.
+struct TriangleUvs {
+    uv0: vec2f,
+    uv1: vec2f,
+    uv2: vec2f,
+}
+
 struct BvhNode {
     lo: vec3f,
     // Interior (count 0): index of the first child; leaf: first triangle.
@@ -46,6 +53,7 @@ struct BvhNode {
 
 @group(0) @binding(BINDING_TRIANGLES) var<storage, read> triangles: array<Triangle>;
 @group(0) @binding(BINDING_TRIANGLE_NORMALS) var<storage, read> triangle_normals: array<TriangleNormals>;
+@group(0) @binding(BINDING_TRIANGLE_UVS) var<storage, read> triangle_uvs: array<TriangleUvs>;
 @group(0) @binding(BINDING_BVH_NODES) var<storage, read> bvh_nodes: array<BvhNode>;
 // Scenes of at most BRUTE_FORCE_TRIANGLES triangles (generated from src/accel/mod.rs) also
 // have them in a uniform buffer, and test every one in turn at lane-uniform indices instead of
@@ -71,6 +79,17 @@ fn triangle_shading_normal(i: u32, tri: Triangle, n: vec3f, bary: vec2f) -> vec3
         return select(n, normalize(interpolated), dot(interpolated, interpolated) > 0.0);
     }
     return n;
+}
+
+// The uv parametrisation of triangle i at barycentrics `bary` (of p1 and p2), as Mitsuba's
+// meshes have it: its vertices' texture coordinates interpolated where it has them, else the
+// barycentrics themselves.
+fn triangle_uv(i: u32, tri: Triangle, bary: vec2f) -> vec2f {
+    if ((tri.flags & TRIANGLE_HAS_UVS) != 0u) {
+        let t = triangle_uvs[i];
+        return (1.0 - bary.x - bary.y) * t.uv0 + bary.x * t.uv1 + bary.y * t.uv2;
+    }
+    return bary;
 }
 
 // Barycentrics (of p1 and p2) of a point p in the triangle's plane: the solution of

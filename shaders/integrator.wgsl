@@ -264,7 +264,7 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
             from_inside = dot(hit.shading_normal, wo) < 0.0;
             n_s = select(hit.shading_normal, -hit.shading_normal, from_inside);
         }
-        var m = material_bsdf(hit.material);
+        var m = material_bsdf(hit.material, hit.uv);
         m.inside = from_inside;
         let dim_base = DIM_FIRST_VERTEX + (depth - 1u) * dims_per_vertex();
         // A one-sided BSDF seen from behind (the side its surface normal points away from)
@@ -309,7 +309,7 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
         }
         ray_d = bs.wi;
         // A sample that cannot scatter (below the surface) ends the path untraced.
-        hit = Hit(0.0, vec3f(0.0, 0.0, 1.0), 0u, INVALID, vec3f(0.0, 0.0, 1.0));
+        hit = Hit(0.0, vec3f(0.0, 0.0, 1.0), 0u, INVALID, vec3f(0.0, 0.0, 1.0), vec2f(0.0));
         if (scattered) {
             hit = intersect_scene(ray_o, ray_d);
         }

@@ -12,6 +12,9 @@ struct Hit {
     object: u32,
     // The interpolated vertex normal of a triangle with normals, else the geometric normal.
     shading_normal: vec3f,
+    // The uv parametrisation at the hit (sphere_uv, plane_uv, triangle_uv), where HAS_UVS;
+    // else 0.
+    uv: vec2f,
 }
 
 // The first object index of the triangles.
@@ -45,6 +48,23 @@ fn intersect_sphere(o: vec3f, d: vec3f, center: vec3f, radius: f32, t_min: f32, 
 fn intersect_plane(o: vec3f, d: vec3f, normal: vec3f, offset: f32, t_min: f32, t_max: f32) -> f32 {
     let t = (offset - dot(normal, o)) / dot(normal, d);
     return select(-1.0, t, (t > t_min) & (t < t_max));
+}
+
+// Mitsuba's uv parametrisation of sphere i at the point whose outward unit normal is n: the
+// spherical angles of n in the sphere's object axes, u = phi / (2 pi) in [0, 1), v = theta / pi.
+fn sphere_uv(i: u32, n: vec3f) -> vec2f {
+    let a = sphere_axes[i];
+    let l = vec3f(dot(n, a.x), dot(n, a.y), dot(n, a.z));
+    var phi = atan2(l.y, l.x);
+    phi = select(phi, phi + 2.0 * PI, phi < 0.0);
+    return vec2f(phi * INV_2PI, acos(clamp(l.z, -1.0, 1.0)) * INV_PI);
+}
+
+// The uv parametrisation of a plane (pathlab's own shape: Mitsuba has no infinite plane): the
+// world coordinates of the point along the plane's tangent frame (frame_from_normal).
+fn plane_uv(normal: vec3f, x: vec3f) -> vec2f {
+    let f = frame_from_normal(normal);
+    return vec2f(dot(x, f.t), dot(x, f.b));
 }
 
 // Closest hit along (o, d). The candidate's normal data and material are carried along by
@@ -81,13 +101,22 @@ fn intersect_scene(o: vec3f, d: vec3f) -> Hit {
     }
     let sphere_normal = (o + d * t_hit - center) / radius;
     let normal = select(plane_normal, sphere_normal, object < NUM_SPHERES);
-    var hit = Hit(t_hit, normal, material, object, normal);
+    var uv = vec2f(0.0);
+    if (HAS_UVS && object != INVALID) {
+        uv = select(plane_uv(plane_normal, o + d * t_hit), sphere_uv(object, sphere_normal), object < NUM_SPHERES);
+    }
+    var hit = Hit(t_hit, normal, material, object, normal, uv);
     if (NUM_TRIANGLES > 0u) {
         let th = triangles_closest(o, d, t_hit, false);
         if (th.index != INVALID) {
             let tri = triangle_at(th.index);
             let n = normalize(cross(tri.p1 - tri.p0, tri.p2 - tri.p0));
-            hit = Hit(th.t, n, tri.material, first_triangle_object() + th.index, triangle_shading_normal(th.index, tri, n, th.bary));
+            let shading_normal = triangle_shading_normal(th.index, tri, n, th.bary);
+            var tri_uv = vec2f(0.0);
+            if (HAS_UVS) {
+                tri_uv = triangle_uv(th.index, tri, th.bary);
+            }
+            hit = Hit(th.t, n, tri.material, first_triangle_object() + th.index, shading_normal, tri_uv);
         }
     }
     return hit;

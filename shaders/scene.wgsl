@@ -15,6 +15,9 @@ override HAS_ENVIRONMENT: bool = true;
 // False when no path vertex can be inside a light sphere (the camera is outside every light and
 // no other object reaches into one): sampling lights from inside compiles out.
 override LIGHT_INTERIORS_REACHABLE: bool = true;
+// True when some material reads the hit's uv parametrisation (a texture): only then is it
+// computed (Hit.uv is 0 otherwise).
+override HAS_UVS: bool = false;
 
 struct Sphere {
     center: vec3f,
@@ -23,6 +26,13 @@ struct Sphere {
     _pad0: u32,
     _pad1: u32,
     _pad2: u32,
+}
+
+// A sphere's object axes in world space: they place its uv parametrisation (sphere_uv).
+struct SphereAxes {
+    x: vec3f,
+    y: vec3f,
+    z: vec3f,
 }
 
 // Points x with dot(normal, x) = offset.
@@ -87,12 +97,15 @@ struct FrameParams {
 @group(0) @binding(BINDING_SPHERES) var<uniform> spheres: array<Sphere, MAX_SPHERES>;
 @group(0) @binding(BINDING_PLANES) var<uniform> planes: array<Plane, MAX_PLANES>;
 @group(0) @binding(BINDING_MATERIALS) var<uniform> materials: array<Material, MAX_MATERIALS>;
+// Read only for uvs, at the hit sphere: a storage buffer.
+@group(0) @binding(BINDING_SPHERE_AXES) var<storage, read> sphere_axes: array<SphereAxes>;
 
-// The BSDF of material i. Its kind and third slot are read only where the pipeline has other
+// The BSDF of material i at a point of uv parametrisation `uv` (where a parameter slot holds a
+// texture, it is looked up there; no kind has textures yet). Its kind and third slot are read only where the pipeline has other
 // kinds than Phong (whose two slots are the rest): a dynamically indexed uniform read costs per
 // byte on SIMD CPU drivers (reading the whole 80-byte Material cost the study scene a quarter of
 // its speed).
-fn material_bsdf(i: u32) -> Bsdf {
+fn material_bsdf(i: u32, uv: vec2f) -> Bsdf {
     var b = Bsdf(BSDF_KIND_PHONG, materials[i].p0, materials[i].p1, vec4f(0.0), false);
     if (bsdf_kinds_vary()) {
         b.kind = materials[i].kind;

@@ -11,6 +11,7 @@ use naga::proc::Layouter;
 use pathlab::film::AccumPixel;
 use pathlab::accel::BvhNode;
 use pathlab::gpu::{pipeline_constants, FrameParams, GpuLight, GpuMaterial, GpuPlane, GpuSphere, GpuTriangle, GpuTriangleNormals, PipelineKey};
+use pathlab::gpu::{GpuSphereAxes, GpuTriangleUvs};
 use pathlab::method::{BsdfSampling, LightSampling, LightSelect, Preset, Sampler, TriangleSampling};
 use pathlab::names::Named;
 use pathlab::gpu::SceneFeatures;
@@ -55,6 +56,8 @@ fn shared_structs_match_the_wgsl() {
     check_struct(&pt, "Material", size_of::<GpuMaterial>(), fields!(GpuMaterial: emission, flags, p0, p1, p2, kind));
     check_struct(&pt, "Triangle", size_of::<GpuTriangle>(), fields!(GpuTriangle: p0, material, p1, light, p2, flags));
     check_struct(&pt, "TriangleNormals", size_of::<GpuTriangleNormals>(), fields!(GpuTriangleNormals: n0, n1, n2));
+    check_struct(&pt, "TriangleUvs", size_of::<GpuTriangleUvs>(), fields!(GpuTriangleUvs: uv0, uv1, uv2));
+    check_struct(&pt, "SphereAxes", size_of::<GpuSphereAxes>(), fields!(GpuSphereAxes: x, y, z));
     check_struct(&pt, "BvhNode", size_of::<BvhNode>(), fields!(BvhNode: lo, first, hi, count));
     check_struct(&pt, "LightEntry", size_of::<GpuLight>(), fields!(GpuLight: object, power_prob, alias_index, threshold, kind));
     let display = module(&shaders::display_source());
@@ -83,6 +86,7 @@ fn overrides_set_by_the_host_are_those_the_module_declares() {
         num_environment_lights: 1,
         num_triangles: 4,
         has_shading_normals: true,
+        has_uvs: true,
         rr_depth: 3,
         num_occluding_planes: 1,
         has_specular: true,
@@ -128,6 +132,8 @@ fn generated_values_and_bindings_are_the_rust_ones() {
         ("bvh_nodes", bindings::BVH_NODES),
         ("light_table", bindings::LIGHTS),
         ("small_triangles", bindings::SMALL_TRIANGLES),
+        ("triangle_uvs", bindings::TRIANGLE_UVS),
+        ("sphere_axes", bindings::SPHERE_AXES),
     ] {
         assert_eq!(by_name(&pt, var), Some(b.number), "{var}");
     }

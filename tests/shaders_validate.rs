@@ -40,6 +40,7 @@ fn every_override_permutation_validates() {
                                     num_environment_lights: on as u32,
                                     num_triangles,
                                     has_shading_normals,
+                                    has_uvs: on,
                                     rr_depth: if on { 2 } else { 0 },
                                     num_occluding_planes: if on { num_planes } else { 0 },
                                     has_specular: on,

@@ -40,6 +40,7 @@ mod shaders_validate;
 mod shard_merge;
 mod study_reproduction;
 mod unbiased_study;
+mod uv_parametrisation;
 mod veach_mis;
 #[cfg(feature = "viewer")]
 mod viewer;

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use numpy::PyReadonlyArray3;
 use pyo3::prelude::*;
 
-use crate::metrics::film_of;
+use crate::image_metrics::film_of;
 use crate::render::film_arrays;
 use crate::render_error;
 

@@ -14,7 +14,7 @@
 
 mod device;
 mod files;
-mod metrics;
+mod image_metrics;
 mod render;
 mod scene;
 mod study;
@@ -79,9 +79,9 @@ fn _pathlab(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(render::render, m)?)?;
     m.add_function(wrap_pyfunction!(files::write_exr, m)?)?;
     m.add_function(wrap_pyfunction!(files::read_exr, m)?)?;
-    m.add_function(wrap_pyfunction!(metrics::metric, m)?)?;
-    m.add_function(wrap_pyfunction!(metrics::compare_json, m)?)?;
-    m.add_function(wrap_pyfunction!(metrics::to_display, m)?)?;
+    m.add_function(wrap_pyfunction!(image_metrics::metric, m)?)?;
+    m.add_function(wrap_pyfunction!(image_metrics::compare_json, m)?)?;
+    m.add_function(wrap_pyfunction!(image_metrics::to_display, m)?)?;
     m.add_function(wrap_pyfunction!(study::study_json, m)?)?;
     m.add_function(wrap_pyfunction!(study::advise_json, m)?)?;
     m.add_function(wrap_pyfunction!(device::adapters_json, m)?)?;

@@ -14,7 +14,7 @@ use pathlab::progress::Reporter as _;
 use pathlab::study::{StudyOptions, StudyOutcome};
 
 use crate::device::device;
-use crate::metrics::transform_of;
+use crate::image_metrics::transform_of;
 use crate::render_error;
 use crate::scene::{rr_depth_of, type_name, PyScene};
 use crate::watch::Watch;

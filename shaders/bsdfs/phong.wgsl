@@ -2,7 +2,7 @@
 //
 //   f(wi, wo) = kd / pi + ks (n + 2) / (2 pi) max(0, dot(wi, r))^n,   r = mirror of wo about n_s,
 //
-// with its own strategy, a one-sample mixture of the cosine and Phong lobes (BSDF_PHONG), and
+// with its own strategies, a one-sample mixture of the cosine and Phong lobes (BSDF_PHONG), and
 // the biased demonstration BSDF_PHONG_LOBE_ONLY (the study's darker specular): it samples only
 // the Phong lobe while the full BRDF (diffuse + specular) is evaluated, so directions outside
 // the lobe are never taken.
@@ -35,17 +35,9 @@ fn eval_pdf_phong(m: Phong, n_s: vec3f, wo: vec3f, wi: vec3f) -> BsdfEval {
     }
     f = select(vec3f(0.0), f, cos_i > 0.0 && dot(wo, n_s) > 0.0);
 
+    // The density of its own strategy (the generic ones are the dispatcher's, bsdf.wgsl).
     var pdf: f32;
     switch (BSDF_SAMPLING) {
-        case BSDF_UNIFORM_SPHERE: {
-            pdf = pdf_uniform_sphere();
-        }
-        case BSDF_UNIFORM_HEMISPHERE: {
-            pdf = pdf_uniform_hemisphere(cos_i);
-        }
-        case BSDF_COSINE: {
-            pdf = pdf_cosine_hemisphere(cos_i);
-        }
         case BSDF_PHONG_LOBE_ONLY: {
             // Solid-angle pdf of the Phong lobe: (n + 1) / (2 pi) cos^n(alpha).
             pdf = (m.n + 1.0) * INV_2PI * lobe;
@@ -77,20 +69,12 @@ fn sample_phong_mixture_direction(m: Phong, n_s: vec3f, wo: vec3f, u_dir: vec2f,
     return frame_to_world(frame_from_normal(axis), square_to_phong_lobe(u_dir, exponent));
 }
 
-// Samples wi with the pipeline's strategy. Samples below the surface keep their pdf and get
-// weight 0: they count in the estimator but contribute nothing.
+// Samples wi with its own strategy, the mixture or (for the demonstration) the lobe alone.
+// Samples below the surface keep their pdf and get weight 0: they count in the estimator but
+// contribute nothing.
 fn sample_phong(m: Phong, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> BsdfSample {
     var wi: vec3f;
     switch (BSDF_SAMPLING) {
-        case BSDF_UNIFORM_SPHERE: {
-            wi = frame_to_world(frame_from_normal(n_s), square_to_uniform_sphere(u_dir));
-        }
-        case BSDF_UNIFORM_HEMISPHERE: {
-            wi = frame_to_world(frame_from_normal(n_s), square_to_uniform_hemisphere(u_dir));
-        }
-        case BSDF_COSINE: {
-            wi = frame_to_world(frame_from_normal(n_s), square_to_cosine_hemisphere(u_dir));
-        }
         case BSDF_PHONG_LOBE_ONLY: {
             wi = frame_to_world(frame_from_normal(reflect_about(wo, n_s)), square_to_phong_lobe(u_dir, m.n));
         }

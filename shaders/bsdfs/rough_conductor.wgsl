@@ -24,26 +24,19 @@ fn eval_pdf_rough_conductor_local(c: Conductor, wo: vec3f, wi: vec3f) -> Conduct
     let g = smith_g(wo, wi, h, c.alpha, c.distribution);
     let f = fresnel_conductor(dot(wo, h), c.eta, c.k) * c.reflectance;
     let value = select(vec3f(0.0), f * (d * g / (4.0 * wo.z)), above && d != 0.0);
-    var pdf = pdf_generic_strategy(wi.z);
-    if (pdf < 0.0) {
-        pdf = select(0.0, pdf_microfacet(wo, h, c.alpha, c.distribution) / (4.0 * dot(wi, h)),
+    let pdf = select(0.0, pdf_microfacet(wo, h, c.alpha, c.distribution) / (4.0 * dot(wi, h)),
                      above && dot(wo, h) > 0.0 && dot(wi, h) > 0.0);
-    }
     return ConductorEval(value, pdf);
 }
 
-// A direction reflected about a microfacet normal drawn by the pipeline's microfacet strategy
-// (for the material strategies `phong` and `phong-lobe-only`), or by a generic strategy.
+// A direction reflected about a microfacet normal drawn by the pipeline's microfacet strategy:
+// its own strategy (the material strategies `phong` and `phong-lobe-only`; the generic ones
+// are the dispatcher's, bsdf.wgsl).
 fn sample_rough_conductor(c: Conductor, n_s: vec3f, wo: vec3f, u_dir: vec2f) -> BsdfSample {
     let frame = frame_from_normal(n_s);
     let wo_l = frame_to_local(frame, wo);
-    var wi_l: vec3f;
-    if (pdf_generic_strategy(1.0) < 0.0) {
-        let m = sample_microfacet(wo_l, u_dir, c.alpha, c.distribution).m;
-        wi_l = 2.0 * dot(wo_l, m) * m - wo_l;
-    } else {
-        wi_l = frame_to_local(frame, sample_generic_strategy(n_s, u_dir));
-    }
+    let m = sample_microfacet(wo_l, u_dir, c.alpha, c.distribution).m;
+    let wi_l = 2.0 * dot(wo_l, m) * m - wo_l;
     let e = eval_pdf_rough_conductor_local(c, wo_l, wi_l);
     // path_weight's f |cos| / pdf, with f |cos| already formed.
     return BsdfSample(frame_to_world(frame, wi_l), e.pdf, path_weight(e.f_cos, 1.0, e.pdf), false, 1.0);

@@ -19,6 +19,9 @@ pub struct SceneFeatures {
     pub num_triangles: u32,
     /// Some mesh has vertex normals (interpolated as shading normals).
     pub has_shading_normals: bool,
+    /// Some material reads the hit's uv parametrisation (`BsdfPlugin::reads_uv`): only then
+    /// does the kernel compute it.
+    pub has_uvs: bool,
     /// Russian roulette from this vertex on; 0: none.
     pub rr_depth: u32,
     /// Planes that shadow rays must test (the first ones in kernel order).
@@ -57,6 +60,7 @@ impl SceneFeatures {
             num_environment_lights: scene.lights_of(EmitterKind::Environment).len() as u32,
             num_triangles: scene.num_triangles() as u32,
             has_shading_normals: scene.meshes.iter().any(|m| !m.normals.is_empty()),
+            has_uvs: scene.materials.iter().any(|m| m.bsdf.reads_uv()),
             rr_depth: scene.render.rr_depth.unwrap_or(0),
             has_specular: scene.materials.iter().any(|m| m.bsdf.as_phong().is_some_and(|p| p.specular.max_element() > 0.0)),
             bsdf_kinds: scene.materials.iter().fold(0, |kinds, m| kinds | m.bsdf_kind().bit()),

@@ -16,4 +16,7 @@ pub use features::SceneFeatures;
 pub use kernel::KernelRun;
 pub use pipeline::{loop_iterations_per_sample, pipeline_constants, LoopBound, PathTracerPipelines, PipelineKey, PipelineStats, NO_TRAVERSAL_GUARD};
 pub use frame_params::FrameParams;
-pub use scene_buffers::{max_triangles, GpuLight, GpuMaterial, GpuPlane, GpuSphere, GpuTriangle, GpuTriangleNormals, PackedTriangles, SceneBuffers};
+pub use scene_buffers::{
+    max_triangles, GpuLight, GpuMaterial, GpuPlane, GpuSphere, GpuSphereAxes, GpuTriangle, GpuTriangleNormals, GpuTriangleUvs, PackedTriangles,
+    SceneBufferContents, SceneBuffers,
+};

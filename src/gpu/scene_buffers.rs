@@ -13,7 +13,8 @@ use wgpu::util::DeviceExt;
 
 use crate::accel::{Bvh, BvhNode};
 use crate::scene::{AliasTable, Light, Scene, MAX_MATERIALS, MAX_PLANES, MAX_SPHERES};
-use crate::shaders::flags::{MATERIAL_EMISSIVE, MATERIAL_ONE_SIDED, TRIANGLE_HAS_NORMALS, TRIANGLE_TWO_SIDED};
+use crate::shaders::bindings::{self, Binding};
+use crate::shaders::flags::{MATERIAL_EMISSIVE, MATERIAL_ONE_SIDED, TRIANGLE_HAS_NORMALS, TRIANGLE_HAS_UVS, TRIANGLE_TWO_SIDED};
 
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
@@ -73,6 +74,28 @@ pub struct GpuTriangleNormals {
     pub _pad2: u32,
 }
 
+/// A triangle's texture coordinates at its three vertices (`TriangleUvs`, bvh.wgsl).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct GpuTriangleUvs {
+    pub uv0: [f32; 2],
+    pub uv1: [f32; 2],
+    pub uv2: [f32; 2],
+}
+
+/// A sphere's object axes in world space (`SphereAxes`, intersect.wgsl), which place its uv
+/// parametrisation (`Sphere::uv`).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct GpuSphereAxes {
+    pub x: [f32; 3],
+    pub _pad0: u32,
+    pub y: [f32; 3],
+    pub _pad1: u32,
+    pub z: [f32; 3],
+    pub _pad2: u32,
+}
+
 /// One entry of the light table (`LightEntry`, light_table.wgsl).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
@@ -98,15 +121,18 @@ pub struct PackedTriangles {
     pub triangles: Vec<GpuTriangle>,
     /// One per triangle where some mesh has normals, else empty.
     pub normals: Vec<GpuTriangleNormals>,
+    /// One per triangle where some mesh has texture coordinates, else empty.
+    pub uvs: Vec<GpuTriangleUvs>,
     pub bvh: Bvh,
     pub lights: Vec<GpuLight>,
 }
 
 impl PackedTriangles {
-    /// Bytes of the four storage buffers.
+    /// Bytes of the five storage buffers.
     pub fn gpu_bytes(&self) -> usize {
         std::mem::size_of_val(&self.triangles[..])
             + std::mem::size_of_val(&self.normals[..])
+            + std::mem::size_of_val(&self.uvs[..])
             + std::mem::size_of_val(&self.bvh.nodes[..])
             + std::mem::size_of_val(&self.lights[..])
     }
@@ -130,20 +156,30 @@ impl PackedTriangles {
             refs.iter().map(|&(m, t)| scene.meshes[m].vertices(t).map(|v| v.as_vec3())).collect();
         let bvh = if geometry.is_empty() { Bvh { nodes: vec![BvhNode::zeroed()], order: Vec::new(), depth: 0 } } else { Bvh::build(&geometry) };
         let any_normals = scene.meshes.iter().any(|m| !m.normals.is_empty());
+        let any_uvs = scene.meshes.iter().any(|m| !m.uvs.is_empty());
         let mut gpu_index = vec![0u32; refs.len()];
         let mut triangles = Vec::with_capacity(refs.len());
         let mut normals = Vec::new();
+        let mut uvs = Vec::new();
         for (k, &i) in bvh.order.iter().enumerate() {
             let (m, t) = refs[i as usize];
             gpu_index[i as usize] = k as u32;
             let mesh = &scene.meshes[m];
             let [p0, p1, p2] = mesh.vertices(t).map(f3);
             let has_normals = !mesh.normals.is_empty();
-            let flags = if mesh.two_sided_emission { TRIANGLE_TWO_SIDED } else { 0 } | if has_normals { TRIANGLE_HAS_NORMALS } else { 0 };
+            let has_uvs = !mesh.uvs.is_empty();
+            let flags = if mesh.two_sided_emission { TRIANGLE_TWO_SIDED } else { 0 }
+                | if has_normals { TRIANGLE_HAS_NORMALS } else { 0 }
+                | if has_uvs { TRIANGLE_HAS_UVS } else { 0 };
             triangles.push(GpuTriangle { p0, material: mesh.material as u32, p1, light: light_of[i as usize], p2, flags });
             if any_normals {
                 let [n0, n1, n2] = if has_normals { mesh.triangles[t].map(|v| f3(mesh.normals[v as usize])) } else { [[0.0; 3]; 3] };
                 normals.push(GpuTriangleNormals { n0, _pad0: 0, n1, _pad1: 0, n2, _pad2: 0 });
+            }
+            if any_uvs {
+                let [uv0, uv1, uv2] =
+                    if has_uvs { mesh.triangles[t].map(|v| mesh.uvs[v as usize].map(|c| c as f32)) } else { [[0.0; 2]; 3] };
+                uvs.push(GpuTriangleUvs { uv0, uv1, uv2 });
             }
         }
         // The light table, each kind's lights one range in `EmitterKind` order: sphere light l
@@ -166,7 +202,7 @@ impl PackedTriangles {
                 kind: light.kind().constant(),
             })
             .collect();
-        PackedTriangles { triangles, normals, bvh, lights }
+        PackedTriangles { triangles, normals, uvs, bvh, lights }
     }
 }
 
@@ -174,59 +210,83 @@ pub(crate) fn f3(v: DVec3) -> [f32; 3] {
     v.as_vec3().to_array()
 }
 
-/// The scene's uniform buffers, each allocated at its full capacity (the WGSL arrays are
-/// fixed-size); the kernel reads only the first elements, as many as its pipeline constants say.
+/// The bytes of one scene buffer, as it is uploaded, and the binding it goes to.
+pub struct SceneBufferContents {
+    pub binding: Binding,
+    pub label: &'static str,
+    pub bytes: Vec<u8>,
+}
+
+/// The scene's buffers on the device, each at its binding (`shaders::bindings`).
 pub struct SceneBuffers {
-    pub spheres: wgpu::Buffer,
-    pub planes: wgpu::Buffer,
-    pub materials: wgpu::Buffer,
-    /// Storage buffers of the triangles, their normals, the BVH and the light table (one
-    /// zero element where the scene has none: bindings cannot be empty).
-    pub triangles: wgpu::Buffer,
-    pub triangle_normals: wgpu::Buffer,
-    pub bvh_nodes: wgpu::Buffer,
-    pub lights: wgpu::Buffer,
-    /// The first `BRUTE_FORCE_TRIANGLES` triangles (all of a small scene), as a uniform buffer.
-    pub small_triangles: wgpu::Buffer,
+    pub buffers: Vec<(Binding, wgpu::Buffer)>,
 }
 
 impl SceneBuffers {
-    /// The bind-group entries of every scene buffer, each at its binding (`shaders::bindings`):
-    /// a new buffer of the scene is listed here and nowhere else.
+    /// The bind-group entries of every scene buffer.
     pub fn entries(&self) -> Vec<wgpu::BindGroupEntry<'_>> {
-        use crate::shaders::bindings::{self, entry};
+        self.buffers.iter().map(|(binding, buffer)| bindings::entry(*binding, buffer)).collect()
+    }
+
+    /// Every buffer of the scene, its bytes and its binding: a new buffer of the scene is
+    /// listed here and nowhere else. Spheres, planes, materials and the small scene's triangles
+    /// are uniform arrays at their full capacity (the WGSL arrays are fixed-size; the kernel
+    /// reads only the first elements, as many as its pipeline constants say); the storage
+    /// buffers (triangles, their normals and uvs, the BVH, the light table, the spheres' axes)
+    /// hold one zero element where the scene has none, as bindings cannot be empty.
+    pub fn contents(scene: &Scene, packed: &PackedTriangles) -> Vec<SceneBufferContents> {
+        let small = packed.triangles.len().min(crate::accel::BRUTE_FORCE_TRIANGLES as usize);
+        let contents = |binding: Binding, label: &'static str, bytes: Vec<u8>| SceneBufferContents { binding, label, bytes };
         vec![
-            entry(bindings::SPHERES, &self.spheres),
-            entry(bindings::PLANES, &self.planes),
-            entry(bindings::MATERIALS, &self.materials),
-            entry(bindings::TRIANGLES, &self.triangles),
-            entry(bindings::TRIANGLE_NORMALS, &self.triangle_normals),
-            entry(bindings::BVH_NODES, &self.bvh_nodes),
-            entry(bindings::LIGHTS, &self.lights),
-            entry(bindings::SMALL_TRIANGLES, &self.small_triangles),
+            contents(bindings::SPHERES, "spheres", uniform_array(&Self::pack_spheres(scene), MAX_SPHERES)),
+            contents(bindings::PLANES, "planes", uniform_array(&Self::pack_planes(scene), MAX_PLANES)),
+            contents(bindings::MATERIALS, "materials", uniform_array(&Self::pack_materials(scene), MAX_MATERIALS)),
+            contents(bindings::TRIANGLES, "triangles", storage_array(&packed.triangles)),
+            contents(bindings::TRIANGLE_NORMALS, "triangle normals", storage_array(&packed.normals)),
+            contents(bindings::TRIANGLE_UVS, "triangle uvs", storage_array(&packed.uvs)),
+            contents(bindings::BVH_NODES, "bvh nodes", storage_array(&packed.bvh.nodes)),
+            contents(bindings::LIGHTS, "lights", storage_array(&packed.lights)),
+            contents(bindings::SPHERE_AXES, "sphere axes", storage_array(&Self::pack_sphere_axes(scene))),
+            contents(
+                bindings::SMALL_TRIANGLES,
+                "small triangles",
+                uniform_array(&packed.triangles[..small], crate::accel::BRUTE_FORCE_TRIANGLES as usize),
+            ),
         ]
+    }
+
+    /// Uploads `contents`.
+    pub fn new(device: &wgpu::Device, scene: &Scene, packed: &PackedTriangles) -> SceneBuffers {
+        let buffers = Self::contents(scene, packed)
+            .into_iter()
+            .map(|c| {
+                let usage = match c.binding.kind {
+                    bindings::Kind::Uniform => wgpu::BufferUsages::UNIFORM,
+                    bindings::Kind::Storage { .. } => wgpu::BufferUsages::STORAGE,
+                };
+                let descriptor = wgpu::util::BufferInitDescriptor { label: Some(c.label), contents: &c.bytes, usage };
+                (c.binding, device.create_buffer_init(&descriptor))
+            })
+            .collect();
+        SceneBuffers { buffers }
     }
 }
 
-/// A read-only storage buffer holding `items` (at least one zeroed element).
-fn storage_array<T: Pod + Zeroable>(device: &wgpu::Device, label: &str, items: &[T]) -> wgpu::Buffer {
+/// The bytes of a read-only storage buffer holding `items` (at least one zeroed element).
+fn storage_array<T: Pod + Zeroable>(items: &[T]) -> Vec<u8> {
     let mut bytes = bytemuck::cast_slice::<T, u8>(items).to_vec();
     if bytes.is_empty() {
         bytes.resize(std::mem::size_of::<T>(), 0);
     }
-    device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents: &bytes, usage: wgpu::BufferUsages::STORAGE })
+    bytes
 }
 
-/// A uniform buffer of `capacity` elements of `T`, starting with `items`, zero after them.
-/// Callers (validation) guarantee `items.len() <= capacity`.
-fn uniform_array<T: Pod>(device: &wgpu::Device, label: &str, items: &[T], capacity: usize) -> wgpu::Buffer {
+/// The bytes of a uniform buffer of `capacity` elements of `T`, starting with `items`, zero
+/// after them. Callers (validation) guarantee `items.len() <= capacity`.
+fn uniform_array<T: Pod>(items: &[T], capacity: usize) -> Vec<u8> {
     let mut bytes = bytemuck::cast_slice::<T, u8>(items).to_vec();
     bytes.resize(capacity.max(items.len()) * std::mem::size_of::<T>(), 0);
-    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some(label),
-        contents: &bytes,
-        usage: wgpu::BufferUsages::UNIFORM,
-    })
+    bytes
 }
 
 impl SceneBuffers {
@@ -260,6 +320,17 @@ impl SceneBuffers {
             .collect()
     }
 
+    /// The spheres' object axes, in kernel order.
+    pub fn pack_sphere_axes(scene: &Scene) -> Vec<GpuSphereAxes> {
+        super::features::sphere_order(scene)
+            .into_iter()
+            .map(|i| {
+                let [x, y, z] = scene.spheres[i].axes.map(f3);
+                GpuSphereAxes { x, _pad0: 0, y, _pad1: 0, z, _pad2: 0 }
+            })
+            .collect()
+    }
+
     /// The planes in kernel order (`features::plane_order`): those that can occlude a light first.
     pub fn pack_planes(scene: &Scene) -> Vec<GpuPlane> {
         super::features::plane_order(scene)
@@ -275,22 +346,6 @@ impl SceneBuffers {
             })
             .collect()
     }
-
-    pub fn new(device: &wgpu::Device, scene: &Scene, packed: &PackedTriangles) -> SceneBuffers {
-        SceneBuffers {
-            spheres: uniform_array(device, "spheres", &Self::pack_spheres(scene), MAX_SPHERES),
-            planes: uniform_array(device, "planes", &Self::pack_planes(scene), MAX_PLANES),
-            materials: uniform_array(device, "materials", &Self::pack_materials(scene), MAX_MATERIALS),
-            triangles: storage_array(device, "triangles", &packed.triangles),
-            triangle_normals: storage_array(device, "triangle normals", &packed.normals),
-            bvh_nodes: storage_array(device, "bvh nodes", &packed.bvh.nodes),
-            lights: storage_array(device, "lights", &packed.lights),
-            small_triangles: {
-                let n = packed.triangles.len().min(crate::accel::BRUTE_FORCE_TRIANGLES as usize);
-                uniform_array(device, "small triangles", &packed.triangles[..n], crate::accel::BRUTE_FORCE_TRIANGLES as usize)
-            },
-        }
-    }
 }
 
 #[cfg(test)]
@@ -304,6 +359,8 @@ mod tests {
         assert_eq!(std::mem::size_of::<GpuMaterial>(), 80);
         assert_eq!(std::mem::size_of::<GpuTriangle>(), 48);
         assert_eq!(std::mem::size_of::<GpuTriangleNormals>(), 48);
+        assert_eq!(std::mem::size_of::<GpuTriangleUvs>(), 24);
+        assert_eq!(std::mem::size_of::<GpuSphereAxes>(), 48);
         assert_eq!(std::mem::size_of::<GpuLight>(), 20);
     }
 

@@ -98,6 +98,11 @@ pub fn canonical_encoding(scene: &Scene) -> String {
         line(&format!("sphere.{i}.center"), vec3(s.center));
         line(&format!("sphere.{i}.radius"), real(s.radius));
         line(&format!("sphere.{i}.material"), s.material.to_string());
+        // Only where they differ from the world's: scenes from before spheres had axes keep
+        // their hash.
+        if s.axes != crate::scene::Sphere::WORLD_AXES {
+            line(&format!("sphere.{i}.axes"), s.axes.map(vec3).join(" "));
+        }
     }
     line("planes", scene.planes.len().to_string());
     for (i, p) in scene.planes.iter().enumerate() {

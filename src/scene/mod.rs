@@ -175,6 +175,25 @@ pub struct Sphere {
     pub radius: f64,
     /// Index into `Scene::materials`.
     pub material: usize,
+    /// The sphere's object axes in world space, orthonormal (`Sphere::WORLD_AXES` unless its
+    /// Mitsuba `to_world` rotates it or the TOML gives `axes`). They place the uv
+    /// parametrisation, Mitsuba's: with `l` the unit direction from the centre in these axes,
+    /// u = atan2(l.y, l.x) / 2π (in [0, 1)) and v = acos(l.z) / π.
+    pub axes: [DVec3; 3],
+}
+
+impl Sphere {
+    pub const WORLD_AXES: [DVec3; 3] = [DVec3::X, DVec3::Y, DVec3::Z];
+
+    /// The uv parametrisation at a point `p` of the sphere (Mitsuba's `sphere`): the
+    /// spherical angles of the point's direction from the centre in the object axes.
+    pub fn uv(&self, p: DVec3) -> [f64; 2] {
+        let d = (p - self.center) / self.radius;
+        let l = DVec3::new(d.dot(self.axes[0]), d.dot(self.axes[1]), d.dot(self.axes[2]));
+        let phi = l.y.atan2(l.x);
+        let phi = if phi < 0.0 { phi + std::f64::consts::TAU } else { phi };
+        [phi / std::f64::consts::TAU, l.z.clamp(-1.0, 1.0).acos() / std::f64::consts::PI]
+    }
 }
 
 /// Infinite plane through `point` with unit `normal`.
@@ -183,6 +202,22 @@ pub struct Plane {
     pub point: DVec3,
     pub normal: DVec3,
     pub material: usize,
+}
+
+impl Plane {
+    /// The uv parametrisation at a point `p` of the plane (pathlab's own: Mitsuba has no
+    /// infinite plane): p's world coordinates along the plane's tangent frame, the frame of
+    /// Duff et al. 2017 ("Building an orthonormal basis, revisited") about the normal that the
+    /// kernel's `frame_from_normal` builds.
+    pub fn uv(&self, p: DVec3) -> [f64; 2] {
+        let n = self.normal;
+        let s = if n.z >= 0.0 { 1.0 } else { -1.0 };
+        let a = -1.0 / (s + n.z);
+        let b = n.x * n.y * a;
+        let t = DVec3::new(1.0 + s * n.x * n.x * a, s * b, -s * n.x);
+        let bitangent = DVec3::new(b, s + n.y * n.y * a, -n.y);
+        [p.dot(t), p.dot(bitangent)]
+    }
 }
 
 /// A validated scene.

@@ -194,6 +194,10 @@ pub(crate) struct RawSphere {
     pub center: Spanned<[f64; 3]>,
     pub radius: Spanned<f64>,
     pub material: Spanned<String>,
+    /// The sphere's object axes in world space (rows x, y, z), which place its uv
+    /// parametrisation; the world's axes when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub axes: Option<Spanned<[[f64; 3]; 3]>>,
 }
 
 #[derive(Debug, Deserialize, Serialize)]

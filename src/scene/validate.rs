@@ -76,7 +76,11 @@ pub(super) fn validate(raw: &RawScene, file: &Path, sources: SourceMap, diagnost
             ck.error(s.radius.span(), &field, format!("radius must be > 0 (got {radius})"));
         }
         let material = resolve(&mut ck, &s.material, &format!("spheres[{i}].material"));
-        spheres.push(Sphere { center, radius, material });
+        let axes = match &s.axes {
+            None => Sphere::WORLD_AXES,
+            Some(axes) => sphere_axes(&mut ck, axes, &format!("spheres[{i}].axes")),
+        };
+        spheres.push(Sphere { center, radius, material, axes });
     }
 
     let mut planes = Vec::new();
@@ -148,6 +152,23 @@ pub(super) fn validate(raw: &RawScene, file: &Path, sources: SourceMap, diagnost
 }
 
 /// A transform table: a `matrix` alone, or translate/rotate/scale (see `scene::transform`).
+/// A sphere's object axes: three rows, each a unit vector and orthogonal to the others to
+/// within 1e-4 (six printed digits), made exactly orthonormal by Gram-Schmidt.
+fn sphere_axes(ck: &mut Checker, axes: &Spanned<[[f64; 3]; 3]>, field: &str) -> [DVec3; 3] {
+    let rows = axes.get_ref().map(|r| ck.vector(&Spanned::new(axes.span(), r), field));
+    const TOLERANCE: f64 = 1e-4;
+    let unit = rows.iter().all(|r| (r.length() - 1.0).abs() <= TOLERANCE);
+    let orthogonal = [(0, 1), (1, 2), (0, 2)].iter().all(|&(a, b)| rows[a].dot(rows[b]).abs() <= TOLERANCE);
+    if !(unit && orthogonal) {
+        ck.error(axes.span(), field, format!("the axes must be orthonormal rows to within {TOLERANCE} (got {rows:?})"));
+        return Sphere::WORLD_AXES;
+    }
+    let x = rows[0].normalize();
+    let y = (rows[1] - x * x.dot(rows[1])).normalize();
+    let z = rows[2] - x * x.dot(rows[2]) - y * y.dot(rows[2]);
+    [x, y, z.normalize()]
+}
+
 fn check_transform(ck: &mut Checker, t: Option<&Spanned<RawTransform>>, field: &str) -> Transform {
     let Some(t) = t else { return Transform::default() };
     let span = t.span();

@@ -40,9 +40,27 @@ pub const LIGHTS: Binding = Binding { number: 10, name: "LIGHTS", kind: Kind::St
 /// The triangles of a small scene again, in a uniform buffer (`small_triangles`, bvh.wgsl).
 pub const SMALL_TRIANGLES: Binding = Binding { number: 11, name: "SMALL_TRIANGLES", kind: Kind::Uniform };
 
+/// The triangles' texture coordinates (`TriangleUvs`, bvh.wgsl) and the spheres' object axes
+/// (`SphereAxes`, intersect.wgsl): the uv parametrisation, read only where a material does.
+pub const TRIANGLE_UVS: Binding = Binding { number: 12, name: "TRIANGLE_UVS", kind: Kind::Storage { read_only: true } };
+pub const SPHERE_AXES: Binding = Binding { number: 13, name: "SPHERE_AXES", kind: Kind::Storage { read_only: true } };
+
 /// The path tracer's bind group.
-pub const PATH_TRACER: [Binding; 11] =
-    [FRAME, SPHERES, PLANES, MATERIALS, ACCUM, HALTON_PRIMES, TRIANGLES, TRIANGLE_NORMALS, BVH_NODES, LIGHTS, SMALL_TRIANGLES];
+pub const PATH_TRACER: [Binding; 13] = [
+    FRAME,
+    SPHERES,
+    PLANES,
+    MATERIALS,
+    ACCUM,
+    HALTON_PRIMES,
+    TRIANGLES,
+    TRIANGLE_NORMALS,
+    BVH_NODES,
+    LIGHTS,
+    SMALL_TRIANGLES,
+    TRIANGLE_UVS,
+    SPHERE_AXES,
+];
 
 /// The display pass's parameters (`DisplayParams`, display.wgsl).
 pub const DISPLAY_PARAMS: Binding = Binding { number: 0, name: "DISPLAY_PARAMS", kind: Kind::Uniform };

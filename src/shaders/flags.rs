@@ -11,6 +11,9 @@ pub const TRIANGLE_TWO_SIDED: u32 = 1;
 /// Triangle flag: has vertex normals (`GpuTriangleNormals` at the same index).
 pub const TRIANGLE_HAS_NORMALS: u32 = 2;
 
+/// Triangle flag: has texture coordinates (`GpuTriangleUvs` at the same index).
+pub const TRIANGLE_HAS_UVS: u32 = 4;
+
 /// The WGSL declarations of every flag.
 pub fn wgsl() -> String {
     [
@@ -18,6 +21,7 @@ pub fn wgsl() -> String {
         ("MATERIAL_ONE_SIDED", MATERIAL_ONE_SIDED),
         ("TRIANGLE_TWO_SIDED", TRIANGLE_TWO_SIDED),
         ("TRIANGLE_HAS_NORMALS", TRIANGLE_HAS_NORMALS),
+        ("TRIANGLE_HAS_UVS", TRIANGLE_HAS_UVS),
     ]
     .iter()
     .map(|(name, value)| format!("const {name}: u32 = {value}u;\n"))

@@ -60,8 +60,9 @@ pub fn generated_constants() -> String {
 }
 
 /// The BSDF dispatch, generated from the registry (`scene::BsdfKind`): one `HAS_<KIND>`
-/// override per kind, and `eval_pdf_bsdf`, `sample_bsdf` and `bsdf_is_delta` calling each
-/// kind's entry points (`eval_pdf_<stem>_bsdf`, `sample_<stem>_bsdf` in
+/// override per kind, and `eval_pdf_bsdf_of_kind`, `sample_bsdf_of_kind` (each kind's own
+/// strategy; bsdf.wgsl's `eval_pdf_bsdf` and `sample_bsdf` apply the generic ones over them) and
+/// `bsdf_is_delta` calling each kind's entry points (`eval_pdf_<stem>_bsdf`, `sample_<stem>_bsdf` in
 /// `shaders/bsdfs/<stem>.wgsl`). The first kind (Phong) answers for a material no other kind
 /// claims.
 pub fn bsdf_dispatch() -> String {
@@ -84,14 +85,14 @@ pub fn bsdf_dispatch() -> String {
         f + &format!("    if ({}) {{\n        return {};\n    }}\n    return {none};\n}}\n", first.has_override(), call(first))
     };
     s += &dispatch(
-        "f(wi, wo) and the pipeline's sampling density at wi, by the material's kind.",
-        "eval_pdf_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, wi: vec3f) -> BsdfEval",
+        "f(wi, wo) and the density of the kind's own strategy at wi, by the material's kind.",
+        "eval_pdf_bsdf_of_kind(b: Bsdf, n_s: vec3f, wo: vec3f, wi: vec3f) -> BsdfEval",
         "eval_pdf_{stem}_bsdf(b, n_s, wo, wi)",
         "BsdfEval(vec3f(0.0), 0.0)",
     );
     s += &dispatch(
-        "Samples wi with the pipeline's strategy for the material's kind.",
-        "sample_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> BsdfSample",
+        "Samples wi with the own strategy of the material's kind.",
+        "sample_bsdf_of_kind(b: Bsdf, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> BsdfSample",
         "sample_{stem}_bsdf(b, n_s, wo, u_dir, u_lobe)",
         "BsdfSample(n_s, 0.0, vec3f(0.0), false, 1.0)",
     );

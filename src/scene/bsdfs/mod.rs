@@ -106,6 +106,11 @@ macro_rules! bsdf_registry {
             pub fn pack(&self) -> BsdfParams {
                 match self { $( Bsdf::$variant(b) => b.pack() ),+ }
             }
+
+            /// Whether it reads the hit's uv parametrisation (a texture).
+            pub fn reads_uv(&self) -> bool {
+                match self { $( Bsdf::$variant(b) => b.reads_uv() ),+ }
+            }
         }
     };
 }

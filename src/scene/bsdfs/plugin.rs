@@ -42,6 +42,11 @@ pub(crate) trait BsdfPlugin: Sized {
     fn hash_lines(&self, line: &mut dyn FnMut(&str, String));
     /// Its parameter block.
     fn pack(&self) -> BsdfParams;
+    /// Some parameter is a texture, read at the hit's uv parametrisation: the kernel then
+    /// computes uvs (`SceneFeatures::has_uvs`). No kind has textures yet.
+    fn reads_uv(&self) -> bool {
+        false
+    }
 }
 
 /// The fields of one TOML material's BSDF, read by its kind's `from_fields`: each getter takes

@@ -849,8 +849,8 @@ impl Translator<'_> {
                 }
                 let Some(radius) = radius else { return };
                 // A similarity (rotation, uniform scale, translation) moves and scales the sphere.
-                let (center, radius) = match &to_world {
-                    None => (center, radius),
+                let (center, radius, axes) = match &to_world {
+                    None => (center, radius, None),
                     Some((ops, at)) => {
                         let m = compose(ops);
                         let cols = [m.x_axis.truncate(), m.y_axis.truncate(), m.z_axis.truncate()];
@@ -864,10 +864,17 @@ impl Translator<'_> {
                             self.error(*at, "to_world", "a sphere's to_world must be a rotation, uniform scale and translation");
                             return;
                         }
-                        (m.transform_point3(center), radius * s)
+                        // The object axes (Mitsuba's to_object maps a point to the frame of
+                        // its uv parametrisation): the columns without the scale.
+                        let axes = cols.map(|c| (c / s).to_array());
+                        let rotated = axes != [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+                        (m.transform_point3(center), radius * s, rotated.then(|| spanned(*at, axes)))
                     }
                 };
-                spheres.push(spanned(o.at, RawSphere { center: spanned(o.at, center.to_array()), radius: spanned(o.at, radius), material }));
+                spheres.push(spanned(
+                    o.at,
+                    RawSphere { center: spanned(o.at, center.to_array()), radius: spanned(o.at, radius), material, axes },
+                ));
             }
             other => self.error(o.at, "type", format!("<shape type=\"{other}\"> is not supported (pathlab has {SHAPES})")),
         }
