@@ -1,8 +1,9 @@
 // bsdf.wgsl — what every BSDF shares: the sampling strategies that do not depend on the
 // material (uniform sphere, hemisphere, cosine), the sample and evaluation records, and the one
 // place a sampled contribution becomes a path weight. Each kind of BSDF is one file of
-// shaders/bsdfs/ (phong.wgsl, conductor.wgsl, rough_conductor.wgsl, dielectric.wgsl) with its
-// `eval_pdf_*`, `sample_*` and the two entry points the dispatcher calls, for the kind's own
+// shaders/bsdfs/ (phong.wgsl, conductor.wgsl, rough_conductor.wgsl, dielectric.wgsl,
+// plastic.wgsl) with its `eval_pdf_*`, `sample_*` and the entry points the dispatcher calls
+// (`delta_lobe_prob_*` too where a kind has a delta lobe beside smooth ones), for the kind's own
 // strategy only; the dispatcher by kind (`eval_pdf_bsdf_of_kind`, `sample_bsdf_of_kind`),
 // `bsdf_is_delta`, the kinds' numbers `BSDF_KIND_*` and one `HAS_<KIND>` override per kind are
 // generated from the registry (src/scene/bsdfs/mod.rs). The generic strategies are applied
@@ -89,21 +90,29 @@ fn sample_generic_strategy(n_s: vec3f, u_dir: vec2f) -> vec3f {
 }
 
 // f(wi, wo) and the density at wi of the pipeline's strategy: a generic one's, for every kind
-// that is not a delta (a delta lobe is found by its own sampling alone, whatever the strategy),
-// else the kind's own.
+// that is not a delta (a delta lobe is found by its own sampling alone, whatever the strategy;
+// where a kind has one beside smooth lobes, the generic density is scaled by the probability
+// of not drawing it), else the kind's own.
 fn eval_pdf_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, wi: vec3f) -> BsdfEval {
     var e = eval_pdf_bsdf_of_kind(b, n_s, wo, wi);
     let generic = pdf_generic_strategy(dot(wi, n_s));
     if (generic >= 0.0 && !bsdf_is_delta(b)) {
-        e.pdf = generic;
+        // The generic direction is drawn when the kind's delta lobe is not.
+        e.pdf = generic * (1.0 - bsdf_delta_lobe_prob(b, n_s, wo));
     }
     return e;
 }
 
 // wi drawn by the pipeline's strategy: a generic one's direction, weighted by path_weight with
-// the kind's f, for every kind that is not a delta; else the kind's own sampling.
+// the kind's f, for every kind that is not a delta (or its delta lobe, drawn with the kind's
+// own probability); else the kind's own sampling.
 fn sample_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> BsdfSample {
     if (pdf_generic_strategy(1.0) >= 0.0 && !bsdf_is_delta(b)) {
+        // A delta lobe beside smooth ones (plastic's coating) is found only by the kind's own
+        // sampling, which picks it exactly when u_lobe is below its probability.
+        if (u_lobe < bsdf_delta_lobe_prob(b, n_s, wo)) {
+            return sample_bsdf_of_kind(b, n_s, wo, u_dir, u_lobe);
+        }
         let wi = sample_generic_strategy(n_s, u_dir);
         let e = eval_pdf_bsdf(b, n_s, wo, wi);
         return BsdfSample(wi, e.pdf, path_weight(e.f, dot(wi, n_s), e.pdf), false, 1.0);

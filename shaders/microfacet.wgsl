@@ -1,6 +1,5 @@
-// microfacet.wgsl — isotropic Beckmann and GGX microfacet distributions, Smith shadowing, their
-// two sampling strategies, and the conductor Fresnel term: Mitsuba 3's microfacet.h and
-// fresnel.h term for term (mitsuba3 b45b0a9).
+// microfacet.wgsl — isotropic Beckmann and GGX microfacet distributions, Smith shadowing and
+// their two sampling strategies: Mitsuba 3's microfacet.h term for term (mitsuba3 b45b0a9).
 //
 // Everything is in a local frame whose +z is the shading normal; `v` and `m` are unit vectors.
 // The values DISTRIBUTION_BECKMANN, DISTRIBUTION_GGX, MICROFACET_NDF and MICROFACET_VNDF are
@@ -225,22 +224,4 @@ fn sample_microfacet(wi: vec3f, u: vec2f, alpha: f32, distribution: u32) -> Micr
         m = sample_microfacet_vndf(wi, u, alpha, distribution);
     }
     return MicrofacetSample(m, pdf_microfacet(wi, m, alpha, distribution));
-}
-
-// Fresnel reflectance of a conductor of complex index eta + i k (per channel, unpolarised),
-// at cos(theta_i) > 0: the exact formula as Mitsuba writes it (fresnel_conductor).
-fn fresnel_conductor(cos_theta_i: f32, eta: vec3f, k: vec3f) -> vec3f {
-    let c2 = cos_theta_i * cos_theta_i;
-    let s2 = 1.0 - c2;
-    let s4 = s2 * s2;
-    let temp_1 = eta * eta - k * k - vec3f(s2);
-    let a2pb2 = sqrt(max(vec3f(0.0), temp_1 * temp_1 + 4.0 * k * k * eta * eta));
-    let a = sqrt(max(vec3f(0.0), 0.5 * (a2pb2 + temp_1)));
-    let term_1 = a2pb2 + vec3f(c2);
-    let term_2 = 2.0 * cos_theta_i * a;
-    let r_s = (term_1 - term_2) / (term_1 + term_2);
-    let term_3 = a2pb2 * c2 + vec3f(s4);
-    let term_4 = term_2 * s2;
-    let r_p = r_s * (term_3 - term_4) / (term_3 + term_4);
-    return 0.5 * (r_s + r_p);
 }

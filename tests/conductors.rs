@@ -104,7 +104,7 @@ fn bad_conductor_parameters_are_refused_naming_the_field() {
         ("bsdf = \"conductor\"\ndiffuse = 0.5", "materials.m.diffuse", "belongs to bsdf = \"phong\""),
         ("bsdf = \"conductor\"\nalpha = 0.1", "materials.m.alpha", "belongs to bsdf = \"roughconductor\""),
         ("alpha = 0.1", "materials.m.alpha", "not a field of a phong material"),
-        ("bsdf = \"plastic\"", "materials.m.bsdf", "unknown bsdf"),
+        ("bsdf = \"velvet\"", "materials.m.bsdf", "unknown bsdf"),
         ("bsdf = \"conductor\"\neta = -1", "materials.m.eta", ">= 0"),
         // Fields of no kind, and of the wrong type, name the field and what it should be.
         ("shininess = 3", "materials.m.shininess", "unknown field `shininess` of a phong material (its fields: diffuse, specular, glossiness"),

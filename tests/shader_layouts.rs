@@ -173,8 +173,9 @@ fn the_bvh_stack_and_triangle_flags_are_the_rust_ones() {
     assert_eq!(const_u32(&pt, "TRIANGLE_HAS_NORMALS"), Some(flags::TRIANGLE_HAS_NORMALS));
 }
 
-/// The registry of BSDF kinds: every kind has its number, its file with both entry points, and
-/// its override, which the pipeline sets.
+/// The registry of BSDF kinds: every kind has its number, its file with both entry points (and
+/// the delta lobe's probability where it has a delta lobe beside smooth ones), and its
+/// override, which the pipeline sets.
 #[test]
 fn every_bsdf_kind_of_the_registry_is_in_the_kernel() {
     use pathlab::scene::BsdfKind;
@@ -183,7 +184,11 @@ fn every_bsdf_kind_of_the_registry_is_in_the_kernel() {
     for (k, (file, _)) in BsdfKind::ALL.iter().zip(shaders::files::BSDF_KINDS) {
         assert_eq!(const_u32(&pt, &format!("BSDF_KIND_{}", k.stem().to_uppercase())), Some(k.constant()), "{k}");
         assert_eq!(file, format!("bsdfs/{}.wgsl", k.stem()));
-        for f in [format!("eval_pdf_{}_bsdf", k.stem()), format!("sample_{}_bsdf", k.stem())] {
+        let mut entries = vec![format!("eval_pdf_{}_bsdf", k.stem()), format!("sample_{}_bsdf", k.stem())];
+        if k.has_delta_lobe() {
+            entries.push(format!("delta_lobe_prob_{}_bsdf", k.stem()));
+        }
+        for f in entries {
             assert!(pt.functions.iter().any(|(_, g)| g.name.as_deref() == Some(f.as_str())), "{f} missing");
         }
         assert!(pt.overrides.iter().any(|(_, o)| o.name.as_deref() == Some(k.has_override())), "{}", k.has_override());

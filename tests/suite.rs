@@ -31,6 +31,7 @@ mod mesh_scenes;
 mod metrics_fixtures;
 mod mitsuba_scenes;
 mod noise_floor;
+mod plastics;
 mod polygon_lights;
 mod render_presets;
 mod roulette;

@@ -19,40 +19,6 @@ fn dielectric_of(b: Bsdf) -> Dielectric {
     return Dielectric(b.p0.w, b.p0.xyz, b.p1.xyz);
 }
 
-// Fresnel's equations for unpolarised light at an interface of relative index eta, with
-// cos_theta_i the cosine of the incident direction in the frame of the surface normal (< 0 from
-// inside): the reflectance r, the cosine of the refracted direction (of the opposite sign; 0
-// under total internal reflection, where r = 1) and the relative indices eta_it (towards the
-// side refracted into over the side of incidence) and eta_ti = 1 / eta_it (Mitsuba's fresnel()).
-struct FresnelDielectric {
-    r: f32,
-    cos_theta_t: f32,
-    eta_it: f32,
-    eta_ti: f32,
-}
-
-fn fresnel_dielectric(cos_theta_i: f32, eta: f32) -> FresnelDielectric {
-    let outside = cos_theta_i >= 0.0;
-    let rcp_eta = 1.0 / eta;
-    let eta_it = select(rcp_eta, eta, outside);
-    let eta_ti = select(eta, rcp_eta, outside);
-    // Snell's law: the squared cosine of the refracted direction.
-    let cos_theta_t_sqr = 1.0 - (1.0 - cos_theta_i * cos_theta_i) * (eta_ti * eta_ti);
-    let cos_i = abs(cos_theta_i);
-    let cos_t = sqrt(max(cos_theta_t_sqr, 0.0));
-    // The amplitudes of the reflected s- and p-polarised waves.
-    let a_s = (cos_i - eta_it * cos_t) / (cos_i + eta_it * cos_t);
-    let a_p = (cos_t - eta_it * cos_i) / (cos_t + eta_it * cos_i);
-    var r = 0.5 * (a_s * a_s + a_p * a_p);
-    // Index-matched (nothing reflects) and grazing incidence (everything does).
-    if (eta == 1.0) {
-        r = 0.0;
-    } else if (cos_i == 0.0) {
-        r = 1.0;
-    }
-    return FresnelDielectric(r, select(cos_t, -cos_t, cos_theta_i >= 0.0), eta_it, eta_ti);
-}
-
 // One of the two lobes, by u_lobe against F: the mirror direction with weight `reflectance`,
 // or the refracted one with weight `transmittance` eta_ti^2 (the lobe's mass over its
 // probability is 1 for both). n_s is turned towards wo; `inside` says that wo is against the

@@ -25,7 +25,7 @@ use glam::DVec3;
 
 use crate::method::{BsdfSampling, LightSampling, Method};
 
-pub use bsdfs::{Bsdf, BsdfKind, Conductor, Distribution, Phong, RoughConductor};
+pub use bsdfs::{Bsdf, BsdfKind, Conductor, Dielectric, Distribution, Phong, Plastic, RoughConductor};
 pub use diagnostic::{Diagnostic, SceneError, Severity};
 pub use emitters::{AliasTable, EmitterKind, Light};
 pub use mesh::Mesh;

@@ -108,6 +108,15 @@ pub fn bsdf_dispatch() -> String {
          fn bsdf_is_delta(b: Bsdf) -> bool {{\n    return {};\n}}\n",
         if delta.is_empty() { "false".to_string() } else { delta.join(" || ") }
     );
+    let mixed: Vec<&BsdfKind> = BsdfKind::ALL.iter().filter(|k| k.has_delta_lobe()).collect();
+    let mut f = "\n// The probability with which the material's own sampling picks a delta lobe that it has beside\n\
+                 // smooth ones (0 for every other kind): the generic strategies draw that lobe with it.\n\
+                 fn bsdf_delta_lobe_prob(b: Bsdf, n_s: vec3f, wo: vec3f) -> f32 {\n"
+        .to_string();
+    for k in mixed {
+        f += &format!("    if ({}) {{\n        return delta_lobe_prob_{}_bsdf(b, n_s, wo);\n    }}\n", is(k), k.stem());
+    }
+    s += &(f + "    return 0.0;\n}\n");
     s
 }
 

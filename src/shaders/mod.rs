@@ -34,13 +34,15 @@ pub mod files {
     pub const LIGHT_TABLE: (&str, &str) = ("light_table.wgsl", include_str!("../../shaders/light_table.wgsl"));
     pub const BVH: (&str, &str) = ("bvh.wgsl", include_str!("../../shaders/bvh.wgsl"));
     pub const MICROFACET: (&str, &str) = ("microfacet.wgsl", include_str!("../../shaders/microfacet.wgsl"));
+    pub const FRESNEL: (&str, &str) = ("fresnel.wgsl", include_str!("../../shaders/fresnel.wgsl"));
     pub const BSDF: (&str, &str) = ("bsdf.wgsl", include_str!("../../shaders/bsdf.wgsl"));
     /// One file per kind of the BSDF registry (`scene::BsdfKind`), in its order.
-    pub const BSDF_KINDS: [(&str, &str); 4] = [
+    pub const BSDF_KINDS: [(&str, &str); 5] = [
         ("bsdfs/phong.wgsl", include_str!("../../shaders/bsdfs/phong.wgsl")),
         ("bsdfs/conductor.wgsl", include_str!("../../shaders/bsdfs/conductor.wgsl")),
         ("bsdfs/rough_conductor.wgsl", include_str!("../../shaders/bsdfs/rough_conductor.wgsl")),
         ("bsdfs/dielectric.wgsl", include_str!("../../shaders/bsdfs/dielectric.wgsl")),
+        ("bsdfs/plastic.wgsl", include_str!("../../shaders/bsdfs/plastic.wgsl")),
     ];
     pub const LIGHTS: (&str, &str) = ("lights.wgsl", include_str!("../../shaders/lights.wgsl"));
     pub const EMITTER: (&str, &str) = ("emitter.wgsl", include_str!("../../shaders/emitter.wgsl"));
@@ -60,16 +62,17 @@ pub mod files {
 
 /// The sampling library without scene bindings: samplers, warps, BSDF and light sampling.
 /// Test kernels append their own bindings and entry points to this.
-pub const LIBRARY: [(&str, &str); 7] =
-    [files::COMMON, files::SAMPLER, files::WARP, files::SPHERICAL_TRIANGLE, files::MICROFACET, files::BSDF, files::LIGHTS];
+pub const LIBRARY: [(&str, &str); 8] =
+    [files::COMMON, files::SAMPLER, files::WARP, files::SPHERICAL_TRIANGLE, files::MICROFACET, files::FRESNEL, files::BSDF, files::LIGHTS];
 
 /// Everything the path-tracing kernel (`render_main`) needs.
-pub const PATH_TRACER: [(&str, &str); 15] = [
+pub const PATH_TRACER: [(&str, &str); 16] = [
     files::COMMON,
     files::SAMPLER,
     files::WARP,
     files::SPHERICAL_TRIANGLE,
     files::MICROFACET,
+    files::FRESNEL,
     files::BSDF,
     files::LIGHTS,
     files::LIGHT_TABLE,

@@ -1,6 +1,6 @@
 //! Mitsuba's smooth `dielectric` (WGSL: `shaders/bsdfs/dielectric.wgsl`): an interface between
-//! two indices of refraction, reflecting with the Fresnel term of unpolarised light and
-//! refracting the rest (two delta lobes, sampled with the Fresnel term as their probabilities,
+//! two indices of refraction (numbers, or names of Mitsuba's table: `ior.rs`), reflecting with
+//! the Fresnel term of unpolarised light and refracting the rest (two delta lobes, sampled with the Fresnel term as their probabilities,
 //! whatever the pipeline's BSDF strategy). TOML and Mitsuba `int_ior` (default 1.5046, Mitsuba's
 //! `bk7`), `ext_ior` (default 1.000277, `air`), `specular_reflectance` and
 //! `specular_transmittance` (factors on the two lobes, default 1). Both sides scatter: the
@@ -8,6 +8,7 @@
 
 use glam::DVec3;
 
+use super::ior;
 use super::plugin::{color_value, BsdfParams, BsdfPlugin, Fields, PluginProps};
 use crate::scene::hash::{real, vec3};
 
@@ -42,16 +43,8 @@ impl BsdfPlugin for Dielectric {
     const BOTH_SIDES: bool = true;
 
     fn from_fields(f: &mut Fields) -> Dielectric {
-        let ior = |f: &mut Fields, name: &str, default: f64| match f.number(name) {
-            None => default,
-            Some(v) if *v.get_ref() > 0.0 => *v.get_ref(),
-            Some(v) => {
-                f.error(v.span(), name, format!("`{name}` must be an index of refraction > 0 (got {})", v.get_ref()));
-                default
-            }
-        };
-        let int_ior = ior(f, "int_ior", DEFAULT_INT_IOR);
-        let ext_ior = ior(f, "ext_ior", DEFAULT_EXT_IOR);
+        let int_ior = ior::from_field(f, "int_ior", DEFAULT_INT_IOR);
+        let ext_ior = ior::from_field(f, "ext_ior", DEFAULT_EXT_IOR);
         Dielectric {
             int_ior,
             ext_ior,
@@ -64,19 +57,10 @@ impl BsdfPlugin for Dielectric {
         if let Some(at) = p.texture() {
             p.error(at, "", "a textured parameter is not supported (give <rgb> or <float> values)".into());
         }
+        // A <float>, or a <string> naming a material of Mitsuba's table (`bk7`).
         let mut fields = Vec::new();
         for (name, default) in [("int_ior", DEFAULT_INT_IOR), ("ext_ior", DEFAULT_EXT_IOR)] {
-            // Mitsuba also takes a material's name (`bk7`): as a <string>, that is refused as
-            // not a <float>.
-            let v = match p.float(name) {
-                Some((v, _)) if v.is_finite() && v > 0.0 => v,
-                Some((v, at)) => {
-                    p.error(at, name, format!("`{name}` of <bsdf type=\"dielectric\"> must be a finite index of refraction > 0 (got {v})"));
-                    default
-                }
-                None => default,
-            };
-            fields.push((name, toml::Value::Float(v)));
+            fields.push((name, toml::Value::Float(ior::from_mitsuba(p, name, default))));
         }
         for name in ["specular_reflectance", "specular_transmittance"] {
             if let Some(c) = p.color(name) {

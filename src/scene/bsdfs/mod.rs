@@ -1,7 +1,8 @@
 //! BSDFs, one file per kind, as Mitsuba 3 lays out `src/bsdfs/`. A kind's Rust file
-//! (`phong.rs`, `conductor.rs`, `rough_conductor.rs`) owns everything the host knows of it: its
-//! validated parameters, the fields of its TOML material, the properties of its Mitsuba
-//! plugins, its lines of the scene hash and its parameter block for the kernel. Its WGSL file,
+//! (`phong.rs`, `conductor.rs`, `rough_conductor.rs`, `dielectric.rs`, `plastic.rs`) owns
+//! everything the host knows of it: its validated parameters, the fields of its TOML material,
+//! the properties of its Mitsuba plugins, its lines of the scene hash and its parameter block
+//! for the kernel. Its WGSL file,
 //! `shaders/bsdfs/<stem>.wgsl` (with `eval_pdf_<stem>_bsdf` and `sample_<stem>_bsdf`), is listed
 //! in `shaders::files::BSDF_KINDS`.
 //!
@@ -13,7 +14,9 @@
 mod conductor;
 mod dielectric;
 mod distribution;
+mod ior;
 mod phong;
+mod plastic;
 mod plugin;
 mod rough_conductor;
 
@@ -27,7 +30,9 @@ use super::checker::Checker;
 pub use conductor::Conductor;
 pub use dielectric::Dielectric;
 pub use distribution::Distribution;
+pub use ior::NAMED_IORS;
 pub use phong::Phong;
+pub use plastic::{fresnel_diffuse_reflectance, Plastic};
 pub use rough_conductor::RoughConductor;
 pub(crate) use phong::DEFAULT_REFLECTANCE;
 pub use plugin::BsdfParams;
@@ -70,6 +75,11 @@ macro_rules! bsdf_registry {
             /// contribute, and only its own sampling finds its directions.
             pub fn is_delta(self) -> bool {
                 match self { $( BsdfKind::$variant => <$ty as BsdfPlugin>::IS_DELTA ),+ }
+            }
+
+            /// Whether it has a delta lobe beside smooth ones (`BsdfPlugin::HAS_DELTA_LOBE`).
+            pub fn has_delta_lobe(self) -> bool {
+                match self { $( BsdfKind::$variant => <$ty as BsdfPlugin>::HAS_DELTA_LOBE ),+ }
             }
 
             /// Whether it may transmit (refract into the surface).
@@ -124,6 +134,8 @@ bsdf_registry! {
     RoughConductor = "rough-conductor" => RoughConductor,
     /// Mitsuba's smooth `dielectric`: Fresnel reflection and refraction, two delta lobes.
     Dielectric = "dielectric" => Dielectric,
+    /// Mitsuba's smooth `plastic`: a diffuse base under a dielectric coating's delta lobe.
+    Plastic = "plastic" => Plastic,
 }
 
 impl BsdfKind {

@@ -25,6 +25,12 @@ pub(crate) trait BsdfPlugin: Sized {
     /// Its only lobe is a delta (a mirror): next event estimation cannot contribute, and only its
     /// own sampling finds its directions.
     const IS_DELTA: bool;
+    /// Beside its smooth lobes it has a delta lobe (plastic's coating), which a generic
+    /// strategy (uniform, cosine) cannot find: the kind's WGSL file then has
+    /// `delta_lobe_prob_<stem>_bsdf`, the probability with which its own sampling picks that
+    /// lobe (it must pick it exactly when `u_lobe` is below it), and the generic strategies
+    /// draw the delta lobe with that probability and their own direction otherwise.
+    const HAS_DELTA_LOBE: bool = false;
     /// It may transmit (refract into the surface): the kernel's two-sided handling of
     /// directions (ray offsets, next event estimation behind the surface, roulette's eta²)
     /// compiles in where a scene has it.
@@ -115,6 +121,21 @@ impl<'c, 'a> Fields<'c, 'a> {
         v.get_ref().is_finite().then(|| Spanned::new(v.span(), checked))
     }
 
+    /// A boolean, or `default` when not given (or not a boolean).
+    pub fn boolean(&mut self, name: &str, default: bool) -> bool {
+        self.typed::<bool>(name, "true or false").map_or(default, |b| *b.get_ref())
+    }
+
+    /// A finite number (`Ok`) or a string (`Err`, a name such as a material's) with its span,
+    /// or `None` when not given (or neither).
+    pub fn number_or_string(&mut self, name: &str) -> Option<Spanned<Result<f64, String>>> {
+        let v = self.raw(name)?.clone();
+        match v.get_ref() {
+            toml::Value::String(s) => Some(Spanned::new(v.span(), Err(s.clone()))),
+            _ => self.number(name).map(|n| Spanned::new(n.span(), Ok(*n.get_ref()))),
+        }
+    }
+
     /// A string with its span, or `None` when not given (or not a string).
     pub fn string(&mut self, name: &str) -> Option<Spanned<String>> {
         self.typed::<String>(name, "a string")
@@ -152,6 +173,10 @@ pub(crate) trait PluginProps {
     /// A float and where its value is.
     fn float(&mut self, name: &str) -> Option<(f64, usize)>;
     fn string(&mut self, name: &str) -> Option<(String, usize)>;
+    fn boolean(&mut self, name: &str) -> Option<(bool, usize)>;
+    /// A `<float>` (`Ok`) or a `<string>` (`Err`, a name such as a material's) and where its
+    /// value is.
+    fn float_or_string(&mut self, name: &str) -> Option<(Result<f64, String>, usize)>;
     /// Takes property `name` whatever its type, giving where it is.
     fn take(&mut self, name: &str) -> Option<usize>;
     fn error(&mut self, at: usize, name: &str, message: String);

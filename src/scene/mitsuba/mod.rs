@@ -198,6 +198,18 @@ impl PluginProps for PluginReader<'_, '_, '_> {
         self.p = Some(p);
         v
     }
+    fn boolean(&mut self, name: &str) -> Option<(bool, usize)> {
+        let mut p = self.p.take().expect("props before finish");
+        let v = self.t.get::<bool>(&mut p, name).map(|(v, prop)| (v, prop.value_at));
+        self.p = Some(p);
+        v
+    }
+    fn float_or_string(&mut self, name: &str) -> Option<(Result<f64, String>, usize)> {
+        let mut p = self.p.take().expect("props before finish");
+        let v = self.t.get::<FloatOrString>(&mut p, name).map(|(v, prop)| (v.0, prop.value_at));
+        self.p = Some(p);
+        v
+    }
     fn take(&mut self, name: &str) -> Option<usize> {
         self.props().take(name).map(|prop| prop.at)
     }
@@ -266,6 +278,9 @@ trait PropKind: Sized {
 /// A colour property: an `<rgb>`, a constant `<spectrum>`, or a `<float>` for all three channels.
 struct Rgb([f64; 3]);
 
+/// A property that is a number or a name (an index of refraction: `<float>` or `<string>`).
+struct FloatOrString(Result<f64, String>);
+
 /// `PropKind` for `$t`: the element kinds (patterns of `Value`) it accepts, and the value each
 /// gives.
 macro_rules! prop_kind {
@@ -286,6 +301,7 @@ prop_kind!(f64, "a <float>", Value::Float(v) => v, Value::Integer(v) => v as f64
 prop_kind!(i64, "an <integer>", Value::Integer(v) => v);
 prop_kind!(bool, "a <boolean>", Value::Boolean(v) => v);
 prop_kind!(String, "a <string>", Value::String(v) => v);
+prop_kind!(FloatOrString, "a <float> or a <string>", Value::Float(v) => FloatOrString(Ok(v)), Value::Integer(v) => FloatOrString(Ok(v as f64)), Value::String(v) => FloatOrString(Err(v)));
 prop_kind!(Rgb, "an <rgb> or a constant <spectrum>", Value::Color(c) => Rgb(c), Value::Float(v) => Rgb([v; 3]));
 prop_kind!(DVec3, "a <point>", Value::Point(v) | Value::Vector(v) => v);
 prop_kind!(Vec<TransformOp>, "a <transform>", Value::Transform(ops) => ops);

@@ -1,0 +1,95 @@
+//! Named indices of refraction: Mitsuba 3's table (`include/mitsuba/render/ior.h`, values from
+//! Hecht's Optics, measured at ~589 nm between 0 and 20 °C), so that `int_ior = "bk7"` in TOML
+//! and `<string name="int_ior" value="bk7"/>` in Mitsuba's XML mean what they mean there. Names
+//! are matched case-insensitively, as Mitsuba lower-cases them.
+
+use super::plugin::{Fields, PluginProps};
+
+/// Mitsuba's `ior_data`, in its order.
+pub const NAMED_IORS: [(&str, f64); 23] = [
+    ("vacuum", 1.0),
+    ("helium", 1.000036),
+    ("hydrogen", 1.000132),
+    ("air", 1.000277),
+    ("carbon dioxide", 1.00045),
+    ("water", 1.3330),
+    ("acetone", 1.36),
+    ("ethanol", 1.361),
+    ("carbon tetrachloride", 1.461),
+    ("glycerol", 1.4729),
+    ("benzene", 1.501),
+    ("silicone oil", 1.52045),
+    ("bromine", 1.661),
+    ("water ice", 1.31),
+    ("fused quartz", 1.458),
+    ("pyrex", 1.470),
+    ("acrylic glass", 1.49),
+    ("polypropylene", 1.49),
+    ("bk7", 1.5046),
+    ("sodium chloride", 1.544),
+    ("amber", 1.55),
+    ("pet", 1.5750),
+    ("diamond", 2.419),
+];
+
+/// The index named `name` (any case).
+pub fn lookup(name: &str) -> Option<f64> {
+    let lower = name.to_lowercase();
+    NAMED_IORS.iter().find(|(n, _)| *n == lower).map(|&(_, v)| v)
+}
+
+/// What an unknown name is told: every known name.
+fn unknown(name: &str) -> String {
+    let known: Vec<&str> = NAMED_IORS.iter().map(|(n, _)| *n).collect();
+    format!("unknown index of refraction \"{name}\" (known: {})", known.join(", "))
+}
+
+/// An index of refraction from a TOML material's field: a number > 0 or a name of the table,
+/// `default` when not given (or refused, with the error naming the field).
+pub(crate) fn from_field(f: &mut Fields, name: &str, default: f64) -> f64 {
+    let Some(v) = f.number_or_string(name) else { return default };
+    match v.get_ref() {
+        Ok(x) if *x > 0.0 => *x,
+        Ok(x) => {
+            f.error(v.span(), name, format!("`{name}` must be an index of refraction > 0 or a material's name (got {x})"));
+            default
+        }
+        Err(s) => lookup(s).unwrap_or_else(|| {
+            f.error(v.span(), name, unknown(s));
+            default
+        }),
+    }
+}
+
+/// An index of refraction from a Mitsuba plugin's property: a `<float>` > 0 or a `<string>`
+/// naming a material of the table (Mitsuba's `lookup_ior`), `default` when not given.
+pub(crate) fn from_mitsuba(p: &mut dyn PluginProps, name: &str, default: f64) -> f64 {
+    let Some((v, at)) = p.float_or_string(name) else { return default };
+    let plugin = p.plugin().to_string();
+    match v {
+        Ok(x) if x.is_finite() && x > 0.0 => x,
+        Ok(x) => {
+            p.error(at, name, format!("`{name}` of <bsdf type=\"{plugin}\"> must be a finite index of refraction > 0 (got {x})"));
+            default
+        }
+        Err(s) => lookup(&s).unwrap_or_else(|| {
+            p.error(at, name, format!("`{name}` of <bsdf type=\"{plugin}\">: {}", unknown(&s)));
+            default
+        }),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_are_found_in_any_case_and_defaults_are_mitsubas() {
+        assert_eq!(lookup("BK7"), Some(1.5046));
+        assert_eq!(lookup("acrylic glass"), Some(1.49));
+        assert_eq!(lookup("polypropylene"), Some(1.49));
+        assert_eq!(lookup("air"), Some(1.000277));
+        assert_eq!(lookup("unobtainium"), None);
+        assert!(unknown("x").contains("diamond"));
+    }
+}
