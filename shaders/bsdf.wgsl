@@ -22,6 +22,10 @@
 // How directions are sampled at a scattering vertex (set through pipeline constants).
 override BSDF_SAMPLING: u32 = BSDF_PHONG;
 
+// How a layered BSDF (plastic) picks the lobe it samples, under every strategy (the values
+// LOBES_FRESNEL, Mitsuba's, and LOBES_FIXED are generated from `method::LobeSelection`).
+override LOBE_SELECTION: u32 = LOBES_FRESNEL;
+
 struct BsdfSample {
     wi: vec3f,
     // Solid-angle density of the strategy at wi (over the whole sphere).

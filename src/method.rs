@@ -79,6 +79,20 @@ named_enum! {
 }
 
 named_enum! {
+    /// How a layered BSDF (Mitsuba's plastic: a dielectric coating over a diffuse base) picks
+    /// the lobe it samples (`shaders/bsdf.wgsl`, `LOBE_SELECTION`), whatever the BSDF strategy:
+    /// the coating's delta lobe is found only by its own choice.
+    pub enum LobeSelection("lobe selection") {
+        /// Mitsuba's: the albedos' weight w = mean(specular) / (mean(diffuse) + mean(specular))
+        /// times the coating's Fresnel reflectance F at the incident direction, p = F w / (F w
+        /// + (1 - F)(1 - w)).
+        Fresnel = "fresnel",
+        /// The albedos' weight w alone, the same at every incidence.
+        Fixed = "fixed",
+    }
+}
+
+named_enum! {
     /// How a rough conductor's microfacet normals are sampled (`shaders/microfacet.wgsl`), where
     /// the BSDF strategy samples the material (`phong`): its counterpart of the Phong mixture.
     pub enum MicrofacetSampling("microfacet sampling") {
@@ -119,6 +133,8 @@ pub struct Method {
     pub select: Option<LightSelect>,
     pub triangles: TriangleSampling,
     pub microfacet: MicrofacetSampling,
+    /// How layered BSDFs (plastic) pick their lobe.
+    pub lobes: LobeSelection,
     /// Whether next event estimation samples the constant environment as a light (then
     /// escaped rays take the MIS weight against it); off by default, as Mitsuba's `path`
     /// would not leave it, but as pathlab's images were before the environment was a light.
@@ -142,7 +158,16 @@ impl Preset {
             Preset::Mis => (S::Independent, B::Phong, L::Mis),
             Preset::Best => (S::Sobol, B::Phong, L::Mis),
         };
-        Method { sampler, bsdf, lights, select: None, triangles: TriangleSampling::Area, microfacet: MicrofacetSampling::Vndf, environment: false }
+        Method {
+            sampler,
+            bsdf,
+            lights,
+            select: None,
+            triangles: TriangleSampling::Area,
+            microfacet: MicrofacetSampling::Vndf,
+            lobes: LobeSelection::Fresnel,
+            environment: false,
+        }
     }
 }
 
@@ -173,6 +198,9 @@ impl fmt::Display for Method {
         if self.microfacet != MicrofacetSampling::Vndf {
             write!(f, " microfacet={}", self.microfacet)?;
         }
+        if self.lobes != LobeSelection::Fresnel {
+            write!(f, " lobes={}", self.lobes)?;
+        }
         Ok(())
     }
 }
@@ -195,7 +223,8 @@ pub fn named_variants() -> [(&'static str, Method); 1] {
 }
 
 /// Parts of a method given one by one (the CLI's `--sampler`, `--bsdf`, `--lights`,
-/// `--light-select`, `--triangle-sampling`, `--microfacet-sampling`; Python's keywords), each
+/// `--light-select`, `--triangle-sampling`, `--microfacet-sampling`, `--lobe-selection`;
+/// Python's keywords), each
 /// replacing that part of a named method (`Method::from_name`, the one parser of method names
 /// for every front-end).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -206,6 +235,7 @@ pub struct MethodParts {
     pub select: Option<LightSelect>,
     pub triangles: Option<TriangleSampling>,
     pub microfacet: Option<MicrofacetSampling>,
+    pub lobes: Option<LobeSelection>,
     pub environment: Option<bool>,
 }
 
@@ -219,6 +249,7 @@ impl MethodParts {
             select: self.select.or(method.select),
             triangles: self.triangles.unwrap_or(method.triangles),
             microfacet: self.microfacet.unwrap_or(method.microfacet),
+            lobes: self.lobes.unwrap_or(method.lobes),
             environment: self.environment.unwrap_or(method.environment),
         }
     }
@@ -237,14 +268,22 @@ impl Method {
 
     /// The same method with the light options of the defaults (no `+…` suffix).
     fn base(&self) -> Method {
-        Method { select: None, triangles: TriangleSampling::Area, microfacet: MicrofacetSampling::Vndf, environment: false, ..*self }
+        Method {
+            select: None,
+            triangles: TriangleSampling::Area,
+            microfacet: MicrofacetSampling::Vndf,
+            lobes: LobeSelection::Fresnel,
+            environment: false,
+            ..*self
+        }
     }
 
     /// The one name a method is shown and recorded under (the inverse of `from_name`): its
     /// preset's, a biased demonstration's, or its parts `sampler/bsdf/lights`; then `+SELECT`
     /// for a light selection given explicitly, `+solid-angle` for spherical-triangle
-    /// sampling, `+ndf` for microfacet sampling of the distribution and `+env` for a sampled
-    /// environment (e.g. `mis+power+solid-angle`).
+    /// sampling, `+ndf` for microfacet sampling of the distribution, `+fixed` for layered
+    /// BSDFs' fixed lobe selection and `+env` for a sampled environment (e.g.
+    /// `mis+power+solid-angle`).
     pub fn name(&self) -> String {
         let base = self.base();
         let mut name = if let Some(p) = base.preset() {
@@ -263,6 +302,9 @@ impl Method {
         if self.microfacet != MicrofacetSampling::Vndf {
             name = format!("{name}+{}", self.microfacet);
         }
+        if self.lobes != LobeSelection::Fresnel {
+            name = format!("{name}+{}", self.lobes);
+        }
         if self.environment {
             name = format!("{name}+{ENVIRONMENT_OPTION}");
         }
@@ -280,6 +322,8 @@ impl Method {
                 method.triangles = t;
             } else if let Some(m) = MicrofacetSampling::from_name(option) {
                 method.microfacet = m;
+            } else if let Some(l) = LobeSelection::from_name(option) {
+                method.lobes = l;
             } else if option == ENVIRONMENT_OPTION {
                 method.environment = true;
             } else {
@@ -287,6 +331,7 @@ impl Method {
                     .into_iter()
                     .chain(TriangleSampling::names())
                     .chain(MicrofacetSampling::names())
+                    .chain(LobeSelection::names())
                     .chain([ENVIRONMENT_OPTION])
                     .collect();
                 return Err(UnknownName { what: "light option", name: option.to_string(), known: known.join(", ") });
@@ -313,6 +358,7 @@ impl Method {
                 select: None,
                 triangles: TriangleSampling::Area,
                 microfacet: MicrofacetSampling::Vndf,
+                lobes: LobeSelection::Fresnel,
                 environment: false,
             }),
             _ => Err(unknown()),
@@ -350,9 +396,11 @@ mod tests {
                     for select in [None, Some(LightSelect::All), Some(LightSelect::Uniform), Some(LightSelect::Power)] {
                         for triangles in TriangleSampling::ALL {
                             for microfacet in MicrofacetSampling::ALL {
-                                for environment in [false, true] {
-                                    let m = Method { sampler, bsdf, lights, select, triangles, microfacet, environment };
-                                    assert_eq!(Method::from_name(&m.name()), Ok(m), "{}", m.name());
+                                for lobes in LobeSelection::ALL {
+                                    for environment in [false, true] {
+                                        let m = Method { sampler, bsdf, lights, select, triangles, microfacet, lobes, environment };
+                                        assert_eq!(Method::from_name(&m.name()), Ok(m), "{}", m.name());
+                                    }
                                 }
                             }
                         }
@@ -365,6 +413,7 @@ mod tests {
         assert!(Method::from_name("sobol/phong").is_err());
         assert_eq!(Method::from_name("mis+power+solid-angle").unwrap().name(), "mis+power+solid-angle");
         assert!(Method::from_name("mis+brightest").is_err());
+        assert_eq!(Method::from_name("mis+fixed").unwrap(), Method { lobes: LobeSelection::Fixed, ..Preset::Mis.method() });
         assert_eq!(Method::from_name("best+uniform+env").unwrap(), Method { select: Some(LightSelect::Uniform), environment: true, ..Preset::Best.method() });
     }
 

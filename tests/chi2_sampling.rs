@@ -19,7 +19,7 @@ use std::f64::consts::PI;
 
 use common::gpu;
 use pathlab::gpu::{GpuLight, KernelRun};
-use pathlab::method::{BsdfSampling, LightSelect};
+use pathlab::method::{BsdfSampling, LightSelect, LobeSelection};
 use pathlab::scene::{Bsdf, Plastic};
 use pathlab::shaders;
 use pathlab::stats::{chi2_sf, sidak};
@@ -423,22 +423,26 @@ fn microfacet_routines() -> Vec<Routine> {
 /// (`sample_bsdf`, `eval_pdf_bsdf`) under BSDF strategy `strategy`: its own (the delta lobe
 /// with Mitsuba's Fresnel-weighted probability, else the cosine lobe) or a generic one (which
 /// leaves the delta lobe to the plastic's own choice and draws its direction otherwise), for
-/// shading normal +z and incidence `theta_o` (degrees). Delta samples are "lost" (check.y = 1):
+/// shading normal +z and incidence `theta_o` (degrees), with lobe selection `lobes` (Mitsuba's
+/// Fresnel-weighted probability, or the albedos' weight alone). Delta samples are "lost" (check.y = 1):
 /// they fill the extra cell, whose probability is the mass the pdf lacks, so the lobe choice
 /// is tested as a discrete distribution with the directions. Each must be the mirror direction
 /// with weight F / p_spec times `specular`, F and p_spec computed here in f64 (check.x: its
 /// relative error).
-fn plastic(diffuse: f64, specular: f64, int_ior: f64, nonlinear: bool, strategy: BsdfSampling, theta_o: f64) -> Routine {
+fn plastic(diffuse: f64, specular: f64, int_ior: f64, nonlinear: bool, strategy: BsdfSampling, lobes: LobeSelection, theta_o: f64) -> Routine {
     let p = Plastic { diffuse: glam::DVec3::splat(diffuse), specular: glam::DVec3::splat(specular), int_ior, ext_ior: 1.0, nonlinear };
     let [p0, p1, p2] = Bsdf::Plastic(p.clone()).pack();
     let t = theta_o.to_radians();
     let f_i = fresnel_dielectric(t.cos(), p.eta() as f32 as f64).0;
     let w = p.specular_sampling_weight();
-    let p_spec = f_i * w / (f_i * w + (1.0 - f_i) * (1.0 - w));
+    let p_spec = match lobes {
+        LobeSelection::Fresnel => f_i * w / (f_i * w + (1.0 - f_i) * (1.0 - w)),
+        LobeSelection::Fixed => w,
+    };
     let delta_weight = if p_spec > 0.0 { specular * f_i / p_spec } else { 0.0 };
     let v = |a: [f32; 4]| format!("vec4f({:?}, {:?}, {:?}, {:?})", a[0], a[1], a[2], a[3]);
     Routine {
-        name: format!("plastic diffuse={diffuse} specular={specular} ior={int_ior} nonlinear={nonlinear} {} theta_o={theta_o}", strategy.name()),
+        name: format!("plastic diffuse={diffuse} specular={specular} ior={int_ior} nonlinear={nonlinear} {} {} theta_o={theta_o}", strategy.name(), lobes.name()),
         wgsl: format!(
             "fn routine_bsdf() -> Bsdf {{ return Bsdf(BSDF_KIND_PLASTIC, {}, {}, {}, false); }}\n\
              fn routine_wo() -> vec3f {{ return vec3f({:.9}, 0.0, {:.9}); }}\n\
@@ -462,7 +466,7 @@ fn plastic(diffuse: f64, specular: f64, int_ior: f64, nonlinear: bool, strategy:
             t.sin(),
             t.cos(),
         ),
-        constants: vec![("BSDF_SAMPLING", strategy.constant() as f64)],
+        constants: vec![("BSDF_SAMPLING", strategy.constant() as f64), ("LOBE_SELECTION", lobes.constant() as f64)],
         s_split: 2.0,
         pdf_tolerance: 1e-4,
     }
@@ -471,21 +475,25 @@ fn plastic(diffuse: f64, specular: f64, int_ior: f64, nonlinear: bool, strategy:
 /// Mitsuba's defaults (diffuse 0.5 under polypropylene) from normal to grazing incidence under
 /// its own strategy; a mostly specular and a nonlinear diamond-index plastic; an index-matched
 /// coating (no delta lobe: F = 0); and the generic strategies (cosine, uniform sphere), which
-/// must draw the delta lobe with the plastic's own probability.
+/// must draw the delta lobe with the plastic's own probability; then the fixed lobe selection,
+/// at normal and grazing incidence and under the cosine strategy.
 fn plastic_routines() -> Vec<Routine> {
-    let own = BsdfSampling::Phong;
+    let (own, fresnel, fixed) = (BsdfSampling::Phong, LobeSelection::Fresnel, LobeSelection::Fixed);
     let mut r = Vec::new();
     for theta in [0.0, 45.0, 80.0, 89.0] {
-        r.push(plastic(0.5, 1.0, 1.49, false, own, theta));
+        r.push(plastic(0.5, 1.0, 1.49, false, own, fresnel, theta));
     }
-    r.push(plastic(0.05, 1.0, 1.5, false, own, 60.0));
-    r.push(plastic(0.8, 0.2, 2.419, true, own, 30.0));
-    r.push(plastic(0.5, 1.0, 1.0, false, own, 45.0));
+    r.push(plastic(0.05, 1.0, 1.5, false, own, fresnel, 60.0));
+    r.push(plastic(0.8, 0.2, 2.419, true, own, fresnel, 30.0));
+    r.push(plastic(0.5, 1.0, 1.0, false, own, fresnel, 45.0));
     for strategy in [BsdfSampling::Cosine, BsdfSampling::UniformSphere] {
         for theta in [10.0, 85.0] {
-            r.push(plastic(0.5, 1.0, 1.49, false, strategy, theta));
+            r.push(plastic(0.5, 1.0, 1.49, false, strategy, fresnel, theta));
         }
     }
+    r.push(plastic(0.5, 1.0, 1.49, false, own, fixed, 0.0));
+    r.push(plastic(0.3, 0.6, 1.5, true, own, fixed, 85.0));
+    r.push(plastic(0.5, 1.0, 1.49, false, BsdfSampling::Cosine, fixed, 45.0));
     r
 }
 
@@ -885,6 +893,87 @@ fn the_dielectric_draws_its_two_lobes_with_the_fresnel_probabilities() {
         let (p, r) = dielectric_chi_square(eta, cos_o, inside, 9000 + k as u32);
         report.push(format!("eta {eta}, cos {cos_o}, inside {inside}: F = {r:.5}, p = {p:.4}"));
         assert!(p >= level, "chi-square rejects the dielectric's lobe choice: {}", report.last().unwrap());
+    }
+    println!("{}\n(level {level:.2e} per case)", report.join("\n"));
+}
+
+// ----- the thin dielectric's two delta lobes -------------------------------------------------
+
+const THIN_KERNEL: &str = r#"
+struct TestParams { count: u32, seed: u32, _p0: u32, _p1: u32, wo: vec4f }
+@group(0) @binding(0) var<storage, read> test_params: TestParams;
+@group(0) @binding(1) var<storage, read_write> test_out: array<vec4f>;
+
+@compute @workgroup_size(64)
+fn thin_main(@builtin(global_invocation_id) gid: vec3u) {
+    let i = gid.x;
+    if (i >= test_params.count) {
+        return;
+    }
+    let d = ThinDielectric(test_params.wo.w, vec3f(1.0), vec3f(0.5));
+    let u = sample_independent(i, 0u, 2u, test_params.seed);
+    let bs = sample_thin_dielectric(d, vec3f(0.0, 0.0, 1.0), test_params.wo.xyz, u);
+    test_out[2u * i] = vec4f(bs.wi, bs.weight.x);
+    test_out[2u * i + 1u] = vec4f(bs.eta, bs.pdf, select(0.0, 1.0, bs.delta), bs.weight.y - bs.weight.z);
+}
+"#;
+
+/// The thin dielectric's lobe choice as a discrete distribution over {reflect, pass through}:
+/// SAMPLES draws at one incidence, their counts against R' = 2R / (1 + R) and 1 - R' (R from
+/// the f64 Fresnel twin; chi-square p-value), and every draw's direction, weight (1 reflected,
+/// the transmittance 0.5 through) and relative index (1) exact (hard failures).
+fn thin_dielectric_chi_square(eta: f64, cos_o: f64, seed: u32) -> (f64, f64) {
+    let name = format!("thin dielectric eta {eta}, cos {cos_o}");
+    let sin_o = (1.0 - cos_o * cos_o).max(0.0).sqrt();
+    let wo = [sin_o, 0.0, cos_o];
+    let params: [f32; 8] = [f32::from_bits(SAMPLES), f32::from_bits(seed), 0.0, 0.0, wo[0] as f32, 0.0, wo[2] as f32, eta as f32];
+    let source = shaders::assemble(&shaders::LIBRARY, THIN_KERNEL);
+    let run = KernelRun {
+        source: &source,
+        entry: "thin_main",
+        constants: &[],
+        inputs: vec![(0, bytemuck::cast_slice(&params).to_vec())],
+        uniforms: vec![],
+        output: (1, SAMPLES as u64 * 32),
+        workgroups: SAMPLES.div_ceil(64),
+    };
+    let out: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&run.run(gpu()).expect("thin dielectric kernel"));
+    let r = fresnel_dielectric(cos_o, eta as f32 as f64).0;
+    let r = 2.0 * r / (1.0 + r);
+    let mut counts = [0u64; 2];
+    for pair in out.chunks(2) {
+        let ([x, y, z, w], [eta_s, pdf, delta, wdiff]) = (pair[0], pair[1]);
+        assert!(delta == 1.0 && pdf == 0.0 && wdiff == 0.0 && eta_s == 1.0, "{name}: a delta lobe has pdf 0, a grey weight and relative index 1");
+        let (dir, weight) = if z > 0.0 {
+            counts[0] += 1;
+            ([-wo[0], 0.0, wo[2]], 1.0)
+        } else {
+            counts[1] += 1;
+            ([-wo[0], 0.0, -wo[2]], 0.5)
+        };
+        let err = (x as f64 - dir[0]).abs().max((y as f64 - dir[1]).abs()).max((z as f64 - dir[2]).abs());
+        assert!(err < 2e-6, "{name}: direction ({x}, {y}, {z}) instead of {dir:?}");
+        assert!(w as f64 == weight, "{name}: weight {w} instead of {weight}");
+    }
+    (pooled_chi_square(&name, &[r, 1.0 - r], &counts, SAMPLES as f64), r)
+}
+
+/// Normal to grazing incidence for glass, water, diamond and an index-matched pane (R' = 0).
+/// Fails falsely with probability below 0.01 (Šidák over the cases).
+#[test]
+fn the_thin_dielectric_reflects_with_the_summed_fresnel_probability() {
+    let mut cases = Vec::new();
+    for eta in [1.5046, 1.333, 2.419, 1.0] {
+        for cos_o in [1.0, 0.7, 0.2, 0.01] {
+            cases.push((eta, cos_o));
+        }
+    }
+    let level = sidak(ALPHA, cases.len());
+    let mut report = Vec::new();
+    for (k, &(eta, cos_o)) in cases.iter().enumerate() {
+        let (p, r) = thin_dielectric_chi_square(eta, cos_o, 9500 + k as u32);
+        report.push(format!("eta {eta}, cos {cos_o}: R' = {r:.5}, p = {p:.4}"));
+        assert!(p >= level, "chi-square rejects the thin dielectric's lobe choice: {}", report.last().unwrap());
     }
     println!("{}\n(level {level:.2e} per case)", report.join("\n"));
 }

@@ -69,19 +69,20 @@ fn a_new_framing_and_flags_without_effect_are_noted_once() {
         .arg("render")
         .arg(study())
         .args(["--width", "16", "--height", "16", "--spp", "1", "--method", "mis", "--quiet"])
-        .args(["--triangle-sampling", "solid-angle", "--microfacet-sampling", "ndf", "--sample-environment"])
+        .args(["--triangle-sampling", "solid-angle", "--microfacet-sampling", "ndf", "--lobe-selection", "fixed", "--sample-environment"])
         .output()
         .unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}");
     let notes: Vec<&str> = stderr.lines().filter(|l| l.starts_with("note: ")).collect();
-    assert_eq!(notes.len(), 4, "{stderr}");
+    assert_eq!(notes.len(), 5, "{stderr}");
     // The study scene gives fov_x: at 16x16 the horizontal angle stays, more is seen vertically.
     assert!(notes.iter().any(|n| n.contains("16x16 has another aspect ratio than the scene's 1024x512")
         && n.contains("the horizontal field of view (fov_x)")
         && n.contains("more is seen above and below")), "{stderr}");
     assert!(notes.contains(&"note: --triangle-sampling has no effect: the scene has no emissive triangles"), "{stderr}");
     assert!(notes.contains(&"note: --microfacet-sampling has no effect: the scene has no rough conductor"), "{stderr}");
+    assert!(notes.contains(&"note: --lobe-selection has no effect: the scene has no layered material (plastic)"), "{stderr}");
     assert!(notes.contains(&"note: --sample-environment has no effect: the scene's environment is black"), "{stderr}");
     let (film, _) = read_exr(&dir.join("study.exr")).unwrap();
     assert_eq!((film.width, film.height), (16, 16));

@@ -12,6 +12,12 @@
 //!    and `best`, z-tested on blocks as tests/cornell_box.rs does (at least 99.75% of channels
 //!    passing; `mis` scaled by 1.05 is rejected).
 //!
+//! 3. Mitsuba's `thindielectric` (src/scene/bsdfs/thin_dielectric.rs): a lossless pane and a
+//!    bubble in a white furnace (every pixel 1, as in 1), and the Cornell box with a thin pane
+//!    and a soap bubble (tests/fixtures/cornell_thin/cornell_thin.xml) against Mitsuba 3.9.1
+//!    (scripts/cornell_thin_reference.sh) as in 2. Its lobe choice is chi-square tested in
+//!    tests/chi2_sampling.rs.
+//!
 //! Each test fails falsely with probability below 0.01.
 
 use crate::common;
@@ -78,4 +84,34 @@ fn mis_and_best_agree_with_mitsuba_on_a_glass_sphere_in_the_cornell_box() {
     let scene = Scene::load_with(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/cornell_glass/cornell_glass.xml"), &defines).unwrap();
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
     agrees_with_reference(&reference, &scene, &[Preset::Mis.method(), Preset::Best.method()], plan, 900, Preset::Mis.method());
+}
+
+const THIN_FURNACE: &str = "[camera]\nposition = [0, 0.3, 5]\nlook_at = [0, 0, 0]\nup = [0, 1, 0]\nfov_x = 50\n\
+     [render]\nwidth = 24\nheight = 16\nmax_depth = -1\nrr_depth = 1\nenvironment = 1\n\
+     [materials.pane]\nbsdf = \"thindielectric\"\n\
+     [materials.bubble]\nbsdf = \"thindielectric\"\nint_ior = \"water\"\n\
+     [[spheres]]\ncenter = [-1.1, 0, 0]\nradius = 1\nmaterial = \"bubble\"\n\
+     [[rectangles]]\nmaterial = \"pane\"\ntransform = { scale = 0.9, rotate = [{ axis = [0, 1, 0], angle = 50 }], translate = [1.0, 0, 0.5] }\n";
+
+#[test]
+fn a_lossless_thin_pane_and_bubble_in_a_white_furnace_show_the_environment_everywhere() {
+    let scene = scene(THIN_FURNACE);
+    let methods = [Preset::Mis.method(), Preset::Cosine.method()];
+    let alpha = pathlab::stats::sidak(0.01, methods.len());
+    for (k, method) in methods.into_iter().enumerate() {
+        let film = render(&scene, method, 1024, 60 + k as u32);
+        let z = z_test(&constant_film(film.width, film.height, 1.0), &film, alpha);
+        println!("{}: {:.4} of {} channels pass |z| <= {:.2}; max |z| {:.2}, mean z {:+.3}; image mean {:.5}",
+            method.name(), z.pass_fraction, z.channels, z.threshold, z.max_abs_z, z.mean_z, film.average());
+        assert!(z.pass_fraction == 1.0, "{}: the furnace is not white: {z:?}", method.name());
+    }
+}
+
+#[test]
+fn mis_and_best_agree_with_mitsuba_on_a_thin_pane_and_a_bubble_in_the_cornell_box() {
+    let reference = mitsuba_fixture("cornell_thin");
+    let defines = [("resx".to_string(), reference.width.to_string()), ("resy".to_string(), reference.height.to_string())];
+    let scene = Scene::load_with(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/cornell_thin/cornell_thin.xml"), &defines).unwrap();
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    agrees_with_reference(&reference, &scene, &[Preset::Mis.method(), Preset::Best.method()], plan, 950, Preset::Mis.method());
 }

@@ -11,8 +11,9 @@
 //!    reflectance of 0.8) against Mitsuba 3.9.1 loading the same file (64x64, 65536 spp in 64
 //!    passes with the per-pixel variance of its mean; scripts/cornell_plastic_reference.sh),
 //!    z-tested on blocks as tests/cornell_box.rs does (at least 99.75% of channels passing; `mis`
-//!    scaled by 1.05 is rejected), for `mis`, `best`, `nee` (uniform directions) and `cosine`
-//!    (the generic strategies, which must leave the delta lobe to the plastic's own choice).
+//!    scaled by 1.05 is rejected), for `mis`, `best`, `mis+fixed` (the fixed lobe selection),
+//!    `nee` (uniform directions) and `cosine` (the generic strategies, which must leave the delta
+//!    lobe to the plastic's own choice).
 //!    Fails falsely with probability below 0.01.
 //! 3. Bad plastic parameters and index names are refused naming the field (TOML) or the
 //!    line and column (XML), listing the known names.
@@ -22,7 +23,7 @@ use crate::common;
 use common::*;
 use glam::DVec3;
 use pathlab::gpu::KernelRun;
-use pathlab::method::{Method, Preset};
+use pathlab::method::{LobeSelection, Method, Preset};
 use pathlab::scene::bsdfs::fresnel_diffuse_reflectance;
 use pathlab::scene::{Bsdf, Plastic, Scene, SceneError};
 use pathlab::shaders;
@@ -135,7 +136,7 @@ fn the_plastic_evaluates_mitsubas_formula_and_is_reciprocal() {
 /// noisier (the light is found by the cosine lobe's rays only, or by uniform ones beside next
 /// event estimation): 8x8 blocks.
 fn plan(method: &Method) -> (u64, u32) {
-    if *method == Preset::Mis.method() || *method == Preset::Best.method() {
+    if method.lights == pathlab::method::LightSampling::Mis {
         (1024, 2)
     } else {
         (2048, 8)
@@ -143,14 +144,15 @@ fn plan(method: &Method) -> (u64, u32) {
 }
 
 #[test]
-fn mis_best_nee_and_cosine_agree_with_mitsuba_on_two_plastics_in_the_cornell_box() {
+fn mis_best_fixed_lobes_nee_and_cosine_agree_with_mitsuba_on_two_plastics_in_the_cornell_box() {
     let reference = mitsuba_fixture("cornell_plastic");
     let defines = [("resx".to_string(), reference.width.to_string()), ("resy".to_string(), reference.height.to_string())];
     let scene = Scene::load_with(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/cornell_plastic/cornell_plastic.xml"), &defines).unwrap();
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
     let kinds: Vec<&Bsdf> = scene.materials.iter().map(|m| &m.bsdf).filter(|b| matches!(b, Bsdf::Plastic(_))).collect();
     assert_eq!(kinds.len(), 2, "two plastics");
-    let methods = [Preset::Mis.method(), Preset::Best.method(), Preset::Nee.method(), Preset::Cosine.method()];
+    let fixed = Method { lobes: LobeSelection::Fixed, ..Preset::Mis.method() };
+    let methods = [Preset::Mis.method(), Preset::Best.method(), fixed, Preset::Nee.method(), Preset::Cosine.method()];
     agrees_with_reference(&reference, &scene, &methods, plan, 1300, Preset::Mis.method());
 }
 
@@ -207,4 +209,14 @@ fn named_indices_are_read_from_toml_and_xml_and_unknown_ones_refused() {
     let e = Scene::load(&path).unwrap_err().to_string();
     assert!(e.contains("p.xml:3:") && e.contains("`alpha` of <bsdf type=\"plastic\"> is not supported"), "{e}");
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The shipped scene of the README's lobe-selection study loads without warnings, with its
+/// glass and its two plastics.
+#[test]
+fn the_glass_and_plastic_scene_loads() {
+    let scene = Scene::load(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes/glass_and_plastic.xml")).unwrap();
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let count = |kind: pathlab::scene::BsdfKind| scene.materials.iter().filter(|m| m.bsdf.kind() == kind).count();
+    assert_eq!((count(pathlab::scene::BsdfKind::Plastic), count(pathlab::scene::BsdfKind::Dielectric)), (2, 1));
 }

@@ -2,7 +2,7 @@
 //! after specialisation, exactly as wgpu would at pipeline creation.
 
 use pathlab::gpu::{pipeline_constants, PipelineKey, NO_TRAVERSAL_GUARD};
-use pathlab::method::{BsdfSampling, LightSampling, LightSelect, MicrofacetSampling, Method, Sampler, TriangleSampling};
+use pathlab::method::{BsdfSampling, LightSampling, LightSelect, LobeSelection, MicrofacetSampling, Method, Sampler, TriangleSampling};
 use pathlab::gpu::SceneFeatures;
 use pathlab::shaders;
 
@@ -28,9 +28,11 @@ fn every_override_permutation_validates() {
                             // Specular and environment (shaded, and sampled as a light) on and off together, and the light
                             // interiors with them: each on and each off is compiled once.
                             for on in [false, true] {
-                                // Both microfacet strategies, each with conductors on and off.
+                                // Both microfacet strategies and both lobe selections, each with
+                                // conductors and plastics on and off.
                                 let microfacet = if (checked / 2) % 2 == 0 { MicrofacetSampling::Vndf } else { MicrofacetSampling::Ndf };
-                                let method = Method { sampler, bsdf, lights, select: Some(select), triangles, microfacet, environment: on };
+                                let lobes = if (checked / 4) % 2 == 0 { LobeSelection::Fresnel } else { LobeSelection::Fixed };
+                                let method = Method { sampler, bsdf, lights, select: Some(select), triangles, microfacet, lobes, environment: on };
                                 let features = SceneFeatures {
                                     num_spheres,
                                     num_planes,

@@ -7,7 +7,8 @@
 //
 // (R fdr_int for fdr_int with `nonlinear`). The own sampling picks the delta lobe with Mitsuba's
 // probability F w / (F w + (1 - F)(1 - w)) (w: the specular sampling weight from the albedos),
-// else a cosine-weighted direction. One-sided: n_s is turned towards wo by the integrator.
+// else a cosine-weighted direction (`--lobe-selection fixed`: with probability w alone).
+// One-sided: n_s is turned towards wo by the integrator.
 
 struct Plastic {
     diffuse: vec3f,
@@ -26,9 +27,14 @@ fn plastic_of(b: Bsdf) -> Plastic {
     return Plastic(b.p0.xyz, b.p0.w, b.p1.xyz, b.p1.w, b.p2.x, b.p2.y != 0.0);
 }
 
-// The probability of the delta lobe given the coating's Fresnel reflectance f_i at wo (0 where
-// both lobes' shares are 0: an index-matched coating on a black base, which scatters nothing).
+// The probability of the delta lobe given the coating's Fresnel reflectance f_i at wo: with
+// LOBES_FIXED the specular sampling weight alone; with LOBES_FRESNEL (Mitsuba's) weighted by
+// f_i (0 where both lobes' shares are 0: an index-matched coating on a black base, which
+// scatters nothing).
 fn plastic_specular_prob(p: Plastic, f_i: f32) -> f32 {
+    if (LOBE_SELECTION == LOBES_FIXED) {
+        return p.specular_sampling_weight;
+    }
     let prob_specular = f_i * p.specular_sampling_weight;
     let prob_diffuse = (1.0 - f_i) * (1.0 - p.specular_sampling_weight);
     let total = prob_specular + prob_diffuse;

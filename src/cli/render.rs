@@ -9,7 +9,7 @@ use clap::Args;
 use pathlab::display::{DisplayTransform, Transfer};
 use pathlab::estimate::target::Target;
 use pathlab::gpu::{adapter_summary, Gpu, PathTracerPipelines};
-use pathlab::method::{BsdfSampling, LightSampling, LightSelect, Method, MethodParts, MicrofacetSampling, Sampler, TriangleSampling};
+use pathlab::method::{BsdfSampling, LightSampling, LightSelect, LobeSelection, Method, MethodParts, MicrofacetSampling, Sampler, TriangleSampling};
 use pathlab::render::{ctrl_c_flag, default_output, Budget, CheckpointPlan, ErrorPlan, OutputFiles, RenderJob, Resume, MAX_SPP};
 use pathlab::scene::{ApplicableOptions, Overrides};
 use pathlab::shard::{default_part_name, shard_range};
@@ -54,6 +54,12 @@ pub struct RenderArgs {
     /// Noted once where the scene has no rough conductor or the strategy is another.
     #[arg(long, value_parser = named::<MicrofacetSampling>())]
     microfacet_sampling: Option<MicrofacetSampling>,
+    /// How layered BSDFs (plastic) pick the lobe they sample, under every BSDF strategy:
+    /// `fresnel` (Mitsuba's: the albedos' weight times the coating's Fresnel term at the
+    /// incident direction) or `fixed` (the albedos' weight alone). Noted once where the scene
+    /// has no plastic.
+    #[arg(long, value_parser = named::<LobeSelection>())]
+    lobe_selection: Option<LobeSelection>,
     /// Next event estimation samples the constant environment as a light, and rays that
     /// escape take the MIS weight against it (as the method suffix `+env`; default: found by
     /// escaping rays alone). Noted once where the environment is black or the method samples
@@ -153,6 +159,9 @@ fn inapplicable_flags(args: &RenderArgs, scene: &pathlab::scene::Scene, method: 
         };
         notes.push(format!("--microfacet-sampling has no effect: {why}"));
     }
+    if args.lobe_selection.is_some() && !can.lobe_selection {
+        notes.push("--lobe-selection has no effect: the scene has no layered material (plastic)".to_string());
+    }
     if args.sample_environment && !can.environment_sampling {
         let why = if has.environment_sampling { no_lights.clone() } else { "the scene's environment is black".to_string() };
         notes.push(format!("--sample-environment has no effect: {why}"));
@@ -193,6 +202,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
         select: args.light_select,
         triangles: args.triangle_sampling,
         microfacet: args.microfacet_sampling,
+        lobes: args.lobe_selection,
         environment: args.sample_environment.then_some(true),
     };
     let method = parts.apply(args.method);

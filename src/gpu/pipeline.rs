@@ -62,6 +62,7 @@ pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
         ("LIGHT_SELECT", select.constant() as f64),
         ("TRIANGLE_SAMPLING", key.method.triangles.constant() as f64),
         ("MICROFACET_SAMPLING", key.method.microfacet.constant() as f64),
+        ("LOBE_SELECTION", key.method.lobes.constant() as f64),
         ("NUM_SPHERES", f.num_spheres as f64),
         ("NUM_PLANES", f.num_planes as f64),
         ("NUM_TRIANGLES", f.num_triangles as f64),

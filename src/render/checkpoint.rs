@@ -95,6 +95,7 @@ impl CheckpointKey {
             ("light_select", self.method.select.map_or("default".to_string(), |s| s.to_string())),
             ("triangle_sampling", self.method.triangles.to_string()),
             ("microfacet_sampling", self.method.microfacet.to_string()),
+            ("lobe_selection", self.method.lobes.to_string()),
             ("environment_sampling", if self.method.environment { "on" } else { "off" }.to_string()),
             ("seed", self.seed.to_string()),
             ("scene_hash", self.scene_hash.clone()),
@@ -208,6 +209,11 @@ impl Checkpoint {
             None => crate::method::MicrofacetSampling::Vndf,
             Some(v) => v.parse().map_err(|e| invalid(format!("pathlab:microfacet_sampling: {e}")))?,
         };
+        // Files written before layered BSDFs have Mitsuba's Fresnel-weighted lobe selection.
+        let lobes = match header.get("lobe_selection") {
+            None => crate::method::LobeSelection::Fresnel,
+            Some(v) => v.parse().map_err(|e| invalid(format!("pathlab:lobe_selection: {e}")))?,
+        };
         // Files written before the environment was a light never sampled it.
         let environment = match header.get("environment_sampling") {
             None | Some("off") => false,
@@ -221,6 +227,7 @@ impl Checkpoint {
             select,
             triangles,
             microfacet,
+            lobes,
             environment,
         };
         let scene_hash = header.text("scene_hash").map_err(attr)?.to_string();

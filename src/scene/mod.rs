@@ -25,7 +25,7 @@ use glam::DVec3;
 
 use crate::method::{BsdfSampling, LightSampling, Method};
 
-pub use bsdfs::{Bsdf, BsdfKind, Conductor, Dielectric, Distribution, Phong, Plastic, RoughConductor};
+pub use bsdfs::{Bsdf, BsdfKind, Conductor, Dielectric, Distribution, Phong, Plastic, RoughConductor, ThinDielectric};
 pub use diagnostic::{Diagnostic, SceneError, Severity};
 pub use emitters::{AliasTable, EmitterKind, Light};
 pub use mesh::Mesh;
@@ -349,8 +349,9 @@ impl Scene {
     }
 }
 
-/// Which of a method's finer options (`select`, `triangles`, `microfacet`, `environment`) can change the image
-/// of a scene: the viewer offers only these, `render` notes the others once.
+/// Which of a method's finer options (`select`, `triangles`, `microfacet`, `lobes`,
+/// `environment`) can change the image of a scene: the viewer offers only these, `render` notes
+/// the others once.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ApplicableOptions {
     /// The light selection: next event estimation is on and the scene has more than one light.
@@ -359,6 +360,9 @@ pub struct ApplicableOptions {
     pub triangle_sampling: bool,
     /// Microfacet sampling: the BSDF strategy samples the material and some conductor is rough.
     pub microfacet_sampling: bool,
+    /// Lobe selection: some material is layered (plastic), whatever the BSDF strategy (its
+    /// delta lobe is drawn by its own choice under every one).
+    pub lobe_selection: bool,
     /// Sampling the environment: light sampling is on and the environment is not black.
     pub environment_sampling: bool,
 }
@@ -370,6 +374,7 @@ impl ApplicableOptions {
             light_select: scene.num_lights() > 1,
             triangle_sampling: scene.has_triangle_lights(),
             microfacet_sampling: scene.materials.iter().any(|m| m.bsdf_kind() == BsdfKind::RoughConductor),
+            lobe_selection: scene.materials.iter().any(|m| m.bsdf_kind().selects_lobes()),
             environment_sampling: scene.has_environment(),
         }
     }
@@ -384,6 +389,7 @@ impl ApplicableOptions {
             light_select: self.light_select && lights,
             triangle_sampling: self.triangle_sampling && lights,
             microfacet_sampling: self.microfacet_sampling && material,
+            lobe_selection: self.lobe_selection,
             environment_sampling: self.environment_sampling && lights,
         }
     }
@@ -442,19 +448,19 @@ mod applicable_options {
         let mis = Preset::Mis.method();
         // The study scene: two sphere lights, Phong only.
         let study = ApplicableOptions::of_scene(&scene("study.toml"));
-        assert_eq!(study, ApplicableOptions { light_select: true, triangle_sampling: false, microfacet_sampling: false, environment_sampling: false });
+        assert_eq!(study, ApplicableOptions { light_select: true, triangle_sampling: false, microfacet_sampling: false, lobe_selection: false, environment_sampling: false });
         // The Cornell box: one triangle light (two triangles), no conductor.
         let cornell = ApplicableOptions::of_scene(&scene("cornell_box.toml"));
-        assert_eq!(cornell, ApplicableOptions { light_select: true, triangle_sampling: true, microfacet_sampling: false, environment_sampling: false });
+        assert_eq!(cornell, ApplicableOptions { light_select: true, triangle_sampling: true, microfacet_sampling: false, lobe_selection: false, environment_sampling: false });
         // Veach's scene: four sphere lights, rough conductors; microfacet sampling only with the
         // material's own strategy.
         let veach = ApplicableOptions::of_scene(&scene("veach_mis.xml"));
-        assert_eq!(veach, ApplicableOptions { light_select: true, triangle_sampling: false, microfacet_sampling: true, environment_sampling: false });
+        assert_eq!(veach, ApplicableOptions { light_select: true, triangle_sampling: false, microfacet_sampling: true, lobe_selection: false, environment_sampling: false });
         assert_eq!(veach.with_method(&mis), veach);
         assert!(!veach.with_method(&Preset::Nee.method()).microfacet_sampling);
         // Without light sampling the light options cannot matter.
         let plain = cornell.with_method(&Preset::Plain.method());
-        assert_eq!(plain, ApplicableOptions { light_select: false, triangle_sampling: false, microfacet_sampling: false, environment_sampling: false });
+        assert_eq!(plain, ApplicableOptions { light_select: false, triangle_sampling: false, microfacet_sampling: false, lobe_selection: false, environment_sampling: false });
         assert_eq!(cornell.with_method(&Preset::Nee.method()), cornell);
     }
 }

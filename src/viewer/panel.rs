@@ -7,7 +7,7 @@ use std::time::Instant;
 use egui::{Color32, RichText, Ui};
 
 use crate::display::{DisplayTransform, Transfer};
-use crate::method::{BsdfSampling, LightSampling, LightSelect, Method, MicrofacetSampling, Preset, Sampler, TriangleSampling};
+use crate::method::{BsdfSampling, LightSampling, LightSelect, LobeSelection, Method, MicrofacetSampling, Preset, Sampler, TriangleSampling};
 use crate::scene::ApplicableOptions;
 
 use crate::display::View;
@@ -158,6 +158,14 @@ fn method_section(app: &PanelState, ui: &mut Ui, actions: &mut Vec<Action>) {
                 let name = |m: MicrofacetSampling| m.name().to_string();
                 if let Some(m) = ui.add_enabled_ui(can.microfacet_sampling, |ui| choose(ui, ("microfacets", i), method.microfacet, &MicrofacetSampling::ALL, name)).inner {
                     next = Some(Method { microfacet: m, ..method });
+                }
+                ui.end_row();
+            }
+            if has.lobe_selection {
+                ui.label("lobes");
+                let name = |l: LobeSelection| l.name().to_string();
+                if let Some(l) = ui.add_enabled_ui(can.lobe_selection, |ui| choose(ui, ("lobes", i), method.lobes, &LobeSelection::ALL, name)).inner {
+                    next = Some(Method { lobes: l, ..method });
                 }
                 ui.end_row();
             }

@@ -1,5 +1,6 @@
 //! BSDFs, one file per kind, as Mitsuba 3 lays out `src/bsdfs/`. A kind's Rust file
-//! (`phong.rs`, `conductor.rs`, `rough_conductor.rs`, `dielectric.rs`, `plastic.rs`) owns
+//! (`phong.rs`, `conductor.rs`, `rough_conductor.rs`, `dielectric.rs`, `plastic.rs`,
+//! `thin_dielectric.rs`) owns
 //! everything the host knows of it: its validated parameters, the fields of its TOML material,
 //! the properties of its Mitsuba plugins, its lines of the scene hash and its parameter block
 //! for the kernel. Its WGSL file,
@@ -19,6 +20,7 @@ mod phong;
 mod plastic;
 mod plugin;
 mod rough_conductor;
+mod thin_dielectric;
 
 use std::ops::Range;
 use std::sync::OnceLock;
@@ -34,6 +36,7 @@ pub use ior::NAMED_IORS;
 pub use phong::Phong;
 pub use plastic::{fresnel_diffuse_reflectance, Plastic};
 pub use rough_conductor::RoughConductor;
+pub use thin_dielectric::ThinDielectric;
 pub(crate) use phong::DEFAULT_REFLECTANCE;
 pub use plugin::BsdfParams;
 pub(crate) use plugin::{color_value, BsdfPlugin, Fields, PluginProps};
@@ -80,6 +83,11 @@ macro_rules! bsdf_registry {
             /// Whether it has a delta lobe beside smooth ones (`BsdfPlugin::HAS_DELTA_LOBE`).
             pub fn has_delta_lobe(self) -> bool {
                 match self { $( BsdfKind::$variant => <$ty as BsdfPlugin>::HAS_DELTA_LOBE ),+ }
+            }
+
+            /// Whether it chooses between layered lobes by `--lobe-selection`.
+            pub fn selects_lobes(self) -> bool {
+                match self { $( BsdfKind::$variant => <$ty as BsdfPlugin>::SELECTS_LOBES ),+ }
             }
 
             /// Whether it may transmit (refract into the surface).
@@ -136,6 +144,8 @@ bsdf_registry! {
     Dielectric = "dielectric" => Dielectric,
     /// Mitsuba's smooth `plastic`: a diffuse base under a dielectric coating's delta lobe.
     Plastic = "plastic" => Plastic,
+    /// Mitsuba's `thindielectric`: a thin pane, reflecting or passing straight through.
+    ThinDielectric = "thin-dielectric" => ThinDielectric,
 }
 
 impl BsdfKind {

@@ -77,6 +77,7 @@ impl BsdfPlugin for Plastic {
     const MITSUBA_PLUGINS: &'static [&'static str] = &["plastic"];
     const IS_DELTA: bool = false;
     const HAS_DELTA_LOBE: bool = true;
+    const SELECTS_LOBES: bool = true;
 
     fn from_fields(f: &mut Fields) -> Plastic {
         let diffuse = if f.has("diffuse_reflectance") { f.color("diffuse_reflectance", DVec3::ZERO) } else { DVec3::splat(DEFAULT_DIFFUSE) };

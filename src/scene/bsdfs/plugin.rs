@@ -31,6 +31,9 @@ pub(crate) trait BsdfPlugin: Sized {
     /// lobe (it must pick it exactly when `u_lobe` is below it), and the generic strategies
     /// draw the delta lobe with that probability and their own direction otherwise.
     const HAS_DELTA_LOBE: bool = false;
+    /// It chooses between a coating's and a base's lobes (Mitsuba's plastics), with the
+    /// pipeline's `LOBE_SELECTION` (`--lobe-selection`).
+    const SELECTS_LOBES: bool = false;
     /// It may transmit (refract into the surface): the kernel's two-sided handling of
     /// directions (ray offsets, next event estimation behind the surface, roulette's eta²)
     /// compiles in where a scene has it.

@@ -1,0 +1,88 @@
+//! Mitsuba's `thindielectric` (WGSL: `shaders/bsdfs/thin_dielectric.wgsl`): a thin pane of glass
+//! (a window, a soap film) modelled as two parallel interfaces of relative index eta = int_ior /
+//! ext_ior infinitely close together. Light reflects in the mirror direction with the Fresnel
+//! reflectance R' = R + T R T + T R^3 T + ... = 2 R / (1 + R) of all the internal reflections
+//! summed (R = F(|cos_i|)), or passes straight through with 1 - R' (no refraction: the two
+//! bends cancel). Two delta lobes, picked with these probabilities; both sides alike. TOML and
+//! Mitsuba `int_ior` (default bk7, 1.5046), `ext_ior` (default air, 1.000277), each a number or
+//! a name of `ior.rs`, `specular_reflectance` and `specular_transmittance` (factors on the two
+//! lobes, default 1).
+
+use glam::DVec3;
+
+use super::ior;
+use super::plugin::{color_value, BsdfParams, BsdfPlugin, Fields, PluginProps};
+use crate::scene::hash::{real, vec3};
+
+/// Mitsuba's default interior index (`bk7`).
+const DEFAULT_INT_IOR: f64 = 1.5046;
+/// Mitsuba's default exterior index (`air`).
+const DEFAULT_EXT_IOR: f64 = 1.000277;
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct ThinDielectric {
+    pub int_ior: f64,
+    pub ext_ior: f64,
+    /// Factors on the reflected and the transmitted lobe (1: lossless).
+    pub reflectance: DVec3,
+    pub transmittance: DVec3,
+}
+
+impl ThinDielectric {
+    /// The relative index eta = int_ior / ext_ior.
+    pub fn eta(&self) -> f64 {
+        self.int_ior / self.ext_ior
+    }
+}
+
+impl BsdfPlugin for ThinDielectric {
+    const TOML_NAME: &'static str = "thindielectric";
+    const FIELDS: &'static [&'static str] = &["int_ior", "ext_ior", "specular_reflectance", "specular_transmittance"];
+    const MITSUBA_PLUGINS: &'static [&'static str] = &["thindielectric"];
+    const IS_DELTA: bool = true;
+    const TRANSMITS: bool = true;
+    const BOTH_SIDES: bool = true;
+
+    fn from_fields(f: &mut Fields) -> ThinDielectric {
+        let int_ior = ior::from_field(f, "int_ior", DEFAULT_INT_IOR);
+        let ext_ior = ior::from_field(f, "ext_ior", DEFAULT_EXT_IOR);
+        ThinDielectric {
+            int_ior,
+            ext_ior,
+            reflectance: f.color("specular_reflectance", DVec3::ONE),
+            transmittance: f.color("specular_transmittance", DVec3::ONE),
+        }
+    }
+
+    fn from_mitsuba(p: &mut dyn PluginProps) -> Option<Vec<(&'static str, toml::Value)>> {
+        if let Some(at) = p.texture() {
+            p.error(at, "", "a textured parameter is not supported (give <rgb> or <float> values)".into());
+        }
+        // A <float>, or a <string> naming a material of Mitsuba's table (`bk7`).
+        let mut fields = Vec::new();
+        for (name, default) in [("int_ior", DEFAULT_INT_IOR), ("ext_ior", DEFAULT_EXT_IOR)] {
+            fields.push((name, toml::Value::Float(ior::from_mitsuba(p, name, default))));
+        }
+        for name in ["specular_reflectance", "specular_transmittance"] {
+            if let Some(c) = p.color(name) {
+                fields.push((name, color_value(c)));
+            }
+        }
+        p.finish("int_ior, ext_ior, specular_reflectance, specular_transmittance");
+        Some(fields)
+    }
+
+    fn hash_lines(&self, line: &mut dyn FnMut(&str, String)) {
+        line("thindielectric.int_ior", real(self.int_ior));
+        line("thindielectric.ext_ior", real(self.ext_ior));
+        line("thindielectric.reflectance", vec3(self.reflectance));
+        line("thindielectric.transmittance", vec3(self.transmittance));
+    }
+
+    /// `p0 = (reflectance, eta)`, `p1 = (transmittance, 0)`: the layout of WGSL's
+    /// `thin_dielectric_of`.
+    fn pack(&self) -> BsdfParams {
+        let (r, t) = (self.reflectance.as_vec3(), self.transmittance.as_vec3());
+        [[r.x, r.y, r.z, self.eta() as f32], [t.x, t.y, t.z, 0.0], [0.0; 4]]
+    }
+}
