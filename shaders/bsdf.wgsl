@@ -93,13 +93,24 @@ fn sample_generic_strategy(n_s: vec3f, u_dir: vec2f) -> vec3f {
     return frame_to_world(frame_from_normal(n_s), local);
 }
 
+// Whether the pipeline's generic strategy is a hemisphere's (uniform or cosine) and the material
+// transmits through smooth lobes: the hemisphere is then mirrored below the surface with
+// probability 1/2 (by u_lobe), so that the strategy reaches every direction the BSDF scatters
+// into. (A kind with a delta lobe beside smooth ones, which spends u_lobe, only reflects.)
+fn generic_covers_both_sides(b: Bsdf) -> bool {
+    return bsdf_transmits_smoothly(b) && (BSDF_SAMPLING == BSDF_UNIFORM_HEMISPHERE || BSDF_SAMPLING == BSDF_COSINE);
+}
+
 // f(wi, wo) and the density at wi of the pipeline's strategy: a generic one's, for every kind
 // that is not a delta (a delta lobe is found by its own sampling alone, whatever the strategy;
 // where a kind has one beside smooth lobes, the generic density is scaled by the probability
 // of not drawing it), else the kind's own.
 fn eval_pdf_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, wi: vec3f) -> BsdfEval {
     var e = eval_pdf_bsdf_of_kind(b, n_s, wo, wi);
-    let generic = pdf_generic_strategy(dot(wi, n_s));
+    var generic = pdf_generic_strategy(dot(wi, n_s));
+    if (generic >= 0.0 && generic_covers_both_sides(b)) {
+        generic = 0.5 * pdf_generic_strategy(abs(dot(wi, n_s)));
+    }
     if (generic >= 0.0 && !bsdf_is_delta(b)) {
         // The generic direction is drawn when the kind's delta lobe is not.
         e.pdf = generic * (1.0 - bsdf_delta_lobe_prob(b, n_s, wo));
@@ -117,7 +128,10 @@ fn sample_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> Bsd
         if (u_lobe < bsdf_delta_lobe_prob(b, n_s, wo)) {
             return sample_bsdf_of_kind(b, n_s, wo, u_dir, u_lobe);
         }
-        let wi = sample_generic_strategy(n_s, u_dir);
+        var wi = sample_generic_strategy(n_s, u_dir);
+        if (generic_covers_both_sides(b) && u_lobe < 0.5) {
+            wi = wi - 2.0 * dot(wi, n_s) * n_s;
+        }
         let e = eval_pdf_bsdf(b, n_s, wo, wi);
         return BsdfSample(wi, e.pdf, path_weight(e.f, dot(wi, n_s), e.pdf), false, 1.0);
     }

@@ -25,7 +25,7 @@ use glam::DVec3;
 
 use crate::method::{BsdfSampling, LightSampling, Method};
 
-pub use bsdfs::{Bsdf, BsdfKind, Conductor, Dielectric, Distribution, Phong, Plastic, RoughConductor, ThinDielectric};
+pub use bsdfs::{Bsdf, BsdfKind, Conductor, Dielectric, Distribution, Phong, Plastic, RoughConductor, RoughDielectric, ThinDielectric};
 pub use diagnostic::{Diagnostic, SceneError, Severity};
 pub use emitters::{AliasTable, EmitterKind, Light};
 pub use mesh::Mesh;
@@ -358,7 +358,8 @@ pub struct ApplicableOptions {
     pub light_select: bool,
     /// Triangle-light sampling: light sampling is on and some triangle emits.
     pub triangle_sampling: bool,
-    /// Microfacet sampling: the BSDF strategy samples the material and some conductor is rough.
+    /// Microfacet sampling: the BSDF strategy samples the material and some material is rough
+    /// (a rough conductor or dielectric).
     pub microfacet_sampling: bool,
     /// Lobe selection: some material is layered (plastic), whatever the BSDF strategy (its
     /// delta lobe is drawn by its own choice under every one).
@@ -373,7 +374,7 @@ impl ApplicableOptions {
         ApplicableOptions {
             light_select: scene.num_lights() > 1,
             triangle_sampling: scene.has_triangle_lights(),
-            microfacet_sampling: scene.materials.iter().any(|m| m.bsdf_kind() == BsdfKind::RoughConductor),
+            microfacet_sampling: scene.materials.iter().any(|m| m.bsdf_kind().has_microfacets()),
             lobe_selection: scene.materials.iter().any(|m| m.bsdf_kind().selects_lobes()),
             environment_sampling: scene.has_environment(),
         }

@@ -109,6 +109,12 @@ pub fn bsdf_dispatch() -> String {
          fn bsdf_is_delta(b: Bsdf) -> bool {{\n    return {};\n}}\n",
         if delta.is_empty() { "false".to_string() } else { delta.join(" || ") }
     );
+    let smooth_transmit: Vec<String> = BsdfKind::ALL.iter().filter(|k| k.transmits() && !k.is_delta()).map(|k| format!("({})", is(k))).collect();
+    s += &format!(
+        "\n// Whether the material transmits through smooth lobes (a rough dielectric): a generic\n\
+         // hemisphere strategy then covers both sides.\nfn bsdf_transmits_smoothly(b: Bsdf) -> bool {{\n    return {};\n}}\n",
+        if smooth_transmit.is_empty() { "false".to_string() } else { smooth_transmit.join(" || ") }
+    );
     let mixed: Vec<&BsdfKind> = BsdfKind::ALL.iter().filter(|k| k.has_delta_lobe()).collect();
     let mut f = "\n// The probability with which the material's own sampling picks a delta lobe that it has beside\n\
                  // smooth ones (0 for every other kind): the generic strategies draw that lobe with it.\n\

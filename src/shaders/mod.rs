@@ -37,12 +37,13 @@ pub mod files {
     pub const FRESNEL: (&str, &str) = ("fresnel.wgsl", include_str!("../../shaders/fresnel.wgsl"));
     pub const BSDF: (&str, &str) = ("bsdf.wgsl", include_str!("../../shaders/bsdf.wgsl"));
     /// One file per kind of the BSDF registry (`scene::BsdfKind`), in its order.
-    pub const BSDF_KINDS: [(&str, &str); 6] = [
+    pub const BSDF_KINDS: [(&str, &str); 7] = [
         ("bsdfs/phong.wgsl", include_str!("../../shaders/bsdfs/phong.wgsl")),
         ("bsdfs/conductor.wgsl", include_str!("../../shaders/bsdfs/conductor.wgsl")),
         ("bsdfs/rough_conductor.wgsl", include_str!("../../shaders/bsdfs/rough_conductor.wgsl")),
         ("bsdfs/dielectric.wgsl", include_str!("../../shaders/bsdfs/dielectric.wgsl")),
         ("bsdfs/plastic.wgsl", include_str!("../../shaders/bsdfs/plastic.wgsl")),
+        ("bsdfs/rough_dielectric.wgsl", include_str!("../../shaders/bsdfs/rough_dielectric.wgsl")),
         ("bsdfs/thin_dielectric.wgsl", include_str!("../../shaders/bsdfs/thin_dielectric.wgsl")),
     ];
     pub const LIGHTS: (&str, &str) = ("lights.wgsl", include_str!("../../shaders/lights.wgsl"));

@@ -1,6 +1,6 @@
 //! BSDFs, one file per kind, as Mitsuba 3 lays out `src/bsdfs/`. A kind's Rust file
 //! (`phong.rs`, `conductor.rs`, `rough_conductor.rs`, `dielectric.rs`, `plastic.rs`,
-//! `thin_dielectric.rs`) owns
+//! `rough_dielectric.rs`, `thin_dielectric.rs`) owns
 //! everything the host knows of it: its validated parameters, the fields of its TOML material,
 //! the properties of its Mitsuba plugins, its lines of the scene hash and its parameter block
 //! for the kernel. Its WGSL file,
@@ -20,6 +20,7 @@ mod phong;
 mod plastic;
 mod plugin;
 mod rough_conductor;
+mod rough_dielectric;
 mod thin_dielectric;
 
 use std::ops::Range;
@@ -36,6 +37,7 @@ pub use ior::NAMED_IORS;
 pub use phong::Phong;
 pub use plastic::{fresnel_diffuse_reflectance, Plastic};
 pub use rough_conductor::RoughConductor;
+pub use rough_dielectric::RoughDielectric;
 pub use thin_dielectric::ThinDielectric;
 pub(crate) use phong::DEFAULT_REFLECTANCE;
 pub use plugin::BsdfParams;
@@ -83,6 +85,11 @@ macro_rules! bsdf_registry {
             /// Whether it has a delta lobe beside smooth ones (`BsdfPlugin::HAS_DELTA_LOBE`).
             pub fn has_delta_lobe(self) -> bool {
                 match self { $( BsdfKind::$variant => <$ty as BsdfPlugin>::HAS_DELTA_LOBE ),+ }
+            }
+
+            /// Whether it samples microfacet normals by `--microfacet-sampling`.
+            pub fn has_microfacets(self) -> bool {
+                match self { $( BsdfKind::$variant => <$ty as BsdfPlugin>::MICROFACETS ),+ }
             }
 
             /// Whether it chooses between layered lobes by `--lobe-selection`.
@@ -144,6 +151,8 @@ bsdf_registry! {
     Dielectric = "dielectric" => Dielectric,
     /// Mitsuba's smooth `plastic`: a diffuse base under a dielectric coating's delta lobe.
     Plastic = "plastic" => Plastic,
+    /// Mitsuba's `roughdielectric`: microfacet reflection and refraction (Walter et al. 2007).
+    RoughDielectric = "rough-dielectric" => RoughDielectric,
     /// Mitsuba's `thindielectric`: a thin pane, reflecting or passing straight through.
     ThinDielectric = "thin-dielectric" => ThinDielectric,
 }

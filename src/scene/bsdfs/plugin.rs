@@ -34,6 +34,9 @@ pub(crate) trait BsdfPlugin: Sized {
     /// It chooses between a coating's and a base's lobes (Mitsuba's plastics), with the
     /// pipeline's `LOBE_SELECTION` (`--lobe-selection`).
     const SELECTS_LOBES: bool = false;
+    /// It scatters about microfacet normals drawn by the pipeline's `MICROFACET_SAMPLING`
+    /// (`--microfacet-sampling`).
+    const MICROFACETS: bool = false;
     /// It may transmit (refract into the surface): the kernel's two-sided handling of
     /// directions (ray offsets, next event estimation behind the surface, roulette's eta²)
     /// compiles in where a scene has it.

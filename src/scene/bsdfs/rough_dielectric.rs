@@ -1,0 +1,107 @@
+//! Mitsuba's `roughdielectric` (WGSL: `shaders/bsdfs/rough_dielectric.wgsl`): Walter et al.'s
+//! (2007) microfacet model of a rough interface between two indices of refraction, reflecting
+//! and refracting about microfacet normals with the Fresnel term of unpolarised light,
+//!
+//!   f_r = F(wo . m) D(m) G(wo, wi, m) / (4 |cos_o| |cos_i|),                    m the half vector,
+//!   f_t = (1 - F) D G |wo . m| |wi . m| / (|cos_o| |cos_i| (wo . m + eta wi . m)^2),
+//!
+//! (in radiance transport; m = normalize(wo + eta wi) for refraction), term for term as
+//! Mitsuba 3's `roughdielectric.cpp`. Its own sampling draws a normal by the pipeline's
+//! microfacet strategy (`--microfacet-sampling`: visible normals, or the distribution with
+//! Walter's roughness scaled by 1.2 - 0.2 sqrt|cos_o|, as Mitsuba does without
+//! `sample_visible`), then reflects with probability F or refracts. Both sides scatter. TOML and
+//! Mitsuba: `int_ior`, `ext_ior` (defaults bk7 and air; numbers or names of `ior.rs`; they must
+//! differ), `specular_reflectance`, `specular_transmittance`, `distribution`, `alpha`.
+
+use glam::DVec3;
+
+use super::distribution::{self, Distribution};
+use super::ior;
+use super::plugin::{color_value, BsdfParams, BsdfPlugin, Fields, PluginProps};
+use crate::scene::hash::{real, vec3};
+
+/// Mitsuba's default interior index (`bk7`).
+const DEFAULT_INT_IOR: f64 = 1.5046;
+/// Mitsuba's default exterior index (`air`).
+const DEFAULT_EXT_IOR: f64 = 1.000277;
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct RoughDielectric {
+    pub int_ior: f64,
+    pub ext_ior: f64,
+    /// Factors on the reflected and the refracted lobe (1: Mitsuba's default).
+    pub reflectance: DVec3,
+    pub transmittance: DVec3,
+    pub distribution: Distribution,
+    /// The roughness, >= 1e-4.
+    pub alpha: f64,
+}
+
+impl RoughDielectric {
+    /// The relative index eta = int_ior / ext_ior.
+    pub fn eta(&self) -> f64 {
+        self.int_ior / self.ext_ior
+    }
+}
+
+impl BsdfPlugin for RoughDielectric {
+    const TOML_NAME: &'static str = "roughdielectric";
+    const FIELDS: &'static [&'static str] = &["int_ior", "ext_ior", "specular_reflectance", "specular_transmittance", "distribution", "alpha"];
+    const MITSUBA_PLUGINS: &'static [&'static str] = &["roughdielectric"];
+    const IS_DELTA: bool = false;
+    const TRANSMITS: bool = true;
+    const BOTH_SIDES: bool = true;
+    const MICROFACETS: bool = true;
+
+    fn from_fields(f: &mut Fields) -> RoughDielectric {
+        let int_ior = ior::from_field(f, "int_ior", DEFAULT_INT_IOR);
+        let ext_ior = ior::from_field(f, "ext_ior", DEFAULT_EXT_IOR);
+        if int_ior == ext_ior {
+            f.error(f.span(), "int_ior", format!("int_ior and ext_ior must differ (both {int_ior}), as Mitsuba requires: an index-matched interface scatters nothing"));
+        }
+        let (distribution, alpha) = distribution::read_fields(f, "dielectric");
+        RoughDielectric {
+            int_ior,
+            ext_ior,
+            reflectance: f.color("specular_reflectance", DVec3::ONE),
+            transmittance: f.color("specular_transmittance", DVec3::ONE),
+            distribution,
+            alpha,
+        }
+    }
+
+    fn from_mitsuba(p: &mut dyn PluginProps) -> Option<Vec<(&'static str, toml::Value)>> {
+        if let Some(at) = p.texture() {
+            p.error(at, "", "a textured parameter is not supported (give <rgb> or <float> values)".into());
+        }
+        // A <float>, or a <string> naming a material of Mitsuba's table (`bk7`).
+        let mut fields = Vec::new();
+        for (name, default) in [("int_ior", DEFAULT_INT_IOR), ("ext_ior", DEFAULT_EXT_IOR)] {
+            fields.push((name, toml::Value::Float(ior::from_mitsuba(p, name, default))));
+        }
+        for name in ["specular_reflectance", "specular_transmittance"] {
+            if let Some(c) = p.color(name) {
+                fields.push((name, color_value(c)));
+            }
+        }
+        let microfacets = distribution::read_mitsuba(p);
+        p.finish("int_ior, ext_ior, specular_reflectance, specular_transmittance, distribution, alpha (and, with a warning, sample_visible)");
+        fields.extend(microfacets?);
+        Some(fields)
+    }
+
+    fn hash_lines(&self, line: &mut dyn FnMut(&str, String)) {
+        line("roughdielectric.int_ior", real(self.int_ior));
+        line("roughdielectric.ext_ior", real(self.ext_ior));
+        line("roughdielectric.reflectance", vec3(self.reflectance));
+        line("roughdielectric.transmittance", vec3(self.transmittance));
+        line("roughdielectric.microfacets", format!("{} {}", self.distribution.name(), real(self.alpha)));
+    }
+
+    /// `p0 = (reflectance, eta)`, `p1 = (transmittance, alpha)`, `p2 = (distribution, 0, 0, 0)`:
+    /// the layout of WGSL's `rough_dielectric_of`.
+    fn pack(&self) -> BsdfParams {
+        let (r, t) = (self.reflectance.as_vec3(), self.transmittance.as_vec3());
+        [[r.x, r.y, r.z, self.eta() as f32], [t.x, t.y, t.z, self.alpha as f32], [self.distribution.constant() as f32, 0.0, 0.0, 0.0]]
+    }
+}
