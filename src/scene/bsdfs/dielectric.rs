@@ -8,14 +8,9 @@
 
 use glam::DVec3;
 
-use super::ior;
-use super::plugin::{color_value, BsdfParams, BsdfPlugin, Fields, PluginProps};
+use super::ior::{Interface, INTERFACE_FIELDS};
+use super::plugin::{BsdfParams, BsdfPlugin, Fields, PluginProps};
 use crate::scene::hash::{real, vec3};
-
-/// Mitsuba's default interior index (`bk7`, borosilicate glass).
-const DEFAULT_INT_IOR: f64 = 1.5046;
-/// Mitsuba's default exterior index (`air`).
-const DEFAULT_EXT_IOR: f64 = 1.000277;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Dielectric {
@@ -36,37 +31,19 @@ impl Dielectric {
 
 impl BsdfPlugin for Dielectric {
     const TOML_NAME: &'static str = "dielectric";
-    const FIELDS: &'static [&'static str] = &["int_ior", "ext_ior", "specular_reflectance", "specular_transmittance"];
+    const FIELDS: &'static [&'static str] = &INTERFACE_FIELDS;
     const MITSUBA_PLUGINS: &'static [&'static str] = &["dielectric"];
     const IS_DELTA: bool = true;
     const TRANSMITS: bool = true;
     const BOTH_SIDES: bool = true;
 
     fn from_fields(f: &mut Fields) -> Dielectric {
-        let int_ior = ior::from_field(f, "int_ior", DEFAULT_INT_IOR);
-        let ext_ior = ior::from_field(f, "ext_ior", DEFAULT_EXT_IOR);
-        Dielectric {
-            int_ior,
-            ext_ior,
-            reflectance: f.color("specular_reflectance", DVec3::ONE),
-            transmittance: f.color("specular_transmittance", DVec3::ONE),
-        }
+        let Interface { int_ior, ext_ior, reflectance, transmittance } = Interface::from_fields(f);
+        Dielectric { int_ior, ext_ior, reflectance, transmittance }
     }
 
     fn from_mitsuba(p: &mut dyn PluginProps) -> Option<Vec<(&'static str, toml::Value)>> {
-        if let Some(at) = p.texture() {
-            p.error(at, "", "a textured parameter is not supported (give <rgb> or <float> values)".into());
-        }
-        // A <float>, or a <string> naming a material of Mitsuba's table (`bk7`).
-        let mut fields = Vec::new();
-        for (name, default) in [("int_ior", DEFAULT_INT_IOR), ("ext_ior", DEFAULT_EXT_IOR)] {
-            fields.push((name, toml::Value::Float(ior::from_mitsuba(p, name, default))));
-        }
-        for name in ["specular_reflectance", "specular_transmittance"] {
-            if let Some(c) = p.color(name) {
-                fields.push((name, color_value(c)));
-            }
-        }
+        let fields = Interface::mitsuba_fields(p);
         p.finish("int_ior, ext_ior, specular_reflectance, specular_transmittance");
         Some(fields)
     }

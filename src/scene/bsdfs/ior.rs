@@ -1,9 +1,17 @@
 //! Named indices of refraction: Mitsuba 3's table (`include/mitsuba/render/ior.h`, values from
 //! Hecht's Optics, measured at ~589 nm between 0 and 20 °C), so that `int_ior = "bk7"` in TOML
 //! and `<string name="int_ior" value="bk7"/>` in Mitsuba's XML mean what they mean there. Names
-//! are matched case-insensitively, as Mitsuba lower-cases them.
+//! are matched case-insensitively, as Mitsuba lower-cases them. Also what every dielectric
+//! interface reads (`Interface`: the two indices and the factors on its two lobes).
 
-use super::plugin::{Fields, PluginProps};
+use glam::DVec3;
+
+use super::plugin::{color_value, Fields, PluginProps};
+
+/// Mitsuba's default interior index of its dielectrics (`bk7`, borosilicate glass).
+pub(crate) const DEFAULT_INT_IOR: f64 = 1.5046;
+/// Mitsuba's default exterior index (`air`).
+pub(crate) const DEFAULT_EXT_IOR: f64 = 1.000277;
 
 /// Mitsuba's `ior_data`, in its order.
 pub const NAMED_IORS: [(&str, f64); 23] = [
@@ -76,6 +84,49 @@ pub(crate) fn from_mitsuba(p: &mut dyn PluginProps, name: &str, default: f64) ->
             p.error(at, name, format!("`{name}` of <bsdf type=\"{plugin}\">: {}", unknown(&s)));
             default
         }),
+    }
+}
+
+/// What every dielectric interface reads (Mitsuba's `dielectric`, `thindielectric` and
+/// `roughdielectric`): the two indices (bk7 in air by default) and the factors on its reflected
+/// and transmitted lobes (default 1).
+pub(crate) struct Interface {
+    pub int_ior: f64,
+    pub ext_ior: f64,
+    pub reflectance: DVec3,
+    pub transmittance: DVec3,
+}
+
+/// The fields of `Interface` in TOML and as Mitsuba's properties.
+pub(crate) const INTERFACE_FIELDS: [&str; 4] = ["int_ior", "ext_ior", "specular_reflectance", "specular_transmittance"];
+
+impl Interface {
+    /// From a TOML material's fields.
+    pub(crate) fn from_fields(f: &mut Fields) -> Interface {
+        Interface {
+            int_ior: from_field(f, "int_ior", DEFAULT_INT_IOR),
+            ext_ior: from_field(f, "ext_ior", DEFAULT_EXT_IOR),
+            reflectance: f.color("specular_reflectance", DVec3::ONE),
+            transmittance: f.color("specular_transmittance", DVec3::ONE),
+        }
+    }
+
+    /// A Mitsuba plugin's properties as the TOML fields (textures refused; the indices a
+    /// <float> or a <string> naming a material of the table). The caller finishes the plugin.
+    pub(crate) fn mitsuba_fields(p: &mut dyn PluginProps) -> Vec<(&'static str, toml::Value)> {
+        if let Some(at) = p.texture() {
+            p.error(at, "", "a textured parameter is not supported (give <rgb> or <float> values)".into());
+        }
+        let mut fields = Vec::new();
+        for (name, default) in [("int_ior", DEFAULT_INT_IOR), ("ext_ior", DEFAULT_EXT_IOR)] {
+            fields.push((name, toml::Value::Float(from_mitsuba(p, name, default))));
+        }
+        for name in ["specular_reflectance", "specular_transmittance"] {
+            if let Some(c) = p.color(name) {
+                fields.push((name, color_value(c)));
+            }
+        }
+        fields
     }
 }
 

@@ -17,14 +17,12 @@
 
 use glam::DVec3;
 
-use super::ior;
+use super::ior::{self, DEFAULT_EXT_IOR};
 use super::plugin::{color_value, BsdfParams, BsdfPlugin, Fields, PluginProps};
 use crate::scene::hash::{real, vec3};
 
 /// Mitsuba's default interior index (`polypropylene`).
 const DEFAULT_INT_IOR: f64 = 1.49;
-/// Mitsuba's default exterior index (`air`).
-const DEFAULT_EXT_IOR: f64 = 1.000277;
 /// Mitsuba's default `diffuse_reflectance`.
 const DEFAULT_DIFFUSE: f64 = 0.5;
 

@@ -16,14 +16,9 @@
 use glam::DVec3;
 
 use super::distribution::{self, Distribution};
-use super::ior;
-use super::plugin::{color_value, BsdfParams, BsdfPlugin, Fields, PluginProps};
+use super::ior::Interface;
+use super::plugin::{BsdfParams, BsdfPlugin, Fields, PluginProps};
 use crate::scene::hash::{real, vec3};
-
-/// Mitsuba's default interior index (`bk7`).
-const DEFAULT_INT_IOR: f64 = 1.5046;
-/// Mitsuba's default exterior index (`air`).
-const DEFAULT_EXT_IOR: f64 = 1.000277;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct RoughDielectric {
@@ -54,36 +49,16 @@ impl BsdfPlugin for RoughDielectric {
     const MICROFACETS: bool = true;
 
     fn from_fields(f: &mut Fields) -> RoughDielectric {
-        let int_ior = ior::from_field(f, "int_ior", DEFAULT_INT_IOR);
-        let ext_ior = ior::from_field(f, "ext_ior", DEFAULT_EXT_IOR);
+        let Interface { int_ior, ext_ior, reflectance, transmittance } = Interface::from_fields(f);
         if int_ior == ext_ior {
             f.error(f.span(), "int_ior", format!("int_ior and ext_ior must differ (both {int_ior}), as Mitsuba requires: an index-matched interface scatters nothing"));
         }
         let (distribution, alpha) = distribution::read_fields(f, "dielectric");
-        RoughDielectric {
-            int_ior,
-            ext_ior,
-            reflectance: f.color("specular_reflectance", DVec3::ONE),
-            transmittance: f.color("specular_transmittance", DVec3::ONE),
-            distribution,
-            alpha,
-        }
+        RoughDielectric { int_ior, ext_ior, reflectance, transmittance, distribution, alpha }
     }
 
     fn from_mitsuba(p: &mut dyn PluginProps) -> Option<Vec<(&'static str, toml::Value)>> {
-        if let Some(at) = p.texture() {
-            p.error(at, "", "a textured parameter is not supported (give <rgb> or <float> values)".into());
-        }
-        // A <float>, or a <string> naming a material of Mitsuba's table (`bk7`).
-        let mut fields = Vec::new();
-        for (name, default) in [("int_ior", DEFAULT_INT_IOR), ("ext_ior", DEFAULT_EXT_IOR)] {
-            fields.push((name, toml::Value::Float(ior::from_mitsuba(p, name, default))));
-        }
-        for name in ["specular_reflectance", "specular_transmittance"] {
-            if let Some(c) = p.color(name) {
-                fields.push((name, color_value(c)));
-            }
-        }
+        let mut fields = Interface::mitsuba_fields(p);
         let microfacets = distribution::read_mitsuba(p);
         p.finish("int_ior, ext_ior, specular_reflectance, specular_transmittance, distribution, alpha (and, with a warning, sample_visible)");
         fields.extend(microfacets?);
