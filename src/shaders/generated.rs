@@ -97,23 +97,27 @@ pub fn bsdf_dispatch() -> String {
         "sample_{stem}_bsdf(b, n_s, wo, u_dir, u_lobe)",
         "BsdfSample(n_s, 0.0, vec3f(0.0), false, 1.0)",
     );
-    let transmit: Vec<&str> = BsdfKind::ALL.iter().filter(|k| k.transmits()).map(|k| k.has_override()).collect();
-    s += &format!(
-        "\n// Whether some material's BSDF may transmit (refract into the surface): the integrator's\n\
-         // two-sided handling of directions compiles in only then.\nfn bsdf_may_transmit() -> bool {{\n    return {};\n}}\n",
-        if transmit.is_empty() { "false".to_string() } else { transmit.join(" || ") }
+    // A predicate over the registry: `doc`, then `signature` returning whether any of `terms`
+    // holds (false where none can).
+    let any = |doc: &str, signature: &str, terms: Vec<String>| {
+        let body = if terms.is_empty() { "false".to_string() } else { terms.join(" || ") };
+        format!("\n// {doc}\nfn {signature} -> bool {{\n    return {body};\n}}\n")
+    };
+    let kinds = |filter: fn(&BsdfKind) -> bool| BsdfKind::ALL.iter().filter(|k| filter(k)).map(|k| format!("({})", is(k))).collect::<Vec<_>>();
+    s += &any(
+        "Whether some material's BSDF may transmit (refract into the surface): the integrator's\n// two-sided handling of directions compiles in only then.",
+        "bsdf_may_transmit()",
+        BsdfKind::ALL.iter().filter(|k| k.transmits()).map(|k| k.has_override().to_string()).collect(),
     );
-    let delta: Vec<String> = BsdfKind::ALL.iter().filter(|k| k.is_delta()).map(|k| format!("({})", is(k))).collect();
-    s += &format!(
-        "\n// Whether the material's only lobe is a delta (next event estimation cannot contribute).\n\
-         fn bsdf_is_delta(b: Bsdf) -> bool {{\n    return {};\n}}\n",
-        if delta.is_empty() { "false".to_string() } else { delta.join(" || ") }
+    s += &any(
+        "Whether the material's only lobe is a delta (next event estimation cannot contribute).",
+        "bsdf_is_delta(b: Bsdf)",
+        kinds(|k| k.is_delta()),
     );
-    let smooth_transmit: Vec<String> = BsdfKind::ALL.iter().filter(|k| k.transmits() && !k.is_delta()).map(|k| format!("({})", is(k))).collect();
-    s += &format!(
-        "\n// Whether the material transmits through smooth lobes (a rough dielectric): a generic\n\
-         // hemisphere strategy then covers both sides.\nfn bsdf_transmits_smoothly(b: Bsdf) -> bool {{\n    return {};\n}}\n",
-        if smooth_transmit.is_empty() { "false".to_string() } else { smooth_transmit.join(" || ") }
+    s += &any(
+        "Whether the material transmits through smooth lobes (a rough dielectric): a generic\n// hemisphere strategy then covers both sides.",
+        "bsdf_transmits_smoothly(b: Bsdf)",
+        kinds(|k| k.transmits() && !k.is_delta()),
     );
     let mixed: Vec<&BsdfKind> = BsdfKind::ALL.iter().filter(|k| k.has_delta_lobe()).collect();
     let mut f = "\n// The probability with which the material's own sampling picks a delta lobe that it has beside\n\
