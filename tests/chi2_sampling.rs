@@ -922,37 +922,44 @@ fn dielectric_chi_square(eta: f64, cos_o: f64, inside: bool, seed: u32) -> (f64,
     let name = format!("dielectric eta {eta}, cos {cos_o}, {}", if inside { "inside" } else { "outside" });
     let sin_o = (1.0 - cos_o * cos_o).max(0.0).sqrt();
     let wo = [sin_o, 0.0, cos_o];
+    // Mitsuba's cosine is in the frame of the surface normal: negative from inside.
+    let (r, cos_t, eta_ti) = fresnel_dielectric(if inside { -cos_o } else { cos_o }, eta as f32 as f64);
+    let lobes = [([-wo[0], 0.0, wo[2]], 1.0, 1.0), ([-eta_ti * wo[0], 0.0, -cos_t.abs()], eta_ti * eta_ti, 1.0 / eta_ti)];
+    (two_delta_lobes(&name, DIELECTRIC_KERNEL, "dielectric_main", wo, eta, inside, seed, r, lobes), r)
+}
+
+/// Runs a kernel that draws SAMPLES times from a BSDF of two delta lobes at incidence `wo`
+/// (params: count, seed, inside, 0, wo, eta; out: wi and weight.x, then eta, pdf, delta and
+/// weight.y - weight.z), checks every draw against its lobe (`lobes`: the reflected one above
+/// the surface, the other below; each its exact direction, weight and relative index, hard
+/// failures) and returns the chi-square p-value of the counts against r and 1 - r.
+#[allow(clippy::too_many_arguments)]
+fn two_delta_lobes(name: &str, kernel: &str, entry: &str, wo: [f64; 3], eta: f64, inside: bool, seed: u32, r: f64, lobes: [([f64; 3], f64, f64); 2]) -> f64 {
     let params: [f32; 8] = [f32::from_bits(SAMPLES), f32::from_bits(seed), f32::from_bits(inside as u32), 0.0, wo[0] as f32, 0.0, wo[2] as f32, eta as f32];
-    let source = shaders::assemble(&shaders::LIBRARY, DIELECTRIC_KERNEL);
+    let source = shaders::assemble(&shaders::LIBRARY, kernel);
     let run = KernelRun {
         source: &source,
-        entry: "dielectric_main",
+        entry,
         constants: &[],
         inputs: vec![(0, bytemuck::cast_slice(&params).to_vec())],
         uniforms: vec![],
         output: (1, SAMPLES as u64 * 32),
         workgroups: SAMPLES.div_ceil(64),
     };
-    let out: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&run.run(gpu()).expect("dielectric kernel"));
-    // Mitsuba's cosine is in the frame of the surface normal: negative from inside.
-    let (r, cos_t, eta_ti) = fresnel_dielectric(if inside { -cos_o } else { cos_o }, eta as f32 as f64);
+    let out: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&run.run(gpu()).unwrap_or_else(|e| panic!("{name}: {e}")));
     let mut counts = [0u64; 2];
     for pair in out.chunks(2) {
         let ([x, y, z, w], [eta_s, pdf, delta, wdiff]) = (pair[0], pair[1]);
         assert!(delta == 1.0 && pdf == 0.0 && wdiff == 0.0, "{name}: a delta lobe has pdf 0 and a grey weight");
-        let (dir, weight, rel) = if z > 0.0 {
-            counts[0] += 1;
-            ([-wo[0], 0.0, wo[2]], 1.0, 1.0)
-        } else {
-            counts[1] += 1;
-            ([-eta_ti * wo[0], 0.0, -cos_t.abs()], eta_ti * eta_ti, 1.0 / eta_ti)
-        };
+        let lobe = if z > 0.0 { 0 } else { 1 };
+        counts[lobe] += 1;
+        let (dir, weight, rel) = lobes[lobe];
         let err = (x as f64 - dir[0]).abs().max((y as f64 - dir[1]).abs()).max((z as f64 - dir[2]).abs());
         assert!(err < 2e-6, "{name}: direction ({x}, {y}, {z}) instead of {dir:?}");
         assert!((w as f64 - weight).abs() <= 2e-6 * weight, "{name}: weight {w} instead of {weight}");
         assert!((eta_s as f64 - rel).abs() <= 2e-6 * rel, "{name}: relative index {eta_s} instead of {rel}");
     }
-    (pooled_chi_square(&name, &[r, 1.0 - r], &counts, SAMPLES as f64), r)
+    pooled_chi_square(name, &[r, 1.0 - r], &counts, SAMPLES as f64)
 }
 
 /// Normal to grazing incidence from both sides, total internal reflection (inside at cos 0.2:
@@ -981,7 +988,7 @@ fn the_dielectric_draws_its_two_lobes_with_the_fresnel_probabilities() {
 // ----- the thin dielectric's two delta lobes -------------------------------------------------
 
 const THIN_KERNEL: &str = r#"
-struct TestParams { count: u32, seed: u32, _p0: u32, _p1: u32, wo: vec4f }
+struct TestParams { count: u32, seed: u32, inside: u32, _p1: u32, wo: vec4f }
 @group(0) @binding(0) var<storage, read> test_params: TestParams;
 @group(0) @binding(1) var<storage, read_write> test_out: array<vec4f>;
 
@@ -1007,36 +1014,10 @@ fn thin_dielectric_chi_square(eta: f64, cos_o: f64, seed: u32) -> (f64, f64) {
     let name = format!("thin dielectric eta {eta}, cos {cos_o}");
     let sin_o = (1.0 - cos_o * cos_o).max(0.0).sqrt();
     let wo = [sin_o, 0.0, cos_o];
-    let params: [f32; 8] = [f32::from_bits(SAMPLES), f32::from_bits(seed), 0.0, 0.0, wo[0] as f32, 0.0, wo[2] as f32, eta as f32];
-    let source = shaders::assemble(&shaders::LIBRARY, THIN_KERNEL);
-    let run = KernelRun {
-        source: &source,
-        entry: "thin_main",
-        constants: &[],
-        inputs: vec![(0, bytemuck::cast_slice(&params).to_vec())],
-        uniforms: vec![],
-        output: (1, SAMPLES as u64 * 32),
-        workgroups: SAMPLES.div_ceil(64),
-    };
-    let out: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&run.run(gpu()).expect("thin dielectric kernel"));
     let r = fresnel_dielectric(cos_o, eta as f32 as f64).0;
     let r = 2.0 * r / (1.0 + r);
-    let mut counts = [0u64; 2];
-    for pair in out.chunks(2) {
-        let ([x, y, z, w], [eta_s, pdf, delta, wdiff]) = (pair[0], pair[1]);
-        assert!(delta == 1.0 && pdf == 0.0 && wdiff == 0.0 && eta_s == 1.0, "{name}: a delta lobe has pdf 0, a grey weight and relative index 1");
-        let (dir, weight) = if z > 0.0 {
-            counts[0] += 1;
-            ([-wo[0], 0.0, wo[2]], 1.0)
-        } else {
-            counts[1] += 1;
-            ([-wo[0], 0.0, -wo[2]], 0.5)
-        };
-        let err = (x as f64 - dir[0]).abs().max((y as f64 - dir[1]).abs()).max((z as f64 - dir[2]).abs());
-        assert!(err < 2e-6, "{name}: direction ({x}, {y}, {z}) instead of {dir:?}");
-        assert!(w as f64 == weight, "{name}: weight {w} instead of {weight}");
-    }
-    (pooled_chi_square(&name, &[r, 1.0 - r], &counts, SAMPLES as f64), r)
+    let lobes = [([-wo[0], 0.0, wo[2]], 1.0, 1.0), ([-wo[0], 0.0, -wo[2]], 0.5, 1.0)];
+    (two_delta_lobes(&name, THIN_KERNEL, "thin_main", wo, eta, false, seed, r, lobes), r)
 }
 
 /// Normal to grazing incidence for glass, water, diamond and an index-matched pane (R' = 0).
