@@ -20,7 +20,7 @@ use std::f64::consts::PI;
 use common::gpu;
 use pathlab::gpu::{GpuLight, KernelRun};
 use pathlab::method::{BsdfSampling, LightSelect, LobeSelection};
-use pathlab::scene::{Bsdf, Distribution, Plastic, RoughDielectric};
+use pathlab::scene::{Bsdf, BsdfData, Distribution, Plastic, RoughDielectric, RoughPlastic};
 use pathlab::shaders;
 use pathlab::stats::{chi2_sf, sidak};
 
@@ -108,6 +108,8 @@ struct Routine {
     /// rounding moves the density (a 1e-7 rad shift changes a lobe of width alpha by ~1e-7 / alpha),
     /// or whose half vector cancels.
     pdf_tolerance: f64,
+    /// The BSDF data the routine's material reads (bound at `bindings::BSDF_DATA`; empty: none).
+    bsdf_data: Vec<f32>,
 }
 
 /// s bin edges: 150 fine + 52 coarse, or 202 uniform (then s = 1 is an edge).
@@ -142,8 +144,11 @@ fn phi_s(d: [f64; 3]) -> (f64, f64) {
     (phi, s)
 }
 
-fn run(routine: &Routine, entry: &str, inputs: Vec<(u32, Vec<u8>)>, out_vec4s: usize, items: usize) -> Vec<[f32; 4]> {
+fn run(routine: &Routine, entry: &str, mut inputs: Vec<(u32, Vec<u8>)>, out_vec4s: usize, items: usize) -> Vec<[f32; 4]> {
     let source = shaders::assemble(&shaders::LIBRARY, &format!("{}\n{}", routine.wgsl, KERNEL));
+    if !routine.bsdf_data.is_empty() {
+        inputs.push((shaders::bindings::BSDF_DATA.number, bytemuck::cast_slice(&routine.bsdf_data).to_vec()));
+    }
     let run = KernelRun {
         source: &source,
         entry,
@@ -252,6 +257,7 @@ fn warp(name: &str, sample: &str, pdf: &str, s_split: f64) -> Routine {
         constants: vec![],
         s_split,
         pdf_tolerance: 1e-4,
+        bsdf_data: Vec::new(),
     }
 }
 
@@ -296,6 +302,7 @@ fn mixture(kd: f64, ks: f64, n: f64, theta_o: f64) -> Routine {
         constants: vec![("BSDF_SAMPLING", 3.0), ("HAS_SPECULAR", 1.0)],
         s_split: 2.0,
         pdf_tolerance: 1e-4,
+        bsdf_data: Vec::new(),
     }
 }
 
@@ -324,6 +331,7 @@ fn cone(ratio: f64) -> Routine {
         // on it) a bin edge: every cell beyond must stay empty.
         s_split: omc_max * (1.0 + 1e-5),
         pdf_tolerance: 1e-4,
+        bsdf_data: Vec::new(),
     }
 }
 
@@ -343,6 +351,7 @@ fn inside(x: [f64; 3]) -> Routine {
         constants: vec![],
         s_split: 2.0,
         pdf_tolerance: 1e-4,
+        bsdf_data: Vec::new(),
     }
 }
 
@@ -396,6 +405,7 @@ fn microfacet(distribution: &str, strategy: &str, alpha: f64, theta_o: f64) -> R
         // At grazing incidence h = (wo + wi) / |wo + wi| cancels (|wo + wi| = 2 wo . h is small),
         // and the two kernels round it differently: 1e-3.
         pdf_tolerance: (1e-6 / (alpha * t.cos().max(1e-3))).max(1e-3),
+        bsdf_data: Vec::new(),
     }
 }
 
@@ -431,7 +441,7 @@ fn microfacet_routines() -> Vec<Routine> {
 /// relative error).
 fn plastic(diffuse: f64, specular: f64, int_ior: f64, nonlinear: bool, strategy: BsdfSampling, lobes: LobeSelection, theta_o: f64) -> Routine {
     let p = Plastic { diffuse: glam::DVec3::splat(diffuse), specular: glam::DVec3::splat(specular), int_ior, ext_ior: 1.0, nonlinear };
-    let [p0, p1, p2] = Bsdf::Plastic(p.clone()).pack();
+    let [p0, p1, p2] = Bsdf::Plastic(p.clone()).pack(&mut BsdfData::default());
     let t = theta_o.to_radians();
     let f_i = fresnel_dielectric(t.cos(), p.eta() as f32 as f64).0;
     let w = p.specular_sampling_weight();
@@ -469,6 +479,7 @@ fn plastic(diffuse: f64, specular: f64, int_ior: f64, nonlinear: bool, strategy:
         constants: vec![("BSDF_SAMPLING", strategy.constant() as f64), ("LOBE_SELECTION", lobes.constant() as f64)],
         s_split: 2.0,
         pdf_tolerance: 1e-4,
+        bsdf_data: Vec::new(),
     }
 }
 
@@ -508,7 +519,7 @@ fn plastic_routines() -> Vec<Routine> {
 /// 1), the extra cell whose probability is the mass the pdf lacks.
 fn rough_dielectric(distribution: Distribution, strategy: BsdfSampling, microfacets: &str, alpha: f64, eta: f64, inside: bool, theta_o: f64) -> Routine {
     let d = RoughDielectric { int_ior: eta, ext_ior: 1.0, reflectance: glam::DVec3::ONE, transmittance: glam::DVec3::ONE, distribution, alpha };
-    let [p0, p1, p2] = Bsdf::RoughDielectric(d).pack();
+    let [p0, p1, p2] = Bsdf::RoughDielectric(d).pack(&mut BsdfData::default());
     let t = theta_o.to_radians();
     let v = |a: [f32; 4]| format!("vec4f({:?}, {:?}, {:?}, {:?})", a[0], a[1], a[2], a[3]);
     Routine {
@@ -542,6 +553,7 @@ fn rough_dielectric(distribution: Distribution, strategy: BsdfSampling, microfac
         s_split: 2.0,
         // The half vector of a refraction, normalize(wo + eta wi), cancels near grazing.
         pdf_tolerance: 1e-3,
+        bsdf_data: Vec::new(),
     }
 }
 
@@ -577,6 +589,87 @@ fn rough_dielectric_routines() -> Vec<Routine> {
     r
 }
 
+/// Mitsuba's roughplastic exactly as the path tracer samples it, through the dispatcher
+/// (`sample_bsdf`, `eval_pdf_bsdf`) under BSDF strategy `strategy` (its own: the coating's lobe
+/// with the probability of lobe selection `lobes`, its normal by microfacet strategy
+/// `microfacets`, else the cosine lobe; or a generic one), diffuse 0.5 under index 1.49, for
+/// shading normal +z and incidence `theta_o` degrees, its coating tables bound as the path
+/// tracer binds them. Binned around the mirror direction where the coating is narrow (alpha <=
+/// 0.05, geometric bins), else around the normal. Coating samples reflected below the surface
+/// (density 0) are lost samples.
+fn rough_plastic(distribution: Distribution, strategy: BsdfSampling, microfacets: &str, lobes: LobeSelection, alpha: f64, theta_o: f64) -> Routine {
+    let layers = Plastic { diffuse: glam::DVec3::splat(0.5), specular: glam::DVec3::ONE, int_ior: 1.49, ext_ior: 1.0, nonlinear: false };
+    let mut data = BsdfData::default();
+    let [p0, p1, p2] = Bsdf::RoughPlastic(RoughPlastic { layers, distribution, alpha }).pack(&mut data);
+    let t = theta_o.to_radians();
+    let around_mirror = alpha <= 0.05;
+    let axis = if around_mirror { [-t.sin(), 0.0, t.cos()] } else { [0.0, 0.0, 1.0] };
+    let v = |a: [f32; 4]| format!("vec4f({:?}, {:?}, {:?}, {:?})", a[0], a[1], a[2], a[3]);
+    Routine {
+        name: format!("roughplastic {} {} {microfacets} {} alpha={alpha} theta_o={theta_o}", distribution.name(), strategy.name(), lobes.name()),
+        wgsl: format!(
+            "fn routine_bsdf() -> Bsdf {{ return Bsdf(BSDF_KIND_ROUGH_PLASTIC, {}, {}, {}, false); }}\n\
+             fn routine_wo() -> vec3f {{ return vec3f({:.9}, 0.0, {:.9}); }}\n\
+             fn routine_axis() -> vec3f {{ return vec3f({:.9}, {:.9}, {:.9}); }}\n\
+             fn routine_sample(u: vec2f, u_lobe: f32) -> Drawn {{\n\
+                 let b = routine_bsdf(); let n_s = vec3f(0.0, 0.0, 1.0); let wo = routine_wo();\n\
+                 let bs = sample_bsdf(b, n_s, wo, u, u_lobe);\n\
+                 let d = frame_to_local(frame_from_normal(routine_axis()), bs.wi);\n\
+                 if (!(bs.pdf > 0.0)) {{\n\
+                     return Drawn(vec4f(d, bs.pdf), vec4f(max3(bs.weight), 1.0, 0.0, 0.0));\n\
+                 }}\n\
+                 let e = eval_pdf_bsdf(b, n_s, wo, bs.wi);\n\
+                 let expect = path_weight(e.f, dot(bs.wi, n_s), bs.pdf);\n\
+                 let err = max3(abs(bs.weight - expect)) / max(max3(abs(expect)), 1e-30);\n\
+                 return Drawn(vec4f(d, bs.pdf), vec4f(err, 0.0, 0.0, 0.0));\n\
+             }}\n\
+             fn routine_pdf(d: vec3f) -> f32 {{\n\
+                 let wi = frame_to_world(frame_from_normal(routine_axis()), d);\n\
+                 return eval_pdf_bsdf(routine_bsdf(), vec3f(0.0, 0.0, 1.0), routine_wo(), wi).pdf;\n\
+             }}\n",
+            v(p0),
+            v(p1),
+            v(p2),
+            t.sin(),
+            t.cos(),
+            axis[0],
+            axis[1],
+            axis[2],
+        ),
+        constants: vec![
+            ("BSDF_SAMPLING", strategy.constant() as f64),
+            ("MICROFACET_SAMPLING", if microfacets == "ndf" { 0.0 } else { 1.0 }),
+            ("LOBE_SELECTION", lobes.constant() as f64),
+        ],
+        s_split: if around_mirror { -((alpha * t.cos()).powi(2) / 10.0).max(1e-12) } else { 2.0 },
+        pdf_tolerance: (1e-6 / (alpha * t.cos().max(1e-3))).max(1e-3),
+        bsdf_data: data.0,
+    }
+}
+
+/// Both distributions and microfacet strategies at alpha 0.1 (normal incidence), 0.5 (60
+/// degrees) and 1 (85 degrees); alpha 1e-3 at normal incidence and 0.01 at 60 degrees; the fixed
+/// lobe selection at normal and grazing incidence; the generic cosine and uniform-sphere
+/// strategies.
+fn rough_plastic_routines() -> Vec<Routine> {
+    let (own, fresnel, fixed) = (BsdfSampling::Phong, LobeSelection::Fresnel, LobeSelection::Fixed);
+    let mut r = Vec::new();
+    for distribution in [Distribution::Beckmann, Distribution::Ggx] {
+        for microfacets in ["vndf", "ndf"] {
+            for (alpha, theta) in [(0.1, 0.0), (0.5, 60.0), (1.0, 85.0)] {
+                r.push(rough_plastic(distribution, own, microfacets, fresnel, alpha, theta));
+            }
+        }
+        r.push(rough_plastic(distribution, own, "vndf", fresnel, 1e-3, 0.0));
+        r.push(rough_plastic(distribution, own, "vndf", fresnel, 0.01, 60.0));
+    }
+    r.push(rough_plastic(Distribution::Beckmann, own, "vndf", fixed, 0.2, 0.0));
+    r.push(rough_plastic(Distribution::Ggx, own, "vndf", fixed, 0.3, 80.0));
+    r.push(rough_plastic(Distribution::Ggx, BsdfSampling::Cosine, "vndf", fresnel, 0.3, 30.0));
+    r.push(rough_plastic(Distribution::Beckmann, BsdfSampling::UniformSphere, "vndf", fresnel, 0.3, 70.0));
+    r
+}
+
 fn all_routines() -> Vec<Routine> {
     let mut r = vec![
         warp("uniform sphere", "square_to_uniform_sphere(u)", "pdf_uniform_sphere()", 2.0),
@@ -595,6 +688,7 @@ fn all_routines() -> Vec<Routine> {
     r.extend(microfacet_routines());
     r.extend(plastic_routines());
     r.extend(rough_dielectric_routines());
+    r.extend(rough_plastic_routines());
     r
 }
 
@@ -680,6 +774,7 @@ impl TriangleCase {
             constants: vec![("TRIANGLE_SAMPLING", self.strategy as f64)],
             s_split: 2.0,
             pdf_tolerance: 1e-4,
+            bsdf_data: Vec::new(),
         }
     }
 

@@ -25,7 +25,7 @@ use glam::DVec3;
 use pathlab::gpu::KernelRun;
 use pathlab::method::{LobeSelection, Method, Preset};
 use pathlab::scene::bsdfs::fresnel_diffuse_reflectance;
-use pathlab::scene::{Bsdf, Plastic, Scene, SceneError};
+use pathlab::scene::{Bsdf, BsdfData, Plastic, Scene, SceneError};
 use pathlab::shaders;
 
 /// Fresnel's reflectance of unpolarised light from outside (cos_i > 0), in f64.
@@ -99,7 +99,7 @@ fn the_plastic_evaluates_mitsubas_formula_and_is_reciprocal() {
     let count = pairs.len() / 2;
     let source = shaders::assemble(&shaders::LIBRARY, EVAL_KERNEL);
     for p in &plastics {
-        let packed = Bsdf::Plastic(p.clone()).pack();
+        let packed = Bsdf::Plastic(p.clone()).pack(&mut BsdfData::default());
         let mut params: Vec<f32> = packed.iter().flatten().copied().collect();
         params.extend([f32::from_bits(count as u32), 0.0, 0.0, 0.0]);
         let run = KernelRun {

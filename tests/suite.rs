@@ -34,6 +34,7 @@ mod noise_floor;
 mod plastics;
 mod polygon_lights;
 mod render_presets;
+mod rough_plastics;
 mod roulette;
 mod sampler_twin;
 mod shader_layouts;

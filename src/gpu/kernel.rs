@@ -4,7 +4,7 @@
 
 use wgpu::util::DeviceExt;
 
-use crate::shaders::bindings::{layout_entry, Kind};
+use crate::shaders::bindings::{self, layout_entry, Kind};
 use super::{wait_for_submission, Gpu, GpuError};
 
 /// One dispatch of `entry` in `source`.
@@ -27,12 +27,20 @@ impl KernelRun<'_> {
     /// Compiles, dispatches and returns the output buffer's bytes.
     pub fn run(&self, gpu: &Gpu) -> Result<Vec<u8>, GpuError> {
         let device = &gpu.device;
+        // The BSDF library's one binding, its data, as one zero where the kernel gives none (a
+        // kernel that reaches no kind reading data, or a source without the library).
+        let mut inputs = self.inputs.clone();
+        let data = bindings::BSDF_DATA.number;
+        let taken = inputs.iter().chain(&self.uniforms).any(|(b, _)| *b == data) || self.output.0 == data;
+        if !taken && self.source.contains("BINDING_BSDF_DATA) var") {
+            inputs.push((data, vec![0; 4]));
+        }
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(self.entry),
             source: wgpu::ShaderSource::Wgsl(self.source.into()),
         });
-        let mut layout_entries: Vec<_> = self.inputs.iter().map(|(b, _)| layout_entry(*b, Kind::Storage { read_only: true })).collect();
+        let mut layout_entries: Vec<_> = inputs.iter().map(|(b, _)| layout_entry(*b, Kind::Storage { read_only: true })).collect();
         layout_entries.extend(self.uniforms.iter().map(|(b, _)| layout_entry(*b, Kind::Uniform)));
         layout_entries.push(layout_entry(self.output.0, Kind::Storage { read_only: false }));
         let bgl = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: None, entries: &layout_entries });
@@ -52,7 +60,7 @@ impl KernelRun<'_> {
             },
             cache: None,
         });
-        let inputs = self.inputs.iter().map(|input| (input, wgpu::BufferUsages::STORAGE));
+        let inputs = inputs.iter().map(|input| (input, wgpu::BufferUsages::STORAGE));
         let uniforms = self.uniforms.iter().map(|input| (input, wgpu::BufferUsages::UNIFORM));
         let buffers: Vec<(u32, wgpu::Buffer)> = inputs
             .chain(uniforms)

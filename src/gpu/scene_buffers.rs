@@ -12,7 +12,7 @@ use glam::DVec3;
 use wgpu::util::DeviceExt;
 
 use crate::accel::{Bvh, BvhNode};
-use crate::scene::{AliasTable, Light, Scene, MAX_MATERIALS, MAX_PLANES, MAX_SPHERES};
+use crate::scene::{AliasTable, BsdfData, Light, Scene, MAX_MATERIALS, MAX_PLANES, MAX_SPHERES};
 use crate::shaders::bindings::{self, Binding};
 use crate::shaders::flags::{MATERIAL_EMISSIVE, MATERIAL_ONE_SIDED, TRIANGLE_HAS_NORMALS, TRIANGLE_HAS_UVS, TRIANGLE_TWO_SIDED};
 
@@ -237,10 +237,12 @@ impl SceneBuffers {
     pub fn contents(scene: &Scene, packed: &PackedTriangles) -> Vec<SceneBufferContents> {
         let small = packed.triangles.len().min(crate::accel::BRUTE_FORCE_TRIANGLES as usize);
         let contents = |binding: Binding, label: &'static str, bytes: Vec<u8>| SceneBufferContents { binding, label, bytes };
+        let (materials, bsdf_data) = Self::pack_materials(scene);
         vec![
             contents(bindings::SPHERES, "spheres", uniform_array(&Self::pack_spheres(scene), MAX_SPHERES)),
             contents(bindings::PLANES, "planes", uniform_array(&Self::pack_planes(scene), MAX_PLANES)),
-            contents(bindings::MATERIALS, "materials", uniform_array(&Self::pack_materials(scene), MAX_MATERIALS)),
+            contents(bindings::MATERIALS, "materials", uniform_array(&materials, MAX_MATERIALS)),
+            contents(bindings::BSDF_DATA, "bsdf data", storage_array(&bsdf_data.0)),
             contents(bindings::TRIANGLES, "triangles", storage_array(&packed.triangles)),
             contents(bindings::TRIANGLE_NORMALS, "triangle normals", storage_array(&packed.normals)),
             contents(bindings::TRIANGLE_UVS, "triangle uvs", storage_array(&packed.uvs)),
@@ -290,12 +292,14 @@ fn uniform_array<T: Pod>(items: &[T], capacity: usize) -> Vec<u8> {
 }
 
 impl SceneBuffers {
-    pub fn pack_materials(scene: &Scene) -> Vec<GpuMaterial> {
-        scene
+    /// The materials in scene order, and the numbers their BSDFs read beyond their blocks.
+    pub fn pack_materials(scene: &Scene) -> (Vec<GpuMaterial>, BsdfData) {
+        let mut data = BsdfData::default();
+        let materials = scene
             .materials
             .iter()
             .map(|m| {
-                let [p0, p1, p2] = m.bsdf.pack();
+                let [p0, p1, p2] = m.bsdf.pack(&mut data);
                 GpuMaterial {
                     emission: f3(m.emission),
                     flags: if m.is_emissive() { MATERIAL_EMISSIVE } else { 0 } | if m.two_sided { 0 } else { MATERIAL_ONE_SIDED },
@@ -306,7 +310,8 @@ impl SceneBuffers {
                     _pad: [0; 3],
                 }
             })
-            .collect()
+            .collect();
+        (materials, data)
     }
 
     /// The spheres in kernel order (`features::sphere_order`): the lights first.

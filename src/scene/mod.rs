@@ -25,7 +25,10 @@ use glam::DVec3;
 
 use crate::method::{BsdfSampling, LightSampling, Method};
 
-pub use bsdfs::{Bsdf, BsdfKind, Conductor, Dielectric, Distribution, Phong, Plastic, RoughConductor, RoughDielectric, ThinDielectric};
+pub use bsdfs::{
+    Bsdf, BsdfData, BsdfKind, CoatingTables, Conductor, Dielectric, Distribution, Phong, Plastic, RoughConductor, RoughDielectric, RoughPlastic,
+    ThinDielectric, ROUGH_PLASTIC_TABLE_RES,
+};
 pub use diagnostic::{Diagnostic, SceneError, Severity};
 pub use emitters::{AliasTable, EmitterKind, Light};
 pub use mesh::Mesh;

@@ -45,8 +45,12 @@ pub const SMALL_TRIANGLES: Binding = Binding { number: 11, name: "SMALL_TRIANGLE
 pub const TRIANGLE_UVS: Binding = Binding { number: 12, name: "TRIANGLE_UVS", kind: Kind::Storage { read_only: true } };
 pub const SPHERE_AXES: Binding = Binding { number: 13, name: "SPHERE_AXES", kind: Kind::Storage { read_only: true } };
 
+/// The numbers BSDFs read beyond their parameter blocks (`BsdfData`, bsdf.wgsl): roughplastic's
+/// transmittance tables.
+pub const BSDF_DATA: Binding = Binding { number: 14, name: "BSDF_DATA", kind: Kind::Storage { read_only: true } };
+
 /// The path tracer's bind group.
-pub const PATH_TRACER: [Binding; 13] = [
+pub const PATH_TRACER: [Binding; 14] = [
     FRAME,
     SPHERES,
     PLANES,
@@ -60,6 +64,7 @@ pub const PATH_TRACER: [Binding; 13] = [
     SMALL_TRIANGLES,
     TRIANGLE_UVS,
     SPHERE_AXES,
+    BSDF_DATA,
 ];
 
 /// The display pass's parameters (`DisplayParams`, display.wgsl).

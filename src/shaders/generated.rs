@@ -36,6 +36,8 @@ pub fn generated_constants() -> String {
          // The kinds of BSDF (src/scene/bsdfs/mod.rs) and of emitter (src/scene/emitters/mod.rs),\n\
          // and the flags of materials and triangles (src/shaders/flags.rs).\n\
          {}{}{}\
+         // Entries of roughplastic's transmittance table (src/scene/bsdfs/rough_plastic.rs).\n\
+         const ROUGH_PLASTIC_TABLE_RES: u32 = {}u;\n\
          // Binding numbers of group 0 (src/shaders/bindings.rs).\n\
          {}{}",
         crate::accel::bvh::MAX_DEPTH,
@@ -55,6 +57,7 @@ pub fn generated_constants() -> String {
         wgsl_constants::<BsdfKind>("BSDF_KIND"),
         wgsl_constants::<EmitterKind>("EMITTER_KIND"),
         flags::wgsl(),
+        crate::scene::ROUGH_PLASTIC_TABLE_RES,
         bindings::wgsl(&bindings::PATH_TRACER),
         bindings::wgsl(&bindings::DISPLAY),
     )

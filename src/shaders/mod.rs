@@ -37,7 +37,7 @@ pub mod files {
     pub const FRESNEL: (&str, &str) = ("fresnel.wgsl", include_str!("../../shaders/fresnel.wgsl"));
     pub const BSDF: (&str, &str) = ("bsdf.wgsl", include_str!("../../shaders/bsdf.wgsl"));
     /// One file per kind of the BSDF registry (`scene::BsdfKind`), in its order.
-    pub const BSDF_KINDS: [(&str, &str); 7] = [
+    pub const BSDF_KINDS: [(&str, &str); 8] = [
         ("bsdfs/phong.wgsl", include_str!("../../shaders/bsdfs/phong.wgsl")),
         ("bsdfs/conductor.wgsl", include_str!("../../shaders/bsdfs/conductor.wgsl")),
         ("bsdfs/rough_conductor.wgsl", include_str!("../../shaders/bsdfs/rough_conductor.wgsl")),
@@ -45,6 +45,7 @@ pub mod files {
         ("bsdfs/plastic.wgsl", include_str!("../../shaders/bsdfs/plastic.wgsl")),
         ("bsdfs/rough_dielectric.wgsl", include_str!("../../shaders/bsdfs/rough_dielectric.wgsl")),
         ("bsdfs/thin_dielectric.wgsl", include_str!("../../shaders/bsdfs/thin_dielectric.wgsl")),
+        ("bsdfs/rough_plastic.wgsl", include_str!("../../shaders/bsdfs/rough_plastic.wgsl")),
     ];
     pub const LIGHTS: (&str, &str) = ("lights.wgsl", include_str!("../../shaders/lights.wgsl"));
     pub const EMITTER: (&str, &str) = ("emitter.wgsl", include_str!("../../shaders/emitter.wgsl"));
@@ -62,8 +63,10 @@ pub mod files {
     pub const INTEGRATOR: (&str, &str) = ("integrator.wgsl", include_str!("../../shaders/integrator.wgsl"));
 }
 
-/// The sampling library without scene bindings: samplers, warps, BSDF and light sampling.
-/// Test kernels append their own bindings and entry points to this.
+/// The sampling library without scene bindings: samplers, warps, BSDF and light sampling. Its
+/// one binding is the BSDFs' data (`bindings::BSDF_DATA`), which `KernelRun` fills with a
+/// placeholder where a test kernel gives none. Test kernels append their own bindings and entry
+/// points to this.
 pub const LIBRARY: [(&str, &str); 8] =
     [files::COMMON, files::SAMPLER, files::WARP, files::SPHERICAL_TRIANGLE, files::MICROFACET, files::FRESNEL, files::BSDF, files::LIGHTS];
 

@@ -5,7 +5,7 @@
 
 use glam::DVec3;
 
-use super::plugin::{color_value, BsdfParams, BsdfPlugin, Fields, PluginProps};
+use super::plugin::{color_value, BsdfData, BsdfParams, BsdfPlugin, Fields, PluginProps};
 use crate::scene::hash::vec3;
 
 /// Fresnel reflection of a complex index of refraction; also the rough conductor's.
@@ -85,7 +85,7 @@ impl BsdfPlugin for Conductor {
         self.fresnel_hash_lines(line);
     }
 
-    fn pack(&self) -> BsdfParams {
+    fn pack(&self, _data: &mut BsdfData) -> BsdfParams {
         self.pack_with(0.0, super::distribution::Distribution::Beckmann)
     }
 }

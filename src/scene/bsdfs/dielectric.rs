@@ -9,7 +9,7 @@
 use glam::DVec3;
 
 use super::ior::{Interface, INTERFACE_FIELDS};
-use super::plugin::{BsdfParams, BsdfPlugin, Fields, PluginProps};
+use super::plugin::{BsdfData, BsdfParams, BsdfPlugin, Fields, PluginProps};
 use crate::scene::hash::{real, vec3};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -57,7 +57,7 @@ impl BsdfPlugin for Dielectric {
 
     /// `p0 = (reflectance, eta)`, `p1 = (transmittance, 0)`: the layout of WGSL's
     /// `dielectric_of`.
-    fn pack(&self) -> BsdfParams {
+    fn pack(&self, _data: &mut BsdfData) -> BsdfParams {
         let (r, t) = (self.reflectance.as_vec3(), self.transmittance.as_vec3());
         [[r.x, r.y, r.z, self.eta() as f32], [t.x, t.y, t.z, 0.0], [0.0; 4]]
     }

@@ -1,6 +1,8 @@
 //! What the microfacet BSDFs share: the distribution of normals and its roughness (its WGSL in
 //! the microfacet shader file), read the same way for every rough kind.
 
+use glam::DVec3;
+
 use super::plugin::{Fields, PluginProps};
 use crate::names::Named;
 
@@ -81,4 +83,127 @@ pub(crate) fn read_mitsuba(p: &mut dyn PluginProps) -> Option<[(&'static str, to
         );
     }
     Some([("distribution", toml::Value::String(distribution)), ("alpha", toml::Value::Float(alpha?))])
+}
+
+// ----- the host's microfacet maths, for precomputed tables (the kernel's: shaders/microfacet.wgsl)
+
+impl Distribution {
+    /// Smith's G1(v, m) as Mitsuba's `smith_g1` evaluates it (Beckmann: Walter's rational fit
+    /// of 1 / (1 + Lambda)), in a frame whose +z is the macro-normal: 0 where v sees the back
+    /// of m.
+    pub(crate) fn smith_g1(self, v: DVec3, m: DVec3, alpha: f64) -> f64 {
+        if v.dot(m) * v.z <= 0.0 {
+            return 0.0;
+        }
+        let xy_alpha_2 = alpha * alpha * (v.x * v.x + v.y * v.y);
+        if xy_alpha_2 == 0.0 {
+            return 1.0;
+        }
+        let tan_theta_alpha_2 = xy_alpha_2 / (v.z * v.z);
+        match self {
+            Distribution::Beckmann => {
+                let a = 1.0 / tan_theta_alpha_2.sqrt();
+                if a >= 1.6 {
+                    1.0
+                } else {
+                    (3.535 * a + 2.181 * a * a) / (1.0 + 2.276 * a + 2.577 * a * a)
+                }
+            }
+            Distribution::Ggx => 2.0 / (1.0 + (1.0 + tan_theta_alpha_2).sqrt()),
+        }
+    }
+
+    /// The exact Smith G1 = 1 / (1 + Lambda(v)): the normalisation of the normals visible from
+    /// v, which Mitsuba's visible-normal sampler draws exactly (Beckmann: Lambda(a) = (erf(a) -
+    /// 1) / 2 + exp(-a^2) / (2 a sqrt(pi)), a = 1 / (alpha tan(theta_v)); GGX's is its fit).
+    fn smith_g1_exact(self, v: DVec3, m: DVec3, alpha: f64) -> f64 {
+        match self {
+            Distribution::Ggx => self.smith_g1(v, m, alpha),
+            Distribution::Beckmann => {
+                if v.dot(m) * v.z <= 0.0 {
+                    return 0.0;
+                }
+                let xy = (v.x * v.x + v.y * v.y).sqrt();
+                if xy == 0.0 {
+                    return 1.0;
+                }
+                let a = v.z / (alpha * xy);
+                let lambda = 0.5 * (statrs::function::erf::erf(a) - 1.0) + (-a * a).exp() / (2.0 * a * std::f64::consts::PI.sqrt());
+                1.0 / (1.0 + lambda)
+            }
+        }
+    }
+
+    /// The mean of g(m) over the normals visible from wi (density D(m) G1(wi, m) max(0, wi . m)
+    /// / cos(theta_i), wi in the xz-plane with wi.z > 0): the quantity Mitsuba's
+    /// `eval_reflectance` and `eval_transmittance` (microfacet.h) estimate with 32^2 or 128^2
+    /// Gauss-Legendre nodes over its visible-normal sampler. Here in the space of slopes scaled
+    /// by alpha, (p, q) = -(m.x, m.y) / (alpha m.z), where D(m) cos(theta_m) dm is the slope
+    /// density P(p, q) dp dq (Beckmann: exp(-p^2 - q^2) / pi; GGX: 1 / (pi (1 + p^2 + q^2)^2))
+    /// and the visible normals' factor is (cos_i - alpha p sin_i) / cos_i G1(wi), zero beyond
+    /// p = a = cot(theta_i) / alpha. Beckmann's slopes are integrated over [-6, min(a, 6)] x [-6,
+    /// 6] (the Gaussian is below 3e-16 beyond); GGX's heavy tails through p = tan(psi), q =
+    /// sqrt(1 + p^2) tan(chi), which make the integrand smooth on bounded intervals. `n`
+    /// Gauss-Legendre nodes per dimension.
+    pub(crate) fn visible_normal_mean(self, wi: DVec3, alpha: f64, n: usize, g: impl Fn(DVec3) -> f64) -> f64 {
+        use std::f64::consts::{FRAC_PI_2, PI};
+        let nodes = gauss_legendre(n);
+        let (cos_i, sin_i) = (wi.z, wi.x);
+        let a = if sin_i > 0.0 { cos_i / (alpha * sin_i) } else { f64::INFINITY };
+        // G1(wi) for every visible normal (the exact Smith normalisation).
+        let g1 = self.smith_g1_exact(wi, DVec3::Z, alpha);
+        let value = |p: f64, q: f64| {
+            let m = DVec3::new(-alpha * p, -alpha * q, 1.0).normalize();
+            g1 * (cos_i - alpha * p * sin_i) / cos_i * g(m)
+        };
+        // Gauss-Legendre over [lo, hi] of f.
+        let integrate = |lo: f64, hi: f64, f: &dyn Fn(f64) -> f64| -> f64 {
+            nodes.iter().map(|&(x, w)| w * f(lo + (hi - lo) * 0.5 * (x + 1.0))).sum::<f64>() * 0.5 * (hi - lo)
+        };
+        match self {
+            Distribution::Beckmann => integrate(-6.0, a.min(6.0), &|p| {
+                integrate(-6.0, 6.0, &|q| (-p * p - q * q).exp() / PI * value(p, q))
+            }),
+            Distribution::Ggx => integrate(-FRAC_PI_2, a.atan(), &|psi| {
+                let p = psi.tan();
+                let c = (1.0 + p * p).sqrt();
+                // dp = sec^2(psi) dpsi; dq = c sec^2(chi) dchi; 1 + p^2 + q^2 = c^2 sec^2(chi).
+                integrate(-FRAC_PI_2, FRAC_PI_2, &|chi| {
+                    let q = c * chi.tan();
+                    let density = chi.cos().powi(2) / (PI * c.powi(3));
+                    density * value(p, q) / psi.cos().powi(2)
+                })
+            }),
+        }
+    }
+}
+
+/// The n-point Gauss-Legendre rule on [-1, 1]: (node, weight), the nodes found by Newton's
+/// iteration on the Legendre polynomial P_n from Chebyshev's estimates.
+pub(crate) fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
+    use std::f64::consts::PI;
+    (0..n)
+        .map(|i| {
+            let mut x = -(PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
+            let mut dp = 1.0;
+            for _ in 0..100 {
+                // P_n(x) and P_n'(x) by the three-term recurrence.
+                let (mut p0, mut p1) = (1.0, x);
+                for k in 2..=n {
+                    let k = k as f64;
+                    let p2 = ((2.0 * k - 1.0) * x * p1 - (k - 1.0) * p0) / k;
+                    p0 = p1;
+                    p1 = p2;
+                }
+                let p = if n == 0 { 1.0 } else { p1 };
+                dp = n as f64 * (x * p - p0) / (x * x - 1.0);
+                let dx = p / dp;
+                x -= dx;
+                if dx.abs() < 1e-15 {
+                    break;
+                }
+            }
+            (x, 2.0 / ((1.0 - x * x) * dp * dp))
+        })
+        .collect()
 }

@@ -1,6 +1,6 @@
 //! BSDFs, one file per kind, as Mitsuba 3 lays out `src/bsdfs/`. A kind's Rust file
 //! (`phong.rs`, `conductor.rs`, `rough_conductor.rs`, `dielectric.rs`, `plastic.rs`,
-//! `rough_dielectric.rs`, `thin_dielectric.rs`) owns
+//! `rough_dielectric.rs`, `thin_dielectric.rs`, `rough_plastic.rs`) owns
 //! everything the host knows of it: its validated parameters, the fields of its TOML material,
 //! the properties of its Mitsuba plugins, its lines of the scene hash and its parameter block
 //! for the kernel. Its WGSL file,
@@ -15,12 +15,14 @@
 mod conductor;
 mod dielectric;
 mod distribution;
+mod fresnel;
 mod ior;
 mod phong;
 mod plastic;
 mod plugin;
 mod rough_conductor;
 mod rough_dielectric;
+mod rough_plastic;
 mod thin_dielectric;
 
 use std::ops::Range;
@@ -38,9 +40,10 @@ pub use phong::Phong;
 pub use plastic::{fresnel_diffuse_reflectance, Plastic};
 pub use rough_conductor::RoughConductor;
 pub use rough_dielectric::RoughDielectric;
+pub use rough_plastic::{CoatingTables, RoughPlastic, TRANSMITTANCE_RES as ROUGH_PLASTIC_TABLE_RES};
 pub use thin_dielectric::ThinDielectric;
 pub(crate) use phong::DEFAULT_REFLECTANCE;
-pub use plugin::BsdfParams;
+pub use plugin::{BsdfData, BsdfParams};
 pub(crate) use plugin::{color_value, BsdfPlugin, Fields, PluginProps};
 
 /// The registry: one line per kind (its variant, its name in messages and headers, its type).
@@ -127,9 +130,9 @@ macro_rules! bsdf_registry {
                 match self { $( Bsdf::$variant(b) => b.hash_lines(line) ),+ }
             }
 
-            /// Its parameter block for the kernel.
-            pub fn pack(&self) -> BsdfParams {
-                match self { $( Bsdf::$variant(b) => b.pack() ),+ }
+            /// Its parameter block for the kernel, its further numbers appended to `data`.
+            pub fn pack(&self, data: &mut BsdfData) -> BsdfParams {
+                match self { $( Bsdf::$variant(b) => b.pack(data) ),+ }
             }
 
             /// Whether it reads the hit's uv parametrisation (a texture).
@@ -155,6 +158,8 @@ bsdf_registry! {
     RoughDielectric = "rough-dielectric" => RoughDielectric,
     /// Mitsuba's `thindielectric`: a thin pane, reflecting or passing straight through.
     ThinDielectric = "thin-dielectric" => ThinDielectric,
+    /// Mitsuba's `roughplastic`: a diffuse base under a rough dielectric coating.
+    RoughPlastic = "rough-plastic" => RoughPlastic,
 }
 
 impl BsdfKind {

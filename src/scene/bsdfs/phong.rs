@@ -7,7 +7,7 @@
 
 use glam::DVec3;
 
-use super::plugin::{color_value, BsdfParams, BsdfPlugin, Fields, PluginProps};
+use super::plugin::{color_value, BsdfData, BsdfParams, BsdfPlugin, Fields, PluginProps};
 use crate::scene::emitters::luminance;
 
 /// Mitsuba's default reflectance of `diffuse` (and the reference renderer's `kd`).
@@ -95,7 +95,7 @@ impl BsdfPlugin for Phong {
 
     /// `p0 = (kd, n)`, `p1 = (ks, p_spec)` with p_spec the probability of sampling the Phong
     /// lobe, the luminance ratio lum(ks) / (lum(kd) + lum(ks)).
-    fn pack(&self) -> BsdfParams {
+    fn pack(&self, _data: &mut BsdfData) -> BsdfParams {
         let (ld, ls) = (luminance(self.diffuse), luminance(self.specular));
         let p_spec = if ld + ls > 0.0 { ls / (ld + ls) } else { 0.0 };
         let d = self.diffuse.as_vec3();

@@ -18,7 +18,7 @@
 use glam::DVec3;
 
 use super::ior::{self, DEFAULT_EXT_IOR};
-use super::plugin::{color_value, BsdfParams, BsdfPlugin, Fields, PluginProps};
+use super::plugin::{color_value, BsdfData, BsdfParams, BsdfPlugin, Fields, PluginProps};
 use crate::scene::hash::{real, vec3};
 
 /// Mitsuba's default interior index (`polypropylene`).
@@ -41,6 +41,29 @@ impl Plastic {
     /// The relative index eta = int_ior / ext_ior.
     pub fn eta(&self) -> f64 {
         self.int_ior / self.ext_ior
+    }
+
+    /// The properties of a Mitsuba plastic's layers (its base and coating: `diffuse_reflectance`,
+    /// `specular_reflectance`, `int_ior`, `ext_ior`, `nonlinear`) as TOML fields, for the smooth
+    /// and the rough kind.
+    pub(crate) fn mitsuba_layers(p: &mut dyn PluginProps) -> Vec<(&'static str, toml::Value)> {
+        if let Some(at) = p.texture() {
+            p.error(at, "", "a textured parameter is not supported (give <rgb> or <float> values)".into());
+        }
+        let mut fields = Vec::new();
+        for name in ["diffuse_reflectance", "specular_reflectance"] {
+            if let Some(c) = p.color(name) {
+                fields.push((name, color_value(c)));
+            }
+        }
+        // A <float>, or a <string> naming a material of Mitsuba's table (`polypropylene`).
+        for (name, default) in [("int_ior", DEFAULT_INT_IOR), ("ext_ior", DEFAULT_EXT_IOR)] {
+            fields.push((name, toml::Value::Float(ior::from_mitsuba(p, name, default))));
+        }
+        if let Some((b, _)) = p.boolean("nonlinear") {
+            fields.push(("nonlinear", toml::Value::Boolean(b)));
+        }
+        fields
     }
 
     /// Mitsuba's `m_specular_sampling_weight`: the specular lobe's share of the two albedos'
@@ -90,22 +113,7 @@ impl BsdfPlugin for Plastic {
     }
 
     fn from_mitsuba(p: &mut dyn PluginProps) -> Option<Vec<(&'static str, toml::Value)>> {
-        if let Some(at) = p.texture() {
-            p.error(at, "", "a textured parameter is not supported (give <rgb> or <float> values)".into());
-        }
-        let mut fields = Vec::new();
-        for name in ["diffuse_reflectance", "specular_reflectance"] {
-            if let Some(c) = p.color(name) {
-                fields.push((name, color_value(c)));
-            }
-        }
-        // A <float>, or a <string> naming a material of Mitsuba's table (`polypropylene`).
-        for (name, default) in [("int_ior", DEFAULT_INT_IOR), ("ext_ior", DEFAULT_EXT_IOR)] {
-            fields.push((name, toml::Value::Float(ior::from_mitsuba(p, name, default))));
-        }
-        if let Some((b, _)) = p.boolean("nonlinear") {
-            fields.push(("nonlinear", toml::Value::Boolean(b)));
-        }
+        let fields = Plastic::mitsuba_layers(p);
         p.finish("diffuse_reflectance, specular_reflectance, int_ior, ext_ior, nonlinear");
         Some(fields)
     }
@@ -120,7 +128,7 @@ impl BsdfPlugin for Plastic {
 
     /// `p0 = (diffuse, eta)`, `p1 = (specular, specular_sampling_weight)`, `p2 = (fdr_int,
     /// nonlinear, 0, 0)`: the layout of WGSL's `plastic_of`.
-    fn pack(&self) -> BsdfParams {
+    fn pack(&self, _data: &mut BsdfData) -> BsdfParams {
         let (d, s) = (self.diffuse.as_vec3(), self.specular.as_vec3());
         let fdr_int = fresnel_diffuse_reflectance(1.0 / self.eta());
         [
@@ -140,16 +148,7 @@ mod tests {
     /// indices of real materials).
     #[test]
     fn the_diffuse_fresnel_fits_match_the_integral() {
-        let fresnel = |cos_i: f64, eta: f64| {
-            let sin_t2 = (1.0 - cos_i * cos_i) / (eta * eta);
-            if sin_t2 >= 1.0 {
-                return 1.0;
-            }
-            let cos_t = (1.0 - sin_t2).sqrt();
-            let a_s = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
-            let a_p = (cos_t - eta * cos_i) / (cos_t + eta * cos_i);
-            0.5 * (a_s * a_s + a_p * a_p)
-        };
+        let fresnel = |cos_i: f64, eta: f64| super::super::fresnel::fresnel_dielectric(cos_i, eta).0;
         for eta in [1.0 / 1.5, 1.0 / 1.33, 1.33, 1.49, 1.5, 1.9] {
             let n = 200_000;
             let integral: f64 = (0..n).map(|i| {

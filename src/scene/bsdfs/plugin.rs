@@ -13,6 +13,21 @@ use crate::scene::raw::RawColor;
 /// scene.wgsl): three slots of four numbers, whose meaning the kind's two files agree on.
 pub type BsdfParams = [[f32; 4]; 3];
 
+/// The numbers BSDFs read beyond their parameter blocks, one array for the scene (`bsdf_data`
+/// in bsdf.wgsl, bound at `bindings::BSDF_DATA`): roughplastic's transmittance table. A kind
+/// appends its own while packing and keeps where they start in its block.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct BsdfData(pub Vec<f32>);
+
+impl BsdfData {
+    /// Appends `values`; returns the index of the first.
+    pub fn push(&mut self, values: &[f32]) -> u32 {
+        let first = self.0.len() as u32;
+        self.0.extend_from_slice(values);
+        first
+    }
+}
+
 /// What each kind of BSDF implements (one file each in `scene/bsdfs/`).
 pub(crate) trait BsdfPlugin: Sized {
     /// Its `bsdf = "…"` in a TOML material.
@@ -52,8 +67,8 @@ pub(crate) trait BsdfPlugin: Sized {
     fn from_mitsuba(p: &mut dyn PluginProps) -> Option<Vec<(&'static str, toml::Value)>>;
     /// Its lines of the scene hash, each `(field, value)`.
     fn hash_lines(&self, line: &mut dyn FnMut(&str, String));
-    /// Its parameter block.
-    fn pack(&self) -> BsdfParams;
+    /// Its parameter block, its further numbers (tables) appended to `data`.
+    fn pack(&self, data: &mut BsdfData) -> BsdfParams;
     /// Some parameter is a texture, read at the hit's uv parametrisation: the kernel then
     /// computes uvs (`SceneFeatures::has_uvs`). No kind has textures yet.
     fn reads_uv(&self) -> bool {

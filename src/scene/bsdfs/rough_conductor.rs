@@ -5,7 +5,7 @@
 
 use super::conductor::Conductor;
 use super::distribution::{self, Distribution};
-use super::plugin::{BsdfParams, BsdfPlugin, Fields, PluginProps};
+use super::plugin::{BsdfData, BsdfParams, BsdfPlugin, Fields, PluginProps};
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct RoughConductor {
@@ -42,7 +42,7 @@ impl BsdfPlugin for RoughConductor {
         line("conductor.rough", format!("{} {}", self.distribution, crate::scene::hash::real(self.alpha)));
     }
 
-    fn pack(&self) -> BsdfParams {
+    fn pack(&self, _data: &mut BsdfData) -> BsdfParams {
         self.fresnel.pack_with(self.alpha, self.distribution)
     }
 }

@@ -17,7 +17,7 @@ use glam::DVec3;
 
 use super::distribution::{self, Distribution};
 use super::ior::Interface;
-use super::plugin::{BsdfParams, BsdfPlugin, Fields, PluginProps};
+use super::plugin::{BsdfData, BsdfParams, BsdfPlugin, Fields, PluginProps};
 use crate::scene::hash::{real, vec3};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -75,7 +75,7 @@ impl BsdfPlugin for RoughDielectric {
 
     /// `p0 = (reflectance, eta)`, `p1 = (transmittance, alpha)`, `p2 = (distribution, 0, 0, 0)`:
     /// the layout of WGSL's `rough_dielectric_of`.
-    fn pack(&self) -> BsdfParams {
+    fn pack(&self, _data: &mut BsdfData) -> BsdfParams {
         let (r, t) = (self.reflectance.as_vec3(), self.transmittance.as_vec3());
         [[r.x, r.y, r.z, self.eta() as f32], [t.x, t.y, t.z, self.alpha as f32], [self.distribution.constant() as f32, 0.0, 0.0, 0.0]]
     }
