@@ -2,7 +2,9 @@
 //! eta + i k shows the constant environment times Mitsuba's Fresnel term, computed here in f64),
 //! light seen only in a mirror found by every light strategy (next event estimation cannot
 //! follow a delta lobe, so emission found through it counts in full), a one-sided rough
-//! conductor black from behind, and bad conductor parameters refused.
+//! conductor black from behind, bad conductor parameters refused, and Mitsuba's named conductors
+//! (`material`) read from TOML and XML as its table (src/scene/bsdfs/named_conductors.rs,
+//! generated from Mitsuba 3.9.1 itself by scripts/named_conductors.py).
 //! (The microfacet lobes' sampling is tested in tests/chi2_sampling.rs; whole images against
 //! Mitsuba in tests/veach_mis.rs.)
 
@@ -147,4 +149,59 @@ fn a_one_sided_rough_conductor_is_black_from_behind() {
         let mean = front.mean.iter().flatten().map(|&x| x as f64).sum::<f64>() / (3 * front.mean.len()) as f64;
         assert!(mean > 0.5, "{}: a twosided rough conductor of F = 1 reflects only {mean} of a white environment", method.name());
     }
+}
+
+/// `material = "Au"` (TOML) and `<string name="material" value="Au"/>` (XML, both conductors) give
+/// the complex index of Mitsuba's table, "none" a perfect mirror; every material Mitsuba's
+/// conductor documentation lists is there, spelt as Mitsuba spells it.
+#[test]
+fn named_conductors_are_mitsubas() {
+    use pathlab::scene::{Bsdf, Conductor, NAMED_CONDUCTORS};
+    // Mitsuba's documented presets (conductor.cpp's table), one per measured material.
+    let documented = [
+        "a-C", "Ag", "Al", "AlAs", "AlSb", "Au", "Be", "Cr", "CsI", "Cu", "Cu2O", "CuO", "d-C", "Hg", "HgTe", "Ir", "K", "Li", "MgO", "Mo",
+        "Na_palik", "Nb", "Ni_palik", "Rh", "Se", "SiC", "SnTe", "Ta", "Te", "ThF4", "TiC", "TiN", "TiO2", "VC", "V_palik", "VN", "W",
+    ];
+    for name in documented {
+        assert!(Conductor::named(name).is_some(), "{name} missing");
+    }
+    assert_eq!(NAMED_CONDUCTORS.len(), 71);
+    let (au_eta, au_k) = Conductor::named("Au").unwrap();
+    assert_eq!((au_eta.x, au_k.z), (0.14303598, 1.6033592));
+
+    let base = "[camera]\nposition = [0, 0, 1]\nlook_at = [0, 0, 0]\nup = [0, 1, 0]\nfov_x = 60\n\
+                [render]\nwidth = 4\nheight = 4\nmax_depth = 2\nenvironment = 1\n";
+    let with = |material: &str| format!("{base}[materials.m]\n{material}\n[[spheres]]\ncenter = [0, 0, -3]\nradius = 1\nmaterial = \"m\"\n");
+    let s = scene(&with("bsdf = \"conductor\"\nmaterial = \"Au\"\nspecular_reflectance = 0.9"));
+    assert!(matches!(&s.materials[0].bsdf, Bsdf::Conductor(c) if (c.eta, c.k) == (au_eta, au_k) && c.reflectance.x == 0.9));
+    let s = scene(&with("bsdf = \"roughconductor\"\nmaterial = \"none\"\nalpha = 0.2"));
+    assert!(matches!(&s.materials[0].bsdf, Bsdf::RoughConductor(r) if r.fresnel.eta == glam::DVec3::ZERO && r.fresnel.k == glam::DVec3::ONE));
+    for (material, message) in [
+        ("bsdf = \"conductor\"\nmaterial = \"gold\"", "unknown conductor \"gold\" (Mitsuba's named conductors: Ag, Al, AlAs"),
+        ("bsdf = \"conductor\"\nmaterial = \"Cu\"\nk = 2", "give either `material` or `eta` and `k`, not both"),
+    ] {
+        match Scene::parse(&with(material), "c.toml") {
+            Err(SceneError::Invalid(d)) => assert!(d[0].field == "materials.m.material" && d[0].message.contains(message), "{material}: {}", d[0]),
+            other => panic!("{material}: accepted ({:?})", other.map(|s| s.materials[0].clone())),
+        }
+    }
+
+    let dir = std::env::temp_dir().join(format!("pathlab-named-conductors-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("c.xml");
+    std::fs::write(
+        &path,
+        "<scene version=\"3.0.0\">\n<sensor type=\"perspective\"><float name=\"fov\" value=\"45\"/>\
+         <film type=\"hdrfilm\"><integer name=\"width\" value=\"4\"/><integer name=\"height\" value=\"4\"/></film></sensor>\n\
+         <bsdf type=\"roughconductor\" id=\"al\"><string name=\"material\" value=\"Al\"/><float name=\"alpha\" value=\"0.05\"/></bsdf>\n\
+         <bsdf type=\"conductor\" id=\"cu\"><string name=\"material\" value=\"Cu\"/></bsdf>\n\
+         <shape type=\"sphere\"><ref id=\"al\"/></shape>\n<shape type=\"sphere\"><point name=\"center\" x=\"3\" y=\"0\" z=\"0\"/><ref id=\"cu\"/></shape>\n</scene>\n",
+    )
+    .unwrap();
+    let s = Scene::load(&path).unwrap();
+    std::fs::remove_dir_all(&dir).ok();
+    let al = Conductor::named("Al").unwrap();
+    let cu = Conductor::named("Cu").unwrap();
+    assert!(s.materials.iter().any(|m| matches!(&m.bsdf, Bsdf::RoughConductor(r) if (r.fresnel.eta, r.fresnel.k) == al && r.alpha == 0.05)));
+    assert!(s.materials.iter().any(|m| matches!(&m.bsdf, Bsdf::Conductor(c) if (c.eta, c.k) == cu)));
 }

@@ -27,7 +27,7 @@ use crate::method::{BsdfSampling, LightSampling, Method};
 
 pub use bsdfs::{
     Bsdf, BsdfData, BsdfKind, CoatingTables, Conductor, Dielectric, Distribution, Phong, Plastic, RoughConductor, RoughDielectric, RoughPlastic,
-    ThinDielectric, ROUGH_PLASTIC_TABLE_RES,
+    ThinDielectric, NAMED_CONDUCTORS, ROUGH_PLASTIC_TABLE_RES,
 };
 pub use diagnostic::{Diagnostic, SceneError, Severity};
 pub use emitters::{AliasTable, EmitterKind, Light};

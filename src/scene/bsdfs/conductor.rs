@@ -1,10 +1,13 @@
 //! Mitsuba's smooth `conductor` (WGSL: `shaders/bsdfs/conductor.wgsl`): a mirror, a delta
 //! lobe, with the exact Fresnel term of a complex index eta + i k per channel, times
 //! `specular_reflectance`. TOML `eta`, `k` (default 0 + 1i: F = 1, a perfect mirror, as
-//! Mitsuba's `material="none"`), `specular_reflectance` (default 1).
+//! Mitsuba's `material="none"`) or `material`, one of Mitsuba's named conductors
+//! (`named_conductors.rs`: "Au", "Cu", "Al", ...; not with `eta` or `k`), and
+//! `specular_reflectance` (default 1).
 
 use glam::DVec3;
 
+use super::named_conductors::NAMED_CONDUCTORS;
 use super::plugin::{color_value, BsdfData, BsdfParams, BsdfPlugin, Fields, PluginProps};
 use crate::scene::hash::vec3;
 
@@ -18,13 +21,40 @@ pub struct Conductor {
 }
 
 impl Conductor {
-    /// The fields both conductors read, in TOML.
+    /// The complex index of Mitsuba's named conductor `name` (its spelling, case-sensitive).
+    pub fn named(name: &str) -> Option<(DVec3, DVec3)> {
+        NAMED_CONDUCTORS.iter().find(|(n, _, _)| *n == name).map(|&(_, eta, k)| (DVec3::from(eta), DVec3::from(k)))
+    }
+
+    /// What an unknown conductor name is told: every known name.
+    fn unknown(name: &str) -> String {
+        let known: Vec<&str> = NAMED_CONDUCTORS.iter().map(|(n, _, _)| *n).collect();
+        format!("unknown conductor \"{name}\" (Mitsuba's named conductors: {}, or \"none\", a perfect mirror)", known.join(", "))
+    }
+
+    /// The fields both conductors read, in TOML: `material` (a named conductor) or `eta` and
+    /// `k`, and `specular_reflectance`.
     pub(crate) fn read_fresnel(f: &mut Fields) -> Conductor {
-        Conductor {
-            eta: f.color("eta", DVec3::ZERO),
-            k: f.color("k", DVec3::ONE),
-            reflectance: f.color("specular_reflectance", DVec3::ONE),
+        let reflectance = f.color("specular_reflectance", DVec3::ONE);
+        if let Some(m) = f.string("material") {
+            for other in ["eta", "k"] {
+                if f.has(other) {
+                    f.error(m.span(), "material", format!("give either `material` or `eta` and `k`, not both (as Mitsuba requires)"));
+                    break;
+                }
+            }
+            let name = m.get_ref();
+            let (eta, k) = match (name.as_str(), Conductor::named(name)) {
+                ("none", _) => (DVec3::ZERO, DVec3::ONE),
+                (_, Some(ek)) => ek,
+                (_, None) => {
+                    f.error(m.span(), "material", Conductor::unknown(name));
+                    (DVec3::ZERO, DVec3::ONE)
+                }
+            };
+            return Conductor { eta, k, reflectance };
         }
+        Conductor { eta: f.color("eta", DVec3::ZERO), k: f.color("k", DVec3::ONE), reflectance }
     }
 
     /// The properties both conductors read, in Mitsuba XML, as TOML fields.
@@ -32,14 +62,24 @@ impl Conductor {
         if let Some(at) = p.texture() {
             p.error(at, "", "a textured parameter is not supported (give <rgb> or <float> values)".into());
         }
-        if let Some((material, at)) = p.string("material") {
-            if material != "none" {
-                p.error(at, "material", format!("the named material \"{material}\" is not supported: give its complex index as <rgb name=\"eta\"> and <rgb name=\"k\">"));
+        let eta = p.color("eta");
+        let k = p.color("k");
+        let mut fields = Vec::new();
+        match p.string("material") {
+            // Mitsuba: a named material replaces eta and k, which may then not be given.
+            Some((material, at)) if material != "none" => {
+                if eta.is_some() || k.is_some() {
+                    p.error(at, "material", "give either `material` or `eta` and `k`, not both (Mitsuba refuses both)".into());
+                } else if Conductor::named(&material).is_none() {
+                    p.error(at, "material", Conductor::unknown(&material));
+                }
+                fields.push(("material", toml::Value::String(material)));
+            }
+            _ => {
+                fields.push(("eta", color_value(eta.unwrap_or([0.0; 3]))));
+                fields.push(("k", color_value(k.unwrap_or([1.0; 3]))));
             }
         }
-        let eta = p.color("eta").unwrap_or([0.0; 3]);
-        let k = p.color("k").unwrap_or([1.0; 3]);
-        let mut fields = vec![("eta", color_value(eta)), ("k", color_value(k))];
         if let Some(r) = p.color("specular_reflectance") {
             fields.push(("specular_reflectance", color_value(r)));
         }
@@ -67,7 +107,7 @@ impl Conductor {
 
 impl BsdfPlugin for Conductor {
     const TOML_NAME: &'static str = "conductor";
-    const FIELDS: &'static [&'static str] = &["eta", "k", "specular_reflectance"];
+    const FIELDS: &'static [&'static str] = &["eta", "k", "material", "specular_reflectance"];
     const MITSUBA_PLUGINS: &'static [&'static str] = &["conductor"];
     const IS_DELTA: bool = true;
 
@@ -77,7 +117,7 @@ impl BsdfPlugin for Conductor {
 
     fn from_mitsuba(p: &mut dyn PluginProps) -> Option<Vec<(&'static str, toml::Value)>> {
         let fields = Conductor::mitsuba_fresnel(p);
-        p.finish("eta, k, specular_reflectance, material=\"none\"");
+        p.finish("eta, k, material, specular_reflectance");
         Some(fields)
     }
 

@@ -1,6 +1,6 @@
 //! Mitsuba's `roughconductor` (WGSL: `shaders/bsdfs/rough_conductor.wgsl`): Torrance-Sparrow
 //! microfacet reflection with the conductor's Fresnel term and separable Smith shadowing. TOML
-//! the conductor's `eta`, `k`, `specular_reflectance`, and `distribution` (`beckmann`, Mitsuba's
+//! the conductor's `eta`, `k` or `material`, `specular_reflectance`, and `distribution` (`beckmann`, Mitsuba's
 //! default, or `ggx`) and `alpha` (default 0.1; below 1e-4 clamped to it, as Mitsuba does).
 
 use super::conductor::Conductor;
@@ -18,7 +18,7 @@ pub struct RoughConductor {
 
 impl BsdfPlugin for RoughConductor {
     const TOML_NAME: &'static str = "roughconductor";
-    const FIELDS: &'static [&'static str] = &["distribution", "alpha", "eta", "k", "specular_reflectance"];
+    const FIELDS: &'static [&'static str] = &["distribution", "alpha", "eta", "k", "material", "specular_reflectance"];
     const MITSUBA_PLUGINS: &'static [&'static str] = &["roughconductor"];
     const IS_DELTA: bool = false;
     const MICROFACETS: bool = true;
@@ -32,7 +32,7 @@ impl BsdfPlugin for RoughConductor {
     fn from_mitsuba(p: &mut dyn PluginProps) -> Option<Vec<(&'static str, toml::Value)>> {
         let mut fields = Conductor::mitsuba_fresnel(p);
         let microfacets = distribution::read_mitsuba(p);
-        p.finish("distribution, alpha, eta, k, specular_reflectance, material=\"none\" (and, with a warning, sample_visible)");
+        p.finish("distribution, alpha, eta, k, material, specular_reflectance (and, with a warning, sample_visible)");
         fields.extend(microfacets?);
         Some(fields)
     }
