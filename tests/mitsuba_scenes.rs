@@ -312,3 +312,61 @@ fn mutated_xml_never_panics_and_is_refused_by_file_and_line() {
     println!("{refused} mutants refused, {loaded} loaded");
     assert!(refused > 200, "only {refused} of 400 mutants refused: the mutations are too weak");
 }
+
+/// Mitsuba's file resolver and camera defaults, which published scenes rely on (mitsuba-data's
+/// docs scenes, Mitsuba's tutorials, Bitterli's scenes): `<path value>` puts a folder in front of
+/// the search for meshes (relative to the file that says it); a mesh named in an included file is
+/// found from the main file's folder as Mitsuba finds it (and beside the include, as before); a
+/// missing one is refused naming every folder searched. A camera without `fov` has Mitsuba's
+/// 50mm focal length, `focal_length="35mm"` its diagonal field of view on a 36 x 24 mm film;
+/// `focus_distance` is ignored with a warning; a camera matrix orthogonal to 2e-5 (six digits) is
+/// accepted, one off by 1e-2 refused.
+#[test]
+fn paths_focal_lengths_and_published_camera_matrices_are_read_as_mitsuba_reads_them() {
+    use pathlab::scene::Fov;
+    let mesh = r#"<shape type="obj"><string name="filename" value="tri.obj"/><ref id="grey"/></shape>"#;
+    // <path>: the mesh lives in assets/, the scene names it bare.
+    let with_path = small(&format!("<path value=\"assets\"/>{mesh}"));
+    let dir = dir_with(&[("s.xml", &with_path), ("assets/tri.obj", TRIANGLE_OBJ)]);
+    let s = Scene::load(dir.path().join("s.xml")).unwrap();
+    assert_eq!(s.meshes.len(), 2, "the rectangle and the OBJ");
+    // An include in parts/ names meshes/tri.obj, which lies beside the main file.
+    let main = small("<include filename=\"parts/shapes.xml\"/>");
+    let part = format!("<scene version=\"3.0.0\"><shape type=\"obj\"><string name=\"filename\" value=\"meshes/tri.obj\"/></shape></scene>");
+    let dir = dir_with(&[("s.xml", &main), ("parts/shapes.xml", &part), ("meshes/tri.obj", TRIANGLE_OBJ)]);
+    assert_eq!(Scene::load(dir.path().join("s.xml")).unwrap().meshes.len(), 2);
+    // Missing: every folder searched is named.
+    let dir = dir_with(&[("s.xml", &with_path.replace("tri.obj", "gone.obj")), ("assets/tri.obj", TRIANGLE_OBJ)]);
+    let e = Scene::load(dir.path().join("s.xml")).unwrap_err().to_string();
+    assert!(e.contains("s.xml:") && e.contains("mesh file \"gone.obj\" not found (searched ") && e.contains("assets/"), "{e}");
+    let (d, _) = refused(&small("<path value=\"nowhere\"/>"));
+    assert!(d.message.contains("<path>: folder") && d.message.contains("not found"), "{d}");
+
+    // Focal lengths: Mitsuba's default 50mm, and 35mm, as diagonal fields of view.
+    let no_fov = small("").replace("<float name=\"fov\" value=\"45\"/>", "<float name=\"focus_distance\" value=\"3\"/>");
+    let dir = dir_with(&[("s.xml", &no_fov)]);
+    let s = Scene::load(dir.path().join("s.xml")).unwrap();
+    let diagonal = |mm: f64| 2.0 * (36.0f64.hypot(24.0) / (2.0 * mm)).atan().to_degrees();
+    assert!(matches!(s.camera.fov, Fov::Diagonal(d) if (d - diagonal(50.0)).abs() < 1e-12), "{:?}", s.camera.fov);
+    assert!(s.warnings.iter().any(|w| w.field == "focus_distance" && w.message.contains("pinhole")), "{:?}", s.warnings);
+    let dir = dir_with(&[("s.xml", &small("").replace("<float name=\"fov\" value=\"45\"/>", "<string name=\"focal_length\" value=\"35mm\"/>"))]);
+    let s = Scene::load(dir.path().join("s.xml")).unwrap();
+    assert!(matches!(s.camera.fov, Fov::Diagonal(d) if (d - diagonal(35.0)).abs() < 1e-12), "{:?}", s.camera.fov);
+    let (d, _) = refused(&small("").replace("<float name=\"fov\" value=\"45\"/>", "<float name=\"fov\" value=\"45\"/><string name=\"focal_length\" value=\"35mm\"/>"));
+    assert!(d.message.contains("either `fov` or `focal_length`"), "{d}");
+    let (d, _) = refused(&small("").replace("<float name=\"fov\" value=\"45\"/>", "<string name=\"focal_length\" value=\"wide\"/>"));
+    assert!(d.message.contains("<x>mm"), "{d}");
+
+    // A camera matrix written to six digits (Bitterli's veach-bidir), and one that shears.
+    let matrix = |m: &str| {
+        small("").replace(
+            "<transform name=\"to_world\"><lookat origin=\"0, 0, 5\" target=\"0, 0, 0\" up=\"0, 1, 0\"/></transform>",
+            &format!("<transform name=\"to_world\"><matrix value=\"{m}\"/></transform>"),
+        )
+    };
+    let six_digits = "-0.999914 0.000835626 0.013058 -0.587317 -5.82126e-011 0.997959 -0.063863 2.7623 -0.0130847 -0.0638576 -0.997873 9.71429 0 0 0 1";
+    let dir = dir_with(&[("s.xml", &matrix(six_digits))]);
+    Scene::load(dir.path().join("s.xml")).unwrap();
+    let (d, _) = refused(&matrix("1 0.01 0 0 0 1 0 0 0 0 1 5 0 0 0 1"));
+    assert!(d.message.contains("must be a rotation and translation"), "{d}");
+}

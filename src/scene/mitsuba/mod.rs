@@ -96,14 +96,16 @@ fn relative_to(file: &Path, dir: &Path) -> PathBuf {
 }
 
 fn translate(path: &Path, defines: &[(String, String)]) -> Result<(RawScene, SourceMap, Vec<Diagnostic>), SceneError> {
-    let loaded = xml::load(path, defines).map_err(|source| SceneError::Io { path: path.to_path_buf(), source })?;
+    let mut loaded = xml::load(path, defines).map_err(|source| SceneError::Io { path: path.to_path_buf(), source })?;
+    let diagnostics = std::mem::take(&mut loaded.diagnostics);
     let mut t = Translator {
         sources: &loaded.sources,
-        diagnostics: loaded.diagnostics,
+        diagnostics,
         materials: BTreeMap::new(),
         material_keys: Vec::new(),
         bsdfs: BTreeMap::new(),
         shape_count: 0,
+        loaded: &loaded,
     };
     let mut raw = t.scene(path, &loaded.objects);
     // Mesh files as the scene model names them: relative to the main file's folder (where the
@@ -235,6 +237,8 @@ struct Translator<'a> {
     /// Named BSDFs already interpreted (a `<ref>` is a copy: interpreted once, reported once).
     bsdfs: BTreeMap<String, Option<Bsdf>>,
     shape_count: usize,
+    /// The loaded files, for resolving relative file names (`xml::Loaded::resolve`).
+    loaded: &'a xml::Loaded,
 }
 
 fn span(at: usize) -> std::ops::Range<usize> {
@@ -524,6 +528,33 @@ impl Translator<'_> {
             _ => None,
         };
         let axis = self.string(&mut p, "fov_axis");
+        // Mitsuba's `focal_length` ("<x>mm" on a 36 x 24 mm film, 50mm by default): the
+        // diagonal field of view 2 atan(sqrt(36^2 + 24^2) / (2 x)).
+        let focal = match p.take("focal_length") {
+            Some(prop) if written.is_some() => {
+                self.error(prop.at, "focal_length", "give either `fov` or `focal_length`, not both (as Mitsuba requires)");
+                None
+            }
+            Some(prop) => {
+                let text = match &prop.value {
+                    Value::String(t) => Some(t.clone()),
+                    Value::Float(v) => Some(v.to_string()),
+                    _ => None,
+                };
+                match text.as_deref().map(|t| t.trim().trim_end_matches("mm").trim().parse::<f64>()) {
+                    Some(Ok(mm)) if mm.is_finite() && mm > 0.0 => Some((mm, prop.value_at)),
+                    _ => {
+                        self.error(prop.value_at, "focal_length", "`focal_length` must be of the form <x>mm with x > 0 (Mitsuba's)".to_string());
+                        None
+                    }
+                }
+            }
+            None if written.is_none() => Some((50.0, o.at)),
+            None => None,
+        };
+        if let Some(prop) = p.take("focus_distance") {
+            self.warn(prop.at, "focus_distance", "`focus_distance` is ignored: a perspective camera is a pinhole, in focus everywhere (the image is the same)".to_string());
+        }
         for clip in ["near_clip", "far_clip"] {
             if let Some(prop) = p.take(clip) {
                 self.warn(prop.at, clip, format!("`{clip}` is ignored: pathlab does not clip (the image differs only where geometry lies outside the clip range)"));
@@ -536,19 +567,20 @@ impl Translator<'_> {
                 }
             }
         }
-        if let Some(prop) = p.take("focal_length") {
-            self.error(prop.at, "focal_length", "`focal_length` is not supported: give the field of view as `fov` (degrees)");
-        }
         let to_world = self.transform(&mut p, "to_world");
-        self.finish(p, "fov, fov_axis, to_world, near_clip, far_clip");
-        let Some((fov, fov_at)) = fov else {
-            if written.is_none() {
-                self.error(o.at, "fov", "<sensor type=\"perspective\"> needs `fov` (degrees)");
+        self.finish(p, "fov, fov_axis, focal_length, to_world, near_clip, far_clip (and, with a warning, focus_distance)");
+        let (fov, fov_at, axis_name) = match (fov, focal) {
+            (Some((fov, at)), _) => (fov, at, axis.as_ref().map_or("x", |(a, _)| a.as_str()).to_string()),
+            (None, Some((mm, at))) => {
+                if let Some((_, axis_at)) = &axis {
+                    self.warn(*axis_at, "fov_axis", "`fov_axis` is ignored with a focal length: Mitsuba's is then the diagonal".to_string());
+                }
+                (2.0 * (36.0f64.hypot(24.0) / (2.0 * mm)).atan().to_degrees(), at, "diagonal".to_string())
             }
-            return (None, film, spp);
+            (None, None) => return (None, film, spp),
         };
         // The field of view by its rule, kept as Mitsuba's: resolved at whatever size renders.
-        let fov = match axis.as_ref().map_or("x", |(a, _)| a.as_str()) {
+        let fov = match axis_name.as_str() {
             "x" => Fov::X(fov),
             "y" => Fov::Y(fov),
             "smaller" => Fov::Smaller(fov),
@@ -572,7 +604,10 @@ impl Translator<'_> {
                 let m = compose(&ops);
                 let position = m.w_axis.truncate();
                 let (left, up, dir) = (m.x_axis.truncate(), m.y_axis.truncate(), m.z_axis.truncate());
-                let orthogonal = [left.dot(up), up.dot(dir), dir.dot(left)].iter().all(|d| d.abs() <= 1e-6 * left.length() * dir.length().max(up.length()));
+                // Orthogonal to 1e-4 (Bitterli's scenes write rotations to 6 digits, whose axes'
+                // products reach 2e-5; the camera built from position, direction and up then
+                // differs from Mitsuba's by less than 1e-4 rad).
+                let orthogonal = [left.dot(up), up.dot(dir), dir.dot(left)].iter().all(|d| d.abs() <= 1e-4 * left.length() * dir.length().max(up.length()));
                 if !m.is_finite() || dir.length() == 0.0 || up.length() == 0.0 || !orthogonal {
                     self.error(at, "to_world", "the sensor's to_world must be a rotation and translation (with at most a uniform scale)");
                 } else if left.dot(up.cross(dir)) <= 0.0 {
@@ -834,7 +869,13 @@ impl Translator<'_> {
                 if ext != o.plugin {
                     self.warn(o.at, "filename", format!("<shape type=\"{}\"> names a .{ext} file: pathlab reads it by its extension", o.plugin));
                 }
-                let path = o.dir.join(&file);
+                let path = match self.loaded.resolve(&file, &o.dir) {
+                    Ok(path) => path,
+                    Err(message) => {
+                        self.error(o.at, "filename", format!("mesh file {message}"));
+                        return;
+                    }
+                };
                 meshes.push(spanned(
                     o.at,
                     RawMesh {

@@ -120,6 +120,31 @@ pub(crate) struct Loaded {
     pub diagnostics: Vec<Diagnostic>,
     /// `<scene version>` of the main file.
     pub version: Option<String>,
+    /// Where relative file names (meshes) are looked for, in order: Mitsuba's file resolver
+    /// after the whole file is read, each `<path>` folder in front of the ones before it, then
+    /// the main file's folder.
+    pub search: Vec<PathBuf>,
+}
+
+impl Loaded {
+    /// `name` as Mitsuba's file resolver finds it: absolute as it is, else in the first folder of
+    /// `search` that has it, then beside `dir` (the XML file that names it, pathlab's rule
+    /// before `<path>`). `Err`: every folder searched, for the message.
+    pub fn resolve(&self, name: &str, dir: &Path) -> Result<PathBuf, String> {
+        let file = Path::new(name);
+        if file.is_absolute() {
+            return Ok(file.to_path_buf());
+        }
+        let mut folders: Vec<&Path> = self.search.iter().map(PathBuf::as_path).collect();
+        if !folders.contains(&dir) {
+            folders.push(dir);
+        }
+        if let Some(found) = folders.iter().map(|f| f.join(file)).find(|c| c.exists()) {
+            return Ok(found);
+        }
+        let shown: Vec<String> = folders.iter().map(|f| if f.as_os_str().is_empty() { "./".to_string() } else { format!("{}/", f.display()) }).collect();
+        Err(format!("\"{name}\" not found (searched {})", shown.join(", ")))
+    }
 }
 
 struct Loader<'a> {
@@ -134,6 +159,8 @@ struct Loader<'a> {
     /// is reported as having no effect).
     used: std::collections::BTreeSet<String>,
     version: Option<String>,
+    /// The `<path>` folders so far, the latest first.
+    paths: Vec<PathBuf>,
 }
 
 /// Reads `path` and everything it includes. Errors are collected in `diagnostics` (reading
@@ -147,6 +174,7 @@ pub(crate) fn load(path: &Path, defines: &[(String, String)]) -> Result<Loaded, 
         named: BTreeMap::new(),
         used: Default::default(),
         version: None,
+        paths: Vec::new(),
     };
     let text = std::fs::read_to_string(path)?;
     let mut objects = Vec::new();
@@ -163,7 +191,9 @@ pub(crate) fn load(path: &Path, defines: &[(String, String)]) -> Result<Loaded, 
             });
         }
     }
-    Ok(Loaded { objects, sources: loader.sources, diagnostics: loader.diagnostics, version: loader.version })
+    let mut search = loader.paths;
+    search.push(path.parent().map(Path::to_path_buf).unwrap_or_default());
+    Ok(Loaded { objects, sources: loader.sources, diagnostics: loader.diagnostics, version: loader.version, search })
 }
 
 /// The element's name for messages: `<bsdf type="diffuse">`.
@@ -219,9 +249,26 @@ impl Loader<'_> {
         for node in root.children().filter(|n| n.is_element()) {
             match node.tag_name().name() {
                 "default" => self.default(node, base),
+                // Mitsuba's `<path value>`: a folder put in front of the file resolver's
+                // (relative: to this file's folder).
+                "path" => {
+                    let Some(value) = self.attr(node, "value", base) else { continue };
+                    let folder = dir.join(&value);
+                    if folder.is_dir() {
+                        self.paths.insert(0, folder);
+                    } else {
+                        self.error(at(node), "value", format!("<path>: folder {} not found", folder.display()));
+                    }
+                }
                 "include" => {
                     let Some(name) = self.attr(node, "filename", base) else { continue };
-                    let file = dir.join(&name);
+                    // Beside the including file, else where Mitsuba's resolver finds it.
+                    let mut file = dir.join(&name);
+                    if !file.exists() {
+                        if let Some(found) = self.paths.iter().map(|f| f.join(&name)).find(|c| c.exists()) {
+                            file = found;
+                        }
+                    }
                     if depth + 1 > MAX_INCLUDE_DEPTH {
                         self.error(at(node), "filename", format!("includes nest deeper than {MAX_INCLUDE_DEPTH} (a file that includes itself?)"));
                         continue;
