@@ -185,7 +185,7 @@ fn bad_xml_is_refused_with_file_line_column_plugin_and_parameter() {
     // (scene, where the error must point, what it must say)
     let cases: Vec<(String, &str, &str)> = vec![
         (small("<shape type=\"obj\"><string name=\"filename\" value=\"tri.obj\"/>\n</scene>"), "", "malformed XML"),
-        (small("<shape type=\"cube\"><ref id=\"nope\"/></shape>"), "<ref id=\"nope\"/>", "names no object defined before it (defined: grey)"),
+        (small("<shape type=\"cube\"><ref id=\"nope\"/></shape>"), "<ref id=\"nope\"/>", "names no object of the scene (defined: grey)"),
         (small("<shape type=\"sphere\"><float name=\"radius\" value=\"$r\"/></shape>"), "$r", "`$r` has no value"),
         (small("<shape type=\"obj\"><ref id=\"grey\"/></shape>"), "<shape type=\"obj\">", "needs <string name=\"filename\">"),
         (small("<shape type=\"cube\"><transform name=\"to_world\"><scale value=\"1, 0, 1\"/></transform></shape>"), "<scale value=\"1, 0, 1\"/>", "singular"),
@@ -320,7 +320,8 @@ fn mutated_xml_never_panics_and_is_refused_by_file_and_line() {
 /// missing one is refused naming every folder searched. A camera without `fov` has Mitsuba's
 /// 50mm focal length, `focal_length="35mm"` its diagonal field of view on a 36 x 24 mm film;
 /// `focus_distance` is ignored with a warning; a camera matrix orthogonal to 2e-5 (six digits) is
-/// accepted, one off by 1e-2 refused.
+/// accepted, one off by 1e-2 refused. A `<ref>` may name an object defined after it, and a
+/// named top-level area emitter is taken by the shapes that refer to it.
 #[test]
 fn paths_focal_lengths_and_published_camera_matrices_are_read_as_mitsuba_reads_them() {
     use pathlab::scene::Fov;
@@ -369,4 +370,14 @@ fn paths_focal_lengths_and_published_camera_matrices_are_read_as_mitsuba_reads_t
     Scene::load(dir.path().join("s.xml")).unwrap();
     let (d, _) = refused(&matrix("1 0.01 0 0 0 1 0 0 0 0 1 5 0 0 0 1"));
     assert!(d.message.contains("must be a rotation and translation"), "{d}");
+
+    // A shape taking, by a forward <ref>, a named top-level area emitter defined after it
+    // (mitsuba-data's cbox-rgb.xml): the shape emits.
+    let forward = small(r#"<shape type="cube"><ref id="lamp"/><ref id="grey"/></shape>
+        <emitter type="area" id="lamp"><rgb name="radiance" value="3"/></emitter>"#);
+    let dir = dir_with(&[("s.xml", &forward)]);
+    let s = Scene::load(dir.path().join("s.xml")).unwrap();
+    assert_eq!(s.materials.iter().filter(|m| m.emission == glam::DVec3::splat(3.0)).count(), 1, "{:?}", s.materials);
+    let (d, _) = refused(&small(r#"<emitter type="area"><rgb name="radiance" value="3"/></emitter>"#));
+    assert!(d.message.contains("belongs inside the <shape> that emits"), "{d}");
 }

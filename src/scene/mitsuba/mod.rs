@@ -453,7 +453,9 @@ impl Translator<'_> {
                             None => {}
                         }
                     }
-                    "area" => self.error(o.at, "", "<emitter type=\"area\"> belongs inside the <shape> that emits"),
+                    // A named one is a definition that shapes take by <ref> (Mitsuba's cbox-rgb).
+                    "area" if o.id.is_some() => {}
+                    "area" => self.error(o.at, "", "<emitter type=\"area\"> belongs inside the <shape> that emits (or, with an id, is taken by a <ref> in one)"),
                     other => self.error(o.at, "type", format!("<emitter type=\"{other}\"> is not supported (pathlab has area, constant)")),
                 },
                 "film" | "sampler" | "rfilter" => self.error(o.at, "", format!("<{}> belongs inside the <sensor>", o.tag)),

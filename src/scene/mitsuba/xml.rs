@@ -191,6 +191,10 @@ pub(crate) fn load(path: &Path, defines: &[(String, String)]) -> Result<Loaded, 
             });
         }
     }
+    for o in &mut objects {
+        loader.resolve_forward_refs(o, 0);
+    }
+    objects.retain(|o| o.tag != "ref");
     let mut search = loader.paths;
     search.push(path.parent().map(Path::to_path_buf).unwrap_or_default());
     Ok(Loaded { objects, sources: loader.sources, diagnostics: loader.diagnostics, version: loader.version, search })
@@ -213,6 +217,31 @@ impl Findings for Loader<'_> {
 impl Loader<'_> {
     fn used_define(&self, name: &str) -> bool {
         self.used.contains(name)
+    }
+
+    /// Replaces the `<ref>`s left in `o` and below it (references to objects defined after
+    /// them) by copies of the objects now named, or reports them.
+    fn resolve_forward_refs(&mut self, o: &mut Object, depth: usize) {
+        if o.tag == "ref" {
+            let id = o.id.clone().unwrap_or_default();
+            match self.named.get(&id) {
+                Some(named) if depth < MAX_INCLUDE_DEPTH => *o = named.clone(),
+                Some(_) => {
+                    self.error(o.at, "id", format!("<ref id=\"{id}\"> refers to itself through its own references"));
+                    return;
+                }
+                None => {
+                    let known: Vec<&str> = self.named.keys().map(String::as_str).collect();
+                    let known = if known.is_empty() { "none".to_string() } else { known.join(", ") };
+                    self.error(o.at, "id", format!("<ref id=\"{id}\"> names no object of the scene (defined: {known})"));
+                    return;
+                }
+            }
+        }
+        for child in &mut o.children {
+            self.resolve_forward_refs(child, depth + 1);
+        }
+        o.children.retain(|c| c.tag != "ref");
     }
 
     /// Parses one file and appends its top-level objects.
@@ -353,12 +382,9 @@ impl Loader<'_> {
             let id = self.attr(node, "id", base)?;
             return match self.named.get(&id) {
                 Some(o) => Some(o.clone()),
-                None => {
-                    let known: Vec<&str> = self.named.keys().map(String::as_str).collect();
-                    let known = if known.is_empty() { "none".to_string() } else { known.join(", ") };
-                    self.error(at, "id", format!("<ref id=\"{id}\"> names no object defined before it (defined: {known})"));
-                    None
-                }
+                // A forward reference (Mitsuba resolves references after reading every file):
+                // kept as a `<ref>`, resolved by `resolve_forward_refs`.
+                None => Some(Object { tag, plugin: String::new(), id: Some(id), at, dir: dir.to_path_buf(), props: Vec::new(), children: Vec::new() }),
             };
         }
         if !PLUGIN_TAGS.contains(&tag.as_str()) {
