@@ -101,7 +101,7 @@ struct FrameParams {
 @group(0) @binding(BINDING_SPHERE_AXES) var<storage, read> sphere_axes: array<SphereAxes>;
 
 // The BSDF of material i at a point of uv parametrisation `uv` (where a parameter slot holds a
-// texture, it is looked up there; no kind has textures yet). Its kind and third slot are read only where the pipeline has other
+// texture, it is looked up there: texture.wgsl, where some material reads uvs). Its kind and third slot are read only where the pipeline has other
 // kinds than Phong (whose two slots are the rest): a dynamically indexed uniform read costs per
 // byte on SIMD CPU drivers (reading the whole 80-byte Material cost the study scene a quarter of
 // its speed).
@@ -110,6 +110,9 @@ fn material_bsdf(i: u32, uv: vec2f) -> Bsdf {
     if (bsdf_kinds_vary()) {
         b.kind = materials[i].kind;
         b.p2 = materials[i].p2;
+    }
+    if (HAS_UVS) {
+        b = bsdf_apply_textures(b, uv);
     }
     return b;
 }

@@ -321,7 +321,8 @@ fn mutated_xml_never_panics_and_is_refused_by_file_and_line() {
 /// 50mm focal length, `focal_length="35mm"` its diagonal field of view on a 36 x 24 mm film;
 /// `focus_distance` is ignored with a warning; a camera matrix orthogonal to 2e-5 (six digits) is
 /// accepted, one off by 1e-2 refused. A `<ref>` may name an object defined after it, and a
-/// named top-level area emitter is taken by the shapes that refer to it.
+/// named top-level area emitter is taken by the shapes that refer to it. `moment` is read as the
+/// integrator it wraps.
 #[test]
 fn paths_focal_lengths_and_published_camera_matrices_are_read_as_mitsuba_reads_them() {
     use pathlab::scene::Fov;
@@ -380,4 +381,15 @@ fn paths_focal_lengths_and_published_camera_matrices_are_read_as_mitsuba_reads_t
     assert_eq!(s.materials.iter().filter(|m| m.emission == glam::DVec3::splat(3.0)).count(), 1, "{:?}", s.materials);
     let (d, _) = refused(&small(r#"<emitter type="area"><rgb name="radiance" value="3"/></emitter>"#));
     assert!(d.message.contains("belongs inside the <shape> that emits"), "{d}");
+    // Mitsuba's test scenes wrap `path` in `moment`: read as the integrator it wraps.
+    let moment = small(r#"<integrator type="moment"><integrator type="path"><integer name="max_depth" value="3"/></integrator></integrator>"#);
+    let dir = dir_with(&[("s.xml", &moment)]);
+    let s = Scene::load(dir.path().join("s.xml")).unwrap();
+    assert_eq!(s.render.max_depth, 3);
+    assert!(s.warnings.iter().any(|w| w.message.contains("is read as the integrator it wraps")), "{:?}", s.warnings);
+    let (d, _) = refused(&small(r#"<integrator type="moment"/>"#));
+    assert!(d.message.contains("must wrap exactly one <integrator>"), "{d}");
+    // A constant emitter without radiance has Mitsuba's default, 1.
+    let dir = dir_with(&[("s.xml", &small(r#"<emitter type="constant"/>"#))]);
+    assert_eq!(Scene::load(dir.path().join("s.xml")).unwrap().render.environment, glam::DVec3::ONE);
 }

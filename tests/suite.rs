@@ -41,6 +41,7 @@ mod shader_layouts;
 mod shaders_validate;
 mod shard_merge;
 mod study_reproduction;
+mod textures;
 mod unbiased_study;
 mod uv_parametrisation;
 mod veach_mis;

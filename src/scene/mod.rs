@@ -25,6 +25,8 @@ use glam::DVec3;
 
 use crate::method::{BsdfSampling, LightSampling, Method};
 
+pub mod textures;
+pub use textures::Texture;
 pub use bsdfs::{
     Bsdf, BsdfData, BsdfKind, CoatingTables, Conductor, Dielectric, Distribution, Phong, Plastic, RoughConductor, RoughDielectric, RoughPlastic,
     ThinDielectric, NAMED_CONDUCTORS, ROUGH_PLASTIC_TABLE_RES,

@@ -122,6 +122,18 @@ pub fn bsdf_dispatch() -> String {
         "bsdf_transmits_smoothly(b: Bsdf)",
         kinds(|k| k.transmits() && !k.is_delta()),
     );
+    // Textures: each kind's colour slots that may hold one (`BsdfPlugin::TEXTURE_SLOTS`).
+    let mut f = "\n// The material's BSDF with every textured colour slot of its kind looked up at uv (texture.wgsl).\n\
+                 fn bsdf_apply_textures(b: Bsdf, uv: vec2f) -> Bsdf {\n    var t = b;\n"
+        .to_string();
+    for k in BsdfKind::ALL.iter().filter(|k| !k.texture_slots().is_empty()) {
+        f += &format!("    if ({}) {{\n", is(k));
+        for slot in k.texture_slots() {
+            f += &format!("        t.p{slot} = vec4f(texture_slot(t.p{slot}.xyz, uv), t.p{slot}.w);\n");
+        }
+        f += "    }\n";
+    }
+    s += &(f + "    return t;\n}\n");
     let mixed: Vec<&BsdfKind> = BsdfKind::ALL.iter().filter(|k| k.has_delta_lobe()).collect();
     let mut f = "\n// The probability with which the material's own sampling picks a delta lobe that it has beside\n\
                  // smooth ones (0 for every other kind): the generic strategies draw that lobe with it.\n\

@@ -36,6 +36,7 @@ pub mod files {
     pub const MICROFACET: (&str, &str) = ("microfacet.wgsl", include_str!("../../shaders/microfacet.wgsl"));
     pub const FRESNEL: (&str, &str) = ("fresnel.wgsl", include_str!("../../shaders/fresnel.wgsl"));
     pub const BSDF: (&str, &str) = ("bsdf.wgsl", include_str!("../../shaders/bsdf.wgsl"));
+    pub const TEXTURE: (&str, &str) = ("texture.wgsl", include_str!("../../shaders/texture.wgsl"));
     /// One file per kind of the BSDF registry (`scene::BsdfKind`), in its order.
     pub const BSDF_KINDS: [(&str, &str); 8] = [
         ("bsdfs/phong.wgsl", include_str!("../../shaders/bsdfs/phong.wgsl")),
@@ -67,11 +68,7 @@ pub mod files {
 /// one binding is the BSDFs' data (`bindings::BSDF_DATA`), which `KernelRun` fills with a
 /// placeholder where a test kernel gives none. Test kernels append their own bindings and entry
 /// points to this.
-pub const LIBRARY: [(&str, &str); 8] =
-    [files::COMMON, files::SAMPLER, files::WARP, files::SPHERICAL_TRIANGLE, files::MICROFACET, files::FRESNEL, files::BSDF, files::LIGHTS];
-
-/// Everything the path-tracing kernel (`render_main`) needs.
-pub const PATH_TRACER: [(&str, &str); 16] = [
+pub const LIBRARY: [(&str, &str); 9] = [
     files::COMMON,
     files::SAMPLER,
     files::WARP,
@@ -79,6 +76,20 @@ pub const PATH_TRACER: [(&str, &str); 16] = [
     files::MICROFACET,
     files::FRESNEL,
     files::BSDF,
+    files::TEXTURE,
+    files::LIGHTS,
+];
+
+/// Everything the path-tracing kernel (`render_main`) needs.
+pub const PATH_TRACER: [(&str, &str); 17] = [
+    files::COMMON,
+    files::SAMPLER,
+    files::WARP,
+    files::SPHERICAL_TRIANGLE,
+    files::MICROFACET,
+    files::FRESNEL,
+    files::BSDF,
+    files::TEXTURE,
     files::LIGHTS,
     files::LIGHT_TABLE,
     files::SCENE,

@@ -102,6 +102,11 @@ macro_rules! bsdf_registry {
                 match self { $( BsdfKind::$variant => <$ty as BsdfPlugin>::SELECTS_LOBES ),+ }
             }
 
+            /// The slots of its parameter block whose colour may be a texture.
+            pub fn texture_slots(self) -> &'static [usize] {
+                match self { $( BsdfKind::$variant => <$ty as BsdfPlugin>::TEXTURE_SLOTS ),+ }
+            }
+
             /// Whether it may transmit (refract into the surface).
             pub fn transmits(self) -> bool {
                 match self { $( BsdfKind::$variant => <$ty as BsdfPlugin>::TRANSMITS ),+ }

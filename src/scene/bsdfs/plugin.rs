@@ -7,6 +7,7 @@ use glam::DVec3;
 use toml::Spanned;
 
 use crate::scene::checker::Checker;
+use crate::scene::textures::Texture;
 use crate::scene::raw::RawColor;
 
 /// The parameter block of one material's BSDF as the kernel reads it (`Material.p0..p2` in
@@ -59,6 +60,10 @@ pub(crate) trait BsdfPlugin: Sized {
     /// It scatters on both sides by its nature, as Mitsuba's dielectrics: a material of it is
     /// two-sided whatever a Mitsuba file wraps it in (TOML's `two_sided = false` is refused).
     const BOTH_SIDES: bool = false;
+    /// The slots of its parameter block (0, 1, 2: `p0`..`p2`) whose colour (`xyz`) may be a
+    /// texture reference (`textures::Texture`, packed by `pack`): the kernel looks them up at
+    /// the hit before the kind's code runs.
+    const TEXTURE_SLOTS: &'static [usize] = &[];
 
     /// Its parameters from a TOML material's fields, each checked (errors go to `f`).
     fn from_fields(f: &mut Fields) -> Self;
@@ -70,7 +75,7 @@ pub(crate) trait BsdfPlugin: Sized {
     /// Its parameter block, its further numbers (tables) appended to `data`.
     fn pack(&self, data: &mut BsdfData) -> BsdfParams;
     /// Some parameter is a texture, read at the hit's uv parametrisation: the kernel then
-    /// computes uvs (`SceneFeatures::has_uvs`). No kind has textures yet.
+    /// computes uvs and resolves textured slots (`SceneFeatures::has_uvs`).
     fn reads_uv(&self) -> bool {
         false
     }
@@ -142,6 +147,19 @@ impl<'c, 'a> Fields<'c, 'a> {
         v.get_ref().is_finite().then(|| Spanned::new(v.span(), checked))
     }
 
+    /// A colour or a texture (an inline table, `textures::Texture::from_toml`): the colour (a
+    /// texture's mean) and the texture.
+    pub fn color_or_texture(&mut self, name: &str, default: DVec3) -> (DVec3, Option<Texture>) {
+        let Some(v) = self.raw(name).cloned() else { return (default, None) };
+        let toml::Value::Table(table) = v.get_ref() else { return (self.color(name, default), None) };
+        let mut errors = Vec::new();
+        let texture = Texture::from_toml(table, v.span(), &mut errors);
+        for (span, message) in errors {
+            self.error(span, name, message);
+        }
+        (texture.as_ref().map_or(default, Texture::mean), texture)
+    }
+
     /// A boolean, or `default` when not given (or not a boolean).
     pub fn boolean(&mut self, name: &str, default: bool) -> bool {
         self.typed::<bool>(name, "true or false").map_or(default, |b| *b.get_ref())
@@ -188,9 +206,12 @@ pub(crate) trait PluginProps {
     fn plugin(&self) -> &str;
     /// Where the plugin's object starts.
     fn at(&self) -> usize;
-    /// Where the first nested texture is, if any (no kind takes textures yet).
+    /// Where the first nested texture not taken by `color_or_texture` is, if any.
     fn texture(&self) -> Option<usize>;
     fn color(&mut self, name: &str) -> Option<[f64; 3]>;
+    /// A colour, or a nested `<texture name=…>` as its TOML inline table (refused with the
+    /// reason where pathlab lacks its kind or a parameter).
+    fn color_or_texture(&mut self, name: &str) -> Option<toml::Value>;
     /// A float and where its value is.
     fn float(&mut self, name: &str) -> Option<(f64, usize)>;
     fn string(&mut self, name: &str) -> Option<(String, usize)>;

@@ -164,6 +164,8 @@ struct PluginReader<'t, 'a, 'o> {
     t: &'t mut Translator<'a>,
     p: Option<Props>,
     o: &'o Object,
+    /// The nested textures taken (`color_or_texture`), by position.
+    taken: Vec<usize>,
 }
 
 impl PluginReader<'_, '_, '_> {
@@ -180,7 +182,42 @@ impl PluginProps for PluginReader<'_, '_, '_> {
         self.o.at
     }
     fn texture(&self) -> Option<usize> {
-        self.o.children.iter().find(|c| c.tag == "texture").map(|t| t.at)
+        self.o.children.iter().enumerate().find(|(i, c)| c.tag == "texture" && !self.taken.contains(i)).map(|(_, t)| t.at)
+    }
+    fn color_or_texture(&mut self, name: &str) -> Option<toml::Value> {
+        let nested = self.o.children.iter().position(|c| c.tag == "texture" && c.name.as_deref() == Some(name));
+        let Some(i) = nested else { return self.color(name).map(color_value) };
+        self.taken.push(i);
+        let t = &self.o.children[i];
+        if t.plugin != "checkerboard" {
+            self.t.error(t.at, "type", format!("<texture type=\"{}\"> is not supported (pathlab has checkerboard)", t.plugin));
+            return None;
+        }
+        let mut p = Props::of(t);
+        let mut table = toml::Table::new();
+        table.insert("texture".into(), toml::Value::String("checkerboard".into()));
+        for key in ["color0", "color1"] {
+            if let Some(c) = self.t.color(&mut p, key) {
+                table.insert(key.into(), color_value(c.0));
+            }
+        }
+        // `to_uv`: a scale (Mitsuba keeps the upper-left 3x3 of the 4x4 transform, which holds
+        // no translation; published scenes give scales).
+        if let Some((ops, at)) = self.t.transform(&mut p, "to_uv") {
+            let mut scale = glam::DVec3::ONE;
+            for op in &ops {
+                match op.kind {
+                    OpKind::Scale(s) => scale *= s,
+                    _ => self.t.error(at, "to_uv", "`to_uv` of a checkerboard: only <scale> is supported".to_string()),
+                }
+            }
+            table.insert("to_uv_scale".into(), toml::Value::Array(vec![toml::Value::Float(scale.x), toml::Value::Float(scale.y)]));
+        }
+        self.t.finish(p, "color0, color1, to_uv");
+        for c in &t.children {
+            self.t.error(c.at, "", format!("{} inside a <texture> is not supported (give <rgb> colours)", describe(&c.tag, &c.plugin)));
+        }
+        Some(toml::Value::Table(table))
     }
     fn color(&mut self, name: &str) -> Option<[f64; 3]> {
         let mut p = self.p.take().expect("props before finish");
@@ -447,11 +484,8 @@ impl Translator<'_> {
                         if environment.is_some() {
                             self.error(o.at, "", "a second <emitter type=\"constant\">");
                         }
-                        match radiance {
-                            Some(r) => environment = Some(r),
-                            None if !self.has_errors() => self.error(o.at, "radiance", "<emitter type=\"constant\"> needs `radiance`"),
-                            None => {}
-                        }
+                        // Mitsuba's default radiance is 1.
+                        environment = Some(radiance.unwrap_or(([1.0; 3], o.at)));
                     }
                     // A named one is a definition that shapes take by <ref> (Mitsuba's cbox-rgb).
                     "area" if o.id.is_some() => {}
@@ -708,6 +742,21 @@ impl Translator<'_> {
     /// `<integrator type="path">`: (max_depth, rr_depth, offset).
     fn integrator(&mut self, o: &Object) -> (i64, i64, usize) {
         match o.plugin.as_str() {
+            // Mitsuba's `moment` renders the integrator it wraps, with its moments as extra
+            // channels: the image is that integrator's.
+            "moment" => {
+                let nested: Vec<&Object> = o.children.iter().filter(|c| c.tag == "integrator").collect();
+                if let [inner] = nested.as_slice() {
+                    self.warn(
+                        o.at,
+                        "type",
+                        "<integrator type=\"moment\"> is read as the integrator it wraps (the image is the same; pathlab writes variance channels, not Mitsuba's moment channels)".to_string(),
+                    );
+                    self.finish(Props::of(o), "nothing");
+                    return self.integrator(inner);
+                }
+                self.error(o.at, "type", format!("<integrator type=\"moment\"> must wrap exactly one <integrator> (it wraps {})", nested.len()));
+            }
             "path" => {}
             "volpath" | "volpathmis" => self.warn(
                 o.at,
@@ -774,7 +823,7 @@ impl Translator<'_> {
             }
             plugin => match BsdfKind::from_mitsuba_plugin(plugin) {
                 Some(kind) => {
-                    let mut reader = PluginReader { t: self, p: Some(Props::of(o)), o };
+                    let mut reader = PluginReader { t: self, p: Some(Props::of(o)), o, taken: Vec::new() };
                     let fields = kind.read_mitsuba(&mut reader);
                     reader.finish("");
                     fields.map(|fields| Bsdf { kind, fields, two_sided: false, name })

@@ -21,6 +21,8 @@ pub(crate) struct Object {
     /// The plugin (`type` attribute).
     pub plugin: String,
     pub id: Option<String>,
+    /// Its `name` attribute, as a nested object's (`<texture name="reflectance">`).
+    pub name: Option<String>,
     /// Offset of the element's start (global, see `SourceMap`).
     pub at: usize,
     /// The file the object was written in (for relative file names).
@@ -384,7 +386,7 @@ impl Loader<'_> {
                 Some(o) => Some(o.clone()),
                 // A forward reference (Mitsuba resolves references after reading every file):
                 // kept as a `<ref>`, resolved by `resolve_forward_refs`.
-                None => Some(Object { tag, plugin: String::new(), id: Some(id), at, dir: dir.to_path_buf(), props: Vec::new(), children: Vec::new() }),
+                None => Some(Object { tag, plugin: String::new(), id: Some(id), name: None, at, dir: dir.to_path_buf(), props: Vec::new(), children: Vec::new() }),
             };
         }
         if !PLUGIN_TAGS.contains(&tag.as_str()) {
@@ -394,7 +396,8 @@ impl Loader<'_> {
         }
         let plugin = self.opt_attr(node, "type", base)?.unwrap_or_default();
         let id = self.opt_attr(node, "id", base)?;
-        let mut object = Object { tag, plugin, id: id.clone(), at, dir: dir.to_path_buf(), props: Vec::new(), children: Vec::new() };
+        let name = self.opt_attr(node, "name", base)?;
+        let mut object = Object { tag, plugin, id: id.clone(), name, at, dir: dir.to_path_buf(), props: Vec::new(), children: Vec::new() };
         for child in node.children().filter(|n| n.is_element()) {
             let child_tag = child.tag_name().name();
             if VALUE_TAGS.contains(&child_tag) || child_tag == "transform" {

@@ -1,0 +1,171 @@
+//! Textures: spatially varying parameters of BSDFs, looked up at a hit's uv parametrisation
+//! (Mitsuba 3's `src/textures/`). One mechanism for every kind: a colour slot of a BSDF's
+//! parameter block holds either its value or a reference to a texture in the BSDF data
+//! (`texture_slot` in shaders/texture.wgsl), and the slots that may be textures are the kind's
+//! `BsdfPlugin::TEXTURE_SLOTS`, resolved before the BSDF is evaluated (the generated
+//! `bsdf_apply_textures`), so that no BSDF's code knows of textures. Scenes without textures
+//! compile all texture code out (the pipeline constant `HAS_TEXTURES`).
+//!
+//! Kinds: Mitsuba's `checkerboard` (`color0`, default 0.4; `color1`, default 0.2; `to_uv`, a
+//! scale). TOML: a colour field given as an inline table,
+//! `diffuse = { texture = "checkerboard", color0 = [0.8, 0.8, 0.8], color1 = 0.2, to_uv_scale = [20, 80] }`.
+
+use std::ops::Range;
+
+use glam::{DVec2, DVec3};
+
+use crate::scene::bsdfs::BsdfData;
+use crate::scene::hash::vec3;
+
+/// Mitsuba's checkerboard colours by default.
+const DEFAULT_COLOR0: f64 = 0.4;
+const DEFAULT_COLOR1: f64 = 0.2;
+
+/// The kinds' numbers in the BSDF data (`TEXTURE_*` in texture.wgsl).
+pub const TEXTURE_CHECKERBOARD: u32 = 0;
+
+/// A texture and its parameters.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Texture {
+    /// Mitsuba's `checkerboard`: `color0` where the fractional parts of u and v (after
+    /// `to_uv`) are both above 1/2 or both not, `color1` elsewhere.
+    Checkerboard { color0: DVec3, color1: DVec3, to_uv_scale: DVec2 },
+}
+
+impl Texture {
+    /// Its name in TOML and Mitsuba (`checkerboard`).
+    pub fn name(&self) -> &'static str {
+        match self {
+            Texture::Checkerboard { .. } => "checkerboard",
+        }
+    }
+
+    /// Its mean over the uv square (Mitsuba's `mean()`): what a host computation that needs one
+    /// value (a lobe's sampling weight) takes.
+    pub fn mean(&self) -> DVec3 {
+        match self {
+            Texture::Checkerboard { color0, color1, .. } => 0.5 * (*color0 + *color1),
+        }
+    }
+
+    /// Its value at `uv`, in f32 as the kernel computes it: the host's twin of `eval_texture`.
+    pub fn eval(&self, uv: [f32; 2]) -> [f32; 3] {
+        match self {
+            Texture::Checkerboard { color0, color1, to_uv_scale } => {
+                let s = to_uv_scale.as_vec2();
+                let (u, v) = (uv[0] * s.x, uv[1] * s.y);
+                let (mu, mv) = (u - u.floor() > 0.5, v - v.floor() > 0.5);
+                if mu == mv { color0.as_vec3().to_array() } else { color1.as_vec3().to_array() }
+            }
+        }
+    }
+
+    /// Its record in the BSDF data: the kind, then its parameters; returns where it starts.
+    pub fn pack(&self, data: &mut BsdfData) -> u32 {
+        match self {
+            Texture::Checkerboard { color0, color1, to_uv_scale } => {
+                let (c0, c1, s) = (color0.as_vec3(), color1.as_vec3(), to_uv_scale.as_vec2());
+                data.push(&[TEXTURE_CHECKERBOARD as f32, c0.x, c0.y, c0.z, c1.x, c1.y, c1.z, s.x, s.y])
+            }
+        }
+    }
+
+    /// Its line of the scene hash.
+    pub fn hash_value(&self) -> String {
+        match self {
+            Texture::Checkerboard { color0, color1, to_uv_scale } => {
+                format!("checkerboard {} {} {}", vec3(*color0), vec3(*color1), vec3(to_uv_scale.extend(1.0)))
+            }
+        }
+    }
+
+    /// A texture from a TOML inline table (`{ texture = "checkerboard", ... }`); errors as
+    /// (span, message), naming the table's key.
+    pub(crate) fn from_toml(table: &toml::Table, span: Range<usize>, errors: &mut Vec<(Range<usize>, String)>) -> Option<Texture> {
+        let kind = match table.get("texture") {
+            Some(toml::Value::String(k)) => k.clone(),
+            _ => {
+                errors.push((span, "a textured colour needs `texture = \"checkerboard\"`".into()));
+                return None;
+            }
+        };
+        if kind != "checkerboard" {
+            errors.push((span, format!("unknown texture \"{kind}\" (pathlab has checkerboard)")));
+            return None;
+        }
+        let mut ok = true;
+        for key in table.keys() {
+            if !["texture", "color0", "color1", "to_uv_scale"].contains(&key.as_str()) {
+                errors.push((span.clone(), format!("unknown key `{key}` of a checkerboard (its keys: color0, color1, to_uv_scale)")));
+                ok = false;
+            }
+        }
+        let mut color = |key: &str, default: f64| -> DVec3 {
+            match table.get(key) {
+                None => DVec3::splat(default),
+                Some(v) => match <crate::scene::raw::RawColor as serde::Deserialize>::deserialize(v.clone()).ok().map(|c| c.0) {
+                    Some(c) if c.iter().all(|x| x.is_finite() && *x >= 0.0) => DVec3::from(c),
+                    _ => {
+                        errors.push((span.clone(), format!("`{key}` of a checkerboard must be a colour >= 0 (a number or [r, g, b])")));
+                        ok = false;
+                        DVec3::ZERO
+                    }
+                },
+            }
+        };
+        let color0 = color("color0", DEFAULT_COLOR0);
+        let color1 = color("color1", DEFAULT_COLOR1);
+        let to_uv_scale = match table.get("to_uv_scale") {
+            None => DVec2::ONE,
+            Some(toml::Value::Array(a)) if a.len() == 2 => {
+                let n: Vec<Option<f64>> = a.iter().map(|x| x.as_float().or_else(|| x.as_integer().map(|i| i as f64))).collect();
+                match (n[0], n[1]) {
+                    (Some(x), Some(y)) if x.is_finite() && y.is_finite() && x != 0.0 && y != 0.0 => DVec2::new(x, y),
+                    _ => {
+                        errors.push((span.clone(), "`to_uv_scale` must be two finite non-zero numbers".into()));
+                        ok = false;
+                        DVec2::ONE
+                    }
+                }
+            }
+            Some(_) => {
+                errors.push((span.clone(), "`to_uv_scale` must be [su, sv]".into()));
+                ok = false;
+                DVec2::ONE
+            }
+        };
+        ok.then_some(Texture::Checkerboard { color0, color1, to_uv_scale })
+    }
+
+    /// Its TOML inline table.
+    pub fn to_toml(&self) -> toml::Value {
+        match self {
+            Texture::Checkerboard { color0, color1, to_uv_scale } => {
+                let mut t = toml::Table::new();
+                t.insert("texture".into(), toml::Value::String("checkerboard".into()));
+                t.insert("color0".into(), crate::scene::bsdfs::color_value(color0.to_array()));
+                t.insert("color1".into(), crate::scene::bsdfs::color_value(color1.to_array()));
+                t.insert("to_uv_scale".into(), toml::Value::Array(vec![toml::Value::Float(to_uv_scale.x), toml::Value::Float(to_uv_scale.y)]));
+                toml::Value::Table(t)
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_checkerboard_is_mitsubas() {
+        let t = Texture::Checkerboard { color0: DVec3::splat(0.8), color1: DVec3::splat(0.2), to_uv_scale: DVec2::new(2.0, 1.0) };
+        // (0.3, 0.2) -> (0.6, 0.2): u above 1/2, v not: color1.
+        assert_eq!(t.eval([0.3, 0.2]), [0.2; 3]);
+        // (0.1, 0.2) -> both below: color0; (0.3, 0.7): both above: color0.
+        assert_eq!(t.eval([0.1, 0.2]), [0.8; 3]);
+        assert_eq!(t.eval([0.3, 0.7]), [0.8; 3]);
+        // Negative coordinates repeat: -0.1 -> fraction 0.9.
+        assert_eq!(t.eval([-0.05, 0.7]), [0.8; 3]);
+        assert_eq!(t.mean(), DVec3::splat(0.5));
+    }
+}
