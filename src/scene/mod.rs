@@ -25,6 +25,7 @@ use glam::DVec3;
 
 use crate::method::{BsdfSampling, LightSampling, Method};
 
+pub mod bsdf_data;
 pub mod textures;
 pub use textures::Texture;
 pub use bsdfs::{

@@ -14,8 +14,8 @@ use std::ops::Range;
 
 use glam::{DVec2, DVec3};
 
-use crate::scene::bsdfs::BsdfData;
-use crate::scene::hash::vec3;
+use crate::scene::bsdf_data::BsdfData;
+use crate::scene::raw::RawColor;
 
 /// Mitsuba's checkerboard colours by default.
 const DEFAULT_COLOR0: f64 = 0.4;
@@ -70,8 +70,8 @@ impl Texture {
         }
     }
 
-    /// Its line of the scene hash.
-    pub fn hash_value(&self) -> String {
+    /// Its line of the scene hash, its vectors written by `vec3` (the hash's own format).
+    pub fn hash_value(&self, vec3: impl Fn(DVec3) -> String) -> String {
         match self {
             Texture::Checkerboard { color0, color1, to_uv_scale } => {
                 format!("checkerboard {} {} {}", vec3(*color0), vec3(*color1), vec3(to_uv_scale.extend(1.0)))
@@ -103,7 +103,7 @@ impl Texture {
         let mut color = |key: &str, default: f64| -> DVec3 {
             match table.get(key) {
                 None => DVec3::splat(default),
-                Some(v) => match <crate::scene::raw::RawColor as serde::Deserialize>::deserialize(v.clone()).ok().map(|c| c.0) {
+                Some(v) => match <RawColor as serde::Deserialize>::deserialize(v.clone()).ok().map(|c| c.0) {
                     Some(c) if c.iter().all(|x| x.is_finite() && *x >= 0.0) => DVec3::from(c),
                     _ => {
                         errors.push((span.clone(), format!("`{key}` of a checkerboard must be a colour >= 0 (a number or [r, g, b])")));
@@ -143,8 +143,9 @@ impl Texture {
             Texture::Checkerboard { color0, color1, to_uv_scale } => {
                 let mut t = toml::Table::new();
                 t.insert("texture".into(), toml::Value::String("checkerboard".into()));
-                t.insert("color0".into(), crate::scene::bsdfs::color_value(color0.to_array()));
-                t.insert("color1".into(), crate::scene::bsdfs::color_value(color1.to_array()));
+                let color = |c: DVec3| toml::Value::try_from(RawColor(c.to_array())).expect("a colour is a TOML value");
+                t.insert("color0".into(), color(*color0));
+                t.insert("color1".into(), color(*color1));
                 t.insert("to_uv_scale".into(), toml::Value::Array(vec![toml::Value::Float(to_uv_scale.x), toml::Value::Float(to_uv_scale.y)]));
                 toml::Value::Table(t)
             }

@@ -92,7 +92,7 @@ impl BsdfPlugin for Phong {
         line("diffuse", crate::scene::hash::vec3(self.diffuse));
         // Only a textured one adds a line: untextured scenes keep their hash.
         if let Some(t) = &self.diffuse_texture {
-            line("diffuse.texture", t.hash_value());
+            line("diffuse.texture", t.hash_value(crate::scene::hash::vec3));
         }
         line("specular", crate::scene::hash::vec3(self.specular));
         line("glossiness", crate::scene::hash::real(self.glossiness));

@@ -6,6 +6,7 @@ use std::ops::Range;
 use glam::DVec3;
 use toml::Spanned;
 
+pub use crate::scene::bsdf_data::BsdfData;
 use crate::scene::checker::Checker;
 use crate::scene::textures::Texture;
 use crate::scene::raw::RawColor;
@@ -13,21 +14,6 @@ use crate::scene::raw::RawColor;
 /// The parameter block of one material's BSDF as the kernel reads it (`Material.p0..p2` in
 /// scene.wgsl): three slots of four numbers, whose meaning the kind's two files agree on.
 pub type BsdfParams = [[f32; 4]; 3];
-
-/// The numbers BSDFs read beyond their parameter blocks, one array for the scene (`bsdf_data`
-/// in bsdf.wgsl, bound at `bindings::BSDF_DATA`): roughplastic's transmittance table. A kind
-/// appends its own while packing and keeps where they start in its block.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct BsdfData(pub Vec<f32>);
-
-impl BsdfData {
-    /// Appends `values`; returns the index of the first.
-    pub fn push(&mut self, values: &[f32]) -> u32 {
-        let first = self.0.len() as u32;
-        self.0.extend_from_slice(values);
-        first
-    }
-}
 
 /// What each kind of BSDF implements (one file each in `scene/bsdfs/`).
 pub(crate) trait BsdfPlugin: Sized {
