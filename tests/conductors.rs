@@ -169,9 +169,7 @@ fn named_conductors_are_mitsubas() {
     let (au_eta, au_k) = Conductor::named("Au").unwrap();
     assert_eq!((au_eta.x, au_k.z), (0.14303598, 1.6033592));
 
-    let base = "[camera]\nposition = [0, 0, 1]\nlook_at = [0, 0, 0]\nup = [0, 1, 0]\nfov_x = 60\n\
-                [render]\nwidth = 4\nheight = 4\nmax_depth = 2\nenvironment = 1\n";
-    let with = |material: &str| format!("{base}[materials.m]\n{material}\n[[spheres]]\ncenter = [0, 0, -3]\nradius = 1\nmaterial = \"m\"\n");
+    let with = toml_with_material;
     let s = scene(&with("bsdf = \"conductor\"\nmaterial = \"Au\"\nspecular_reflectance = 0.9"));
     assert!(matches!(&s.materials[0].bsdf, Bsdf::Conductor(c) if (c.eta, c.k) == (au_eta, au_k) && c.reflectance.x == 0.9));
     let s = scene(&with("bsdf = \"roughconductor\"\nmaterial = \"none\"\nalpha = 0.2"));

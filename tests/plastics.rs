@@ -158,9 +158,7 @@ fn mis_best_fixed_lobes_nee_and_cosine_agree_with_mitsuba_on_two_plastics_in_the
 
 #[test]
 fn named_indices_are_read_from_toml_and_xml_and_unknown_ones_refused() {
-    let base = "[camera]\nposition = [0, 0, 1]\nlook_at = [0, 0, 0]\nup = [0, 1, 0]\nfov_x = 60\n\
-                [render]\nwidth = 4\nheight = 4\nmax_depth = 2\nenvironment = 1\n";
-    let with = |material: &str| format!("{base}[materials.m]\n{material}\n[[spheres]]\ncenter = [0, 0, -3]\nradius = 1\nmaterial = \"m\"\n");
+    let with = toml_with_material;
     // Names in any case; Mitsuba's defaults where none is given.
     let s = scene(&with("bsdf = \"plastic\"\nint_ior = \"BK7\"\next_ior = \"water\"\nnonlinear = true"));
     assert_eq!(s.materials[0].bsdf, Bsdf::Plastic(Plastic { diffuse: DVec3::splat(0.5), specular: DVec3::ONE, int_ior: 1.5046, ext_ior: 1.333, nonlinear: true }));
@@ -189,13 +187,7 @@ fn named_indices_are_read_from_toml_and_xml_and_unknown_ones_refused() {
 
     // Mitsuba's XML: a <string> index names a material; an unknown one is refused at its line
     // and column with the known names.
-    let xml = |bsdf: &str| {
-        format!(
-            "<scene version=\"3.0.0\">\n<sensor type=\"perspective\"><float name=\"fov\" value=\"45\"/>\
-             <film type=\"hdrfilm\"><integer name=\"width\" value=\"4\"/><integer name=\"height\" value=\"4\"/></film></sensor>\n\
-             {bsdf}\n<shape type=\"sphere\"><ref id=\"p\"/></shape>\n</scene>\n"
-        )
-    };
+    let xml = |bsdf: &str| xml_with_bsdf(bsdf, "p");
     let dir = std::env::temp_dir().join(format!("pathlab-ior-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("p.xml");

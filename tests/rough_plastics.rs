@@ -148,9 +148,7 @@ fn mis_best_fixed_lobes_ndf_and_nee_agree_with_mitsuba_on_two_rough_plastics_in_
 
 #[test]
 fn rough_plastic_parameters_are_read_and_bad_ones_refused() {
-    let base = "[camera]\nposition = [0, 0, 1]\nlook_at = [0, 0, 0]\nup = [0, 1, 0]\nfov_x = 60\n\
-                [render]\nwidth = 4\nheight = 4\nmax_depth = 2\nenvironment = 1\n";
-    let with = |material: &str| format!("{base}[materials.m]\n{material}\n[[spheres]]\ncenter = [0, 0, -3]\nradius = 1\nmaterial = \"m\"\n");
+    let with = toml_with_material;
     // Mitsuba's defaults: Beckmann, alpha 0.1, diffuse 0.5 under polypropylene in air.
     let s = scene(&with("bsdf = \"roughplastic\""));
     let expected = RoughPlastic {
@@ -179,13 +177,7 @@ fn rough_plastic_parameters_are_read_and_bad_ones_refused() {
     }
 
     // Mitsuba's XML: anisotropic roughness is refused at its line and column, as Mitsuba does.
-    let xml = |bsdf: &str| {
-        format!(
-            "<scene version=\"3.0.0\">\n<sensor type=\"perspective\"><float name=\"fov\" value=\"45\"/>\
-             <film type=\"hdrfilm\"><integer name=\"width\" value=\"4\"/><integer name=\"height\" value=\"4\"/></film></sensor>\n\
-             {bsdf}\n<shape type=\"sphere\"><ref id=\"p\"/></shape>\n</scene>\n"
-        )
-    };
+    let xml = |bsdf: &str| xml_with_bsdf(bsdf, "p");
     let dir = std::env::temp_dir().join(format!("pathlab-roughplastic-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("p.xml");

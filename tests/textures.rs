@@ -97,9 +97,7 @@ fn mis_and_best_agree_with_mitsuba_on_checkerboards_in_the_cornell_box() {
 
 #[test]
 fn textures_are_read_from_toml_and_xml_and_bad_ones_refused() {
-    let base = "[camera]\nposition = [0, 0, 1]\nlook_at = [0, 0, 0]\nup = [0, 1, 0]\nfov_x = 60\n\
-                [render]\nwidth = 4\nheight = 4\nmax_depth = 2\nenvironment = 1\n";
-    let with = |material: &str| format!("{base}[materials.m]\n{material}\n[[spheres]]\ncenter = [0, 0, -3]\nradius = 1\nmaterial = \"m\"\n");
+    let with = toml_with_material;
     let s = scene(&with("diffuse = { texture = \"checkerboard\", color0 = [0.8, 0.6, 0.4], to_uv_scale = [20, 80] }"));
     let Bsdf::Phong(p) = &s.materials[0].bsdf else { panic!("not phong") };
     let expected = Texture::Checkerboard { color0: DVec3::new(0.8, 0.6, 0.4), color1: DVec3::splat(0.2), to_uv_scale: DVec2::new(20.0, 80.0) };
@@ -119,13 +117,7 @@ fn textures_are_read_from_toml_and_xml_and_bad_ones_refused() {
         }
     }
 
-    let xml = |bsdf: &str| {
-        format!(
-            "<scene version=\"3.0.0\">\n<sensor type=\"perspective\"><float name=\"fov\" value=\"45\"/>\
-             <film type=\"hdrfilm\"><integer name=\"width\" value=\"4\"/><integer name=\"height\" value=\"4\"/></film></sensor>\n\
-             {bsdf}\n<shape type=\"sphere\"><ref id=\"t\"/></shape>\n</scene>\n"
-        )
-    };
+    let xml = |bsdf: &str| xml_with_bsdf(bsdf, "t");
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("t.xml");
     std::fs::write(&path, xml("<bsdf type=\"diffuse\" id=\"t\"><texture type=\"checkerboard\" name=\"reflectance\"><rgb name=\"color1\" value=\"0.1, 0.2, 0.3\"/><transform name=\"to_uv\"><scale x=\"10\" y=\"5\"/></transform></texture></bsdf>")).unwrap();

@@ -24,6 +24,28 @@ pub fn scene(text: &str) -> Scene {
     Scene::parse(text, "test.toml").unwrap_or_else(|e| panic!("test scene is invalid:\n{e}"))
 }
 
+/// A 4x4 TOML scene of one sphere of material `m` under a white environment, `material` the
+/// lines of its `[materials.m]` table: for tests of a BSDF's fields.
+#[allow(dead_code)]
+pub fn toml_with_material(material: &str) -> String {
+    format!(
+        "[camera]\nposition = [0, 0, 1]\nlook_at = [0, 0, 0]\nup = [0, 1, 0]\nfov_x = 60\n\
+         [render]\nwidth = 4\nheight = 4\nmax_depth = 2\nenvironment = 1\n\
+         [materials.m]\n{material}\n[[spheres]]\ncenter = [0, 0, -3]\nradius = 1\nmaterial = \"m\"\n"
+    )
+}
+
+/// A 4x4 Mitsuba XML scene of one sphere whose BSDF is `bsdf`, given on line 3 with id `id`: for
+/// tests of a plugin's properties.
+#[allow(dead_code)]
+pub fn xml_with_bsdf(bsdf: &str, id: &str) -> String {
+    format!(
+        "<scene version=\"3.0.0\">\n<sensor type=\"perspective\"><float name=\"fov\" value=\"45\"/>\
+         <film type=\"hdrfilm\"><integer name=\"width\" value=\"4\"/><integer name=\"height\" value=\"4\"/></film></sensor>\n\
+         {bsdf}\n<shape type=\"sphere\"><ref id=\"{id}\"/></shape>\n</scene>\n"
+    )
+}
+
 pub fn study_scene() -> Scene {
     Scene::load(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes/study.toml")).expect("study scene")
 }
