@@ -22,11 +22,9 @@ use crate::common;
 
 use common::*;
 use glam::DVec3;
-use pathlab::gpu::KernelRun;
 use pathlab::method::{LobeSelection, Method, Preset};
 use pathlab::scene::bsdfs::fresnel_diffuse_reflectance;
-use pathlab::scene::{Bsdf, BsdfData, Plastic, Scene, SceneError};
-use pathlab::shaders;
+use pathlab::scene::{Bsdf, Plastic, Scene, SceneError};
 
 /// Fresnel's reflectance of unpolarised light from outside (cos_i > 0), in f64.
 fn fresnel(cos_i: f64, eta: f64) -> f64 {
@@ -54,29 +52,6 @@ fn mitsuba_plastic_f(p: &Plastic, cos_i: f64, cos_o: f64) -> DVec3 {
     p.diffuse / denominator * (std::f64::consts::FRAC_1_PI / (eta * eta) * (1.0 - fresnel(cos_i, eta)) * (1.0 - fresnel(cos_o, eta)))
 }
 
-const EVAL_KERNEL: &str = r#"
-struct TestParams { p0: vec4f, p1: vec4f, p2: vec4f, count: u32, _a: u32, _b: u32, _c: u32 }
-@group(0) @binding(0) var<storage, read> test_params: TestParams;
-@group(0) @binding(1) var<storage, read_write> test_out: array<vec4f>;
-@group(0) @binding(2) var<storage, read> test_dirs: array<vec4f>;
-
-@compute @workgroup_size(64)
-fn eval_main(@builtin(global_invocation_id) gid: vec3u) {
-    let i = gid.x;
-    if (i >= test_params.count) {
-        return;
-    }
-    let b = Bsdf(BSDF_KIND_PLASTIC, test_params.p0, test_params.p1, test_params.p2, false);
-    let n_s = vec3f(0.0, 0.0, 1.0);
-    let wo = test_dirs[2u * i].xyz;
-    let wi = test_dirs[2u * i + 1u].xyz;
-    let forward = eval_pdf_bsdf(b, n_s, wo, wi);
-    let backward = eval_pdf_bsdf(b, n_s, wi, wo);
-    test_out[2u * i] = vec4f(forward.f, forward.pdf);
-    test_out[2u * i + 1u] = vec4f(backward.f, 0.0);
-}
-"#;
-
 #[test]
 fn the_plastic_evaluates_mitsubas_formula_and_is_reciprocal() {
     let plastics = [
@@ -97,21 +72,8 @@ fn the_plastic_evaluates_mitsubas_formula_and_is_reciprocal() {
         }
     }
     let count = pairs.len() / 2;
-    let source = shaders::assemble(&shaders::LIBRARY, EVAL_KERNEL);
     for p in &plastics {
-        let packed = Bsdf::Plastic(p.clone()).pack(&mut BsdfData::default());
-        let mut params: Vec<f32> = packed.iter().flatten().copied().collect();
-        params.extend([f32::from_bits(count as u32), 0.0, 0.0, 0.0]);
-        let run = KernelRun {
-            source: &source,
-            entry: "eval_main",
-            constants: &[],
-            inputs: vec![(0, bytemuck::cast_slice(&params).to_vec()), (2, bytemuck::cast_slice(&pairs).to_vec())],
-            uniforms: vec![],
-            output: (1, (pairs.len() * 16) as u64),
-            workgroups: (count as u32).div_ceil(64),
-        };
-        let out: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&run.run(gpu()).expect("plastic eval kernel"));
+        let out = eval_bsdf_pairs(&Bsdf::Plastic(p.clone()), &pairs);
         for i in 0..count {
             let (wo, wi) = (pairs[2 * i], pairs[2 * i + 1]);
             let expected = mitsuba_plastic_f(p, wo[2] as f64, wi[2] as f64);

@@ -29,34 +29,9 @@ use crate::common;
 
 use common::*;
 use glam::DVec3;
-use pathlab::gpu::KernelRun;
 use pathlab::method::{LobeSelection, MicrofacetSampling, Method, Preset};
 use pathlab::names::Named;
-use pathlab::scene::{Bsdf, BsdfData, Distribution, Plastic, RoughPlastic, Scene, SceneError};
-use pathlab::shaders;
-
-const EVAL_KERNEL: &str = r#"
-struct TestParams { p0: vec4f, p1: vec4f, p2: vec4f, count: u32, _a: u32, _b: u32, _c: u32 }
-@group(0) @binding(0) var<storage, read> test_params: TestParams;
-@group(0) @binding(1) var<storage, read_write> test_out: array<vec4f>;
-@group(0) @binding(2) var<storage, read> test_dirs: array<vec4f>;
-
-@compute @workgroup_size(64)
-fn eval_main(@builtin(global_invocation_id) gid: vec3u) {
-    let i = gid.x;
-    if (i >= test_params.count) {
-        return;
-    }
-    let b = Bsdf(BSDF_KIND_ROUGH_PLASTIC, test_params.p0, test_params.p1, test_params.p2, false);
-    let n_s = vec3f(0.0, 0.0, 1.0);
-    let wo = test_dirs[2u * i].xyz;
-    let wi = test_dirs[2u * i + 1u].xyz;
-    let forward = eval_pdf_bsdf(b, n_s, wo, wi);
-    let backward = eval_pdf_bsdf(b, n_s, wi, wo);
-    test_out[2u * i] = vec4f(forward.f, forward.pdf);
-    test_out[2u * i + 1u] = vec4f(backward.f, 0.0);
-}
-"#;
+use pathlab::scene::{Bsdf, Distribution, Plastic, RoughPlastic, Scene, SceneError};
 
 fn v3(v: &serde_json::Value) -> [f64; 3] {
     let a = v.as_array().unwrap();
@@ -68,7 +43,6 @@ fn the_rough_plastic_evaluates_as_mitsubas_and_is_reciprocal() {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/roughplastic_evals.json");
     let fixture: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
     assert_eq!(fixture["mitsuba"], "3.9.1");
-    let source = shaders::assemble(&shaders::LIBRARY, EVAL_KERNEL);
     let configs = fixture["configs"].as_array().unwrap();
     assert_eq!(configs.len(), 4);
     for c in configs {
@@ -81,31 +55,13 @@ fn the_rough_plastic_evaluates_as_mitsubas_and_is_reciprocal() {
             nonlinear: c["nonlinear"].as_bool().unwrap(),
         };
         let p = RoughPlastic { layers, distribution, alpha: c["alpha"].as_f64().unwrap() };
-        let mut data = BsdfData::default();
-        let packed = Bsdf::RoughPlastic(p.clone()).pack(&mut data);
-        let mut params: Vec<f32> = packed.iter().flatten().copied().collect();
         let pairs_json = c["pairs"].as_array().unwrap();
-        let count = pairs_json.len();
-        params.extend([f32::from_bits(count as u32), 0.0, 0.0, 0.0]);
         let pairs: Vec<[f32; 4]> = pairs_json
             .iter()
             .flat_map(|pair| [v3(&pair["wo"]), v3(&pair["wi"])])
             .map(|d| [d[0] as f32, d[1] as f32, d[2] as f32, 0.0])
             .collect();
-        let run = KernelRun {
-            source: &source,
-            entry: "eval_main",
-            constants: &[],
-            inputs: vec![
-                (0, bytemuck::cast_slice(&params).to_vec()),
-                (2, bytemuck::cast_slice(&pairs).to_vec()),
-                (shaders::bindings::BSDF_DATA.number, bytemuck::cast_slice(&data.0).to_vec()),
-            ],
-            uniforms: vec![],
-            output: (1, (pairs.len() * 16) as u64),
-            workgroups: (count as u32).div_ceil(64),
-        };
-        let out: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&run.run(gpu()).expect("roughplastic eval kernel"));
+        let out = eval_bsdf_pairs(&Bsdf::RoughPlastic(p.clone()), &pairs);
         for (i, pair) in pairs_json.iter().enumerate() {
             let (f, pdf) = (v3(&pair["f"]), pair["pdf"].as_f64().unwrap());
             let (fwd, bwd) = (out[2 * i], out[2 * i + 1]);

@@ -46,6 +46,54 @@ pub fn xml_with_bsdf(bsdf: &str, id: &str) -> String {
     )
 }
 
+/// f(wi, wo) with the pdf of the own strategy, and f(wo, wi), of `bsdf` (shading normal +z,
+/// seen from outside) at each pair (wo, wi) of `pairs` (even entries wo, odd wi), computed by
+/// the kernel's `eval_pdf_bsdf` with the BSDF's data bound: per pair, `[f, pdf]` then `[f
+/// reversed, 0]`.
+#[allow(dead_code)]
+pub fn eval_bsdf_pairs(bsdf: &pathlab::scene::Bsdf, pairs: &[[f32; 4]]) -> Vec<[f32; 4]> {
+    let kind = bsdf.kind().stem().to_uppercase();
+    let kernel = format!(
+        "struct TestParams {{ p0: vec4f, p1: vec4f, p2: vec4f, count: u32, _a: u32, _b: u32, _c: u32 }}\n\
+         @group(0) @binding(0) var<storage, read> test_params: TestParams;\n\
+         @group(0) @binding(1) var<storage, read_write> test_out: array<vec4f>;\n\
+         @group(0) @binding(2) var<storage, read> test_dirs: array<vec4f>;\n\
+         @compute @workgroup_size(64)\n\
+         fn eval_main(@builtin(global_invocation_id) gid: vec3u) {{\n\
+             let i = gid.x;\n\
+             if (i >= test_params.count) {{ return; }}\n\
+             let b = Bsdf(BSDF_KIND_{kind}, test_params.p0, test_params.p1, test_params.p2, false);\n\
+             let n_s = vec3f(0.0, 0.0, 1.0);\n\
+             let wo = test_dirs[2u * i].xyz;\n\
+             let wi = test_dirs[2u * i + 1u].xyz;\n\
+             let forward = eval_pdf_bsdf(b, n_s, wo, wi);\n\
+             let backward = eval_pdf_bsdf(b, n_s, wi, wo);\n\
+             test_out[2u * i] = vec4f(forward.f, forward.pdf);\n\
+             test_out[2u * i + 1u] = vec4f(backward.f, 0.0);\n\
+         }}\n"
+    );
+    let mut data = pathlab::scene::BsdfData::default();
+    let packed = bsdf.pack(&mut data);
+    let count = pairs.len() / 2;
+    let mut params: Vec<f32> = packed.iter().flatten().copied().collect();
+    params.extend([f32::from_bits(count as u32), 0.0, 0.0, 0.0]);
+    let mut inputs = vec![(0, bytemuck::cast_slice(&params).to_vec()), (2, bytemuck::cast_slice(pairs).to_vec())];
+    if !data.0.is_empty() {
+        inputs.push((pathlab::shaders::bindings::BSDF_DATA.number, bytemuck::cast_slice(&data.0).to_vec()));
+    }
+    let source = pathlab::shaders::assemble(&pathlab::shaders::LIBRARY, &kernel);
+    let run = pathlab::gpu::KernelRun {
+        source: &source,
+        entry: "eval_main",
+        constants: &[],
+        inputs,
+        uniforms: vec![],
+        output: (1, (pairs.len() * 16) as u64),
+        workgroups: (count as u32).div_ceil(64),
+    };
+    bytemuck::pod_collect_to_vec(&run.run(gpu()).unwrap_or_else(|e| panic!("{} eval kernel: {e}", bsdf.kind().name())))
+}
+
 pub fn study_scene() -> Scene {
     Scene::load(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes/study.toml")).expect("study scene")
 }
