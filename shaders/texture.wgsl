@@ -7,8 +7,13 @@
 // textures compile all of it out. Records: the kind (src/scene/textures.rs numbers them), then
 // its parameters.
 //
-//   checkerboard: color0 (3), color1 (3), to_uv scale (2): color0 where the fractional parts of
-//   the scaled u and v are both above 1/2 or both not (Mitsuba's checkerboard.cpp).
+//   checkerboard (0): color0 (3), color1 (3), to_uv scale (2): color0 where the fractional parts
+//   of the scaled u and v are both above 1/2 or both not (Mitsuba's checkerboard.cpp).
+//   bitmap (1): width, height, filter (0 nearest, 1 bilinear), wrap (0 repeat, 1 mirror,
+//   2 clamp), storage (0 float RGB, 1 bytes), to_uv (6: two rows of a 2D affine map); then for
+//   bytes a 256-entry decode table (sRGB or code/255) and one number per texel holding its
+//   codes r + 256 g + 65536 b, for floats three numbers per texel; rows from the top
+//   (src/scene/textures/bitmap.rs, whose `Bitmap::eval` is this lookup's host twin).
 
 fn eval_checkerboard_texture(at: u32, uv: vec2f) -> vec3f {
     let scaled = uv * vec2f(bsdf_data[at + 7u], bsdf_data[at + 8u]);
@@ -17,8 +22,63 @@ fn eval_checkerboard_texture(at: u32, uv: vec2f) -> vec3f {
     return vec3f(bsdf_data[at + first], bsdf_data[at + first + 1u], bsdf_data[at + first + 2u]);
 }
 
+// Texel index i of n folded into [0, n) by the wrap mode (Dr.Jit's: repeat tiles, mirror
+// reflects every other tile, clamp extends the edge).
+fn bitmap_wrap(i: i32, n: i32, mode: u32) -> i32 {
+    if (mode == 2u) {
+        return clamp(i, 0, n - 1);
+    }
+    let period = select(n, 2 * n, mode == 1u);
+    let p = ((i % period) + period) % period;
+    return select(p, period - 1 - p, p >= n);
+}
+
+// Texel (x, y) (wrapped) of the bitmap at `at`, as linear RGB.
+fn bitmap_texel(at: u32, x: i32, y: i32) -> vec3f {
+    let w = i32(bsdf_data[at + 1u]);
+    let h = i32(bsdf_data[at + 2u]);
+    let mode = u32(bsdf_data[at + 4u]);
+    let index = u32(bitmap_wrap(y, h, mode) * w + bitmap_wrap(x, w, mode));
+    if (bsdf_data[at + 5u] == 0.0) {
+        let t = at + BITMAP_HEADER + 3u * index;
+        return vec3f(bsdf_data[t], bsdf_data[t + 1u], bsdf_data[t + 2u]);
+    }
+    // Bytes: each code through the record's decode table.
+    let table = at + BITMAP_HEADER;
+    let codes = u32(bsdf_data[table + 256u + index]);
+    return vec3f(bsdf_data[table + (codes & 255u)], bsdf_data[table + ((codes >> 8u) & 255u)], bsdf_data[table + (codes >> 16u)]);
+}
+
+fn eval_bitmap_texture(at: u32, uv_in: vec2f) -> vec3f {
+    // to_uv, then the image's pixel coordinates.
+    let uv = vec2f(bsdf_data[at + 6u] * uv_in.x + bsdf_data[at + 7u] * uv_in.y + bsdf_data[at + 8u],
+                   bsdf_data[at + 9u] * uv_in.x + bsdf_data[at + 10u] * uv_in.y + bsdf_data[at + 11u]);
+    let size = vec2f(bsdf_data[at + 1u], bsdf_data[at + 2u]);
+    if (bsdf_data[at + 3u] == 0.0) {
+        let p = floor(uv * size);
+        return bitmap_texel(at, i32(p.x), i32(p.y));
+    }
+    // Bilinear: texel centres at integers after subtracting 1/2; the lower-left texel and the
+    // fractions towards the next ones.
+    let p = uv * size - vec2f(0.5);
+    let base = floor(p);
+    let f = p - base;
+    let x0 = i32(base.x);
+    let y0 = i32(base.y);
+    let t00 = bitmap_texel(at, x0, y0);
+    let t10 = bitmap_texel(at, x0 + 1, y0);
+    let t01 = bitmap_texel(at, x0, y0 + 1);
+    let t11 = bitmap_texel(at, x0 + 1, y0 + 1);
+    let top = t00 + f.x * (t10 - t00);
+    let bottom = t01 + f.x * (t11 - t01);
+    return top + f.y * (bottom - top);
+}
+
 // The texture whose record starts at `at`, at uv.
 fn eval_texture(at: u32, uv: vec2f) -> vec3f {
+    if (bsdf_data[at] == TEXTURE_BITMAP) {
+        return eval_bitmap_texture(at, uv);
+    }
     return eval_checkerboard_texture(at, uv);
 }
 

@@ -440,7 +440,7 @@ fn microfacet_routines() -> Vec<Routine> {
 /// with weight F / p_spec times `specular`, F and p_spec computed here in f64 (check.x: its
 /// relative error).
 fn plastic(diffuse: f64, specular: f64, int_ior: f64, nonlinear: bool, strategy: BsdfSampling, lobes: LobeSelection, theta_o: f64) -> Routine {
-    let p = Plastic { diffuse: glam::DVec3::splat(diffuse), specular: glam::DVec3::splat(specular), int_ior, ext_ior: 1.0, nonlinear };
+    let p = Plastic { diffuse: glam::DVec3::splat(diffuse), diffuse_texture: None, specular: glam::DVec3::splat(specular), int_ior, ext_ior: 1.0, nonlinear };
     let [p0, p1, p2] = Bsdf::Plastic(p.clone()).pack(&mut BsdfData::default());
     let t = theta_o.to_radians();
     let f_i = fresnel_dielectric(t.cos(), p.eta() as f32 as f64).0;
@@ -598,7 +598,7 @@ fn rough_dielectric_routines() -> Vec<Routine> {
 /// 0.05, geometric bins), else around the normal. Coating samples reflected below the surface
 /// (density 0) are lost samples.
 fn rough_plastic(distribution: Distribution, strategy: BsdfSampling, microfacets: &str, lobes: LobeSelection, alpha: f64, theta_o: f64) -> Routine {
-    let layers = Plastic { diffuse: glam::DVec3::splat(0.5), specular: glam::DVec3::ONE, int_ior: 1.49, ext_ior: 1.0, nonlinear: false };
+    let layers = Plastic { diffuse: glam::DVec3::splat(0.5), diffuse_texture: None, specular: glam::DVec3::ONE, int_ior: 1.49, ext_ior: 1.0, nonlinear: false };
     let mut data = BsdfData::default();
     let [p0, p1, p2] = Bsdf::RoughPlastic(RoughPlastic { layers, distribution, alpha }).pack(&mut data);
     let t = theta_o.to_radians();

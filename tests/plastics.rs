@@ -55,9 +55,9 @@ fn mitsuba_plastic_f(p: &Plastic, cos_i: f64, cos_o: f64) -> DVec3 {
 #[test]
 fn the_plastic_evaluates_mitsubas_formula_and_is_reciprocal() {
     let plastics = [
-        Plastic { diffuse: DVec3::splat(0.5), specular: DVec3::ONE, int_ior: 1.49, ext_ior: 1.000277, nonlinear: false },
-        Plastic { diffuse: DVec3::new(0.9, 0.3, 0.05), specular: DVec3::splat(0.8), int_ior: 1.5046, ext_ior: 1.0, nonlinear: true },
-        Plastic { diffuse: DVec3::new(0.2, 0.7, 0.4), specular: DVec3::ONE, int_ior: 2.419, ext_ior: 1.33, nonlinear: false },
+        Plastic { diffuse: DVec3::splat(0.5), diffuse_texture: None, specular: DVec3::ONE, int_ior: 1.49, ext_ior: 1.000277, nonlinear: false },
+        Plastic { diffuse: DVec3::new(0.9, 0.3, 0.05), diffuse_texture: None, specular: DVec3::splat(0.8), int_ior: 1.5046, ext_ior: 1.0, nonlinear: true },
+        Plastic { diffuse: DVec3::new(0.2, 0.7, 0.4), diffuse_texture: None, specular: DVec3::ONE, int_ior: 2.419, ext_ior: 1.33, nonlinear: false },
     ];
     let angles = [0.0f64, 20.0, 45.0, 70.0, 85.0, 89.5];
     let dir = |theta: f64, phi: f64| {
@@ -123,7 +123,7 @@ fn named_indices_are_read_from_toml_and_xml_and_unknown_ones_refused() {
     let with = toml_with_material;
     // Names in any case; Mitsuba's defaults where none is given.
     let s = scene(&with("bsdf = \"plastic\"\nint_ior = \"BK7\"\next_ior = \"water\"\nnonlinear = true"));
-    assert_eq!(s.materials[0].bsdf, Bsdf::Plastic(Plastic { diffuse: DVec3::splat(0.5), specular: DVec3::ONE, int_ior: 1.5046, ext_ior: 1.333, nonlinear: true }));
+    assert_eq!(s.materials[0].bsdf, Bsdf::Plastic(Plastic { diffuse: DVec3::splat(0.5), diffuse_texture: None, specular: DVec3::ONE, int_ior: 1.5046, ext_ior: 1.333, nonlinear: true }));
     let s = scene(&with("bsdf = \"plastic\""));
     assert!(matches!(&s.materials[0].bsdf, Bsdf::Plastic(p) if p.int_ior == 1.49 && p.ext_ior == 1.000277 && !p.nonlinear));
     let s = scene(&with("bsdf = \"dielectric\"\nint_ior = \"diamond\""));

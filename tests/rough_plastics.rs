@@ -49,6 +49,7 @@ fn the_rough_plastic_evaluates_as_mitsubas_and_is_reciprocal() {
         let distribution = Distribution::from_name(c["distribution"].as_str().unwrap()).unwrap();
         let layers = Plastic {
             diffuse: DVec3::from(v3(&c["diffuse"])),
+            diffuse_texture: None,
             specular: DVec3::from(v3(&c["specular"])),
             int_ior: c["int_ior"].as_f64().unwrap(),
             ext_ior: c["ext_ior"].as_f64().unwrap(),
@@ -108,7 +109,7 @@ fn rough_plastic_parameters_are_read_and_bad_ones_refused() {
     // Mitsuba's defaults: Beckmann, alpha 0.1, diffuse 0.5 under polypropylene in air.
     let s = scene(&with("bsdf = \"roughplastic\""));
     let expected = RoughPlastic {
-        layers: Plastic { diffuse: DVec3::splat(0.5), specular: DVec3::ONE, int_ior: 1.49, ext_ior: 1.000277, nonlinear: false },
+        layers: Plastic { diffuse: DVec3::splat(0.5), diffuse_texture: None, specular: DVec3::ONE, int_ior: 1.49, ext_ior: 1.000277, nonlinear: false },
         distribution: Distribution::Beckmann,
         alpha: 0.1,
     };

@@ -1,5 +1,5 @@
-//! Textures (src/scene/textures.rs, shaders/texture.wgsl): Mitsuba's `checkerboard` as a
-//! diffuse reflectance.
+//! Textures (src/scene/textures/, shaders/texture.wgsl): Mitsuba's `checkerboard` and `bitmap`
+//! as diffuse reflectances, plastics' bases and conductors' reflectances.
 //!
 //! 1. The kernel's lookup (`texture_slot`, the reference to a record in the BSDF data as the host
 //!    packs it) against the host's twin (`Texture::eval`, f32) at 4096 uvs spread over [-3, 3]^2
@@ -11,6 +11,16 @@
 //!    tests/cornell_box.rs does (at least 99.75% of channels passing; `mis` scaled by 1.05 is
 //!    rejected), for `mis` and `best`. Fails falsely with probability below 0.01.
 //! 3. TOML and XML textures are read, bad ones refused naming the field or line and column.
+//! 4. Bitmaps: pathlab's lookup (`Bitmap::eval`) against Mitsuba 3.9.1's own `bitmap` plugin
+//!    evaluated at 154 uvs for 13 configurations (every filter and wrap mode, sRGB and raw 8-bit,
+//!    grey with alpha, float EXR, sheared and shifted `to_uv`; tests/fixtures/textures/, made by
+//!    scripts/bitmap_evals.py): equal to 2e-6. The kernel's lookup against the host's at the same
+//!    uvs: equal but for the rounding of the uv arithmetic.
+//! 5. The Cornell box with bitmaps on the floor (sRGB PNG, mirrored), back wall (EXR), sphere (raw,
+//!    nearest, clamped) and box (grey PNG with alpha) (tests/fixtures/cornell_bitmap/), and with
+//!    textures in a plastic's base, a roughplastic's base and a roughconductor's reflectance
+//!    (tests/fixtures/cornell_textured_layers/), z-tested against Mitsuba as in 2. A bitmap
+//!    lookup without the sRGB decode fails 4 and 5 (55% of channels passing, max |z| 165).
 
 use crate::common;
 
@@ -18,6 +28,8 @@ use common::*;
 use glam::{DVec2, DVec3};
 use pathlab::gpu::KernelRun;
 use pathlab::method::Preset;
+use pathlab::scene::image_file::read_image;
+use pathlab::scene::textures::{Bitmap, Filter, Wrap};
 use pathlab::scene::{Bsdf, BsdfData, Scene, SceneError, Texture};
 use pathlab::shaders;
 
@@ -82,6 +94,81 @@ fn the_kernels_checkerboard_is_the_hosts() {
     }
 }
 
+/// The bitmaps of tests/fixtures/textures/bitmap_evals.json (scripts/bitmap_evals.py) with
+/// their uvs and Mitsuba 3.9.1's values there.
+fn mitsuba_bitmap_evals() -> Vec<(Bitmap, Vec<[f32; 2]>, Vec<[f32; 3]>)> {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/textures");
+    let json: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("bitmap_evals.json")).unwrap()).unwrap();
+    let f = |v: &serde_json::Value| v.as_f64().unwrap();
+    json["configs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| {
+            let file = dir.join(c["file"].as_str().unwrap());
+            let raw = c["raw"].as_bool().unwrap();
+            let m = &c["to_uv"];
+            let to_uv = [[f(&m[0][0]), f(&m[0][1]), f(&m[0][2])], [f(&m[1][0]), f(&m[1][1]), f(&m[1][2])]];
+            let image = read_image(&file, raw).unwrap();
+            let bitmap = Bitmap::new(file, image, Filter::parse(c["filter_type"].as_str().unwrap()).unwrap(), Wrap::parse(c["wrap_mode"].as_str().unwrap()).unwrap(), raw, to_uv);
+            let uvs = c["uv"].as_array().unwrap().iter().map(|p| [f(&p[0]) as f32, f(&p[1]) as f32]).collect();
+            let rgb = c["rgb"].as_array().unwrap().iter().map(|p| [f(&p[0]) as f32, f(&p[1]) as f32, f(&p[2]) as f32]).collect();
+            (bitmap, uvs, rgb)
+        })
+        .collect()
+}
+
+/// Values equal within float rounding (the sRGB curve: Dr.Jit's is a rational fit, pathlab's
+/// table the exact curve; bilinear weights: f32 steps in another order).
+fn close(a: f32, b: f32) -> bool {
+    (a - b).abs() <= 2e-6 + 2e-6 * b.abs()
+}
+
+#[test]
+fn bitmap_lookups_are_mitsubas() {
+    // Every filter and wrap mode, sRGB and raw 8-bit, grey with alpha, float EXR, to_uv with
+    // shear and translation; uvs over [-2.5, 2.5]^2 and on texel centres and edges.
+    let mut checked = 0;
+    for (bitmap, uvs, expected) in mitsuba_bitmap_evals() {
+        for (uv, e) in uvs.iter().zip(&expected) {
+            let got = bitmap.eval(*uv);
+            assert!((0..3).all(|c| close(got[c], e[c])), "{} {:?} {:?} raw {} at {uv:?}: pathlab {got:?}, Mitsuba {e:?}", bitmap.file.display(), bitmap.filter, bitmap.wrap, bitmap.raw);
+            checked += 1;
+        }
+    }
+    assert!(checked > 2000, "{checked} lookups");
+}
+
+#[test]
+fn the_kernels_bitmap_lookup_is_the_hosts() {
+    let cases = mitsuba_bitmap_evals();
+    let mut data = BsdfData::default();
+    data.push(&[7.0; 3]);
+    let mut queries: Vec<[f32; 4]> = Vec::new();
+    for (t, (bitmap, uvs, _)) in cases.iter().enumerate() {
+        let slot = -(bitmap.pack(&mut data) as f32) - 1.0;
+        queries.extend(uvs.iter().map(|uv| [uv[0], uv[1], slot, t as f32]));
+    }
+    let source = shaders::assemble(&shaders::LIBRARY, LOOKUP_KERNEL);
+    let run = KernelRun {
+        source: &source,
+        entry: "lookup_main",
+        constants: &[],
+        inputs: vec![(0, bytemuck::cast_slice(&queries).to_vec()), (shaders::bindings::BSDF_DATA.number, bytemuck::cast_slice(&data.0).to_vec())],
+        uniforms: vec![],
+        output: (1, (queries.len() * 16) as u64),
+        workgroups: (queries.len() as u32).div_ceil(64),
+    };
+    let out: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&run.run(gpu()).expect("bitmap lookup kernel"));
+    for (q, got) in queries.iter().zip(&out) {
+        let b = &cases[q[3] as usize].0;
+        let expected = b.eval([q[0], q[1]]);
+        // Equal but for the rounding of the uv arithmetic (fused multiply-adds on lavapipe): a
+        // position's last bit (1e-6 at |uv * size| ~ 30) times the steepest texel difference.
+        assert!((0..3).all(|c| (got[c] - expected[c]).abs() <= 1e-5 * (1.0 + expected[c].abs())), "{} {:?} {:?} at ({}, {}): kernel {:?}, host {expected:?}", b.file.display(), b.filter, b.wrap, q[0], q[1], &got[..3]);
+    }
+}
+
 #[test]
 fn mis_and_best_agree_with_mitsuba_on_checkerboards_in_the_cornell_box() {
     let reference = mitsuba_fixture("cornell_checkerboard");
@@ -96,6 +183,30 @@ fn mis_and_best_agree_with_mitsuba_on_checkerboards_in_the_cornell_box() {
 }
 
 #[test]
+fn mis_and_best_agree_with_mitsuba_on_bitmaps_in_the_cornell_box() {
+    let reference = mitsuba_fixture("cornell_bitmap");
+    let defines = [("resx".to_string(), reference.width.to_string()), ("resy".to_string(), reference.height.to_string())];
+    let scene = Scene::load_with(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/cornell_bitmap/cornell_bitmap.xml"), &defines).unwrap();
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let bitmaps = scene.materials.iter().flat_map(|m| m.bsdf.textures()).filter(|t| matches!(t, Texture::Bitmap(_))).count();
+    assert_eq!(bitmaps, 4, "floor, back wall, sphere and box textured");
+    let methods = [Preset::Mis.method(), Preset::Best.method()];
+    agrees_with_reference(&reference, &scene, &methods, |_| (1024, 2), 1500, Preset::Mis.method());
+}
+
+#[test]
+fn mis_and_best_agree_with_mitsuba_on_textured_plastics_and_metals_in_the_cornell_box() {
+    let reference = mitsuba_fixture("cornell_textured_layers");
+    let defines = [("resx".to_string(), reference.width.to_string()), ("resy".to_string(), reference.height.to_string())];
+    let scene = Scene::load_with(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/cornell_textured_layers/cornell_textured_layers.xml"), &defines).unwrap();
+    assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
+    let textured: Vec<&str> = scene.materials.iter().filter(|m| !m.bsdf.textures().is_empty()).map(|m| m.bsdf.kind().toml_name()).collect();
+    assert_eq!(textured, ["plastic", "roughconductor", "roughplastic"], "the floor's, box's and sphere's slots textured");
+    let methods = [Preset::Mis.method(), Preset::Best.method()];
+    agrees_with_reference(&reference, &scene, &methods, |_| (1024, 2), 1500, Preset::Mis.method());
+}
+
+#[test]
 fn textures_are_read_from_toml_and_xml_and_bad_ones_refused() {
     let with = toml_with_material;
     let s = scene(&with("diffuse = { texture = \"checkerboard\", color0 = [0.8, 0.6, 0.4], to_uv_scale = [20, 80] }"));
@@ -104,7 +215,7 @@ fn textures_are_read_from_toml_and_xml_and_bad_ones_refused() {
     assert_eq!(p.diffuse_texture.as_ref(), Some(&expected));
     assert_eq!(p.diffuse, expected.mean(), "the mean stands for the texture on the host");
     let cases = [
-        ("diffuse = { texture = \"bitmap\" }", "unknown texture \"bitmap\" (pathlab has checkerboard)"),
+        ("diffuse = { texture = \"bricks\" }", "unknown texture \"bricks\" (pathlab has checkerboard, bitmap)"),
         ("diffuse = { color0 = 0.5 }", "needs `texture = \"checkerboard\"`"),
         ("diffuse = { texture = \"checkerboard\", color0 = -1 }", "`color0` of a checkerboard must be a colour >= 0"),
         ("diffuse = { texture = \"checkerboard\", to_uv_scale = [0, 1] }", "two finite non-zero numbers"),
@@ -125,12 +236,73 @@ fn textures_are_read_from_toml_and_xml_and_bad_ones_refused() {
     let expected = Texture::Checkerboard { color0: DVec3::splat(0.4), color1: DVec3::new(0.1, 0.2, 0.3), to_uv_scale: DVec2::new(10.0, 5.0) };
     assert!(matches!(&s.materials[0].bsdf, Bsdf::Phong(p) if p.diffuse_texture.as_ref() == Some(&expected)), "{:?}", s.materials[0].bsdf);
     for (bsdf, message) in [
-        ("<bsdf type=\"diffuse\" id=\"t\"><texture type=\"bitmap\" name=\"reflectance\"><string name=\"filename\" value=\"a.png\"/></texture></bsdf>", "<texture type=\"bitmap\"> is not supported (pathlab has checkerboard)"),
+        ("<bsdf type=\"diffuse\" id=\"t\"><texture type=\"bricks\" name=\"reflectance\"/></bsdf>", "<texture type=\"bricks\"> is not supported (pathlab has checkerboard, bitmap)"),
         ("<bsdf type=\"diffuse\" id=\"t\"><texture type=\"checkerboard\" name=\"reflectance\"><transform name=\"to_uv\"><rotate z=\"1\" angle=\"30\"/></transform></texture></bsdf>", "only <scale> is supported"),
-        ("<bsdf type=\"roughplastic\" id=\"t\"><texture type=\"checkerboard\" name=\"diffuse_reflectance\"/></bsdf>", "a textured parameter is not supported"),
+        ("<bsdf type=\"roughplastic\" id=\"t\"><texture type=\"checkerboard\" name=\"specular_reflectance\"/></bsdf>", "a textured parameter other than diffuse_reflectance is not supported"),
+        ("<bsdf type=\"conductor\" id=\"t\"><texture type=\"checkerboard\" name=\"eta\"/></bsdf>", "a textured parameter other than specular_reflectance is not supported"),
     ] {
         std::fs::write(&path, xml(bsdf)).unwrap();
         let e = Scene::load(&path).unwrap_err().to_string();
         assert!(e.contains("t.xml:3:") && e.contains(message), "{bsdf}: {e}");
+    }
+}
+
+#[test]
+fn bitmaps_are_read_from_toml_and_xml_and_bad_ones_refused() {
+    let fixtures = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/textures");
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::copy(fixtures.join("grid.png"), dir.path().join("grid.png")).unwrap();
+    std::fs::write(dir.path().join("picture.tga"), b"not read").unwrap();
+    std::fs::write(dir.path().join("broken.png"), b"\x89PNG\r\n\x1a\n and then nothing").unwrap();
+    exr::prelude::write_rgb_file(dir.path().join("nan.exr"), 3, 2, |x, y| if (x, y) == (2, 1) { (f32::NAN, 0.0, 0.0) } else { (0.5, 0.5, 0.5) }).unwrap();
+    let toml_path = dir.path().join("t.toml");
+    let load_toml = |material: &str| {
+        std::fs::write(&toml_path, toml_with_material(material)).unwrap();
+        Scene::load(&toml_path)
+    };
+    // A bitmap relative to the scene's folder, with every parameter.
+    let s = load_toml("diffuse = { texture = \"bitmap\", filename = \"grid.png\", filter_type = \"nearest\", wrap_mode = \"mirror\", to_uv = [[2, 0, 0.5], [0, 3, 0]] }").unwrap();
+    let Bsdf::Phong(p) = &s.materials[0].bsdf else { panic!("not phong") };
+    let Some(Texture::Bitmap(b)) = &p.diffuse_texture else { panic!("{:?}", p.diffuse_texture) };
+    assert_eq!((b.image.width, b.image.height, b.filter, b.wrap, b.raw, b.to_uv), (5, 3, Filter::Nearest, Wrap::Mirror, false, [[2.0, 0.0, 0.5], [0.0, 3.0, 0.0]]));
+    assert_eq!(p.diffuse, DVec3::from(b.image.mean()), "the image's mean stands for it on the host");
+    // A texture changes the scene's identity; so does its image's content.
+    let hash = s.content_hash();
+    let s2 = load_toml("diffuse = { texture = \"bitmap\", filename = \"grid.png\", filter_type = \"nearest\", wrap_mode = \"mirror\", to_uv = [[2, 0, 0.5], [0, 3, 0]], raw = true }").unwrap();
+    assert_ne!(hash, s2.content_hash());
+
+    let cases = [
+        ("diffuse = { texture = \"bitmap\" }", "a bitmap needs `filename"),
+        ("diffuse = { texture = \"bitmap\", filename = \"wood.png\" }", "image file \"wood.png\" not found (searched"),
+        ("diffuse = { texture = \"bitmap\", filename = \"picture.tga\" }", "unsupported image format \".tga\""),
+        ("diffuse = { texture = \"bitmap\", filename = \"broken.png\" }", "cannot decode it"),
+        ("diffuse = { texture = \"bitmap\", filename = \"nan.exr\" }", "pixel (2, 1) (from the top left) is not finite"),
+        ("diffuse = { texture = \"bitmap\", filename = \"grid.png\", wrap_mode = \"tile\" }", "`wrap_mode` of a bitmap must be one of repeat, mirror, clamp"),
+        ("diffuse = { texture = \"bitmap\", filename = \"grid.png\", to_uv = [1, 2] }", "two rows of three finite numbers"),
+        ("diffuse = { texture = \"bitmap\", filename = \"grid.png\", gamma = 2.2 }", "unknown key `gamma` of a bitmap"),
+    ];
+    for (material, message) in cases {
+        match load_toml(material) {
+            Err(SceneError::Invalid(d)) => assert!(d[0].field == "materials.m.diffuse" && d[0].message.contains(message) && d[0].line >= 1, "{material}: {}", d[0]),
+            other => panic!("{material}: accepted ({:?})", other.map(|s| s.materials[0].clone())),
+        }
+    }
+
+    // XML: the file found by Mitsuba's resolver; `to_uv` the 4x4's upper-left 3x3.
+    let xml_path = dir.path().join("t.xml");
+    let bitmap = |inner: &str| xml_with_bsdf(&format!("<bsdf type=\"diffuse\" id=\"t\"><texture type=\"bitmap\" name=\"reflectance\">{inner}</texture></bsdf>"), "t");
+    std::fs::write(&xml_path, bitmap("<string name=\"filename\" value=\"grid.png\"/><string name=\"wrap_mode\" value=\"clamp\"/><boolean name=\"raw\" value=\"true\"/><transform name=\"to_uv\"><scale x=\"4\" y=\"2\"/></transform>")).unwrap();
+    let s = Scene::load(&xml_path).unwrap();
+    let Bsdf::Phong(p) = &s.materials[0].bsdf else { panic!("not phong") };
+    let Some(Texture::Bitmap(b)) = &p.diffuse_texture else { panic!("{:?}", p.diffuse_texture) };
+    assert_eq!((b.file.clone(), b.wrap, b.raw, b.to_uv), (dir.path().join("grid.png"), Wrap::Clamp, true, [[4.0, 0.0, 0.0], [0.0, 2.0, 0.0]]));
+    for (inner, message) in [
+        ("<string name=\"filename\" value=\"wood.png\"/>", "image file \"wood.png\" not found (searched"),
+        ("", "<texture type=\"bitmap\"> needs <string name=\"filename\">"),
+        ("<string name=\"filename\" value=\"grid.png\"/><string name=\"filter_type\" value=\"cubic\"/>", "`filter_type` of a bitmap must be one of bilinear, nearest"),
+    ] {
+        std::fs::write(&xml_path, bitmap(inner)).unwrap();
+        let e = Scene::load(&xml_path).unwrap_err().to_string();
+        assert!(e.contains("t.xml:3:") && e.contains(message), "{inner}: {e}");
     }
 }

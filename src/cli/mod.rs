@@ -188,6 +188,15 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
         scene.default_light_select(),
         scene.content_hash(),
     );
+    let textures: Vec<(&str, &pathlab::scene::Texture)> =
+        scene.materials.iter().flat_map(|m| m.bsdf.textures().into_iter().map(move |t| (m.name.as_str(), t))).collect();
+    if !textures.is_empty() {
+        let bytes: u64 = textures.iter().map(|(_, t)| t.gpu_bytes()).sum();
+        println!("textures: {}, GPU memory {:.2} MiB (BSDF data)", textures.len(), bytes as f64 / (1 << 20) as f64);
+        for (material, t) in &textures {
+            println!("  {material}: {} ({:.1} KiB)", t.describe(), t.gpu_bytes() as f64 / 1024.0);
+        }
+    }
     if f.num_triangles > 0 {
         let start = std::time::Instant::now();
         let packed = pathlab::gpu::PackedTriangles::new(&scene, false);

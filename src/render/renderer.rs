@@ -54,6 +54,11 @@ pub enum RenderError {
          binding is {binding} bytes, 48 bytes per triangle)"
     )]
     TooManyTriangles { count: u64, limit: u64, binding: u64 },
+    #[error(
+        "the scene's textures need {bytes} bytes on the GPU, more than this adapter's largest \
+         storage binding ({limit} bytes); the largest: {largest} (`pathlab check` lists them)"
+    )]
+    TexturesTooLarge { bytes: u64, limit: u64, largest: String },
 }
 
 /// When to stop a render.
@@ -144,6 +149,12 @@ impl Renderer {
         let count = scene.num_triangles() as u64;
         if count > max_triangles(binding) {
             return Err(RenderError::TooManyTriangles { count, limit: max_triangles(binding), binding });
+        }
+        let textures: Vec<&crate::scene::Texture> = scene.materials.iter().flat_map(|m| m.bsdf.textures()).collect();
+        let texture_bytes: u64 = textures.iter().map(|t| t.gpu_bytes()).sum();
+        if texture_bytes > binding {
+            let largest = textures.iter().max_by_key(|t| t.gpu_bytes()).map_or(String::new(), |t| t.describe());
+            return Err(RenderError::TexturesTooLarge { bytes: texture_bytes, limit: binding, largest });
         }
         let packed = PackedTriangles::new(scene, key.samples_environment());
         let (width, height) = (scene.render.width, scene.render.height);

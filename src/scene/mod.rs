@@ -12,6 +12,7 @@ mod checker;
 mod diagnostic;
 pub mod emitters;
 pub mod hash;
+pub mod image_file;
 pub mod mesh;
 pub mod mitsuba;
 pub mod overrides;

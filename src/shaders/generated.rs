@@ -38,6 +38,10 @@ pub fn generated_constants() -> String {
          {}{}{}\
          // Entries of roughplastic's transmittance table (src/scene/bsdfs/rough_plastic.rs).\n\
          const ROUGH_PLASTIC_TABLE_RES: u32 = {}u;\n\
+         // Texture kinds and the bitmap's record header (src/scene/textures/).\n\
+         const TEXTURE_CHECKERBOARD: f32 = {}.0;\n\
+         const TEXTURE_BITMAP: f32 = {}.0;\n\
+         const BITMAP_HEADER: u32 = {}u;\n\
          // Binding numbers of group 0 (src/shaders/bindings.rs).\n\
          {}{}",
         crate::accel::bvh::MAX_DEPTH,
@@ -58,6 +62,9 @@ pub fn generated_constants() -> String {
         wgsl_constants::<EmitterKind>("EMITTER_KIND"),
         flags::wgsl(),
         crate::scene::ROUGH_PLASTIC_TABLE_RES,
+        crate::scene::textures::TEXTURE_CHECKERBOARD,
+        crate::scene::textures::bitmap::TEXTURE_BITMAP,
+        crate::scene::textures::bitmap::BITMAP_HEADER,
         bindings::wgsl(&bindings::PATH_TRACER),
         bindings::wgsl(&bindings::DISPLAY),
     )

@@ -10,14 +10,17 @@ use glam::DVec3;
 use super::named_conductors::NAMED_CONDUCTORS;
 use super::plugin::{color_value, BsdfData, BsdfParams, BsdfPlugin, Fields, PluginProps};
 use crate::scene::hash::vec3;
+use crate::scene::textures::Texture;
 
 /// Fresnel reflection of a complex index of refraction; also the rough conductor's.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Conductor {
     pub eta: DVec3,
     pub k: DVec3,
-    /// Mitsuba's specular_reflectance: a factor on the Fresnel term.
+    /// Mitsuba's specular_reflectance: a factor on the Fresnel term (a texture's mean where
+    /// `reflectance_texture` is given).
     pub reflectance: DVec3,
+    pub reflectance_texture: Option<Texture>,
 }
 
 impl Conductor {
@@ -35,7 +38,7 @@ impl Conductor {
     /// The fields both conductors read, in TOML: `material` (a named conductor) or `eta` and
     /// `k`, and `specular_reflectance`.
     pub(crate) fn read_fresnel(f: &mut Fields) -> Conductor {
-        let reflectance = f.color("specular_reflectance", DVec3::ONE);
+        let (reflectance, reflectance_texture) = f.color_or_texture("specular_reflectance", DVec3::ONE);
         if let Some(m) = f.string("material") {
             for other in ["eta", "k"] {
                 if f.has(other) {
@@ -52,15 +55,16 @@ impl Conductor {
                     (DVec3::ZERO, DVec3::ONE)
                 }
             };
-            return Conductor { eta, k, reflectance };
+            return Conductor { eta, k, reflectance, reflectance_texture };
         }
-        Conductor { eta: f.color("eta", DVec3::ZERO), k: f.color("k", DVec3::ONE), reflectance }
+        Conductor { eta: f.color("eta", DVec3::ZERO), k: f.color("k", DVec3::ONE), reflectance, reflectance_texture }
     }
 
     /// The properties both conductors read, in Mitsuba XML, as TOML fields.
     pub(crate) fn mitsuba_fresnel(p: &mut dyn PluginProps) -> Vec<(&'static str, toml::Value)> {
+        let reflectance = p.color_or_texture("specular_reflectance");
         if let Some(at) = p.texture() {
-            p.error(at, "", "a textured parameter is not supported (give <rgb> or <float> values)".into());
+            p.error(at, "", "a textured parameter other than specular_reflectance is not supported (give <rgb> or <float> values)".into());
         }
         let eta = p.color("eta");
         let k = p.color("k");
@@ -80,8 +84,8 @@ impl Conductor {
                 fields.push(("k", color_value(k.unwrap_or([1.0; 3]))));
             }
         }
-        if let Some(r) = p.color("specular_reflectance") {
-            fields.push(("specular_reflectance", color_value(r)));
+        if let Some(r) = reflectance {
+            fields.push(("specular_reflectance", r));
         }
         fields
     }
@@ -91,12 +95,21 @@ impl Conductor {
         line("conductor.eta", vec3(self.eta));
         line("conductor.k", vec3(self.k));
         line("conductor.reflectance", vec3(self.reflectance));
+        // Only a textured one adds a line: untextured scenes keep their hash.
+        if let Some(t) = &self.reflectance_texture {
+            line("conductor.reflectance.texture", t.hash_value(vec3));
+        }
     }
 
     /// `p0 = (eta, alpha)`, `p1 = (k, distribution)` (its number), `p2 = (reflectance, 0)`:
     /// the layout of WGSL's `conductor_of`, with alpha 0 and Beckmann for the smooth one.
-    pub(crate) fn pack_with(&self, alpha: f64, distribution: super::distribution::Distribution) -> BsdfParams {
-        let (e, k, r) = (self.eta.as_vec3(), self.k.as_vec3(), self.reflectance.as_vec3());
+    /// A texture stands in p2 as the reference -(start + 1) of its record (texture.wgsl).
+    pub(crate) fn pack_with(&self, alpha: f64, distribution: super::distribution::Distribution, data: &mut BsdfData) -> BsdfParams {
+        let r = match &self.reflectance_texture {
+            Some(t) => glam::Vec3::new(-(t.pack(data) as f32) - 1.0, 0.0, 0.0),
+            None => self.reflectance.as_vec3(),
+        };
+        let (e, k) = (self.eta.as_vec3(), self.k.as_vec3());
         [
             [e.x, e.y, e.z, alpha as f32],
             [k.x, k.y, k.z, distribution.constant() as f32],
@@ -110,6 +123,11 @@ impl BsdfPlugin for Conductor {
     const FIELDS: &'static [&'static str] = &["eta", "k", "material", "specular_reflectance"];
     const MITSUBA_PLUGINS: &'static [&'static str] = &["conductor"];
     const IS_DELTA: bool = true;
+    const TEXTURE_SLOTS: &'static [usize] = &[2];
+
+    fn textures(&self) -> Vec<&Texture> {
+        self.reflectance_texture.iter().collect()
+    }
 
     fn from_fields(f: &mut Fields) -> Conductor {
         Conductor::read_fresnel(f)
@@ -125,7 +143,7 @@ impl BsdfPlugin for Conductor {
         self.fresnel_hash_lines(line);
     }
 
-    fn pack(&self, _data: &mut BsdfData) -> BsdfParams {
-        self.pack_with(0.0, super::distribution::Distribution::Beckmann)
+    fn pack(&self, data: &mut BsdfData) -> BsdfParams {
+        self.pack_with(0.0, super::distribution::Distribution::Beckmann, data)
     }
 }

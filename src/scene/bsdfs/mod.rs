@@ -146,6 +146,11 @@ macro_rules! bsdf_registry {
             pub fn reads_uv(&self) -> bool {
                 match self { $( Bsdf::$variant(b) => b.reads_uv() ),+ }
             }
+
+            /// Its parameters' textures.
+            pub fn textures(&self) -> Vec<&crate::scene::Texture> {
+                match self { $( Bsdf::$variant(b) => b.textures() ),+ }
+            }
         }
     };
 }

@@ -98,12 +98,12 @@ impl BsdfPlugin for Phong {
         line("glossiness", crate::scene::hash::real(self.glossiness));
     }
 
-    /// `p0 = (kd, n)`, `p1 = (ks, p_spec)` with p_spec the probability of sampling the Phong
-    /// lobe, the luminance ratio lum(ks) / (lum(kd) + lum(ks)).
-    fn reads_uv(&self) -> bool {
-        self.diffuse_texture.is_some()
+    fn textures(&self) -> Vec<&Texture> {
+        self.diffuse_texture.iter().collect()
     }
 
+    /// `p0 = (kd, n)`, `p1 = (ks, p_spec)` with p_spec the probability of sampling the Phong
+    /// lobe, the luminance ratio lum(ks) / (lum(kd) + lum(ks)).
     fn pack(&self, data: &mut BsdfData) -> BsdfParams {
         let (ld, ls) = (luminance(self.diffuse), luminance(self.specular));
         let p_spec = if ld + ls > 0.0 { ls / (ld + ls) } else { 0.0 };

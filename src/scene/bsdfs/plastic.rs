@@ -20,6 +20,7 @@ use glam::DVec3;
 use super::ior::{self, DEFAULT_EXT_IOR};
 use super::plugin::{color_value, BsdfData, BsdfParams, BsdfPlugin, Fields, PluginProps};
 use crate::scene::hash::{real, vec3};
+use crate::scene::textures::Texture;
 
 /// Mitsuba's default interior index (`polypropylene`).
 const DEFAULT_INT_IOR: f64 = 1.49;
@@ -28,7 +29,9 @@ const DEFAULT_DIFFUSE: f64 = 0.5;
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Plastic {
+    /// The base's albedo (a texture's mean where `diffuse_texture` is given).
     pub diffuse: DVec3,
+    pub diffuse_texture: Option<Texture>,
     pub specular: DVec3,
     /// The index of refraction of the coating (inside) and of the medium above it.
     pub int_ior: f64,
@@ -47,14 +50,12 @@ impl Plastic {
     /// `specular_reflectance`, `int_ior`, `ext_ior`, `nonlinear`) as TOML fields, for the smooth
     /// and the rough kind.
     pub(crate) fn mitsuba_layers(p: &mut dyn PluginProps) -> Vec<(&'static str, toml::Value)> {
-        if let Some(at) = p.texture() {
-            p.error(at, "", "a textured parameter is not supported (give <rgb> or <float> values)".into());
-        }
         let mut fields = Vec::new();
-        for name in ["diffuse_reflectance", "specular_reflectance"] {
-            if let Some(c) = p.color(name) {
-                fields.push((name, color_value(c)));
-            }
+        if let Some(d) = p.color_or_texture("diffuse_reflectance") {
+            fields.push(("diffuse_reflectance", d));
+        }
+        if let Some(c) = p.color("specular_reflectance") {
+            fields.push(("specular_reflectance", color_value(c)));
         }
         // A <float>, or a <string> naming a material of Mitsuba's table (`polypropylene`).
         for (name, default) in [("int_ior", DEFAULT_INT_IOR), ("ext_ior", DEFAULT_EXT_IOR)] {
@@ -63,17 +64,31 @@ impl Plastic {
         if let Some((b, _)) = p.boolean("nonlinear") {
             fields.push(("nonlinear", toml::Value::Boolean(b)));
         }
+        if let Some(at) = p.texture() {
+            p.error(at, "", "a textured parameter other than diffuse_reflectance is not supported (give <rgb> or <float> values)".into());
+        }
         fields
     }
 
     /// Mitsuba's `m_specular_sampling_weight`: the specular lobe's share of the two albedos'
-    /// channel means (0.5 for a black material, whose weight does not matter).
+    /// means (`Texture::mean()`: a colour's channel mean, a texture's own; 0.5 for a black
+    /// material, whose weight does not matter).
     pub fn specular_sampling_weight(&self) -> f64 {
-        let (d, s) = (self.diffuse.element_sum() / 3.0, self.specular.element_sum() / 3.0);
+        let d = self.diffuse_texture.as_ref().map_or(self.diffuse.element_sum() / 3.0, Texture::mitsuba_mean);
+        let s = self.specular.element_sum() / 3.0;
         if d + s > 0.0 {
             s / (d + s)
         } else {
             0.5
+        }
+    }
+
+    /// The base's colour slot: its albedo, or the reference -(start + 1) of its texture's record
+    /// in the BSDF data (texture.wgsl).
+    pub(crate) fn diffuse_slot(&self, data: &mut BsdfData) -> glam::Vec3 {
+        match &self.diffuse_texture {
+            Some(t) => glam::Vec3::new(-(t.pack(data) as f32) - 1.0, 0.0, 0.0),
+            None => self.diffuse.as_vec3(),
         }
     }
 }
@@ -99,9 +114,11 @@ impl BsdfPlugin for Plastic {
     const IS_DELTA: bool = false;
     const HAS_DELTA_LOBE: bool = true;
     const SELECTS_LOBES: bool = true;
+    const TEXTURE_SLOTS: &'static [usize] = &[0];
 
     fn from_fields(f: &mut Fields) -> Plastic {
-        let diffuse = if f.has("diffuse_reflectance") { f.color("diffuse_reflectance", DVec3::ZERO) } else { DVec3::splat(DEFAULT_DIFFUSE) };
+        let (diffuse, diffuse_texture) =
+            if f.has("diffuse_reflectance") { f.color_or_texture("diffuse_reflectance", DVec3::ZERO) } else { (DVec3::splat(DEFAULT_DIFFUSE), None) };
         let specular = if f.has("specular_reflectance") { f.color("specular_reflectance", DVec3::ZERO) } else { DVec3::ONE };
         let int_ior = ior::from_field(f, "int_ior", DEFAULT_INT_IOR);
         let ext_ior = ior::from_field(f, "ext_ior", DEFAULT_EXT_IOR);
@@ -109,7 +126,7 @@ impl BsdfPlugin for Plastic {
         if diffuse.max_element() > 1.0 {
             f.warn_material(format!("diffuse_reflectance = {:?} exceeds 1: the material is not energy conserving", diffuse.to_array()));
         }
-        Plastic { diffuse, specular, int_ior, ext_ior, nonlinear }
+        Plastic { diffuse, diffuse_texture, specular, int_ior, ext_ior, nonlinear }
     }
 
     fn from_mitsuba(p: &mut dyn PluginProps) -> Option<Vec<(&'static str, toml::Value)>> {
@@ -120,6 +137,10 @@ impl BsdfPlugin for Plastic {
 
     fn hash_lines(&self, line: &mut dyn FnMut(&str, String)) {
         line("plastic.diffuse", vec3(self.diffuse));
+        // Only a textured one adds a line: untextured scenes keep their hash.
+        if let Some(t) = &self.diffuse_texture {
+            line("plastic.diffuse.texture", t.hash_value(vec3));
+        }
         line("plastic.specular", vec3(self.specular));
         line("plastic.int_ior", real(self.int_ior));
         line("plastic.ext_ior", real(self.ext_ior));
@@ -128,8 +149,12 @@ impl BsdfPlugin for Plastic {
 
     /// `p0 = (diffuse, eta)`, `p1 = (specular, specular_sampling_weight)`, `p2 = (fdr_int,
     /// nonlinear, 0, 0)`: the layout of WGSL's `plastic_of`.
-    fn pack(&self, _data: &mut BsdfData) -> BsdfParams {
-        let (d, s) = (self.diffuse.as_vec3(), self.specular.as_vec3());
+    fn textures(&self) -> Vec<&Texture> {
+        self.diffuse_texture.iter().collect()
+    }
+
+    fn pack(&self, data: &mut BsdfData) -> BsdfParams {
+        let (d, s) = (self.diffuse_slot(data), self.specular.as_vec3());
         let fdr_int = fresnel_diffuse_reflectance(1.0 / self.eta());
         [
             [d.x, d.y, d.z, self.eta() as f32],

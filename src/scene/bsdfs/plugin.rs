@@ -60,10 +60,14 @@ pub(crate) trait BsdfPlugin: Sized {
     fn hash_lines(&self, line: &mut dyn FnMut(&str, String));
     /// Its parameter block, its further numbers (tables) appended to `data`.
     fn pack(&self, data: &mut BsdfData) -> BsdfParams;
+    /// Its parameters' textures.
+    fn textures(&self) -> Vec<&Texture> {
+        Vec::new()
+    }
     /// Some parameter is a texture, read at the hit's uv parametrisation: the kernel then
     /// computes uvs and resolves textured slots (`SceneFeatures::has_uvs`).
     fn reads_uv(&self) -> bool {
-        false
+        !self.textures().is_empty()
     }
 }
 
@@ -139,7 +143,8 @@ impl<'c, 'a> Fields<'c, 'a> {
         let Some(v) = self.raw(name).cloned() else { return (default, None) };
         let toml::Value::Table(table) = v.get_ref() else { return (self.color(name, default), None) };
         let mut errors = Vec::new();
-        let texture = Texture::from_toml(table, v.span(), &mut errors);
+        let base = self.ck.file.parent().map(std::path::Path::to_path_buf).unwrap_or_default();
+        let texture = Texture::from_toml(table, v.span(), &base, &mut errors);
         for (span, message) in errors {
             self.error(span, name, message);
         }

@@ -22,6 +22,11 @@ impl BsdfPlugin for RoughConductor {
     const MITSUBA_PLUGINS: &'static [&'static str] = &["roughconductor"];
     const IS_DELTA: bool = false;
     const MICROFACETS: bool = true;
+    const TEXTURE_SLOTS: &'static [usize] = &[2];
+
+    fn textures(&self) -> Vec<&crate::scene::Texture> {
+        self.fresnel.reflectance_texture.iter().collect()
+    }
 
     fn from_fields(f: &mut Fields) -> RoughConductor {
         let fresnel = Conductor::read_fresnel(f);
@@ -42,7 +47,7 @@ impl BsdfPlugin for RoughConductor {
         line("conductor.rough", format!("{} {}", self.distribution, crate::scene::hash::real(self.alpha)));
     }
 
-    fn pack(&self, _data: &mut BsdfData) -> BsdfParams {
-        self.fresnel.pack_with(self.alpha, self.distribution)
+    fn pack(&self, data: &mut BsdfData) -> BsdfParams {
+        self.fresnel.pack_with(self.alpha, self.distribution, data)
     }
 }

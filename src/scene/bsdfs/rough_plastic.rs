@@ -122,6 +122,7 @@ impl BsdfPlugin for RoughPlastic {
     const IS_DELTA: bool = false;
     const SELECTS_LOBES: bool = true;
     const MICROFACETS: bool = true;
+    const TEXTURE_SLOTS: &'static [usize] = &[0];
 
     fn from_fields(f: &mut Fields) -> RoughPlastic {
         let layers = Plastic::from_fields(f);
@@ -145,9 +146,13 @@ impl BsdfPlugin for RoughPlastic {
     /// `p0 = (diffuse, eta)`, `p1 = (specular, specular_sampling_weight)`, `p2 = (alpha,
     /// distribution, nonlinear, first BSDF datum)`: the layout of WGSL's `rough_plastic_of`;
     /// the data: T at the 64 cosines, then R_int.
+    fn textures(&self) -> Vec<&crate::scene::Texture> {
+        self.layers.diffuse_texture.iter().collect()
+    }
+
     fn pack(&self, data: &mut BsdfData) -> BsdfParams {
         let p = &self.layers;
-        let (d, s) = (p.diffuse.as_vec3(), p.specular.as_vec3());
+        let (d, s) = (p.diffuse_slot(data), p.specular.as_vec3());
         let tables = self.coating_tables();
         let mut values: Vec<f32> = tables.transmittance.iter().map(|&t| t as f32).collect();
         values.push(tables.internal_reflectance as f32);
@@ -165,7 +170,7 @@ mod tests {
     use super::*;
 
     fn coating(distribution: Distribution, alpha: f64, int_ior: f64) -> RoughPlastic {
-        let layers = Plastic { diffuse: DVec3::splat(0.5), specular: DVec3::ONE, int_ior, ext_ior: 1.0, nonlinear: false };
+        let layers = Plastic { diffuse: DVec3::splat(0.5), diffuse_texture: None, specular: DVec3::ONE, int_ior, ext_ior: 1.0, nonlinear: false };
         RoughPlastic { layers, distribution, alpha }
     }
 

@@ -174,6 +174,64 @@ impl PluginReader<'_, '_, '_> {
     }
 }
 
+impl PluginReader<'_, '_, '_> {
+    /// A nested `<texture type="bitmap">` as its TOML inline table, the file found by
+    /// Mitsuba's resolver (an error names every folder searched).
+    fn bitmap(&mut self, t: &Object) -> Option<toml::Value> {
+        let mut p = Props::of(t);
+        let mut table = toml::Table::new();
+        table.insert("texture".into(), toml::Value::String("bitmap".into()));
+        let file = self.t.string(&mut p, "filename");
+        for (key, names) in [("filter_type", &["bilinear", "nearest"][..]), ("wrap_mode", &["repeat", "mirror", "clamp"][..])] {
+            if let Some((v, at)) = self.t.string(&mut p, key) {
+                if names.contains(&v.as_str()) {
+                    table.insert(key.into(), toml::Value::String(v));
+                } else {
+                    self.t.error(at, key, format!("`{key}` of a bitmap must be one of {} (got \"{v}\")", names.join(", ")));
+                }
+            }
+        }
+        if let Some((raw, _)) = self.t.get::<bool>(&mut p, "raw").map(|(v, prop)| (v, prop.value_at)) {
+            table.insert("raw".into(), toml::Value::Boolean(raw));
+        }
+        // `to_uv`: Mitsuba keeps the upper-left 3x3 of the 4x4 transform (`extract()`), an
+        // affine map of uv whose translation is the matrix's third column.
+        if let Some((ops, _)) = self.t.transform(&mut p, "to_uv") {
+            let m = compose(&ops).transpose().to_cols_array_2d();
+            let row = |r: usize| toml::Value::Array((0..3).map(|c| toml::Value::Float(m[r][c])).collect());
+            table.insert("to_uv".into(), toml::Value::Array(vec![row(0), row(1)]));
+        }
+        // Storage choices without effect on the values: `accel` (CUDA's hardware textures),
+        // `format` (Mitsuba's storage precision; pathlab keeps 8-bit images as bytes, others as
+        // 32-bit floats).
+        for key in ["accel", "format"] {
+            if self.t.string(&mut p, key).is_some() || self.t.get::<bool>(&mut p, key).is_some() {
+                self.t.warn(t.at, key, format!("`{key}` of a bitmap is a storage choice: pathlab keeps 8-bit images as bytes and others as 32-bit floats"));
+            }
+        }
+        self.t.finish(p, "filename, filter_type, wrap_mode, raw, to_uv, accel, format");
+        for c in &t.children {
+            self.t.error(c.at, "", format!("{} inside a bitmap <texture> is not supported", describe(&c.tag, &c.plugin)));
+        }
+        let Some((name, _)) = file else {
+            self.t.error(t.at, "filename", "<texture type=\"bitmap\"> needs <string name=\"filename\">".to_string());
+            return None;
+        };
+        match self.t.loaded.resolve(&name, &t.dir) {
+            Ok(path) => {
+                // Absolute: the material's fields resolve a relative name against the main file's folder.
+                let path = std::path::absolute(&path).unwrap_or(path);
+                table.insert("filename".into(), toml::Value::String(path.display().to_string()));
+                Some(toml::Value::Table(table))
+            }
+            Err(message) => {
+                self.t.error(t.at, "filename", format!("image file {message}"));
+                None
+            }
+        }
+    }
+}
+
 impl PluginProps for PluginReader<'_, '_, '_> {
     fn plugin(&self) -> &str {
         &self.o.plugin
@@ -189,8 +247,11 @@ impl PluginProps for PluginReader<'_, '_, '_> {
         let Some(i) = nested else { return self.color(name).map(color_value) };
         self.taken.push(i);
         let t = &self.o.children[i];
+        if t.plugin == "bitmap" {
+            return self.bitmap(t);
+        }
         if t.plugin != "checkerboard" {
-            self.t.error(t.at, "type", format!("<texture type=\"{}\"> is not supported (pathlab has checkerboard)", t.plugin));
+            self.t.error(t.at, "type", format!("<texture type=\"{}\"> is not supported (pathlab has checkerboard, bitmap)", t.plugin));
             return None;
         }
         let mut p = Props::of(t);

@@ -1,0 +1,203 @@
+//! Mitsuba 3's `bitmap` texture: an image file looked up at the hit's uv (after `to_uv`), with
+//! bilinear or nearest filtering and repeat, mirror or clamp wrapping, as Dr.Jit's `Texture`
+//! does it on the CPU (uv (0, 0) is the image's top-left corner; a texel's centre is at
+//! ((x + 1/2) / width, (y + 1/2) / height)). The kernel's lookup is `eval_bitmap_texture` in
+//! shaders/texture.wgsl; `Bitmap::eval` is its host twin, in the same f32 steps.
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use crate::scene::bsdf_data::BsdfData;
+use crate::scene::image_file::{Image, Texels, decode_table};
+
+/// The kinds' number in the BSDF data (`TEXTURE_BITMAP` in texture.wgsl).
+pub const TEXTURE_BITMAP: u32 = 1;
+/// Numbers of a bitmap's record before its decode table or texels.
+pub const BITMAP_HEADER: usize = 12;
+
+/// How a lookup between texel centres is filtered (Mitsuba's `filter_type`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Filter {
+    Nearest,
+    Bilinear,
+}
+
+/// What a lookup outside [0, 1)^2 reads (Mitsuba's `wrap_mode`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Wrap {
+    /// The image tiles the plane.
+    Repeat,
+    /// The image tiles the plane, every other tile mirrored.
+    Mirror,
+    /// The edge texels extend outwards.
+    Clamp,
+}
+
+impl Filter {
+    pub fn name(self) -> &'static str {
+        match self {
+            Filter::Nearest => "nearest",
+            Filter::Bilinear => "bilinear",
+        }
+    }
+    pub fn parse(s: &str) -> Option<Filter> {
+        [Filter::Nearest, Filter::Bilinear].into_iter().find(|f| f.name() == s)
+    }
+}
+
+impl Wrap {
+    pub fn name(self) -> &'static str {
+        match self {
+            Wrap::Repeat => "repeat",
+            Wrap::Mirror => "mirror",
+            Wrap::Clamp => "clamp",
+        }
+    }
+    pub fn parse(s: &str) -> Option<Wrap> {
+        [Wrap::Repeat, Wrap::Mirror, Wrap::Clamp].into_iter().find(|w| w.name() == s)
+    }
+
+    /// Texel index `i` of `n` wrapped into [0, n).
+    pub fn apply(self, i: i32, n: i32) -> i32 {
+        match self {
+            Wrap::Repeat => i.rem_euclid(n),
+            Wrap::Clamp => i.clamp(0, n - 1),
+            Wrap::Mirror => {
+                let p = i.rem_euclid(2 * n);
+                if p >= n { 2 * n - 1 - p } else { p }
+            }
+        }
+    }
+}
+
+/// A bitmap texture and its parameters.
+#[derive(Debug, Clone)]
+pub struct Bitmap {
+    /// The image file as found (for messages, `convert` and the scene hash).
+    pub file: PathBuf,
+    pub image: Arc<Image>,
+    /// SHA-256 of the decoded texels (the scene hash's record of the image's content).
+    pub content_hash: String,
+    pub filter: Filter,
+    pub wrap: Wrap,
+    /// The image's channels are read as linear (no sRGB decoding).
+    pub raw: bool,
+    /// `to_uv`'s first two rows: uv' = (m00 u + m01 v + m02, m10 u + m11 v + m12) (Mitsuba's
+    /// 3x3 `to_uv`, the upper-left 3x3 of the XML's 4x4 transform).
+    pub to_uv: [[f64; 3]; 2],
+}
+
+impl PartialEq for Bitmap {
+    fn eq(&self, o: &Bitmap) -> bool {
+        self.file == o.file && self.content_hash == o.content_hash && self.filter == o.filter && self.wrap == o.wrap && self.raw == o.raw && self.to_uv == o.to_uv
+    }
+}
+
+/// `to_uv` that changes nothing.
+pub const IDENTITY_UV: [[f64; 3]; 2] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+
+impl Bitmap {
+    pub fn new(file: PathBuf, image: Image, filter: Filter, wrap: Wrap, raw: bool, to_uv: [[f64; 3]; 2]) -> Bitmap {
+        use sha2::Digest;
+        let mut h = sha2::Sha256::new();
+        h.update(image.width.to_le_bytes());
+        h.update(image.height.to_le_bytes());
+        h.update([image.srgb as u8]);
+        match &image.texels {
+            Texels::Bytes(b) => b.iter().for_each(|t| h.update(t)),
+            Texels::Float(f) => f.iter().for_each(|t| t.iter().for_each(|c| h.update(c.to_le_bytes()))),
+        }
+        let content_hash = h.finalize().iter().take(8).map(|b| format!("{b:02x}")).collect();
+        Bitmap { file, image: Arc::new(image), content_hash, filter, wrap, raw, to_uv }
+    }
+
+    /// The uv transform in f32, as the kernel has it.
+    fn to_uv_f32(&self) -> [f32; 6] {
+        let m = self.to_uv;
+        [m[0][0] as f32, m[0][1] as f32, m[0][2] as f32, m[1][0] as f32, m[1][1] as f32, m[1][2] as f32]
+    }
+
+    fn texel(&self, x: i32, y: i32) -> [f32; 3] {
+        let (w, h) = (self.image.width as i32, self.image.height as i32);
+        self.image.texel(self.wrap.apply(x, w) as u32, self.wrap.apply(y, h) as u32)
+    }
+
+    /// Its value at `uv`, in f32 as the kernel computes it (`eval_bitmap_texture`).
+    pub fn eval(&self, uv: [f32; 2]) -> [f32; 3] {
+        let m = self.to_uv_f32();
+        let (u, v) = (m[0] * uv[0] + m[1] * uv[1] + m[2], m[3] * uv[0] + m[4] * uv[1] + m[5]);
+        let (w, h) = (self.image.width as f32, self.image.height as f32);
+        match self.filter {
+            Filter::Nearest => self.texel((u * w).floor() as i32, (v * h).floor() as i32),
+            Filter::Bilinear => {
+                // Texel centres at integers: position - 1/2, its floor the lower-left texel.
+                let (px, py) = (u * w - 0.5, v * h - 0.5);
+                let (x0, y0) = (px.floor(), py.floor());
+                let (fx, fy) = (px - x0, py - y0);
+                let (x0, y0) = (x0 as i32, y0 as i32);
+                let (t00, t10, t01, t11) = (self.texel(x0, y0), self.texel(x0 + 1, y0), self.texel(x0, y0 + 1), self.texel(x0 + 1, y0 + 1));
+                std::array::from_fn(|c| {
+                    let top = t00[c] + fx * (t10[c] - t00[c]);
+                    let bottom = t01[c] + fx * (t11[c] - t01[c]);
+                    top + fy * (bottom - top)
+                })
+            }
+        }
+    }
+
+    /// Numbers of its record in the BSDF data.
+    pub fn record_len(&self) -> u64 {
+        let texels = self.image.width as u64 * self.image.height as u64;
+        BITMAP_HEADER as u64
+            + match self.image.texels {
+                Texels::Bytes(_) => 256 + texels,
+                Texels::Float(_) => 3 * texels,
+            }
+    }
+
+    /// Its record: kind, width, height, filter (0 nearest, 1 bilinear), wrap (0 repeat,
+    /// 1 mirror, 2 clamp), storage (0 float RGB, 1 bytes), to_uv's six numbers; then for bytes
+    /// the 256-entry decode table and one number per texel (r + 256 g + 65536 b, exact in f32),
+    /// for floats three per texel; rows from the top.
+    pub fn pack(&self, data: &mut BsdfData) -> u32 {
+        let bytes = matches!(self.image.texels, Texels::Bytes(_));
+        let mut header = vec![
+            TEXTURE_BITMAP as f32,
+            self.image.width as f32,
+            self.image.height as f32,
+            (self.filter == Filter::Bilinear) as u32 as f32,
+            match self.wrap {
+                Wrap::Repeat => 0.0,
+                Wrap::Mirror => 1.0,
+                Wrap::Clamp => 2.0,
+            },
+            bytes as u32 as f32,
+        ];
+        header.extend(self.to_uv_f32());
+        debug_assert_eq!(header.len(), BITMAP_HEADER);
+        let start = data.push(&header);
+        match &self.image.texels {
+            Texels::Bytes(b) => {
+                data.push(&decode_table(self.image.srgb));
+                data.0.extend(b.iter().map(|t| (t[0] as u32 + 256 * t[1] as u32 + 65536 * t[2] as u32) as f32));
+            }
+            Texels::Float(f) => data.0.extend(f.iter().flatten()),
+        }
+        start
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn wrap_modes_fold_indices_as_drjit_does() {
+        let n = 3;
+        let got = |w: Wrap| (-7..8).map(|i| w.apply(i, n)).collect::<Vec<_>>();
+        assert_eq!(got(Wrap::Repeat), [2, 0, 1, 2, 0, 1, 2, 0, 1, 2, 0, 1, 2, 0, 1]);
+        assert_eq!(got(Wrap::Clamp), [0, 0, 0, 0, 0, 0, 0, 0, 1, 2, 2, 2, 2, 2, 2]);
+        // Mirror: ... 2 1 0 | 0 1 2 | 2 1 0 ...
+        assert_eq!(got(Wrap::Mirror), [0, 0, 1, 2, 2, 1, 0, 0, 1, 2, 2, 1, 0, 0, 1]);
+    }
+}

@@ -1,0 +1,328 @@
+//! Textures: spatially varying parameters of BSDFs, looked up at a hit's uv parametrisation
+//! (Mitsuba 3's `src/textures/`). One mechanism for every kind: a colour slot of a BSDF's
+//! parameter block holds either its value or a reference to a texture in the BSDF data
+//! (`texture_slot` in shaders/texture.wgsl), and the slots that may be textures are the kind's
+//! `BsdfPlugin::TEXTURE_SLOTS`, resolved before the BSDF is evaluated (the generated
+//! `bsdf_apply_textures`), so that no BSDF's code knows of textures. Scenes without textures
+//! compile all texture code out (the pipeline constant `HAS_TEXTURES`).
+//!
+//! Kinds: Mitsuba's `checkerboard` (`color0`, default 0.4; `color1`, default 0.2; `to_uv`, a
+//! scale) and `bitmap` (an image file; `bitmap.rs`). TOML: a colour field given as an inline
+//! table,
+//! `diffuse = { texture = "checkerboard", color0 = [0.8, 0.8, 0.8], color1 = 0.2, to_uv_scale = [20, 80] }`,
+//! `diffuse = { texture = "bitmap", filename = "wood.png", filter_type = "bilinear", wrap_mode = "repeat", raw = false, to_uv = [[2, 0, 0], [0, 2, 0]] }`
+//! (the file relative to the scene's folder; the defaults as shown but `to_uv`, the identity).
+
+pub mod bitmap;
+
+use std::ops::Range;
+use std::path::Path;
+
+pub use bitmap::{Bitmap, Filter, Wrap};
+
+use glam::{DVec2, DVec3};
+
+use crate::scene::bsdf_data::BsdfData;
+use crate::scene::raw::RawColor;
+
+/// Mitsuba's checkerboard colours by default.
+const DEFAULT_COLOR0: f64 = 0.4;
+const DEFAULT_COLOR1: f64 = 0.2;
+
+/// The kinds' numbers in the BSDF data (`TEXTURE_*` in texture.wgsl).
+pub const TEXTURE_CHECKERBOARD: u32 = 0;
+
+/// A texture and its parameters.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Texture {
+    /// Mitsuba's `checkerboard`: `color0` where the fractional parts of u and v (after
+    /// `to_uv`) are both above 1/2 or both not, `color1` elsewhere.
+    Checkerboard { color0: DVec3, color1: DVec3, to_uv_scale: DVec2 },
+    /// Mitsuba's `bitmap`: an image file.
+    Bitmap(Bitmap),
+}
+
+impl Texture {
+    /// Its name in TOML and Mitsuba (`checkerboard`).
+    pub fn name(&self) -> &'static str {
+        match self {
+            Texture::Checkerboard { .. } => "checkerboard",
+            Texture::Bitmap(_) => "bitmap",
+        }
+    }
+
+    /// Its mean over the uv square (Mitsuba's `mean()`): what a host computation that needs one
+    /// value (a lobe's sampling weight) takes.
+    pub fn mean(&self) -> DVec3 {
+        match self {
+            Texture::Checkerboard { color0, color1, .. } => 0.5 * (*color0 + *color1),
+            Texture::Bitmap(b) => DVec3::from(b.image.mean()),
+        }
+    }
+
+    /// Mitsuba's `mean()` of it, one number (what its plastics' `specular_sampling_weight`
+    /// reads): a checkerboard's is the mean of its colours' channel means, a bitmap's the mean
+    /// luminance of its texels.
+    pub fn mitsuba_mean(&self) -> f64 {
+        match self {
+            Texture::Checkerboard { color0, color1, .. } => 0.5 * (color0.element_sum() + color1.element_sum()) / 3.0,
+            Texture::Bitmap(b) => crate::scene::emitters::luminance(DVec3::from(b.image.mean())),
+        }
+    }
+
+    /// Its value at `uv`, in f32 as the kernel computes it: the host's twin of `eval_texture`.
+    pub fn eval(&self, uv: [f32; 2]) -> [f32; 3] {
+        match self {
+            Texture::Checkerboard { color0, color1, to_uv_scale } => {
+                let s = to_uv_scale.as_vec2();
+                let (u, v) = (uv[0] * s.x, uv[1] * s.y);
+                let (mu, mv) = (u - u.floor() > 0.5, v - v.floor() > 0.5);
+                if mu == mv { color0.as_vec3().to_array() } else { color1.as_vec3().to_array() }
+            }
+            Texture::Bitmap(b) => b.eval(uv),
+        }
+    }
+
+    /// Its record in the BSDF data: the kind, then its parameters; returns where it starts.
+    pub fn pack(&self, data: &mut BsdfData) -> u32 {
+        match self {
+            Texture::Checkerboard { color0, color1, to_uv_scale } => {
+                let (c0, c1, s) = (color0.as_vec3(), color1.as_vec3(), to_uv_scale.as_vec2());
+                data.push(&[TEXTURE_CHECKERBOARD as f32, c0.x, c0.y, c0.z, c1.x, c1.y, c1.z, s.x, s.y])
+            }
+            Texture::Bitmap(b) => b.pack(data),
+        }
+    }
+
+    /// One line for `pathlab check`: its kind and parameters, for a bitmap its image.
+    pub fn describe(&self) -> String {
+        match self {
+            Texture::Checkerboard { to_uv_scale, .. } => format!("checkerboard, to_uv scale ({}, {})", to_uv_scale.x, to_uv_scale.y),
+            Texture::Bitmap(b) => {
+                let storage = match (&b.image.texels, b.image.srgb) {
+                    (crate::scene::image_file::Texels::Bytes(_), true) => "8-bit sRGB",
+                    (crate::scene::image_file::Texels::Bytes(_), false) => "8-bit linear",
+                    (crate::scene::image_file::Texels::Float(_), _) => "float",
+                };
+                let name = b.file.file_name().map_or_else(|| b.file.display().to_string(), |n| n.to_string_lossy().into_owned());
+                format!("bitmap {name} {}x{} {storage}, {}, {}", b.image.width, b.image.height, b.filter.name(), b.wrap.name())
+            }
+        }
+    }
+
+    /// Bytes of its record on the GPU (what `pathlab check` reports as its memory).
+    pub fn gpu_bytes(&self) -> u64 {
+        4 * match self {
+            Texture::Checkerboard { .. } => 9,
+            Texture::Bitmap(b) => b.record_len(),
+        }
+    }
+
+    /// Its line of the scene hash, its vectors written by `vec3` (the hash's own format).
+    pub fn hash_value(&self, vec3: impl Fn(DVec3) -> String) -> String {
+        match self {
+            Texture::Checkerboard { color0, color1, to_uv_scale } => {
+                format!("checkerboard {} {} {}", vec3(*color0), vec3(*color1), vec3(to_uv_scale.extend(1.0)))
+            }
+            Texture::Bitmap(b) => {
+                let m = b.to_uv;
+                format!(
+                    "bitmap {} {} {} {} {} {} {}",
+                    b.content_hash,
+                    b.filter.name(),
+                    b.wrap.name(),
+                    b.raw,
+                    vec3(DVec3::from(m[0])),
+                    vec3(DVec3::from(m[1])),
+                    b.image.srgb
+                )
+            }
+        }
+    }
+
+    /// A texture from a TOML inline table (`{ texture = "checkerboard", ... }`); errors as
+    /// (span, message), naming the table's key.
+    /// Image files are relative to `base` (the scene's folder).
+    pub(crate) fn from_toml(table: &toml::Table, span: Range<usize>, base: &Path, errors: &mut Vec<(Range<usize>, String)>) -> Option<Texture> {
+        let kind = match table.get("texture") {
+            Some(toml::Value::String(k)) => k.clone(),
+            _ => {
+                errors.push((span, "a textured colour needs `texture = \"checkerboard\"` or `texture = \"bitmap\"`".into()));
+                return None;
+            }
+        };
+        match kind.as_str() {
+            "checkerboard" => Texture::checkerboard_from_toml(table, span, errors),
+            "bitmap" => Texture::bitmap_from_toml(table, span, base, errors),
+            _ => {
+                errors.push((span, format!("unknown texture \"{kind}\" (pathlab has checkerboard, bitmap)")));
+                None
+            }
+        }
+    }
+
+    fn checkerboard_from_toml(table: &toml::Table, span: Range<usize>, errors: &mut Vec<(Range<usize>, String)>) -> Option<Texture> {
+        let mut ok = true;
+        for key in table.keys() {
+            if !["texture", "color0", "color1", "to_uv_scale"].contains(&key.as_str()) {
+                errors.push((span.clone(), format!("unknown key `{key}` of a checkerboard (its keys: color0, color1, to_uv_scale)")));
+                ok = false;
+            }
+        }
+        let mut color = |key: &str, default: f64| -> DVec3 {
+            match table.get(key) {
+                None => DVec3::splat(default),
+                Some(v) => match <RawColor as serde::Deserialize>::deserialize(v.clone()).ok().map(|c| c.0) {
+                    Some(c) if c.iter().all(|x| x.is_finite() && *x >= 0.0) => DVec3::from(c),
+                    _ => {
+                        errors.push((span.clone(), format!("`{key}` of a checkerboard must be a colour >= 0 (a number or [r, g, b])")));
+                        ok = false;
+                        DVec3::ZERO
+                    }
+                },
+            }
+        };
+        let color0 = color("color0", DEFAULT_COLOR0);
+        let color1 = color("color1", DEFAULT_COLOR1);
+        let to_uv_scale = match table.get("to_uv_scale") {
+            None => DVec2::ONE,
+            Some(toml::Value::Array(a)) if a.len() == 2 => {
+                let n: Vec<Option<f64>> = a.iter().map(|x| x.as_float().or_else(|| x.as_integer().map(|i| i as f64))).collect();
+                match (n[0], n[1]) {
+                    (Some(x), Some(y)) if x.is_finite() && y.is_finite() && x != 0.0 && y != 0.0 => DVec2::new(x, y),
+                    _ => {
+                        errors.push((span.clone(), "`to_uv_scale` must be two finite non-zero numbers".into()));
+                        ok = false;
+                        DVec2::ONE
+                    }
+                }
+            }
+            Some(_) => {
+                errors.push((span.clone(), "`to_uv_scale` must be [su, sv]".into()));
+                ok = false;
+                DVec2::ONE
+            }
+        };
+        ok.then_some(Texture::Checkerboard { color0, color1, to_uv_scale })
+    }
+
+    fn bitmap_from_toml(table: &toml::Table, span: Range<usize>, base: &Path, errors: &mut Vec<(Range<usize>, String)>) -> Option<Texture> {
+        let keys = ["texture", "filename", "filter_type", "wrap_mode", "raw", "to_uv"];
+        let mut ok = true;
+        for key in table.keys() {
+            if !keys.contains(&key.as_str()) {
+                errors.push((span.clone(), format!("unknown key `{key}` of a bitmap (its keys: filename, filter_type, wrap_mode, raw, to_uv)")));
+                ok = false;
+            }
+        }
+        let mut choice = |key: &str, default: &str, names: &[&str]| -> String {
+            match table.get(key) {
+                None => default.to_string(),
+                Some(toml::Value::String(s)) if names.contains(&s.as_str()) => s.clone(),
+                Some(v) => {
+                    errors.push((span.clone(), format!("`{key}` of a bitmap must be one of {} (got {v})", names.join(", "))));
+                    ok = false;
+                    default.to_string()
+                }
+            }
+        };
+        let filter = Filter::parse(&choice("filter_type", "bilinear", &["bilinear", "nearest"])).expect("a listed filter");
+        let wrap = Wrap::parse(&choice("wrap_mode", "repeat", &["repeat", "mirror", "clamp"])).expect("a listed wrap mode");
+        let raw = match table.get("raw") {
+            None => false,
+            Some(toml::Value::Boolean(b)) => *b,
+            Some(_) => {
+                errors.push((span.clone(), "`raw` of a bitmap must be true or false".into()));
+                ok = false;
+                false
+            }
+        };
+        let to_uv = match table.get("to_uv") {
+            None => bitmap::IDENTITY_UV,
+            Some(v) => match uv_matrix(v) {
+                Some(m) => m,
+                None => {
+                    errors.push((span.clone(), "`to_uv` of a bitmap must be two rows of three finite numbers, [[m00, m01, m02], [m10, m11, m12]]".into()));
+                    ok = false;
+                    bitmap::IDENTITY_UV
+                }
+            },
+        };
+        let Some(toml::Value::String(name)) = table.get("filename") else {
+            errors.push((span, "a bitmap needs `filename = \"…\"` (an image file: .png, .jpg, .hdr or .exr)".into()));
+            return None;
+        };
+        let file = base.join(name);
+        if !file.exists() {
+            errors.push((span, format!("image file \"{name}\" not found (searched {}/)", base.display())));
+            return None;
+        }
+        let image = match crate::scene::image_file::read_image(&file, raw) {
+            Ok(image) => image,
+            Err(e) => {
+                errors.push((span, format!("image file {}: {e}", file.display())));
+                return None;
+            }
+        };
+        ok.then(|| Texture::Bitmap(Bitmap::new(file, image, filter, wrap, raw, to_uv)))
+    }
+
+    /// Its TOML inline table.
+    pub fn to_toml(&self) -> toml::Value {
+        match self {
+            Texture::Checkerboard { color0, color1, to_uv_scale } => {
+                let mut t = toml::Table::new();
+                t.insert("texture".into(), toml::Value::String("checkerboard".into()));
+                let color = |c: DVec3| toml::Value::try_from(RawColor(c.to_array())).expect("a colour is a TOML value");
+                t.insert("color0".into(), color(*color0));
+                t.insert("color1".into(), color(*color1));
+                t.insert("to_uv_scale".into(), toml::Value::Array(vec![toml::Value::Float(to_uv_scale.x), toml::Value::Float(to_uv_scale.y)]));
+                toml::Value::Table(t)
+            }
+            Texture::Bitmap(b) => {
+                let mut t = toml::Table::new();
+                t.insert("texture".into(), toml::Value::String("bitmap".into()));
+                t.insert("filename".into(), toml::Value::String(b.file.display().to_string()));
+                t.insert("filter_type".into(), toml::Value::String(b.filter.name().into()));
+                t.insert("wrap_mode".into(), toml::Value::String(b.wrap.name().into()));
+                t.insert("raw".into(), toml::Value::Boolean(b.raw));
+                if b.to_uv != bitmap::IDENTITY_UV {
+                    let row = |r: [f64; 3]| toml::Value::Array(r.iter().map(|x| toml::Value::Float(*x)).collect());
+                    t.insert("to_uv".into(), toml::Value::Array(vec![row(b.to_uv[0]), row(b.to_uv[1])]));
+                }
+                toml::Value::Table(t)
+            }
+        }
+    }
+}
+
+/// `[[m00, m01, m02], [m10, m11, m12]]` of finite numbers.
+fn uv_matrix(v: &toml::Value) -> Option<[[f64; 3]; 2]> {
+    let rows = v.as_array().filter(|r| r.len() == 2)?;
+    let mut m = [[0.0; 3]; 2];
+    for (r, row) in rows.iter().enumerate() {
+        let row = row.as_array().filter(|x| x.len() == 3)?;
+        for (c, x) in row.iter().enumerate() {
+            m[r][c] = x.as_float().or_else(|| x.as_integer().map(|i| i as f64)).filter(|x| x.is_finite())?;
+        }
+    }
+    Some(m)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_checkerboard_is_mitsubas() {
+        let t = Texture::Checkerboard { color0: DVec3::splat(0.8), color1: DVec3::splat(0.2), to_uv_scale: DVec2::new(2.0, 1.0) };
+        // (0.3, 0.2) -> (0.6, 0.2): u above 1/2, v not: color1.
+        assert_eq!(t.eval([0.3, 0.2]), [0.2; 3]);
+        // (0.1, 0.2) -> both below: color0; (0.3, 0.7): both above: color0.
+        assert_eq!(t.eval([0.1, 0.2]), [0.8; 3]);
+        assert_eq!(t.eval([0.3, 0.7]), [0.8; 3]);
+        // Negative coordinates repeat: -0.1 -> fraction 0.9.
+        assert_eq!(t.eval([-0.05, 0.7]), [0.8; 3]);
+        assert_eq!(t.mean(), DVec3::splat(0.5));
+    }
+}
