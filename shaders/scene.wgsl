@@ -12,6 +12,8 @@ override NUM_PLANES: u32 = 0u;
 override NUM_OCCLUDING_PLANES: u32 = 0u;
 // False when the environment is black: escaped rays are not looked up.
 override HAS_ENVIRONMENT: bool = true;
+// The environment is an image (emitters/environment.wgsl): escaped rays look it up.
+override HAS_ENVIRONMENT_MAP: bool = false;
 // False when no path vertex can be inside a light sphere (the camera is outside every light and
 // no other object reaches into one): sampling lights from inside compiles out.
 override LIGHT_INTERIORS_REACHABLE: bool = true;

@@ -93,6 +93,19 @@ named_enum! {
 }
 
 named_enum! {
+    /// How next event estimation draws a direction towards an environment map (`+env`;
+    /// `shaders/emitters/environment.wgsl`, `ENV_SAMPLING`). A constant environment is always
+    /// sampled uniformly.
+    pub enum EnvSampling("environment sampling") {
+        /// In proportion to the map's luminance times sin(theta): a piecewise-constant
+        /// distribution over its texels (Mitsuba's default strategy).
+        Luminance = "env-luminance",
+        /// Uniform over the sphere of directions.
+        Uniform = "env-uniform",
+    }
+}
+
+named_enum! {
     /// How a rough conductor's microfacet normals are sampled (`shaders/microfacet.wgsl`), where
     /// the BSDF strategy samples the material (`phong`): its counterpart of the Phong mixture.
     pub enum MicrofacetSampling("microfacet sampling") {
@@ -139,6 +152,8 @@ pub struct Method {
     /// escaped rays take the MIS weight against it); off by default, as Mitsuba's `path`
     /// would not leave it, but as pathlab's images were before the environment was a light.
     pub environment: bool,
+    /// How the environment is sampled where it is an image and `environment` is on.
+    pub env_sampling: EnvSampling,
 }
 
 /// The method-name suffix (`mis+env`) of `Method::environment`.
@@ -167,6 +182,7 @@ impl Preset {
             microfacet: MicrofacetSampling::Vndf,
             lobes: LobeSelection::Fresnel,
             environment: false,
+            env_sampling: EnvSampling::Luminance,
         }
     }
 }
@@ -237,6 +253,7 @@ pub struct MethodParts {
     pub microfacet: Option<MicrofacetSampling>,
     pub lobes: Option<LobeSelection>,
     pub environment: Option<bool>,
+    pub env_sampling: Option<EnvSampling>,
 }
 
 impl MethodParts {
@@ -251,6 +268,7 @@ impl MethodParts {
             microfacet: self.microfacet.unwrap_or(method.microfacet),
             lobes: self.lobes.unwrap_or(method.lobes),
             environment: self.environment.unwrap_or(method.environment),
+            env_sampling: self.env_sampling.unwrap_or(method.env_sampling),
         }
     }
 }
@@ -274,6 +292,7 @@ impl Method {
             microfacet: MicrofacetSampling::Vndf,
             lobes: LobeSelection::Fresnel,
             environment: false,
+            env_sampling: EnvSampling::Luminance,
             ..*self
         }
     }
@@ -308,6 +327,9 @@ impl Method {
         if self.environment {
             name = format!("{name}+{ENVIRONMENT_OPTION}");
         }
+        if self.env_sampling != EnvSampling::Luminance {
+            name = format!("{name}+{}", self.env_sampling);
+        }
         name
     }
 
@@ -326,6 +348,8 @@ impl Method {
                 method.lobes = l;
             } else if option == ENVIRONMENT_OPTION {
                 method.environment = true;
+            } else if let Some(e) = EnvSampling::from_name(option) {
+                method.env_sampling = e;
             } else {
                 let known: Vec<&str> = LightSelect::names()
                     .into_iter()
@@ -333,6 +357,7 @@ impl Method {
                     .chain(MicrofacetSampling::names())
                     .chain(LobeSelection::names())
                     .chain([ENVIRONMENT_OPTION])
+                    .chain(EnvSampling::names())
                     .collect();
                 return Err(UnknownName { what: "light option", name: option.to_string(), known: known.join(", ") });
             }
@@ -360,6 +385,7 @@ impl Method {
                 microfacet: MicrofacetSampling::Vndf,
                 lobes: LobeSelection::Fresnel,
                 environment: false,
+                env_sampling: EnvSampling::Luminance,
             }),
             _ => Err(unknown()),
         }
@@ -398,8 +424,10 @@ mod tests {
                             for microfacet in MicrofacetSampling::ALL {
                                 for lobes in LobeSelection::ALL {
                                     for environment in [false, true] {
-                                        let m = Method { sampler, bsdf, lights, select, triangles, microfacet, lobes, environment };
-                                        assert_eq!(Method::from_name(&m.name()), Ok(m), "{}", m.name());
+                                        for env_sampling in EnvSampling::ALL {
+                                            let m = Method { sampler, bsdf, lights, select, triangles, microfacet, lobes, environment, env_sampling };
+                                            assert_eq!(Method::from_name(&m.name()), Ok(m), "{}", m.name());
+                                        }
                                     }
                                 }
                             }

@@ -92,6 +92,7 @@ fn overrides_set_by_the_host_are_those_the_module_declares() {
         has_specular: true,
         bsdf_kinds: u32::MAX,
         has_environment: true,
+        has_environment_map: true,
         light_interiors_reachable: true,
     };
     let key = PipelineKey::new(Preset::Best.method(), features, pathlab::method::LightSelect::Power);

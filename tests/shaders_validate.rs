@@ -2,7 +2,7 @@
 //! after specialisation, exactly as wgpu would at pipeline creation.
 
 use pathlab::gpu::{pipeline_constants, PipelineKey, NO_TRAVERSAL_GUARD};
-use pathlab::method::{BsdfSampling, LightSampling, LightSelect, LobeSelection, MicrofacetSampling, Method, Sampler, TriangleSampling};
+use pathlab::method::{BsdfSampling, LightSampling, LightSelect, EnvSampling, LobeSelection, MicrofacetSampling, Method, Sampler, TriangleSampling};
 use pathlab::gpu::SceneFeatures;
 use pathlab::shaders;
 
@@ -32,7 +32,9 @@ fn every_override_permutation_validates() {
                                 // conductors and plastics on and off.
                                 let microfacet = if (checked / 2) % 2 == 0 { MicrofacetSampling::Vndf } else { MicrofacetSampling::Ndf };
                                 let lobes = if (checked / 4) % 2 == 0 { LobeSelection::Fresnel } else { LobeSelection::Fixed };
-                                let method = Method { sampler, bsdf, lights, select: Some(select), triangles, microfacet, lobes, environment: on };
+                                // Both environment-map strategies, with the map on and off.
+                                let env_sampling = if (checked / 8) % 2 == 0 { EnvSampling::Luminance } else { EnvSampling::Uniform };
+                                let method = Method { sampler, bsdf, lights, select: Some(select), triangles, microfacet, lobes, environment: on, env_sampling };
                                 let features = SceneFeatures {
                                     num_spheres,
                                     num_planes,
@@ -48,6 +50,7 @@ fn every_override_permutation_validates() {
                                     has_specular: on,
                                     bsdf_kinds: if on { u32::MAX } else { pathlab::scene::BsdfKind::Phong.bit() },
                                     has_environment: on,
+                                    has_environment_map: on,
                                     light_interiors_reachable: on,
                                 };
                                 let key = PipelineKey { method, features, traversal_budget: budget };

@@ -20,6 +20,7 @@ mod cornell_conductors;
 mod deploy;
 mod dielectrics;
 mod environment_light;
+mod environment_map;
 #[cfg(feature = "viewer")]
 mod display_pass;
 mod error_estimate;

@@ -237,7 +237,7 @@ fn textures_are_read_from_toml_and_xml_and_bad_ones_refused() {
     assert!(matches!(&s.materials[0].bsdf, Bsdf::Phong(p) if p.diffuse_texture.as_ref() == Some(&expected)), "{:?}", s.materials[0].bsdf);
     for (bsdf, message) in [
         ("<bsdf type=\"diffuse\" id=\"t\"><texture type=\"bricks\" name=\"reflectance\"/></bsdf>", "<texture type=\"bricks\"> is not supported (pathlab has checkerboard, bitmap)"),
-        ("<bsdf type=\"diffuse\" id=\"t\"><texture type=\"checkerboard\" name=\"reflectance\"><transform name=\"to_uv\"><rotate z=\"1\" angle=\"30\"/></transform></texture></bsdf>", "only <scale> is supported"),
+        ("<bsdf type=\"diffuse\" id=\"t\"><texture type=\"checkerboard\" name=\"reflectance\"><transform name=\"to_uv\"><rotate z=\"1\" angle=\"30\"/></transform></texture></bsdf>", "only a scale of u and v is supported"),
         ("<bsdf type=\"roughplastic\" id=\"t\"><texture type=\"checkerboard\" name=\"specular_reflectance\"/></bsdf>", "a textured parameter other than diffuse_reflectance is not supported"),
         ("<bsdf type=\"conductor\" id=\"t\"><texture type=\"checkerboard\" name=\"eta\"/></bsdf>", "a textured parameter other than specular_reflectance is not supported"),
     ] {
@@ -296,6 +296,15 @@ fn bitmaps_are_read_from_toml_and_xml_and_bad_ones_refused() {
     let Bsdf::Phong(p) = &s.materials[0].bsdf else { panic!("not phong") };
     let Some(Texture::Bitmap(b)) = &p.diffuse_texture else { panic!("{:?}", p.diffuse_texture) };
     assert_eq!((b.file.clone(), b.wrap, b.raw, b.to_uv), (dir.path().join("grid.png"), Wrap::Clamp, true, [[4.0, 0.0, 0.0], [0.0, 2.0, 0.0]]));
+    // A texture defined at the top level and taken by `<ref name id>`, before or after it.
+    let wood = "<texture type=\"bitmap\" id=\"wood\"><string name=\"filename\" value=\"grid.png\"/><string name=\"filter_type\" value=\"nearest\"/></texture>";
+    let user = "<bsdf type=\"roughplastic\" id=\"t\"><ref name=\"diffuse_reflectance\" id=\"wood\"/></bsdf>";
+    for defs in [format!("{wood}{user}"), format!("{user}{wood}")] {
+        std::fs::write(&xml_path, xml_with_bsdf(&defs, "t")).unwrap();
+        let s = Scene::load(&xml_path).unwrap_or_else(|e| panic!("{defs}: {e}"));
+        let Bsdf::RoughPlastic(p) = &s.materials[0].bsdf else { panic!("not a rough plastic: {:?}", s.materials[0].bsdf) };
+        assert!(matches!(&p.layers.diffuse_texture, Some(Texture::Bitmap(b)) if b.filter == Filter::Nearest), "{defs}: {:?}", p.layers.diffuse_texture);
+    }
     for (inner, message) in [
         ("<string name=\"filename\" value=\"wood.png\"/>", "image file \"wood.png\" not found (searched"),
         ("", "<texture type=\"bitmap\"> needs <string name=\"filename\">"),

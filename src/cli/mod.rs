@@ -197,6 +197,18 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
             println!("  {material}: {} ({:.1} KiB)", t.describe(), t.gpu_bytes() as f64 / 1024.0);
         }
     }
+    if let Some(m) = &scene.environment_map {
+        let name = m.file.file_name().map_or_else(|| m.file.display().to_string(), |n| n.to_string_lossy().into_owned());
+        println!(
+            "environment map: {name} {}x{}, scale {}, mean radiance (luminance) {:.4}, GPU memory {:.2} MiB (texels and luminance distribution){}",
+            m.image.width,
+            m.image.height,
+            m.scale,
+            m.mean_luminance(),
+            (m.pack().len() * 4) as f64 / (1 << 20) as f64,
+            if m.is_black() { "; black: not a light" } else { "" }
+        );
+    }
     if f.num_triangles > 0 {
         let start = std::time::Instant::now();
         let packed = pathlab::gpu::PackedTriangles::new(&scene, false);

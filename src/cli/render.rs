@@ -9,7 +9,7 @@ use clap::Args;
 use pathlab::display::{DisplayTransform, Transfer};
 use pathlab::estimate::target::Target;
 use pathlab::gpu::{adapter_summary, Gpu, PathTracerPipelines};
-use pathlab::method::{BsdfSampling, LightSampling, LightSelect, LobeSelection, Method, MethodParts, MicrofacetSampling, Sampler, TriangleSampling};
+use pathlab::method::{BsdfSampling, LightSampling, LightSelect, EnvSampling, LobeSelection, Method, MethodParts, MicrofacetSampling, Sampler, TriangleSampling};
 use pathlab::render::{ctrl_c_flag, default_output, Budget, CheckpointPlan, ErrorPlan, OutputFiles, RenderJob, Resume, MAX_SPP};
 use pathlab::scene::{ApplicableOptions, Overrides};
 use pathlab::shard::{default_part_name, shard_range};
@@ -66,6 +66,11 @@ pub struct RenderArgs {
     /// no lights.
     #[arg(long)]
     sample_environment: bool,
+    /// How next event estimation draws directions towards an environment map (with
+    /// `--sample-environment` or `+env`): `env-luminance` (Mitsuba's: by luminance times
+    /// sin theta) or `env-uniform` (as the method suffix `+env-uniform`).
+    #[arg(long, value_parser = named::<EnvSampling>())]
+    env_sampling: Option<EnvSampling>,
     /// Samples per pixel (default: the scene's render.spp, else 64).
     #[arg(long, conflicts_with = "time")]
     spp: Option<u64>,
@@ -166,6 +171,10 @@ fn inapplicable_flags(args: &RenderArgs, scene: &pathlab::scene::Scene, method: 
         let why = if has.environment_sampling { no_lights.clone() } else { "the scene's environment is black".to_string() };
         notes.push(format!("--sample-environment has no effect: {why}"));
     }
+    if args.env_sampling.is_some() && (scene.environment_map.is_none() || !method.environment) {
+        let why = if scene.environment_map.is_none() { "the scene's environment is not a map" } else { "the method does not sample the environment (add --sample-environment or +env)" };
+        notes.push(format!("--env-sampling has no effect: {why}"));
+    }
     notes
 }
 
@@ -204,6 +213,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
         microfacet: args.microfacet_sampling,
         lobes: args.lobe_selection,
         environment: args.sample_environment.then_some(true),
+        env_sampling: args.env_sampling,
     };
     let method = parts.apply(args.method);
     for note in inapplicable_flags(&args, &scene, &method) {

@@ -30,6 +30,8 @@ pub struct SceneFeatures {
     /// The BSDF kinds some material has (`BsdfKind::bit`): each a `HAS_<KIND>` override.
     pub bsdf_kinds: u32,
     pub has_environment: bool,
+    /// The environment is an image (`Scene::environment_map`): escaped rays look it up.
+    pub has_environment_map: bool,
     /// False when no path vertex can be inside a light: sampling lights from inside (by area)
     /// is compiled out, leaving cone sampling alone.
     pub light_interiors_reachable: bool,
@@ -64,7 +66,8 @@ impl SceneFeatures {
             rr_depth: scene.render.rr_depth.unwrap_or(0),
             has_specular: scene.materials.iter().any(|m| m.bsdf.as_phong().is_some_and(|p| p.specular.max_element() > 0.0)),
             bsdf_kinds: scene.materials.iter().fold(0, |kinds, m| kinds | m.bsdf_kind().bit()),
-            has_environment: scene.render.environment.max_element() > 0.0,
+            has_environment: scene.has_environment(),
+            has_environment_map: scene.environment_map.is_some(),
             num_occluding_planes: scene.occluding_planes().len() as u32,
             light_interiors_reachable: scene.light_interiors_reachable(),
         }

@@ -29,11 +29,14 @@ impl KernelRun<'_> {
         let device = &gpu.device;
         // The BSDF library's one binding, its data, as one zero where the kernel gives none (a
         // kernel that reaches no kind reading data, or a source without the library).
+        // The same for the environment map.
         let mut inputs = self.inputs.clone();
-        let data = bindings::BSDF_DATA.number;
-        let taken = inputs.iter().chain(&self.uniforms).any(|(b, _)| *b == data) || self.output.0 == data;
-        if !taken && self.source.contains("BINDING_BSDF_DATA) var") {
-            inputs.push((data, vec![0; 4]));
+        for binding in [bindings::BSDF_DATA, bindings::ENVIRONMENT_MAP] {
+            let data = binding.number;
+            let taken = inputs.iter().chain(&self.uniforms).any(|(b, _)| *b == data) || self.output.0 == data;
+            if !taken && self.source.contains(&format!("BINDING_{}) var", binding.name)) {
+                inputs.push((data, vec![0; 4]));
+            }
         }
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {

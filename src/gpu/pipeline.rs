@@ -63,6 +63,7 @@ pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
         ("TRIANGLE_SAMPLING", key.method.triangles.constant() as f64),
         ("MICROFACET_SAMPLING", key.method.microfacet.constant() as f64),
         ("LOBE_SELECTION", key.method.lobes.constant() as f64),
+        ("ENV_SAMPLING", key.method.env_sampling.constant() as f64),
         ("NUM_SPHERES", f.num_spheres as f64),
         ("NUM_PLANES", f.num_planes as f64),
         ("NUM_TRIANGLES", f.num_triangles as f64),
@@ -73,6 +74,7 @@ pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
         ("NUM_OCCLUDING_PLANES", f.num_occluding_planes as f64),
         ("HAS_SPECULAR", f.has_specular as u32 as f64),
         ("HAS_ENVIRONMENT", f.has_environment as u32 as f64),
+        ("HAS_ENVIRONMENT_MAP", f.has_environment_map as u32 as f64),
         ("LIGHT_INTERIORS_REACHABLE", f.light_interiors_reachable as u32 as f64),
     ];
     constants.extend(kinds);
@@ -123,7 +125,9 @@ pub fn loop_iterations_per_sample(key: &PipelineKey, max_depth: u32, bvh_nodes: 
         None | Some(LightSelect::All) => (l, 2 * l),
         Some(_) => (l.min(1), 3),
     };
-    let per_vertex = 1 + s + p + shadow_rays * (1 + s + p) + (3 + light_dims) * per_dim;
+    // Drawing from an environment map's distribution: two bisections, at most 32 steps each.
+    let env_search = if f.has_environment_map && key.method.environment { 64 } else { 0 };
+    let per_vertex = 1 + s + p + shadow_rays * (1 + s + p) + (3 + light_dims) * per_dim + env_search;
     let fixed = 1 + 2 * per_dim + max_depth as u64 * per_vertex;
     let rays = 1 + max_depth as u64 * (1 + shadow_rays);
     let steps_per_ray = if f.num_triangles > 0 { bvh_nodes + 2 * bvh_leaves + f.num_triangles as u64 } else { 0 };

@@ -243,6 +243,7 @@ impl SceneBuffers {
             contents(bindings::PLANES, "planes", uniform_array(&Self::pack_planes(scene), MAX_PLANES)),
             contents(bindings::MATERIALS, "materials", uniform_array(&materials, MAX_MATERIALS)),
             contents(bindings::BSDF_DATA, "bsdf data", storage_array(&bsdf_data.0)),
+            contents(bindings::ENVIRONMENT_MAP, "environment map", storage_array(&scene.environment_map.as_ref().map_or(Vec::new(), |m| m.pack()))),
             contents(bindings::TRIANGLES, "triangles", storage_array(&packed.triangles)),
             contents(bindings::TRIANGLE_NORMALS, "triangle normals", storage_array(&packed.normals)),
             contents(bindings::TRIANGLE_UVS, "triangle uvs", storage_array(&packed.uvs)),

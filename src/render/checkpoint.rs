@@ -97,6 +97,7 @@ impl CheckpointKey {
             ("microfacet_sampling", self.method.microfacet.to_string()),
             ("lobe_selection", self.method.lobes.to_string()),
             ("environment_sampling", if self.method.environment { "on" } else { "off" }.to_string()),
+            ("environment_map_sampling", self.method.env_sampling.to_string()),
             ("seed", self.seed.to_string()),
             ("scene_hash", self.scene_hash.clone()),
         ]
@@ -209,6 +210,11 @@ impl Checkpoint {
             None => crate::method::MicrofacetSampling::Vndf,
             Some(v) => v.parse().map_err(|e| invalid(format!("pathlab:microfacet_sampling: {e}")))?,
         };
+        // Files written before environment maps have Mitsuba's luminance sampling.
+        let env_sampling = match header.get("environment_map_sampling") {
+            None => crate::method::EnvSampling::Luminance,
+            Some(v) => v.parse().map_err(|e| invalid(format!("pathlab:environment_map_sampling: {e}")))?,
+        };
         // Files written before layered BSDFs have Mitsuba's Fresnel-weighted lobe selection.
         let lobes = match header.get("lobe_selection") {
             None => crate::method::LobeSelection::Fresnel,
@@ -229,6 +235,7 @@ impl Checkpoint {
             microfacet,
             lobes,
             environment,
+            env_sampling,
         };
         let scene_hash = header.text("scene_hash").map_err(attr)?.to_string();
         if scene_hash.len() != 16 || !scene_hash.bytes().all(|b| b.is_ascii_hexdigit() && !b.is_ascii_uppercase()) {

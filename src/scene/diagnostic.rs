@@ -44,12 +44,10 @@ impl fmt::Display for Diagnostic {
 /// Why a scene could not be loaded.
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
-    #[error("cannot read scene file {}: {source}", path.display())]
-    Io {
-        path: PathBuf,
-        #[source]
-        source: std::io::Error,
-    },
+    /// The cause is part of the message (not a `source`, which a caller printing the chain
+    /// would print a second time).
+    #[error("cannot read scene file {}: {cause}", path.display())]
+    Io { path: PathBuf, cause: std::io::Error },
     #[error("{}", format_errors(.0))]
     Invalid(Vec<Diagnostic>),
 }

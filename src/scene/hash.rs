@@ -74,6 +74,11 @@ pub fn canonical_encoding(scene: &Scene) -> String {
         line("render.rr_depth", rr.to_string());
     }
     line("render.environment", vec3(r.environment));
+    // Only scenes with a map add a line, so that scenes written before keep their hash.
+    if let Some(m) = &scene.environment_map {
+        let rows = m.to_world.iter().map(|r| vec3(glam::DVec3::from(*r))).collect::<Vec<_>>().join(" ");
+        line("environment_map", format!("{} {} {}", m.content_hash, real(m.scale), rows));
+    }
     line("materials", scene.materials.len().to_string());
     for (i, m) in scene.materials.iter().enumerate() {
         // Phong's three lines come before the emission, and every other kind's own lines after

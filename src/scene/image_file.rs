@@ -76,6 +76,21 @@ impl Image {
         sum.map(|s| s / n)
     }
 
+    /// SHA-256 (first 16 hex digits) of its size, encoding and texels: the scene hash's record
+    /// of an image's content.
+    pub fn content_hash(&self) -> String {
+        use sha2::Digest;
+        let mut h = sha2::Sha256::new();
+        h.update(self.width.to_le_bytes());
+        h.update(self.height.to_le_bytes());
+        h.update([self.srgb as u8]);
+        match &self.texels {
+            Texels::Bytes(b) => b.iter().for_each(|t| h.update(t)),
+            Texels::Float(f) => f.iter().for_each(|t| t.iter().for_each(|c| h.update(c.to_le_bytes()))),
+        }
+        h.finalize().iter().take(8).map(|b| format!("{b:02x}")).collect()
+    }
+
     /// Bytes on the GPU: 4 per 8-bit texel (its three codes in one number), 12 per float texel.
     pub fn gpu_bytes(&self) -> u64 {
         let per = match self.texels {

@@ -34,7 +34,7 @@ pub use bsdfs::{
     ThinDielectric, NAMED_CONDUCTORS, ROUGH_PLASTIC_TABLE_RES,
 };
 pub use diagnostic::{Diagnostic, SceneError, Severity};
-pub use emitters::{AliasTable, EmitterKind, Light};
+pub use emitters::{AliasTable, EmitterKind, EnvironmentMap, Light};
 pub use mesh::Mesh;
 pub use overrides::{OverrideError, Overrides, Reframing};
 pub use transform::Transform;
@@ -239,6 +239,9 @@ pub struct Scene {
     pub planes: Vec<Plane>,
     /// Triangle meshes in world space (`[[meshes]]`, `[[rectangles]]`, `[[cubes]]`).
     pub meshes: Vec<Mesh>,
+    /// The environment as an image (`[environment_map]`, Mitsuba's `envmap`); the constant
+    /// `render.environment` is then black.
+    pub environment_map: Option<EnvironmentMap>,
     /// How images of this scene are shown and scored on screen (`[display]`, default sRGB):
     /// PNG previews, figures and the display-referred metrics. Not part of `content_hash`.
     pub display: crate::display::DisplayTransform,
@@ -274,9 +277,9 @@ impl Scene {
                 message: "--define applies to Mitsuba XML scenes (.xml) only".into(),
             }]));
         }
-        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+        let text = std::fs::read_to_string(path).map_err(|cause| SceneError::Io {
             path: path.to_path_buf(),
-            source,
+            cause,
         })?;
         Scene::parse(&text, path)
     }

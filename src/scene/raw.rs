@@ -25,6 +25,20 @@ pub(crate) struct RawScene {
     pub rectangles: Vec<Spanned<RawShape>>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub cubes: Vec<Spanned<RawShape>>,
+    /// `[environment_map]`: Mitsuba's `envmap`.
+    pub environment_map: Option<Spanned<RawEnvironmentMap>>,
+}
+
+/// `[environment_map]`: a latitude-longitude image lighting the scene from infinity.
+#[derive(Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawEnvironmentMap {
+    /// The image file (relative to the scene's folder).
+    pub filename: Spanned<String>,
+    /// A factor on its radiance (default 1).
+    pub scale: Option<Spanned<f64>>,
+    /// Its frame in the world: a rotation (default: the image's top row looks along +y).
+    pub transform: Option<Spanned<RawTransform>>,
 }
 
 /// `[[meshes]]`: a triangle mesh from an OBJ or PLY file.

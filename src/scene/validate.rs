@@ -13,7 +13,7 @@ use crate::display::{DisplayTransform, Transfer};
 use super::checker::Checker;
 use super::diagnostic::SourceMap;
 use super::mesh::{self, shapes, Mesh, MeshData, Shading};
-use super::raw::{RawMaterial, RawRotations, RawScale, RawScene, RawTransform};
+use super::raw::{RawEnvironmentMap, RawMaterial, RawRotations, RawScale, RawScene, RawTransform};
 use super::transform::Transform;
 use super::{
     Camera, Diagnostic, Fov, Material, Plane, RenderSettings, Scene, SceneError, Severity, Sphere, MAX_MATERIALS,
@@ -127,9 +127,13 @@ pub(super) fn validate(raw: &RawScene, file: &Path, sources: SourceMap, diagnost
             ck.warn(raw.materials[name].span(), format!("materials.{name}"), "material is defined but never used");
         }
     }
+    let environment_map = raw.environment_map.as_ref().and_then(|e| check_environment_map(&mut ck, e));
+    if environment_map.is_some() && render.environment.max_element() > 0.0 {
+        ck.error(raw.render.span(), "render.environment", "give either a constant environment or an environment map, not both (Mitsuba has one infinite emitter)");
+    }
     let any_emitter = spheres.iter().map(|s| s.material).chain(meshes.iter().map(|m| m.material))
         .any(|m| materials.get(m).is_some_and(Material::is_emissive));
-    if !any_emitter && render.environment.max_element() <= 0.0 {
+    if !any_emitter && render.environment.max_element() <= 0.0 && environment_map.is_none() {
         ck.warn(raw.render.span(), "render.environment", "the scene has no emitter and a black environment: the image will be black");
     }
 
@@ -146,9 +150,60 @@ pub(super) fn validate(raw: &RawScene, file: &Path, sources: SourceMap, diagnost
         spheres,
         planes,
         meshes,
+        environment_map,
         display,
         warnings: ck.diagnostics,
     })
+}
+
+/// `[environment_map]`: its image read (relative to the scene's folder), its scale finite and
+/// non-negative, its transform a rotation.
+fn check_environment_map(ck: &mut Checker, e: &Spanned<RawEnvironmentMap>) -> Option<super::EnvironmentMap> {
+    let raw = e.get_ref();
+    let scale = match &raw.scale {
+        Some(s) => {
+            let v = ck.number(s, "environment_map.scale");
+            if v < 0.0 {
+                ck.error(s.span(), "environment_map.scale", format!("scale must be >= 0 (got {v})"));
+            }
+            v
+        }
+        None => 1.0,
+    };
+    let transform = check_transform(ck, raw.transform.as_ref(), "environment_map.transform");
+    let m = glam::DMat3::from_mat4(transform.matrix);
+    let orthonormal = (m.transpose() * m - glam::DMat3::IDENTITY).to_cols_array().iter().all(|x| x.abs() <= 1e-4) && m.determinant() > 0.0;
+    let translated = transform.matrix.w_axis.truncate() != DVec3::ZERO;
+    if !orthonormal || translated {
+        let span = raw.transform.as_ref().map_or(e.span(), |t| t.span());
+        ck.error(span, "environment_map.transform", "an environment map's transform must be a rotation (directions at infinity are neither moved nor scaled)");
+    }
+    let base = ck.file.parent().map(Path::to_path_buf).unwrap_or_default();
+    let file = base.join(raw.filename.get_ref());
+    if !file.exists() {
+        ck.error(raw.filename.span(), "environment_map.filename", format!("image file \"{}\" not found (searched {}/)", raw.filename.get_ref(), base.display()));
+        return None;
+    }
+    let image = match super::image_file::read_image(&file, false) {
+        Ok(image) => image,
+        Err(message) => {
+            ck.error(raw.filename.span(), "environment_map.filename", format!("image file {}: {message}", file.display()));
+            return None;
+        }
+    };
+    if let super::image_file::Texels::Float(t) = &image.texels
+        && let Some(i) = t.iter().position(|p| p.iter().any(|c| *c < 0.0))
+    {
+        ck.error(raw.filename.span(), "environment_map.filename", format!("image file {}: pixel ({}, {}) is negative: {:?}", file.display(), i as u32 % image.width, i as u32 / image.width, t[i]));
+        return None;
+    }
+    // Orthonormalised (Gram-Schmidt on the columns), the rows of R.
+    let x = m.x_axis.normalize();
+    let y = (m.y_axis - x * x.dot(m.y_axis)).normalize();
+    let z = x.cross(y);
+    let r = glam::DMat3::from_cols(x, y, z);
+    let rows = [r.row(0).to_array(), r.row(1).to_array(), r.row(2).to_array()];
+    Some(super::EnvironmentMap { file, content_hash: image.content_hash(), image: std::sync::Arc::new(image), scale, to_world: rows })
 }
 
 /// A transform table: a `matrix` alone, or translate/rotate/scale (see `scene::transform`).

@@ -49,8 +49,12 @@ pub const SPHERE_AXES: Binding = Binding { number: 13, name: "SPHERE_AXES", kind
 /// transmittance tables.
 pub const BSDF_DATA: Binding = Binding { number: 14, name: "BSDF_DATA", kind: Kind::Storage { read_only: true } };
 
+/// The environment map (`EnvironmentMap::pack`, emitters/environment.wgsl): its size, scale,
+/// rotation and texels.
+pub const ENVIRONMENT_MAP: Binding = Binding { number: 15, name: "ENVIRONMENT_MAP", kind: Kind::Storage { read_only: true } };
+
 /// The path tracer's bind group.
-pub const PATH_TRACER: [Binding; 14] = [
+pub const PATH_TRACER: [Binding; 15] = [
     FRAME,
     SPHERES,
     PLANES,
@@ -65,6 +69,7 @@ pub const PATH_TRACER: [Binding; 14] = [
     TRIANGLE_UVS,
     SPHERE_AXES,
     BSDF_DATA,
+    ENVIRONMENT_MAP,
 ];
 
 /// The display pass's parameters (`DisplayParams`, display.wgsl).

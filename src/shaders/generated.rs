@@ -4,7 +4,7 @@
 
 use crate::display::{Transfer, View};
 use crate::metrics::linear::REL_MSE_EPSILON;
-use crate::method::{BsdfSampling, LightSampling, LightSelect, LobeSelection, MicrofacetSampling, Sampler, TriangleSampling};
+use crate::method::{BsdfSampling, LightSampling, LightSelect, EnvSampling, LobeSelection, MicrofacetSampling, Sampler, TriangleSampling};
 use crate::names::wgsl_constants;
 use crate::scene::{BsdfKind, Distribution, EmitterKind, MAX_MATERIALS, MAX_PLANES, MAX_SPHERES};
 
@@ -25,9 +25,9 @@ pub fn generated_constants() -> String {
          // Scenes of at most this many triangles test them all from a uniform buffer (src/accel/mod.rs).\n\
          const BRUTE_FORCE_TRIANGLES: u32 = {}u;\n\
          // Values of the `override` choices SAMPLER, BSDF_SAMPLING, LIGHT_SAMPLING, LIGHT_SELECT,\n\
-         // TRIANGLE_SAMPLING, MICROFACET_SAMPLING, LOBE_SELECTION (src/method.rs), the microfacet\n\
+         // TRIANGLE_SAMPLING, MICROFACET_SAMPLING, LOBE_SELECTION, ENV_SAMPLING (src/method.rs), the microfacet\n\
          // distributions (src/scene/mod.rs), and the display pass's view (src/display/view.rs).\n\
-         {}{}{}{}{}{}{}{}{}\
+         {}{}{}{}{}{}{}{}{}{}\
          // Transfer functions of the display pass (src/display/mod.rs) and the epsilon of relMSE\n\
          // (src/metrics/linear.rs).\n\
          const TRANSFER_SRGB: u32 = {}u;\n\
@@ -42,6 +42,8 @@ pub fn generated_constants() -> String {
          const TEXTURE_CHECKERBOARD: f32 = {}.0;\n\
          const TEXTURE_BITMAP: f32 = {}.0;\n\
          const BITMAP_HEADER: u32 = {}u;\n\
+         // Numbers of the environment map's record before its texels (src/scene/emitters/environment.rs).\n\
+         const ENVIRONMENT_MAP_HEADER: u32 = {}u;\n\
          // Binding numbers of group 0 (src/shaders/bindings.rs).\n\
          {}{}",
         crate::accel::bvh::MAX_DEPTH,
@@ -53,6 +55,7 @@ pub fn generated_constants() -> String {
         wgsl_constants::<TriangleSampling>("TRIANGLES"),
         wgsl_constants::<MicrofacetSampling>("MICROFACET"),
         wgsl_constants::<LobeSelection>("LOBES"),
+        wgsl_constants::<EnvSampling>("ENV_SAMPLING"),
         wgsl_constants::<Distribution>("DISTRIBUTION"),
         wgsl_constants::<View>("VIEW"),
         Transfer::Srgb.code(),
@@ -65,6 +68,7 @@ pub fn generated_constants() -> String {
         crate::scene::textures::TEXTURE_CHECKERBOARD,
         crate::scene::textures::bitmap::TEXTURE_BITMAP,
         crate::scene::textures::bitmap::BITMAP_HEADER,
+        crate::scene::emitters::ENVIRONMENT_MAP_HEADER,
         bindings::wgsl(&bindings::PATH_TRACER),
         bindings::wgsl(&bindings::DISPLAY),
     )

@@ -16,6 +16,7 @@ mod selection;
 mod sphere;
 mod triangle;
 
+pub use environment::{EnvironmentMap, ENVIRONMENT_MAP_HEADER};
 pub use selection::{luminance, AliasTable};
 
 use super::Scene;
@@ -104,7 +105,7 @@ impl Scene {
 
     /// Whether the environment emits (it is then a light NEE may sample).
     pub fn has_environment(&self) -> bool {
-        self.render.environment.max_element() > 0.0
+        self.render.environment.max_element() > 0.0 || self.environment_map.as_ref().is_some_and(|m| !m.is_black())
     }
 
     /// Emitted power of a light, in luminance (the weight of power selection).

@@ -96,7 +96,7 @@ fn relative_to(file: &Path, dir: &Path) -> PathBuf {
 }
 
 fn translate(path: &Path, defines: &[(String, String)]) -> Result<(RawScene, SourceMap, Vec<Diagnostic>), SceneError> {
-    let mut loaded = xml::load(path, defines).map_err(|source| SceneError::Io { path: path.to_path_buf(), source })?;
+    let mut loaded = xml::load(path, defines).map_err(|cause| SceneError::Io { path: path.to_path_buf(), cause })?;
     let diagnostics = std::mem::take(&mut loaded.diagnostics);
     let mut t = Translator {
         sources: &loaded.sources,
@@ -265,14 +265,14 @@ impl PluginProps for PluginReader<'_, '_, '_> {
         // `to_uv`: a scale (Mitsuba keeps the upper-left 3x3 of the 4x4 transform, which holds
         // no translation; published scenes give scales).
         if let Some((ops, at)) = self.t.transform(&mut p, "to_uv") {
-            let mut scale = glam::DVec3::ONE;
-            for op in &ops {
-                match op.kind {
-                    OpKind::Scale(s) => scale *= s,
-                    _ => self.t.error(at, "to_uv", "`to_uv` of a checkerboard: only <scale> is supported".to_string()),
-                }
+            // Any operations whose upper-left 3x3 (what Mitsuba keeps) scales u and v alone:
+            // <scale>, or a <matrix> of a scale.
+            let m = compose(&ops).transpose().to_cols_array_2d();
+            if [m[0][1], m[0][2], m[1][0], m[1][2]].iter().all(|x| *x == 0.0) {
+                table.insert("to_uv_scale".into(), toml::Value::Array(vec![toml::Value::Float(m[0][0]), toml::Value::Float(m[1][1])]));
+            } else {
+                self.t.error(at, "to_uv", "`to_uv` of a checkerboard: only a scale of u and v is supported (give <scale>)".to_string());
             }
-            table.insert("to_uv_scale".into(), toml::Value::Array(vec![toml::Value::Float(scale.x), toml::Value::Float(scale.y)]));
         }
         self.t.finish(p, "color0, color1, to_uv");
         for c in &t.children {
@@ -500,12 +500,40 @@ impl Translator<'_> {
         self.get::<Vec<TransformOp>>(p, name).map(|(ops, prop)| (ops, prop.at))
     }
 
+    /// `<emitter type="envmap">`: `filename` (found by Mitsuba's resolver), `scale`, `to_world`.
+    fn envmap(&mut self, o: &Object) -> Option<Spanned<super::raw::RawEnvironmentMap>> {
+        let mut p = Props::of(o);
+        let file = self.string(&mut p, "filename");
+        let scale = self.get::<f64>(&mut p, "scale").map(|(v, prop)| spanned(prop.value_at, v));
+        let to_world = self.transform(&mut p, "to_world");
+        self.finish(p, "filename, scale, to_world");
+        let transform = match &to_world {
+            Some((ops, at)) => self.raw_transform(ops, *at),
+            None => None,
+        };
+        let Some((name, at)) = file else {
+            self.error(o.at, "filename", "<emitter type=\"envmap\"> needs <string name=\"filename\">".to_string());
+            return None;
+        };
+        match self.loaded.resolve(&name, &o.dir) {
+            Ok(path) => {
+                let path = std::path::absolute(&path).unwrap_or(path);
+                Some(spanned(o.at, super::raw::RawEnvironmentMap { filename: spanned(at, path.display().to_string()), scale, transform }))
+            }
+            Err(message) => {
+                self.error(at, "filename", format!("image file {message}"));
+                None
+            }
+        }
+    }
+
     fn scene(&mut self, path: &Path, objects: &[Object]) -> Option<RawScene> {
         let mut camera = None;
         let mut film = (DEFAULT_FILM_SIZE.0, DEFAULT_FILM_SIZE.1, 0usize);
         let mut spp = None;
         let mut depth = (DEFAULT_MAX_DEPTH, DEFAULT_RR_DEPTH, 0usize);
         let mut environment: Option<([f64; 3], usize)> = None;
+        let mut environment_map = None;
         let mut meshes = Vec::new();
         let mut rectangles = Vec::new();
         let mut cubes = Vec::new();
@@ -542,17 +570,26 @@ impl Translator<'_> {
                         let mut p = Props::of(o);
                         let radiance = self.color(&mut p, "radiance");
                         self.finish(p, "radiance");
-                        if environment.is_some() {
-                            self.error(o.at, "", "a second <emitter type=\"constant\">");
+                        if environment.is_some() || environment_map.is_some() {
+                            self.error(o.at, "", "a second infinite emitter (pathlab has one environment: constant or envmap)");
                         }
                         // Mitsuba's default radiance is 1.
                         environment = Some(radiance.unwrap_or(([1.0; 3], o.at)));
                     }
+                    "envmap" => {
+                        if environment.is_some() || environment_map.is_some() {
+                            self.error(o.at, "", "a second infinite emitter (pathlab has one environment: constant or envmap)".to_string());
+                        }
+                        environment_map = self.envmap(o);
+                    }
                     // A named one is a definition that shapes take by <ref> (Mitsuba's cbox-rgb).
                     "area" if o.id.is_some() => {}
                     "area" => self.error(o.at, "", "<emitter type=\"area\"> belongs inside the <shape> that emits (or, with an id, is taken by a <ref> in one)"),
-                    other => self.error(o.at, "type", format!("<emitter type=\"{other}\"> is not supported (pathlab has area, constant)")),
+                    other => self.error(o.at, "type", format!("<emitter type=\"{other}\"> is not supported (pathlab has area, constant, envmap)")),
                 },
+                // A named texture is a definition that BSDFs take by <ref name="…" id="…"/>.
+                "texture" if o.id.is_some() => {}
+                "texture" => self.error(o.at, "", "a <texture> outside a <bsdf> needs an id, for a <ref name=\"…\" id=\"…\"/> in one".to_string()),
                 "film" | "sampler" | "rfilter" => self.error(o.at, "", format!("<{}> belongs inside the <sensor>", o.tag)),
                 other => self.error(o.at, "", format!("{} is not supported (pathlab has no textures, media or phase functions)", describe(other, &o.plugin))),
             }
@@ -581,6 +618,7 @@ impl Translator<'_> {
                 },
             ),
             materials: std::mem::take(&mut self.materials),
+            environment_map,
             spheres,
             planes: Vec::new(),
             display: None,

@@ -227,7 +227,7 @@ impl Loader<'_> {
         if o.tag == "ref" {
             let id = o.id.clone().unwrap_or_default();
             match self.named.get(&id) {
-                Some(named) if depth < MAX_INCLUDE_DEPTH => *o = named.clone(),
+                Some(named) if depth < MAX_INCLUDE_DEPTH => *o = Object { name: o.name.clone().or_else(|| named.name.clone()), ..named.clone() },
                 Some(_) => {
                     self.error(o.at, "id", format!("<ref id=\"{id}\"> refers to itself through its own references"));
                     return;
@@ -382,11 +382,13 @@ impl Loader<'_> {
         let tag = node.tag_name().name().to_string();
         if tag == "ref" {
             let id = self.attr(node, "id", base)?;
+            // `<ref name="reflectance" id="wood"/>`: the named object in that parameter's place.
+            let name = self.opt_attr(node, "name", base)?;
             return match self.named.get(&id) {
-                Some(o) => Some(o.clone()),
+                Some(o) => Some(Object { name: name.or_else(|| o.name.clone()), ..o.clone() }),
                 // A forward reference (Mitsuba resolves references after reading every file):
                 // kept as a `<ref>`, resolved by `resolve_forward_refs`.
-                None => Some(Object { tag, plugin: String::new(), id: Some(id), name: None, at, dir: dir.to_path_buf(), props: Vec::new(), children: Vec::new() }),
+                None => Some(Object { tag, plugin: String::new(), id: Some(id), name, at, dir: dir.to_path_buf(), props: Vec::new(), children: Vec::new() }),
             };
         }
         if !PLUGIN_TAGS.contains(&tag.as_str()) {

@@ -98,16 +98,7 @@ pub const IDENTITY_UV: [[f64; 3]; 2] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
 
 impl Bitmap {
     pub fn new(file: PathBuf, image: Image, filter: Filter, wrap: Wrap, raw: bool, to_uv: [[f64; 3]; 2]) -> Bitmap {
-        use sha2::Digest;
-        let mut h = sha2::Sha256::new();
-        h.update(image.width.to_le_bytes());
-        h.update(image.height.to_le_bytes());
-        h.update([image.srgb as u8]);
-        match &image.texels {
-            Texels::Bytes(b) => b.iter().for_each(|t| h.update(t)),
-            Texels::Float(f) => f.iter().for_each(|t| t.iter().for_each(|c| h.update(c.to_le_bytes()))),
-        }
-        let content_hash = h.finalize().iter().take(8).map(|b| format!("{b:02x}")).collect();
+        let content_hash = image.content_hash();
         Bitmap { file, image: Arc::new(image), content_hash, filter, wrap, raw, to_uv }
     }
 
