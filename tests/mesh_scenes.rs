@@ -217,7 +217,7 @@ fn bad_meshes_and_transforms_are_refused_naming_file_line_and_field() {
     let d = refused(&[], &mesh("absent.obj"));
     assert!(d.message.contains("cannot read mesh file"), "{d}");
     let d = refused(&[("m.stl", tri)], &mesh("m.stl"));
-    assert!(d.message.contains(".obj or .ply"), "{d}");
+    assert!(d.message.contains(".obj, .ply or .serialized"), "{d}");
     // A singular or non-finite transform: the scene's line and the transform's field.
     let d = refused(&[], "[[rectangles]]\nmaterial = \"wall\"\ntransform = { scale = [1, 0, 1] }\n");
     assert!(d.field == "rectangles[0].transform.scale" && d.line == 15 && d.message.contains("singular"), "{d}");

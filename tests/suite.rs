@@ -36,6 +36,7 @@ mod plastics;
 mod polygon_lights;
 mod render_presets;
 mod rough_plastics;
+mod serialized_meshes;
 mod roulette;
 mod sampler_twin;
 mod shader_layouts;

@@ -56,8 +56,11 @@ pub(crate) struct RawMesh {
     pub flip_normals: Option<Spanned<bool>>,
     /// An emissive mesh emits on both sides (default: on its front only).
     pub two_sided_emission: Option<Spanned<bool>>,
-    /// Texture coordinates' v becomes 1 - v (default true, as Mitsuba's `flip_tex_coords`).
+    /// Texture coordinates' v becomes 1 - v (default true for OBJ and PLY, as Mitsuba's
+    /// `flip_tex_coords`; false for serialized files, which Mitsuba never flips).
     pub flip_tex_coords: Option<Spanned<bool>>,
+    /// Which shape of a Mitsuba serialized file (default 0, the first).
+    pub shape_index: Option<Spanned<i64>>,
 }
 
 /// `[[rectangles]]` and `[[cubes]]`: Mitsuba's built-in shapes.

@@ -172,11 +172,12 @@ fn check_environment_map(ck: &mut Checker, e: &Spanned<RawEnvironmentMap>) -> Op
     };
     let transform = check_transform(ck, raw.transform.as_ref(), "environment_map.transform");
     let m = glam::DMat3::from_mat4(transform.matrix);
-    let orthonormal = (m.transpose() * m - glam::DMat3::IDENTITY).to_cols_array().iter().all(|x| x.abs() <= 1e-4) && m.determinant() > 0.0;
-    let translated = transform.matrix.w_axis.truncate() != DVec3::ZERO;
-    if !orthonormal || translated {
+    // Orthonormal to 1e-4 (matrices printed to 6 digits); a translation moves no direction at
+    // infinity and is without effect, as in Mitsuba.
+    let orthonormal = (m.transpose() * m - glam::DMat3::IDENTITY).to_cols_array().iter().all(|x| x.abs() <= 1e-4);
+    if !orthonormal {
         let span = raw.transform.as_ref().map_or(e.span(), |t| t.span());
-        ck.error(span, "environment_map.transform", "an environment map's transform must be a rotation (directions at infinity are neither moved nor scaled)");
+        ck.error(span, "environment_map.transform", "an environment map's transform must be a rotation (directions at infinity are not scaled or sheared)");
     }
     let base = ck.file.parent().map(Path::to_path_buf).unwrap_or_default();
     let file = base.join(raw.filename.get_ref());
@@ -197,10 +198,10 @@ fn check_environment_map(ck: &mut Checker, e: &Spanned<RawEnvironmentMap>) -> Op
         ck.error(raw.filename.span(), "environment_map.filename", format!("image file {}: pixel ({}, {}) is negative: {:?}", file.display(), i as u32 % image.width, i as u32 / image.width, t[i]));
         return None;
     }
-    // Orthonormalised (Gram-Schmidt on the columns), the rows of R.
+    // Orthonormalised (Gram-Schmidt on the columns, keeping a mirror a mirror), the rows of R.
     let x = m.x_axis.normalize();
     let y = (m.y_axis - x * x.dot(m.y_axis)).normalize();
-    let z = x.cross(y);
+    let z = (m.z_axis - x * x.dot(m.z_axis) - y * y.dot(m.z_axis)).normalize();
     let r = glam::DMat3::from_cols(x, y, z);
     let rows = [r.row(0).to_array(), r.row(1).to_array(), r.row(2).to_array()];
     Some(super::EnvironmentMap { file, content_hash: image.content_hash(), image: std::sync::Arc::new(image), scale, to_world: rows })
@@ -271,7 +272,7 @@ fn check_transform(ck: &mut Checker, t: Option<&Spanned<RawTransform>>, field: &
 
 type Resolve<'r> = dyn FnMut(&mut Checker, &Spanned<String>, &str) -> usize + 'r;
 
-/// `[[meshes]]` (OBJ/PLY files, relative to the scene file), `[[rectangles]]` and `[[cubes]]`:
+/// `[[meshes]]` (OBJ, PLY or Mitsuba serialized files, relative to the scene file), `[[rectangles]]` and `[[cubes]]`:
 /// read, checked, placed in the world. Errors in a mesh file name that file and its line.
 fn check_meshes(ck: &mut Checker, raw: &RawScene, materials: &[Material], resolve: &mut Resolve) -> Vec<Mesh> {
     let base = ck.file.parent().map(Path::to_path_buf).unwrap_or_default();
@@ -314,7 +315,16 @@ fn check_meshes(ck: &mut Checker, raw: &RawScene, materials: &[Material], resolv
         let material = resolve(ck, &m.material, &format!("{table}.material"));
         let transform = check_transform(ck, m.transform.as_ref(), &format!("{table}.transform"));
         let file = base.join(m.file.get_ref());
-        let mut data = match mesh::read_mesh_file(&file) {
+        let serialized = mesh::is_serialized(&file);
+        let shape_index = match &m.shape_index {
+            Some(k) if !serialized => {
+                ck.error(k.span(), format!("{table}.shape_index"), "shape_index applies to Mitsuba serialized files (.serialized) only");
+                0
+            }
+            Some(k) => ck.integer(k, &format!("{table}.shape_index"), 0, u32::MAX as i64) as u32,
+            None => 0,
+        };
+        let mut data = match mesh::read_mesh_shape(&file, shape_index) {
             Ok(d) => d,
             Err(e) => {
                 // The diagnostic points into the mesh file where it can, and names the scene's field.
@@ -344,8 +354,9 @@ fn check_meshes(ck: &mut Checker, raw: &RawScene, materials: &[Material], resolv
         let shading = if m.face_normals.as_ref().is_some_and(|f| *f.get_ref()) { Shading::Faceted } else { Shading::Smooth };
         let two_sided = m.two_sided_emission.as_ref().is_some_and(|f| *f.get_ref());
         let flip = m.flip_normals.as_ref().is_some_and(|f| *f.get_ref());
-        // Mitsuba's default: v becomes 1 - v (images start at their bottom row in OBJ and PLY).
-        if m.flip_tex_coords.as_ref().is_none_or(|f| *f.get_ref()) {
+        // Mitsuba's default: v becomes 1 - v (images start at their bottom row in OBJ and PLY);
+        // its serialized shape has no such flip.
+        if m.flip_tex_coords.as_ref().map_or(!serialized, |f| *f.get_ref()) {
             data.flip_tex_coords();
         }
         add(ck, table, file.display().to_string(), data, transform, shading, flip, two_sided, material, span);

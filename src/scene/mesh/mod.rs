@@ -4,6 +4,7 @@
 
 mod obj;
 mod ply;
+pub mod serialized;
 pub mod shapes;
 
 use std::path::{Path, PathBuf};
@@ -77,14 +78,26 @@ impl MeshFileError {
     }
 }
 
-/// Reads an OBJ or PLY file (by extension, case-insensitive).
+/// Reads an OBJ, PLY or Mitsuba serialized file (by extension, case-insensitive).
 pub fn read_mesh_file(path: &Path) -> Result<MeshData, MeshFileError> {
+    read_mesh_shape(path, 0)
+}
+
+/// Whether a mesh file is Mitsuba's serialized format (by its extension), which holds several
+/// shapes (`shape_index`) and whose texture coordinates are not flipped by default.
+pub fn is_serialized(path: &Path) -> bool {
+    path.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("serialized"))
+}
+
+/// `read_mesh_file`, reading shape `shape_index` of a serialized file (0 for the others).
+pub fn read_mesh_shape(path: &Path, shape_index: u32) -> Result<MeshData, MeshFileError> {
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     let bytes = std::fs::read(path).map_err(|e| MeshFileError::new(path, None, format!("cannot read mesh file: {e}")))?;
     let data = match ext.as_deref() {
         Some("obj") => obj::read(path, &bytes)?,
         Some("ply") => ply::read(path, &bytes)?,
-        _ => return Err(MeshFileError::new(path, None, "unknown mesh format: the file must end in .obj or .ply")),
+        Some("serialized") => serialized::read(path, &bytes, shape_index)?,
+        _ => return Err(MeshFileError::new(path, None, "unknown mesh format: the file must end in .obj, .ply or .serialized")),
     };
     if data.triangles.is_empty() {
         return Err(MeshFileError::new(path, None, "the file holds no triangles"));

@@ -31,7 +31,7 @@ const DEFAULT_FILM_SIZE: (i64, i64) = (768, 576);
 const DEFAULT_MAX_DEPTH: i64 = -1;
 const DEFAULT_RR_DEPTH: i64 = 5;
 
-const SHAPES: &str = "obj, ply, rectangle, cube, sphere";
+const SHAPES: &str = "obj, ply, serialized, rectangle, cube, sphere";
 
 /// Reads and validates a Mitsuba 3 scene; `defines` override its `<default>`s (`--define`).
 pub(super) fn load(path: &Path, defines: &[(String, String)]) -> Result<Scene, SceneError> {
@@ -1006,11 +1006,15 @@ impl Translator<'_> {
         };
         let flip_normals = flip.map(|f| spanned(o.at, f));
         match o.plugin.as_str() {
-            "obj" | "ply" => {
+            "obj" | "ply" | "serialized" => {
                 let file = self.string(&mut p, "filename");
                 let face_normals = self.boolean(&mut p, "face_normals");
-                let flip_tex_coords = self.boolean(&mut p, "flip_tex_coords");
-                self.finish(p, "filename, face_normals, flip_normals, flip_tex_coords, to_world");
+                let (flip_tex_coords, shape_index) = if o.plugin == "serialized" {
+                    (None, self.get::<i64>(&mut p, "shape_index").map(|(v, prop)| spanned(prop.value_at, v)))
+                } else {
+                    (self.boolean(&mut p, "flip_tex_coords"), None)
+                };
+                self.finish(p, if o.plugin == "serialized" { "filename, shape_index, face_normals, flip_normals, to_world" } else { "filename, face_normals, flip_normals, flip_tex_coords, to_world" });
                 let Some((file, _)) = file else {
                     self.error(o.at, "filename", format!("<shape type=\"{}\"> needs <string name=\"filename\">", o.plugin));
                     return;
@@ -1036,6 +1040,7 @@ impl Translator<'_> {
                         flip_normals,
                         two_sided_emission: None,
                         flip_tex_coords: flip_tex_coords.map(|f| spanned(o.at, f)),
+                        shape_index,
                     },
                 ));
             }
