@@ -19,7 +19,6 @@
 use crate::common;
 
 use common::*;
-use pathlab::gpu::KernelRun;
 use pathlab::method::{Method, Preset};
 use pathlab::scene::{EnvironmentMap, Scene, SceneError};
 use pathlab::shaders;
@@ -75,17 +74,8 @@ fn the_kernels_lookup_is_the_hosts() {
     let (map, dirs, _) = mitsuba_evals();
     let queries: Vec<[f32; 4]> = dirs.iter().map(|d| [d[0], d[1], d[2], 0.0]).collect();
     // The emitters' files need the scene's and the emitter table's: the path tracer's whole module.
-    let source = shaders::assemble(&shaders::PATH_TRACER, LOOKUP_KERNEL);
-    let run = KernelRun {
-        source: &source,
-        entry: "lookup_main",
-        constants: &[],
-        inputs: vec![(0, bytemuck::cast_slice(&queries).to_vec()), (shaders::bindings::ENVIRONMENT_MAP.number, bytemuck::cast_slice(&map.pack()).to_vec())],
-        uniforms: vec![],
-        output: (1, (queries.len() * 16) as u64),
-        workgroups: (queries.len() as u32).div_ceil(64),
-    };
-    let out: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&run.run(gpu()).expect("environment map kernel"));
+    let inputs = vec![(0, bytemuck::cast_slice(&queries).to_vec()), (shaders::bindings::ENVIRONMENT_MAP.number, bytemuck::cast_slice(&map.pack()).to_vec())];
+    let out = run_test_kernel(&shaders::PATH_TRACER, LOOKUP_KERNEL, "lookup_main", inputs, queries.len(), 1);
     for (d, got) in dirs.iter().zip(&out) {
         if d[1].abs() > 1.0 - 1e-6 {
             continue; // the poles: u undefined (see above)
@@ -214,17 +204,8 @@ fn sampling_check(map: &EnvironmentMap, n: usize, seed: u64) -> (f64, f64, (f64,
         ((state >> 40) as f32) / (1u64 << 24) as f32
     };
     let u: Vec<[f32; 4]> = (0..n).map(|_| [next(), next(), next(), next()]).collect();
-    let source = shaders::assemble(&shaders::PATH_TRACER, SAMPLING_KERNEL);
-    let run = KernelRun {
-        source: &source,
-        entry: "sampling_main",
-        constants: &[],
-        inputs: vec![(0, bytemuck::cast_slice(&u).to_vec()), (shaders::bindings::ENVIRONMENT_MAP.number, bytemuck::cast_slice(&map.pack()).to_vec())],
-        uniforms: vec![],
-        output: (1, (n * 32) as u64),
-        workgroups: (n as u32).div_ceil(64),
-    };
-    let out: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&run.run(gpu()).expect("environment sampling kernel"));
+    let inputs = vec![(0, bytemuck::cast_slice(&u).to_vec()), (shaders::bindings::ENVIRONMENT_MAP.number, bytemuck::cast_slice(&map.pack()).to_vec())];
+    let out = run_test_kernel(&shaders::PATH_TRACER, SAMPLING_KERNEL, "sampling_main", inputs, n, 2);
     let (w, h) = (map.image.width as usize, map.image.height as usize);
     let (density, _, _) = map.sampling_tables();
     let r = map.to_world;

@@ -26,7 +26,6 @@ use crate::common;
 
 use common::*;
 use glam::{DVec2, DVec3};
-use pathlab::gpu::KernelRun;
 use pathlab::method::Preset;
 use pathlab::scene::image_file::read_image;
 use pathlab::scene::textures::{Bitmap, Filter, Wrap};
@@ -47,6 +46,12 @@ fn lookup_main(@builtin(global_invocation_id) gid: vec3u) {
     test_out[i] = vec4f(texture_slot(vec3f(test_uvs[i].z, 0.0, 0.0), test_uvs[i].xy), 0.0);
 }
 "#;
+
+/// The kernel's `texture_slot` at each query (u, v, slot, _) over the BSDF data `data`.
+fn lookups(queries: &[[f32; 4]], data: &BsdfData) -> Vec<[f32; 4]> {
+    let inputs = vec![(0, bytemuck::cast_slice(queries).to_vec()), (shaders::bindings::BSDF_DATA.number, bytemuck::cast_slice(&data.0).to_vec())];
+    run_test_kernel(&shaders::LIBRARY, LOOKUP_KERNEL, "lookup_main", inputs, queries.len(), 1)
+}
 
 #[test]
 fn the_kernels_checkerboard_is_the_hosts() {
@@ -77,17 +82,7 @@ fn the_kernels_checkerboard_is_the_hosts() {
             queries.push([corner, 0.3, slot, t as f32]);
         }
     }
-    let source = shaders::assemble(&shaders::LIBRARY, LOOKUP_KERNEL);
-    let run = KernelRun {
-        source: &source,
-        entry: "lookup_main",
-        constants: &[],
-        inputs: vec![(0, bytemuck::cast_slice(&queries).to_vec()), (shaders::bindings::BSDF_DATA.number, bytemuck::cast_slice(&data.0).to_vec())],
-        uniforms: vec![],
-        output: (1, (queries.len() * 16) as u64),
-        workgroups: (queries.len() as u32).div_ceil(64),
-    };
-    let out: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&run.run(gpu()).expect("texture lookup kernel"));
+    let out = lookups(&queries, &data);
     for (q, got) in queries.iter().zip(&out) {
         let expected = textures[q[3] as usize].eval([q[0], q[1]]);
         assert_eq!(&got[..3], &expected[..], "texture {} at uv ({}, {})", q[3], q[0], q[1]);
@@ -149,17 +144,7 @@ fn the_kernels_bitmap_lookup_is_the_hosts() {
         let slot = -(bitmap.pack(&mut data) as f32) - 1.0;
         queries.extend(uvs.iter().map(|uv| [uv[0], uv[1], slot, t as f32]));
     }
-    let source = shaders::assemble(&shaders::LIBRARY, LOOKUP_KERNEL);
-    let run = KernelRun {
-        source: &source,
-        entry: "lookup_main",
-        constants: &[],
-        inputs: vec![(0, bytemuck::cast_slice(&queries).to_vec()), (shaders::bindings::BSDF_DATA.number, bytemuck::cast_slice(&data.0).to_vec())],
-        uniforms: vec![],
-        output: (1, (queries.len() * 16) as u64),
-        workgroups: (queries.len() as u32).div_ceil(64),
-    };
-    let out: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&run.run(gpu()).expect("bitmap lookup kernel"));
+    let out = lookups(&queries, &data);
     for (q, got) in queries.iter().zip(&out) {
         let b = &cases[q[3] as usize].0;
         let expected = b.eval([q[0], q[1]]);

@@ -94,6 +94,24 @@ pub fn eval_bsdf_pairs(bsdf: &pathlab::scene::Bsdf, pairs: &[[f32; 4]]) -> Vec<[
     bytemuck::pod_collect_to_vec(&run.run(gpu()).unwrap_or_else(|e| panic!("{} eval kernel: {e}", bsdf.kind().name())))
 }
 
+/// Runs a test kernel's `entry` (one invocation per item of the storage input at binding 0,
+/// `items` of them, 64 per workgroup) assembled after `parts`, with the storage `inputs` and
+/// `out_per_item` vec4s out per item at binding 1; returns them.
+#[allow(dead_code)]
+pub fn run_test_kernel(parts: &[(&str, &str)], kernel: &str, entry: &str, inputs: Vec<(u32, Vec<u8>)>, items: usize, out_per_item: usize) -> Vec<[f32; 4]> {
+    let source = pathlab::shaders::assemble(parts, kernel);
+    let run = pathlab::gpu::KernelRun {
+        source: &source,
+        entry,
+        constants: &[],
+        inputs,
+        uniforms: vec![],
+        output: (1, (items * out_per_item * 16) as u64),
+        workgroups: (items as u32).div_ceil(64),
+    };
+    bytemuck::pod_collect_to_vec(&run.run(gpu()).unwrap_or_else(|e| panic!("{entry}: {e}")))
+}
+
 pub fn study_scene() -> Scene {
     Scene::load(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes/study.toml")).expect("study scene")
 }
