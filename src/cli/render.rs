@@ -171,8 +171,8 @@ fn inapplicable_flags(args: &RenderArgs, scene: &pathlab::scene::Scene, method: 
         let why = if has.environment_sampling { no_lights.clone() } else { "the scene's environment is black".to_string() };
         notes.push(format!("--sample-environment has no effect: {why}"));
     }
-    if args.env_sampling.is_some() && (scene.environment_map.is_none() || !method.environment) {
-        let why = if scene.environment_map.is_none() { "the scene's environment is not a map" } else { "the method does not sample the environment (add --sample-environment or +env)" };
+    if args.env_sampling.is_some() && !can.env_sampling {
+        let why = if !has.env_sampling { "the scene's environment is not a map" } else { "the method does not sample the environment (add --sample-environment or +env)" };
         notes.push(format!("--env-sampling has no effect: {why}"));
     }
     notes

@@ -360,7 +360,7 @@ impl Scene {
 }
 
 /// Which of a method's finer options (`select`, `triangles`, `microfacet`, `lobes`,
-/// `environment`) can change the image of a scene: the viewer offers only these, `render` notes
+/// `environment`, `env_sampling`) can change the image of a scene: the viewer offers only these, `render` notes
 /// the others once.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ApplicableOptions {
@@ -376,6 +376,9 @@ pub struct ApplicableOptions {
     pub lobe_selection: bool,
     /// Sampling the environment: light sampling is on and the environment is not black.
     pub environment_sampling: bool,
+    /// How an environment map is sampled (`env_sampling`): the environment is a map, light
+    /// sampling is on and the method samples the environment.
+    pub env_sampling: bool,
 }
 
 impl ApplicableOptions {
@@ -387,6 +390,7 @@ impl ApplicableOptions {
             microfacet_sampling: scene.materials.iter().any(|m| m.bsdf_kind().has_microfacets()),
             lobe_selection: scene.materials.iter().any(|m| m.bsdf_kind().selects_lobes()),
             environment_sampling: scene.has_environment(),
+            env_sampling: scene.has_environment() && scene.environment_map.is_some(),
         }
     }
 
@@ -402,6 +406,7 @@ impl ApplicableOptions {
             microfacet_sampling: self.microfacet_sampling && material,
             lobe_selection: self.lobe_selection,
             environment_sampling: self.environment_sampling && lights,
+            env_sampling: self.env_sampling && lights && method.environment,
         }
     }
 }
@@ -459,20 +464,26 @@ mod applicable_options {
         let mis = Preset::Mis.method();
         // The study scene: two sphere lights, Phong only.
         let study = ApplicableOptions::of_scene(&scene("study.toml"));
-        assert_eq!(study, ApplicableOptions { light_select: true, triangle_sampling: false, microfacet_sampling: false, lobe_selection: false, environment_sampling: false });
+        assert_eq!(study, ApplicableOptions { light_select: true, triangle_sampling: false, microfacet_sampling: false, lobe_selection: false, environment_sampling: false, env_sampling: false });
         // The Cornell box: one triangle light (two triangles), no conductor.
         let cornell = ApplicableOptions::of_scene(&scene("cornell_box.toml"));
-        assert_eq!(cornell, ApplicableOptions { light_select: true, triangle_sampling: true, microfacet_sampling: false, lobe_selection: false, environment_sampling: false });
+        assert_eq!(cornell, ApplicableOptions { light_select: true, triangle_sampling: true, microfacet_sampling: false, lobe_selection: false, environment_sampling: false, env_sampling: false });
         // Veach's scene: four sphere lights, rough conductors; microfacet sampling only with the
         // material's own strategy.
         let veach = ApplicableOptions::of_scene(&scene("veach_mis.xml"));
-        assert_eq!(veach, ApplicableOptions { light_select: true, triangle_sampling: false, microfacet_sampling: true, lobe_selection: false, environment_sampling: false });
+        assert_eq!(veach, ApplicableOptions { light_select: true, triangle_sampling: false, microfacet_sampling: true, lobe_selection: false, environment_sampling: false, env_sampling: false });
         assert_eq!(veach.with_method(&mis), veach);
         assert!(!veach.with_method(&Preset::Nee.method()).microfacet_sampling);
         // Without light sampling the light options cannot matter.
         let plain = cornell.with_method(&Preset::Plain.method());
-        assert_eq!(plain, ApplicableOptions { light_select: false, triangle_sampling: false, microfacet_sampling: false, lobe_selection: false, environment_sampling: false });
+        assert_eq!(plain, ApplicableOptions { light_select: false, triangle_sampling: false, microfacet_sampling: false, lobe_selection: false, environment_sampling: false, env_sampling: false });
         assert_eq!(cornell.with_method(&Preset::Nee.method()), cornell);
+        // An environment map: how it is sampled matters only where the method samples it.
+        let envmap = Scene::load(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/envmap/envmap.xml")).unwrap();
+        let env = ApplicableOptions::of_scene(&envmap);
+        assert!(env.environment_sampling && env.env_sampling);
+        assert!(!env.with_method(&mis).env_sampling);
+        assert!(env.with_method(&crate::method::Method { environment: true, ..mis }).env_sampling);
     }
 }
 

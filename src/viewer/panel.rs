@@ -7,7 +7,7 @@ use std::time::Instant;
 use egui::{Color32, RichText, Ui};
 
 use crate::display::{DisplayTransform, Transfer};
-use crate::method::{BsdfSampling, LightSampling, LightSelect, LobeSelection, Method, MicrofacetSampling, Preset, Sampler, TriangleSampling};
+use crate::method::{BsdfSampling, EnvSampling, LightSampling, LightSelect, LobeSelection, Method, MicrofacetSampling, Preset, Sampler, TriangleSampling};
 use crate::scene::ApplicableOptions;
 
 use crate::display::View;
@@ -175,6 +175,14 @@ fn method_section(app: &PanelState, ui: &mut Ui, actions: &mut Vec<Action>) {
                 let changed = ui.add_enabled_ui(can.environment_sampling, |ui| ui.checkbox(&mut sampled, "sampled by NEE").changed()).inner;
                 if changed {
                     next = Some(Method { environment: sampled, ..method });
+                }
+                ui.end_row();
+            }
+            if has.env_sampling {
+                ui.label("environment map");
+                let name = |e: EnvSampling| e.name().to_string();
+                if let Some(e) = ui.add_enabled_ui(can.env_sampling, |ui| choose(ui, ("env", i), method.env_sampling, &EnvSampling::ALL, name)).inner {
+                    next = Some(Method { env_sampling: e, ..method });
                 }
                 ui.end_row();
             }
