@@ -146,9 +146,15 @@ fn bad_command_line_values_are_refused() {
         assert!(!out.status.success(), "{args:?} accepted");
         assert!(!dir.join("x.exr").exists());
     }
+    // `-o` names an EXR: another extension would get EXR bytes under a misleading name.
+    let out = pathlab().arg("render").arg(&scene).arg("-o").arg(dir.join("x.png")).output().unwrap();
+    assert!(!out.status.success() && !dir.join("x.png").exists());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("render writes OpenEXR; give a name ending in .exr"));
     let out = pathlab().arg("render").arg(dir.join("missing.toml")).output().unwrap();
     assert_eq!(out.status.code(), Some(1));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("missing.toml"));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    // The cause once, not twice.
+    assert!(stderr.contains("missing.toml") && stderr.matches("No such file").count() == 1, "{stderr}");
 }
 
 /// Output into a pipe closed early (`pathlab check s.toml | head -c 1`) ends the process

@@ -118,7 +118,7 @@ pub struct RenderArgs {
     /// Random seed; the same seed gives the same image, bit for bit.
     #[arg(long, default_value_t = 0)]
     seed: u32,
-    /// Output EXR (default: <scene stem>.exr in the current directory).
+    /// Output EXR, a name ending in .exr (default: <scene stem>.exr in the current directory).
     #[arg(short, long)]
     output: Option<PathBuf>,
     /// Also write an 8-bit sRGB PNG preview here.
@@ -180,6 +180,11 @@ fn inapplicable_flags(args: &RenderArgs, scene: &pathlab::scene::Scene, method: 
 
 pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
     // Everything the user gave is checked before any GPU work.
+    if let Some(o) = &args.output
+        && !o.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr"))
+    {
+        bail!("-o {}: render writes OpenEXR; give a name ending in .exr (and --png for an 8-bit preview)", o.display());
+    }
     let mut scene = load_scene(&args.scene)?;
     let overrides = Overrides {
         width: args.width,
