@@ -43,9 +43,15 @@ pub fn srgb_to_linear(v: f64) -> f64 {
     if v <= 0.04045 { v / 12.92 } else { ((v + 0.055) / 1.055).powf(2.4) }
 }
 
-/// The linear value of each 8-bit code: sRGB-decoded, or code / 255 (Mitsuba's `raw`).
-pub fn decode_table(srgb: bool) -> [f32; 256] {
-    std::array::from_fn(|c| if srgb { srgb_to_linear(c as f64 / 255.0) as f32 } else { c as f32 * (1.0f32 / 255.0) })
+/// The linear value of each 8-bit code: sRGB-decoded, or code / 255 (Mitsuba's `raw`). Built
+/// once per process: texel reads on the host (means, luminance distributions, twins) go
+/// through it per texel.
+pub fn decode_table(srgb: bool) -> &'static [f32; 256] {
+    static TABLES: std::sync::OnceLock<[[f32; 256]; 2]> = std::sync::OnceLock::new();
+    let tables = TABLES.get_or_init(|| {
+        [false, true].map(|srgb| std::array::from_fn(|c| if srgb { srgb_to_linear(c as f64 / 255.0) as f32 } else { c as f32 * (1.0f32 / 255.0) }))
+    });
+    &tables[srgb as usize]
 }
 
 impl Image {

@@ -169,7 +169,7 @@ impl Bitmap {
         let start = data.push(&header);
         match &self.image.texels {
             Texels::Bytes(b) => {
-                data.push(&decode_table(self.image.srgb));
+                data.push(decode_table(self.image.srgb));
                 data.0.extend(b.iter().map(|t| (t[0] as u32 + 256 * t[1] as u32 + 65536 * t[2] as u32) as f32));
             }
             Texels::Float(f) => data.0.extend(f.iter().flatten()),
