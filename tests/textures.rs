@@ -276,8 +276,10 @@ fn bitmaps_are_read_from_toml_and_xml_and_bad_ones_refused() {
     // XML: the file found by Mitsuba's resolver; `to_uv` the 4x4's upper-left 3x3.
     let xml_path = dir.path().join("t.xml");
     let bitmap = |inner: &str| xml_with_bsdf(&format!("<bsdf type=\"diffuse\" id=\"t\"><texture type=\"bitmap\" name=\"reflectance\">{inner}</texture></bsdf>"), "t");
-    std::fs::write(&xml_path, bitmap("<string name=\"filename\" value=\"grid.png\"/><string name=\"wrap_mode\" value=\"clamp\"/><boolean name=\"raw\" value=\"true\"/><transform name=\"to_uv\"><scale x=\"4\" y=\"2\"/></transform>")).unwrap();
+    std::fs::write(&xml_path, bitmap("<string name=\"filename\" value=\"grid.png\"/><string name=\"wrap_mode\" value=\"clamp\"/><boolean name=\"raw\" value=\"true\"/><transform name=\"to_uv\"><scale x=\"4\" y=\"2\"/></transform><boolean name=\"accel\" value=\"false\"/><string name=\"format\" value=\"uint8\"/>")).unwrap();
     let s = Scene::load(&xml_path).unwrap();
+    // Mitsuba's storage choices, as it writes them (`accel` a boolean, `format` a string): warned.
+    assert_eq!(s.warnings.iter().filter(|w| w.message.contains("is a storage choice")).count(), 2, "{:?}", s.warnings);
     let Bsdf::Phong(p) = &s.materials[0].bsdf else { panic!("not phong") };
     let Some(Texture::Bitmap(b)) = &p.diffuse_texture else { panic!("{:?}", p.diffuse_texture) };
     assert_eq!((b.file.clone(), b.wrap, b.raw, b.to_uv), (dir.path().join("grid.png"), Wrap::Clamp, true, [[4.0, 0.0, 0.0], [0.0, 2.0, 0.0]]));

@@ -204,8 +204,10 @@ impl PluginReader<'_, '_, '_> {
         // Storage choices without effect on the values: `accel` (CUDA's hardware textures),
         // `format` (Mitsuba's storage precision; pathlab keeps 8-bit images as bytes, others as
         // 32-bit floats).
-        for key in ["accel", "format"] {
-            if self.t.string(&mut p, key).is_some() || self.t.get::<bool>(&mut p, key).is_some() {
+        let accel = self.t.get::<bool>(&mut p, "accel").is_some();
+        let format = self.t.string(&mut p, "format").is_some();
+        for (key, given) in [("accel", accel), ("format", format)] {
+            if given {
                 self.t.warn(t.at, key, format!("`{key}` of a bitmap is a storage choice: pathlab keeps 8-bit images as bytes and others as 32-bit floats"));
             }
         }
