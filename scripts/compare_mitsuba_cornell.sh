@@ -9,6 +9,7 @@
 # ratios within one round mean anything: the machine's speed swings with load.
 #
 # Set-up of the reference renderer: see scripts/compare_mitsuba.sh.
+# PATHLAB=path/to/pathlab compares another build.
 # Usage: [SPP=n] scripts/compare_mitsuba_cornell.sh [ROUNDS] [METHODS...]   (default: 3 rounds, mis best)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -18,7 +19,7 @@ methods=${*:-mis best}
 py=${MITSUBA_PYTHON:-/tmp/mitsuba-venv/bin/python}
 ref=${REFERENCE_RENDERER:-../shared/reference-renderer}
 scene=$(pwd)/assets/scenes/cornell_box.toml
-pathlab=$(pwd)/target/release/pathlab
+pathlab=${PATHLAB:-$(pwd)/target/release/pathlab}
 [ -x "$pathlab" ] || cargo build --release
 [ -x "$py" ] || { echo "no Mitsuba python at $py (see the set-up above)" >&2; exit 1; }
 out=$(mktemp -d)

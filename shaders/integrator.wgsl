@@ -332,6 +332,8 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
 
 @compute @workgroup_size(8, 8, 1)
 fn render_main(@builtin(global_invocation_id) gid: vec3u) {
+    // First, outside every branch: see bvh.wgsl.
+    load_small_triangles();
     if (gid.x >= frame.tile_width || gid.y >= frame.tile_height) {
         return;
     }

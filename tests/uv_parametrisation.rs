@@ -26,6 +26,7 @@ struct ProbeRay { o: vec4f, d: vec4f }
 
 @compute @workgroup_size(64)
 fn uv_probe(@builtin(global_invocation_id) gid: vec3u) {
+    load_small_triangles();
     let i = gid.x;
     if (i >= arrayLength(&probe_rays)) {
         return;

@@ -140,9 +140,11 @@ pub struct PipelineStats {
     pub compile_time: Duration,
 }
 
-/// The path tracer's shader module, bind group layout and a cache of specialised pipelines.
+/// The path tracer's shader modules, bind group layout and a cache of specialised pipelines.
 pub struct PathTracerPipelines {
-    module: wgpu::ShaderModule,
+    /// One module per count its small-scene triangle tests are unrolled to
+    /// (`shaders::unrolled_triangles`), created on first use.
+    modules: Mutex<HashMap<u32, wgpu::ShaderModule>>,
     /// The Halton bases, bound at `bindings::HALTON_PRIMES`.
     pub halton_primes: wgpu::Buffer,
     pub bind_group_layout: wgpu::BindGroupLayout,
@@ -152,10 +154,6 @@ pub struct PathTracerPipelines {
 
 impl PathTracerPipelines {
     pub fn new(device: &wgpu::Device) -> PathTracerPipelines {
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("path tracer"),
-            source: wgpu::ShaderSource::Wgsl(shaders::path_tracer_source().into()),
-        });
         let bind_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("path tracer"),
             entries: &bindings::layout_entries(&bindings::PATH_TRACER),
@@ -170,7 +168,7 @@ impl PathTracerPipelines {
             contents: &shaders::halton_primes_bytes(),
             usage: wgpu::BufferUsages::UNIFORM,
         });
-        PathTracerPipelines { module, halton_primes, bind_group_layout, layout, cache: Mutex::new(HashMap::new()) }
+        PathTracerPipelines { modules: Mutex::new(HashMap::new()), halton_primes, bind_group_layout, layout, cache: Mutex::new(HashMap::new()) }
     }
 
     /// The pipeline for `key`, compiled on first use.
@@ -181,10 +179,18 @@ impl PathTracerPipelines {
         }
         let constants = pipeline_constants(&key);
         let start = Instant::now();
+        let unrolled = shaders::unrolled_triangles(key.features.num_triangles);
+        let mut modules = self.modules.lock().unwrap_or_else(|e| e.into_inner());
+        let module = modules.entry(unrolled).or_insert_with(|| {
+            device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("path tracer"),
+                source: wgpu::ShaderSource::Wgsl(shaders::path_tracer_source_for(key.features.num_triangles).into()),
+            })
+        });
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some("path tracer"),
             layout: Some(&self.layout),
-            module: &self.module,
+            module,
             entry_point: Some(shaders::PATH_TRACER_ENTRY),
             compilation_options: wgpu::PipelineCompilationOptions {
                 constants: &constants,

@@ -180,6 +180,44 @@ pub fn light_counts() -> String {
     s
 }
 
+/// The small scenes' triangle tests (see bvh.wgsl) for scenes of at most `n` triangles:
+/// `load_small_triangles`, which copies the uniform array `small_triangles` into the private
+/// array `small_triangle_cache`, and `triangles_brute_force`, one test per triangle of that
+/// copy. Both are unrolled at constant indices, `n` steps, each compiled only where the
+/// triangle exists (`k < NUM_TRIANGLES` folds once the override is set). The tests run in index
+/// order and a hit replaces the best one only when strictly closer, as a loop over the
+/// triangles would. The path tracer's module is assembled with `n` the scene's own count
+/// (`unrolled_triangles`): dead steps still cost the driver their compilation before it folds
+/// them (64 of them: a second per pipeline on lavapipe, in every scene).
+pub fn small_triangle_tests(n: u32) -> String {
+    let mut s = String::from(
+        "var<private> small_triangle_cache: array<Triangle, BRUTE_FORCE_TRIANGLES>;\n\n\
+         // Copies the small scene's triangles into registers: called by every entry point that\n\
+         // traces rays, first, outside any branch or loop (where lavapipe reads a uniform as one\n\
+         // load for all lanes).\n\
+         fn load_small_triangles() {\n",
+    );
+    for k in 0..n {
+        s += &format!("    if ({k}u < NUM_TRIANGLES) {{ small_triangle_cache[{k}] = small_triangles[{k}]; }}\n");
+    }
+    s += "}\n\n\
+          // The nearest triangle along (o, d) closer than t_max, every triangle tested in turn.\n\
+          fn triangles_brute_force(o: vec3f, d: vec3f, t_max: f32) -> TriangleHit {\n    \
+          var best = TriangleHit(t_max, INVALID, vec2f(0.0));\n    \
+          let ray = sheared_ray(o, d);\n    \
+          var bary: vec2f;\n";
+    for k in 0..n {
+        s += &format!(
+            "    if ({k}u < NUM_TRIANGLES) {{\n        \
+             let tri = small_triangle_cache[{k}];\n        \
+             let t = intersect_triangle(ray, tri.p0, tri.p1, tri.p2, best.t, &bary);\n        \
+             if (t > 0.0) {{ best = TriangleHit(t, {k}u, bary); }}\n    \
+             }}\n"
+        );
+    }
+    s + "    return best;\n}\n"
+}
+
 /// The emitter dispatch, generated from the registry (`scene::EmitterKind`): `sample_emitter`
 /// and `pdf_emitter` calling each kind's entry points (`sample_<kind>_emitter`,
 /// `pdf_<kind>_emitter` in `shaders/emitters/<kind>.wgsl`) by light l's kind. A kind whose
