@@ -5,10 +5,11 @@
 # and GPU memory (`pathlab check`), and rays per second (`pathlab bench`). Only ratios within
 # one run mean anything: the machine's speed swings with load.
 #
+# PATHLAB=path/to/pathlab measures another build.
 # Usage: [SECONDS=3] [LEVELS="2 3 5 6 8"] scripts/triangle_scaling.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
-pathlab=$(pwd)/target/release/pathlab
+pathlab=${PATHLAB:-$(pwd)/target/release/pathlab}
 [ -x "$pathlab" ] || cargo build --release
 seconds=${SECONDS_PER_SIZE:-${SECONDS:-3}}
 levels=${LEVELS:-2 3 5 6 8}

@@ -51,10 +51,35 @@ struct BvhNode {
     count: u32,
 }
 
-@group(0) @binding(BINDING_TRIANGLES) var<storage, read> triangles: array<Triangle>;
+// The triangles (three texels each) and the BVH's nodes (two each) are texel tables
+// (src/shaders/bindings.rs, `Kind::TexelTable`): rgba32uint texels of TEXEL_TABLE_WIDTH per
+// row, read by `triangle_record` and `bvh_node`. The traversal reads them at a per-lane index
+// in its inner loop, where lavapipe serves a texel as one branch-free 16-byte load per lane and
+// a storage-buffer record as a loop over the lanes with two branches per lane and component.
+@group(0) @binding(BINDING_TRIANGLES) var triangles: texture_storage_2d<rgba32uint, read>;
 @group(0) @binding(BINDING_TRIANGLE_NORMALS) var<storage, read> triangle_normals: array<TriangleNormals>;
 @group(0) @binding(BINDING_TRIANGLE_UVS) var<storage, read> triangle_uvs: array<TriangleUvs>;
-@group(0) @binding(BINDING_BVH_NODES) var<storage, read> bvh_nodes: array<BvhNode>;
+@group(0) @binding(BINDING_BVH_NODES) var bvh_nodes: texture_storage_2d<rgba32uint, read>;
+
+// Texel j of a texel table: row j / TEXEL_TABLE_WIDTH, column j mod TEXEL_TABLE_WIDTH.
+fn texel_coords(j: u32) -> vec2u {
+    return vec2u(j % TEXEL_TABLE_WIDTH, j / TEXEL_TABLE_WIDTH);
+}
+
+// Triangle i of the table, its bits as the host wrote them (texels 3i, 3i + 1, 3i + 2).
+fn triangle_record(i: u32) -> Triangle {
+    let a = textureLoad(triangles, texel_coords(3u * i));
+    let b = textureLoad(triangles, texel_coords(3u * i + 1u));
+    let c = textureLoad(triangles, texel_coords(3u * i + 2u));
+    return Triangle(bitcast<vec3f>(a.xyz), a.w, bitcast<vec3f>(b.xyz), b.w, bitcast<vec3f>(c.xyz), c.w);
+}
+
+// Node i of the BVH (texels 2i and 2i + 1).
+fn bvh_node(i: u32) -> BvhNode {
+    let a = textureLoad(bvh_nodes, texel_coords(2u * i));
+    let b = textureLoad(bvh_nodes, texel_coords(2u * i + 1u));
+    return BvhNode(bitcast<vec3f>(a.xyz), a.w, bitcast<vec3f>(b.xyz), b.w);
+}
 // Scenes of at most BRUTE_FORCE_TRIANGLES triangles (generated from src/accel/mod.rs) also
 // have them in a uniform buffer, and test every one in turn at lane-uniform indices instead of
 // traversing the BVH: on SIMD CPU drivers a divergent traversal of a small BVH through
@@ -67,7 +92,7 @@ fn triangle_at(i: u32) -> Triangle {
     if (NUM_TRIANGLES <= BRUTE_FORCE_TRIANGLES) {
         return small_triangles[i];
     }
-    return triangles[i];
+    return triangle_record(i);
 }
 
 // The shading normal of triangle i at barycentrics `bary` (of p1 and p2): its vertex normals
@@ -242,14 +267,15 @@ fn bvh_traverse(o: vec3f, d: vec3f, t_max: f32, any: bool) -> TriangleHit {
     var stack: array<u32, BVH_MAX_DEPTH>;
     var top = 0u;
     var node = 0u;
-    if (intersect_node(bvh_nodes[0].lo, bvh_nodes[0].hi, o, inv_d, t_max) < 0.0) {
+    let root = bvh_node(0u);
+    if (intersect_node(root.lo, root.hi, o, inv_d, t_max) < 0.0) {
         return best;
     }
     loop {
         if (!traversal_step()) {
             break;
         }
-        let n = bvh_nodes[node];
+        let n = bvh_node(node);
         var next = INVALID;
         if (n.count > 0u) {
             // Entering a leaf's loop costs llvmpipe about two back-edges of its own (measured:
@@ -259,7 +285,7 @@ fn bvh_traverse(o: vec3f, d: vec3f, t_max: f32, any: bool) -> TriangleHit {
                 if (!traversal_step()) {
                     break;
                 }
-                let tri = triangles[i];
+                let tri = triangle_record(i);
                 var bary: vec2f;
                 let t = intersect_triangle(ray, tri.p0, tri.p1, tri.p2, best.t, &bary);
                 if (t > 0.0) {
@@ -276,8 +302,10 @@ fn bvh_traverse(o: vec3f, d: vec3f, t_max: f32, any: bool) -> TriangleHit {
             // The nearer child next, the farther on the stack.
             let l = n.first;
             let r = n.first + 1u;
-            let tl = intersect_node(bvh_nodes[l].lo, bvh_nodes[l].hi, o, inv_d, best.t);
-            let tr = intersect_node(bvh_nodes[r].lo, bvh_nodes[r].hi, o, inv_d, best.t);
+            let nl = bvh_node(l);
+            let nr = bvh_node(r);
+            let tl = intersect_node(nl.lo, nl.hi, o, inv_d, best.t);
+            let tr = intersect_node(nr.lo, nr.hi, o, inv_d, best.t);
             if (tl >= 0.0 && tr >= 0.0) {
                 next = select(r, l, tl <= tr);
                 stack[top] = select(l, r, tl <= tr);

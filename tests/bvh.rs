@@ -216,13 +216,12 @@ fn gpu_queries(tris: &[Triangle], rays: &[(Vec3, Vec3, f32, f32)], budget: u32) 
         source: &source,
         entry: "bvh_main",
         constants: &constants,
-        inputs: vec![
-            (0, bytemuck::cast_slice(&ray_data).to_vec()),
+        inputs: vec![(0, bytemuck::cast_slice(&ray_data).to_vec()), (bindings::TRIANGLE_NORMALS.number, vec![0; 48])],
+        uniforms: vec![],
+        texel_tables: vec![
             (bindings::TRIANGLES.number, bytemuck::cast_slice(&gpu_tris).to_vec()),
-            (bindings::TRIANGLE_NORMALS.number, vec![0; 48]),
             (bindings::BVH_NODES.number, bytemuck::cast_slice(&bvh.nodes).to_vec()),
         ],
-        uniforms: vec![],
         output: (1, rays.len() as u64 * 16),
         workgroups: (rays.len() as u32).div_ceil(64),
     };

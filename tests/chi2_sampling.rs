@@ -155,6 +155,7 @@ fn run(routine: &Routine, entry: &str, mut inputs: Vec<(u32, Vec<u8>)>, out_vec4
         constants: &routine.constants,
         inputs,
         uniforms: vec![],
+        texel_tables: vec![],
         output: (1, (out_vec4s * 16) as u64),
         workgroups: (items as u32).div_ceil(64),
     };
@@ -942,6 +943,7 @@ fn selection_chi_square(powers: &[f64], select: LightSelect, seed: u32) -> f64 {
         constants: &constants,
         inputs: vec![(0, bytemuck::cast_slice(&params).to_vec()), (pathlab::shaders::bindings::LIGHTS.number, bytemuck::cast_slice(&entries).to_vec())],
         uniforms: vec![],
+        texel_tables: vec![],
         output: (1, SAMPLES as u64 * 8),
         workgroups: SAMPLES.div_ceil(64),
     };
@@ -1038,6 +1040,7 @@ fn two_delta_lobes(name: &str, kernel: &str, entry: &str, wo: [f64; 3], eta: f64
         constants: &[],
         inputs: vec![(0, bytemuck::cast_slice(&params).to_vec())],
         uniforms: vec![],
+        texel_tables: vec![],
         output: (1, SAMPLES as u64 * 32),
         workgroups: SAMPLES.div_ceil(64),
     };

@@ -47,6 +47,7 @@ fn gpu_samples(sampler: Sampler, queries: &[[u32; 4]]) -> Vec<f32> {
         constants: &[("SAMPLER", sampler.constant() as f64)],
         inputs: vec![(0, bytemuck::cast_slice(queries).to_vec())],
         uniforms: vec![(bindings::HALTON_PRIMES.number, shaders::halton_primes_bytes())],
+        texel_tables: vec![],
         output: (1, (queries.len() * 4) as u64),
         workgroups: (queries.len() as u32).div_ceil(64),
     };

@@ -212,10 +212,12 @@ fn probe_uvs(scene: &Scene) {
     let source = shaders::assemble(&shaders::PATH_TRACER, PROBE_KERNEL);
     let mut inputs = vec![];
     let mut uniforms = vec![];
+    let mut texel_tables = vec![];
     for c in SceneBuffers::contents(scene, &packed) {
         match c.binding.kind {
             bindings::Kind::Uniform => uniforms.push((c.binding.number, c.bytes)),
             bindings::Kind::Storage { .. } => inputs.push((c.binding.number, c.bytes)),
+            bindings::Kind::TexelTable => texel_tables.push((c.binding.number, c.bytes)),
         }
     }
     let rays: Vec<[f32; 8]> = probes
@@ -232,6 +234,7 @@ fn probe_uvs(scene: &Scene) {
         constants: &constants,
         inputs,
         uniforms,
+        texel_tables,
         output: (31, probes.len() as u64 * 16),
         workgroups: (probes.len() as u32).div_ceil(64),
     };

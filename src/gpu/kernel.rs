@@ -17,6 +17,8 @@ pub struct KernelRun<'a> {
     pub inputs: Vec<(u32, Vec<u8>)>,
     /// Uniform buffers: (binding, bytes).
     pub uniforms: Vec<(u32, Vec<u8>)>,
+    /// Texel tables (`bindings::Kind::TexelTable`): (binding, bytes, a multiple of 16).
+    pub texel_tables: Vec<(u32, Vec<u8>)>,
     /// The read-write storage buffer that comes back: (binding, size in bytes).
     pub output: (u32, u64),
     /// Workgroups along x.
@@ -45,6 +47,7 @@ impl KernelRun<'_> {
         });
         let mut layout_entries: Vec<_> = inputs.iter().map(|(b, _)| layout_entry(*b, Kind::Storage { read_only: true })).collect();
         layout_entries.extend(self.uniforms.iter().map(|(b, _)| layout_entry(*b, Kind::Uniform)));
+        layout_entries.extend(self.texel_tables.iter().map(|(b, _)| layout_entry(*b, Kind::TexelTable)));
         layout_entries.push(layout_entry(self.output.0, Kind::Storage { read_only: false }));
         let bgl = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: None, entries: &layout_entries });
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -89,6 +92,15 @@ impl KernelRun<'_> {
             .iter()
             .map(|(binding, buf)| wgpu::BindGroupEntry { binding: *binding, resource: buf.as_entire_binding() })
             .collect();
+        let tables: Vec<(u32, wgpu::Texture, wgpu::TextureView)> = self
+            .texel_tables
+            .iter()
+            .map(|(binding, bytes)| {
+                let (texture, view) = bindings::texel_table(device, &gpu.queue, "kernel table", bytes);
+                (*binding, texture, view)
+            })
+            .collect();
+        entries.extend(tables.iter().map(|(binding, _, view)| bindings::texel_table_entry(*binding, view)));
         entries.push(wgpu::BindGroupEntry { binding: self.output.0, resource: output.as_entire_binding() });
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor { label: None, layout: &bgl, entries: &entries });
         let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });

@@ -108,10 +108,15 @@ pub struct GpuLight {
     pub kind: u32,
 }
 
-/// Most triangles one storage binding of `binding_limit` bytes holds (the triangle array is
-/// the largest of the three).
-pub fn max_triangles(binding_limit: u64) -> u64 {
-    binding_limit / std::mem::size_of::<GpuTriangle>() as u64
+/// Most triangles an adapter holds whose largest storage binding is `binding_limit` bytes and
+/// whose 2D textures are at most `texture_rows` texels high: the vertex normals' storage array
+/// takes 48 bytes per triangle, and the texel tables (`bindings::Kind::TexelTable`) 3 texels per
+/// triangle and 2 per BVH node, of which there are fewer than 2 per triangle (so 4 texels per
+/// triangle bound both).
+pub fn max_triangles(binding_limit: u64, texture_rows: u64) -> u64 {
+    let in_binding = binding_limit / std::mem::size_of::<GpuTriangleNormals>() as u64;
+    let in_texel_tables = crate::shaders::bindings::TEXEL_TABLE_WIDTH as u64 * texture_rows / 4;
+    in_binding.min(in_texel_tables)
 }
 
 /// The scene's triangles packed for the kernel: in the BVH's leaf order, with the BVH and the
@@ -217,15 +222,19 @@ pub struct SceneBufferContents {
     pub bytes: Vec<u8>,
 }
 
-/// The scene's buffers on the device, each at its binding (`shaders::bindings`).
+/// The scene's buffers and texel tables on the device, each at its binding
+/// (`shaders::bindings`).
 pub struct SceneBuffers {
     pub buffers: Vec<(Binding, wgpu::Buffer)>,
+    pub tables: Vec<(Binding, wgpu::Texture, wgpu::TextureView)>,
 }
 
 impl SceneBuffers {
-    /// The bind-group entries of every scene buffer.
+    /// The bind-group entries of every scene buffer and texel table.
     pub fn entries(&self) -> Vec<wgpu::BindGroupEntry<'_>> {
-        self.buffers.iter().map(|(binding, buffer)| bindings::entry(*binding, buffer)).collect()
+        let buffers = self.buffers.iter().map(|(binding, buffer)| bindings::entry(*binding, buffer));
+        let tables = self.tables.iter().map(|(binding, _, view)| bindings::texel_table_entry(binding.number, view));
+        buffers.chain(tables).collect()
     }
 
     /// Every buffer of the scene, its bytes and its binding: a new buffer of the scene is
@@ -258,20 +267,23 @@ impl SceneBuffers {
         ]
     }
 
-    /// Uploads `contents`.
-    pub fn new(device: &wgpu::Device, scene: &Scene, packed: &PackedTriangles) -> SceneBuffers {
-        let buffers = Self::contents(scene, packed)
-            .into_iter()
-            .map(|c| {
-                let usage = match c.binding.kind {
-                    bindings::Kind::Uniform => wgpu::BufferUsages::UNIFORM,
-                    bindings::Kind::Storage { .. } => wgpu::BufferUsages::STORAGE,
-                };
-                let descriptor = wgpu::util::BufferInitDescriptor { label: Some(c.label), contents: &c.bytes, usage };
-                (c.binding, device.create_buffer_init(&descriptor))
-            })
-            .collect();
-        SceneBuffers { buffers }
+    /// Uploads `contents`: buffers, and texel tables where the binding is one.
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, scene: &Scene, packed: &PackedTriangles) -> SceneBuffers {
+        let (mut buffers, mut tables) = (Vec::new(), Vec::new());
+        for c in Self::contents(scene, packed) {
+            let usage = match c.binding.kind {
+                bindings::Kind::Uniform => wgpu::BufferUsages::UNIFORM,
+                bindings::Kind::Storage { .. } => wgpu::BufferUsages::STORAGE,
+                bindings::Kind::TexelTable => {
+                    let (texture, view) = bindings::texel_table(device, queue, c.label, &c.bytes);
+                    tables.push((c.binding, texture, view));
+                    continue;
+                }
+            };
+            let descriptor = wgpu::util::BufferInitDescriptor { label: Some(c.label), contents: &c.bytes, usage };
+            buffers.push((c.binding, device.create_buffer_init(&descriptor)));
+        }
+        SceneBuffers { buffers, tables }
     }
 }
 
@@ -376,5 +388,21 @@ mod tests {
         assert!(MAX_SPHERES * std::mem::size_of::<GpuSphere>() <= limit);
         assert!(MAX_PLANES * std::mem::size_of::<GpuPlane>() <= limit);
         assert!(MAX_MATERIALS * std::mem::size_of::<GpuMaterial>() <= limit);
+    }
+
+    /// The refusal bound holds every table of the largest scene it admits: the normals in one
+    /// storage binding, triangles (3 texels) and BVH nodes (2 texels, fewer than 2 per
+    /// triangle) in textures of at most the adapter's rows.
+    #[test]
+    fn the_triangle_limit_fits_the_binding_and_the_texel_tables() {
+        let width = crate::shaders::bindings::TEXEL_TABLE_WIDTH as u64;
+        for (binding, rows) in [(128u64 << 20, 16384u64), (4u64 << 30, 8192), (1 << 20, 8192)] {
+            let n = max_triangles(binding, rows);
+            assert!(n * std::mem::size_of::<GpuTriangleNormals>() as u64 <= binding);
+            assert!((3 * n).div_ceil(width) <= rows, "triangles of {n}");
+            assert!((2 * (2 * n - 1)).div_ceil(width) <= rows, "nodes of {n}");
+        }
+        // lavapipe's 128 MiB binding, not its textures, bounds it there.
+        assert_eq!(max_triangles(128 << 20, 16384), (128 << 20) / 48);
     }
 }

@@ -51,9 +51,10 @@ pub enum RenderError {
     LoopLimit(u64),
     #[error(
         "the scene has {count} triangles, more than this adapter holds ({limit}: its largest storage \
-         binding is {binding} bytes, 48 bytes per triangle)"
+         binding is {binding} bytes, 48 bytes per triangle, and its 2D textures are at most \
+         {texture_rows} texels high, 4096 x {texture_rows} / 4 triangles)"
     )]
-    TooManyTriangles { count: u64, limit: u64, binding: u64 },
+    TooManyTriangles { count: u64, limit: u64, binding: u64, texture_rows: u64 },
     #[error(
         "the scene's textures need {bytes} bytes on the GPU, more than this adapter's largest \
          storage binding ({limit} bytes); the largest: {largest} (`pathlab check` lists them)"
@@ -147,8 +148,10 @@ impl Renderer {
         let device = &gpu.device;
         let binding = gpu.limits.max_storage_buffer_binding_size.min(gpu.limits.max_buffer_size);
         let count = scene.num_triangles() as u64;
-        if count > max_triangles(binding) {
-            return Err(RenderError::TooManyTriangles { count, limit: max_triangles(binding), binding });
+        let texture_rows = gpu.limits.max_texture_dimension_2d as u64;
+        let limit = max_triangles(binding, texture_rows);
+        if count > limit {
+            return Err(RenderError::TooManyTriangles { count, limit, binding, texture_rows });
         }
         let textures: Vec<&crate::scene::Texture> = scene.materials.iter().flat_map(|m| m.bsdf.textures()).collect();
         let texture_bytes: u64 = textures.iter().map(|t| t.gpu_bytes()).sum();
@@ -187,7 +190,7 @@ impl Renderer {
             MAX_SAMPLES_PER_DISPATCH
         };
         let (pipeline, _) = pipelines.get(device, key);
-        let scene_buffers = SceneBuffers::new(device, scene, &packed);
+        let scene_buffers = SceneBuffers::new(device, &gpu.queue, scene, &packed);
         let mut params = FrameParams::for_scene(scene);
         params.seed = seed;
         let bands = Band::cover(device, pipelines, &scene_buffers, width, height, rows_per_band);

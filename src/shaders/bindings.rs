@@ -9,6 +9,27 @@ pub enum Kind {
     Uniform,
     /// A storage buffer, read-only or read-write.
     Storage { read_only: bool },
+    /// A read-only table of 16-byte records: an `rgba32uint` storage texture of
+    /// `TEXEL_TABLE_WIDTH` texels per row, record j at (j mod width, j / width) (see
+    /// `texel_table_bytes`). For records the kernel reads at a per-lane index in its inner
+    /// loops: lavapipe reads a texel as one branch-free 16-byte load per lane, where a storage
+    /// buffer read is a loop over the lanes with two branches per lane and component.
+    TexelTable,
+}
+
+/// Texels per row of a texel table (a power of two, far below every adapter's 2D texture
+/// limit: WebGPU's default is 8192).
+pub const TEXEL_TABLE_WIDTH: u32 = 4096;
+
+/// A table's bytes (a multiple of 16) padded with zeros to whole rows, and its number of rows
+/// (at least one: a binding cannot be empty).
+pub fn texel_table_bytes(bytes: &[u8]) -> (Vec<u8>, u32) {
+    assert!(bytes.len() % 16 == 0, "texel table records are 16 bytes");
+    let row = TEXEL_TABLE_WIDTH as usize * 16;
+    let rows = bytes.len().div_ceil(row).max(1);
+    let mut padded = bytes.to_vec();
+    padded.resize(rows * row, 0);
+    (padded, rows as u32)
 }
 
 /// One binding of group 0: number, the WGSL constant's suffix (`BINDING_<NAME>`), kind.
@@ -30,10 +51,11 @@ pub const ACCUM: Binding = Binding { number: 5, name: "ACCUM", kind: Kind::Stora
 /// The Halton bases, `primes(HALTON_DIMENSIONS)` (sampler.wgsl).
 pub const HALTON_PRIMES: Binding = Binding { number: 6, name: "HALTON_PRIMES", kind: Kind::Uniform };
 
-/// The triangles in BVH leaf order (`Triangle`, bvh.wgsl), their vertex normals, the BVH nodes.
-pub const TRIANGLES: Binding = Binding { number: 7, name: "TRIANGLES", kind: Kind::Storage { read_only: true } };
+/// The triangles in BVH leaf order (`Triangle`, bvh.wgsl: three texels each), their vertex
+/// normals, the BVH nodes (`BvhNode`: two texels each).
+pub const TRIANGLES: Binding = Binding { number: 7, name: "TRIANGLES", kind: Kind::TexelTable };
 pub const TRIANGLE_NORMALS: Binding = Binding { number: 8, name: "TRIANGLE_NORMALS", kind: Kind::Storage { read_only: true } };
-pub const BVH_NODES: Binding = Binding { number: 9, name: "BVH_NODES", kind: Kind::Storage { read_only: true } };
+pub const BVH_NODES: Binding = Binding { number: 9, name: "BVH_NODES", kind: Kind::TexelTable };
 /// The light table: objects and the power alias table (`LightEntry`, light_table.wgsl).
 pub const LIGHTS: Binding = Binding { number: 10, name: "LIGHTS", kind: Kind::Storage { read_only: true } };
 
@@ -91,18 +113,43 @@ pub fn wgsl(group: &[Binding]) -> String {
     group.iter().map(|b| format!("const BINDING_{}: u32 = {}u;\n", b.name, b.number)).collect()
 }
 
-/// A bind group layout entry of the compute stage: a buffer of `kind` at `number`.
+/// A bind group layout entry of the compute stage: a resource of `kind` at `number`.
 pub fn layout_entry(number: u32, kind: Kind) -> wgpu::BindGroupLayoutEntry {
+    let buffer = |ty| wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None };
     let ty = match kind {
-        Kind::Uniform => wgpu::BufferBindingType::Uniform,
-        Kind::Storage { read_only } => wgpu::BufferBindingType::Storage { read_only },
+        Kind::Uniform => buffer(wgpu::BufferBindingType::Uniform),
+        Kind::Storage { read_only } => buffer(wgpu::BufferBindingType::Storage { read_only }),
+        Kind::TexelTable => wgpu::BindingType::StorageTexture {
+            access: wgpu::StorageTextureAccess::ReadOnly,
+            format: wgpu::TextureFormat::Rgba32Uint,
+            view_dimension: wgpu::TextureViewDimension::D2,
+        },
     };
-    wgpu::BindGroupLayoutEntry {
-        binding: number,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None },
-        count: None,
-    }
+    wgpu::BindGroupLayoutEntry { binding: number, visibility: wgpu::ShaderStages::COMPUTE, ty, count: None }
+}
+
+/// A texel table holding `bytes` (a multiple of 16), uploaded: the texture and its view.
+pub fn texel_table(device: &wgpu::Device, queue: &wgpu::Queue, label: &str, bytes: &[u8]) -> (wgpu::Texture, wgpu::TextureView) {
+    let (padded, rows) = texel_table_bytes(bytes);
+    let size = wgpu::Extent3d { width: TEXEL_TABLE_WIDTH, height: rows, depth_or_array_layers: 1 };
+    let texture = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size,
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Rgba32Uint,
+        usage: wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    queue.write_texture(
+        texture.as_image_copy(),
+        &padded,
+        wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(TEXEL_TABLE_WIDTH * 16), rows_per_image: Some(rows) },
+        size,
+    );
+    let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
+    (texture, view)
 }
 
 /// The layout entries of a whole group.
@@ -115,9 +162,27 @@ pub fn entry(b: Binding, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
     wgpu::BindGroupEntry { binding: b.number, resource: buffer.as_entire_binding() }
 }
 
+/// A texel table's `view` bound at `number`.
+pub fn texel_table_entry(number: u32, view: &wgpu::TextureView) -> wgpu::BindGroupEntry<'_> {
+    wgpu::BindGroupEntry { binding: number, resource: wgpu::BindingResource::TextureView(view) }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn texel_tables_pad_to_whole_rows_and_are_never_empty() {
+        let (bytes, rows) = texel_table_bytes(&[]);
+        assert_eq!((bytes.len(), rows), (TEXEL_TABLE_WIDTH as usize * 16, 1));
+        let record: Vec<u8> = (0..48u8).collect();
+        let (bytes, rows) = texel_table_bytes(&record);
+        assert_eq!(rows, 1);
+        assert_eq!(&bytes[..48], &record[..]);
+        assert!(bytes[48..].iter().all(|&b| b == 0));
+        let (_, rows) = texel_table_bytes(&vec![0; TEXEL_TABLE_WIDTH as usize * 16 + 16]);
+        assert_eq!(rows, 2);
+    }
 
     #[test]
     fn numbers_are_unique_within_a_group() {

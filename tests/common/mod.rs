@@ -88,6 +88,7 @@ pub fn eval_bsdf_pairs(bsdf: &pathlab::scene::Bsdf, pairs: &[[f32; 4]]) -> Vec<[
         constants: &[],
         inputs,
         uniforms: vec![],
+        texel_tables: vec![],
         output: (1, (pairs.len() * 16) as u64),
         workgroups: (count as u32).div_ceil(64),
     };
@@ -106,6 +107,7 @@ pub fn run_test_kernel(parts: &[(&str, &str)], kernel: &str, entry: &str, inputs
         constants: &[],
         inputs,
         uniforms: vec![],
+        texel_tables: vec![],
         output: (1, (items * out_per_item * 16) as u64),
         workgroups: (items as u32).div_ceil(64),
     };
