@@ -9,6 +9,11 @@ pub mod triangle;
 pub use bvh::{Bvh, BvhNode, Triangle};
 
 /// Scenes of at most this many triangles test them all in turn from a uniform buffer instead of
-/// traversing the BVH (generated into the WGSL; see bvh.wgsl).
-pub const BRUTE_FORCE_TRIANGLES: u32 = 64;
+/// traversing the BVH (generated into the WGSL; see bvh.wgsl). Measured on lavapipe
+/// (2026-12-03, `pathlab bench ... --methods mis`, M samples/s, unrolled tests against the BVH
+/// in texel tables): the Cornell box (36 triangles) 1.32 against 0.56; Veach's scene (52
+/// triangles, whose kernel also inlines a shadow ray per light) 0.68 against 0.77: the
+/// unrolled tests grow the kernel's code (to megabytes, with every inlined query) faster than
+/// they save loads.
+pub const BRUTE_FORCE_TRIANGLES: u32 = 40;
 pub use triangle::ShearedRay;
