@@ -238,8 +238,8 @@ fn traversal_step() -> bool {
 }
 
 // The small scenes' tests, `load_small_triangles()` and `triangles_brute_force(o, d, t_max)`,
-// are generated after this file (src/shaders/generated.rs): BRUTE_FORCE_TRIANGLES steps at
-// constant indices, those past NUM_TRIANGLES folding away. Every entry point that traces rays
+// are generated after this file (src/shaders/generated.rs): one step per triangle at constant
+// indices (the module is assembled per triangle count; steps past NUM_TRIANGLES fold away). Every entry point that traces rays
 // calls `load_small_triangles()` first, outside any branch or loop. Why, on lavapipe (Mesa
 // 22.3, gallivm): inside a branch or loop even a constant-index uniform read is compiled as 8
 // lane-by-lane loads (LLVM could not merge them here), and at a loop counter's index always

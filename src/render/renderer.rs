@@ -52,7 +52,8 @@ pub enum RenderError {
     #[error(
         "the scene has {count} triangles, more than this adapter holds ({limit}: its largest storage \
          binding is {binding} bytes, 48 bytes per triangle, and its 2D textures are at most \
-         {texture_rows} texels high, 4096 x {texture_rows} / 4 triangles)"
+         {texture_rows} texels high, {} x {texture_rows} / 4 triangles)",
+        crate::shaders::bindings::TEXEL_TABLE_WIDTH
     )]
     TooManyTriangles { count: u64, limit: u64, binding: u64, texture_rows: u64 },
     #[error(

@@ -191,7 +191,7 @@ pub fn light_counts() -> String {
 /// order and a hit replaces the best one only when strictly closer, as a loop over the
 /// triangles would. The path tracer's module is assembled with `n` the scene's own count
 /// (`unrolled_triangles`): dead steps still cost the driver their compilation before it folds
-/// them (64 of them: a second per pipeline on lavapipe, in every scene).
+/// them (64 dead steps cost every scene's pipeline a second on lavapipe).
 pub fn small_triangle_tests(n: u32) -> String {
     let mut s = String::from(
         "var<private> small_triangle_cache: array<Triangle, BRUTE_FORCE_TRIANGLES>;\n\n\
