@@ -13,5 +13,6 @@ struct AccumPixel {
     sum_sq: vec3f,
     rays_hi: u32,
     sum_sq_err: vec3f,
-    _pad2: u32,
+    // Samples in which a researcher's technique faulted (technique.wgsl): each contributed 0.
+    faults: u32,
 }

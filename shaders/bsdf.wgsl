@@ -105,8 +105,8 @@ fn generic_covers_both_sides(b: Bsdf) -> bool {
     return bsdf_transmits_smoothly(b) && (BSDF_SAMPLING == BSDF_UNIFORM_HEMISPHERE || BSDF_SAMPLING == BSDF_COSINE);
 }
 
-// f(wi, wo) and the density at wi of the pipeline's strategy: a generic one's, for every kind
-// that is not a delta (a delta lobe is found by its own sampling alone, whatever the strategy;
+// f(wi, wo) and the density at wi of the pipeline's strategy: a researcher's technique's for a
+// Phong material where one is loaded; a generic one's, for every kind that is not a delta (a delta lobe is found by its own sampling alone, whatever the strategy;
 // where a kind has one beside smooth lobes, the generic density is scaled by the probability
 // of not drawing it), else the kind's own.
 fn eval_pdf_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, wi: vec3f) -> BsdfEval {
@@ -119,13 +119,21 @@ fn eval_pdf_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, wi: vec3f) -> BsdfEval {
         // The generic direction is drawn when the kind's delta lobe is not.
         e.pdf = generic * (1.0 - bsdf_delta_lobe_prob(b, n_s, wo));
     }
+    if (BSDF_TECHNIQUE && b.kind == BSDF_KIND_PHONG) {
+        // A researcher's technique samples Phong materials (technique.wgsl).
+        e.pdf = pdf_phong_technique(phong_of(b), n_s, wo, wi);
+    }
     return e;
 }
 
-// wi drawn by the pipeline's strategy: a generic one's direction, weighted by path_weight with
-// the kind's f, for every kind that is not a delta (or its delta lobe, drawn with the kind's
-// own probability); else the kind's own sampling.
+// wi drawn by the pipeline's strategy: a researcher's technique's for a Phong material where
+// one is loaded; a generic one's direction, weighted by path_weight with the kind's f, for
+// every kind that is not a delta (or its delta lobe, drawn with the kind's own probability);
+// else the kind's own sampling.
 fn sample_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> BsdfSample {
+    if (BSDF_TECHNIQUE && b.kind == BSDF_KIND_PHONG) {
+        return sample_phong_technique(phong_of(b), n_s, wo, u_dir, u_lobe);
+    }
     if (pdf_generic_strategy(1.0) >= 0.0 && !bsdf_is_delta(b)) {
         // A delta lobe beside smooth ones (plastic's coating) is found only by the kind's own
         // sampling, which picks it exactly when u_lobe is below its probability.

@@ -10,12 +10,14 @@
 // the light table (light_table.wgsl), the kinds in the registry's order.
 
 // The point next event estimation samples from (pbrt-v4's LightSampleContext, Mitsuba's
-// reference interaction): the shading point x, the object it lies on (INVALID for none) and
-// whether it was reached from that object's inner side.
+// reference interaction): the shading point x, the object it lies on (INVALID for none),
+// whether it was reached from that object's inner side, and the shading normal on the viewer's
+// side (only a researcher's light technique reads it).
 struct LightSampleContext {
     x: vec3f,
     object: u32,
     from_inside: bool,
+    n: vec3f,
 }
 
 // A light sample seen from a shading point: direction, distance (INFINITY for a light at

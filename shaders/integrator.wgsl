@@ -170,6 +170,8 @@ struct PrevVertex {
     bsdf_pdf: f32,
     // The ray left by a delta lobe (a mirror), which light sampling cannot reproduce.
     delta: bool,
+    // The shading normal on the viewer's side (for a researcher's light technique).
+    n_s: vec3f,
 }
 
 // The light an object is (INVALID: an escaped ray, which found the environment), or INVALID.
@@ -204,7 +206,7 @@ fn emitter_hit_weight(hit: Hit, ray_dir: vec3f, prev: PrevVertex) -> f32 {
     if (LIGHT_SAMPLING == LIGHTS_NEE) {
         return 0.0;
     }
-    let light_pdf = pdf_emitter(l, LightSampleContext(prev.position, prev.object, prev.from_inside), ray_dir);
+    let light_pdf = pdf_emitter(l, LightSampleContext(prev.position, prev.object, prev.from_inside, prev.n_s), ray_dir);
     return mis_weight(prev.bsdf_pdf, light_select_prob(l) * light_pdf);
 }
 
@@ -272,7 +274,7 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
         let scatters = !from_inside || (materials[hit.material].flags & MATERIAL_ONE_SIDED) == 0u;
 
         if (LIGHT_SAMPLING != LIGHTS_NONE && NUM_LIGHTS > 0u && scatters && !bsdf_is_delta(m)) {
-            radiance += throughput * estimate_direct(id, dim_base, LightSampleContext(x, hit.object, from_inside), n_s, n_g, wo, m);
+            radiance += throughput * estimate_direct(id, dim_base, LightSampleContext(x, hit.object, from_inside, n_s), n_s, n_g, wo, m);
         }
 
         let u_dir = sample_2d(id.pixel, id.index, dim_base, id.seed);
@@ -302,7 +304,7 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
                 scattered = false;
             }
         }
-        let prev = PrevVertex(x, hit.object, from_inside, bs.pdf, bs.delta);
+        let prev = PrevVertex(x, hit.object, from_inside, bs.pdf, bs.delta, n_s);
         ray_o = offset_ray_origin(x, n_g);
         if (bsdf_may_transmit()) {
             ray_o = offset_ray_origin(x, transmission_side(n_g, bs.wi));
@@ -348,7 +350,14 @@ fn render_main(@builtin(global_invocation_id) gid: vec3u) {
     var s = 0u;
     loop {
         let id = SampleId(pixel, frame.sample_start + s, frame.seed);
-        let radiance = trace_path(id, px, py);
+        technique_faults = 0u;
+        var radiance = trace_path(id, px, py);
+        if ((BSDF_TECHNIQUE || LIGHT_TECHNIQUE) && technique_faults != 0u) {
+            // A researcher's technique faulted (technique.wgsl): the sample counts as 0, and
+            // is counted, so that nothing poisons the sums silently.
+            radiance = vec3f(0.0);
+            acc.faults += 1u;
+        }
         // A sample the traversal guard cut short is left out: the pixel then holds fewer
         // samples than dispatched, which the readback reports.
         if (NUM_TRIANGLES > 0u && traversal_exhausted) {

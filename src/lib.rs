@@ -20,6 +20,8 @@
 //!   constants and bindings generated from the Rust definitions;
 //! - `sequences`: the CPU twin of the WGSL samplers;
 //! - `gpu`: device, specialised pipelines, scene buffers;
+//! - `chi2`: the chi-square harness of sampling routines (the kernel's sampler against its pdf);
+//! - `technique`: proving a researcher's technique (`pathlab check-technique`);
 //! - `render`: the renderer, checkpoints, rendering to a target, one `RenderJob` for every command;
 //! - `shard`: sample ranges of split renders and their exact merge;
 //! - `advise`: which method reaches a target error first;
@@ -28,6 +30,7 @@
 
 pub mod accel;
 pub mod advise;
+pub mod chi2;
 pub mod display;
 pub mod estimate;
 pub mod figures;
@@ -45,6 +48,7 @@ pub mod shaders;
 pub mod shard;
 pub mod stats;
 pub mod study;
+pub mod technique;
 #[cfg(feature = "viewer")]
 pub mod viewer;
 

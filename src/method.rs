@@ -117,6 +117,61 @@ named_enum! {
 }
 
 named_enum! {
+    /// What a researcher's own WGSL technique replaces (`--technique KIND:FILE.wgsl`; the
+    /// contract is in `shaders/technique.wgsl`).
+    pub enum TechniqueKind("technique kind") {
+        /// Sampling a direction at a Phong material (in place of its own strategy).
+        Bsdf = "bsdf",
+        /// Sampling a point on a spherical light seen from outside it (in place of the cone).
+        Light = "light",
+    }
+}
+
+/// The longest technique name (a file stem).
+pub const TECHNIQUE_NAME_MAX: usize = 40;
+
+/// A technique's name, its file's stem: ASCII letters, digits, `_` and `-`, at most
+/// `TECHNIQUE_NAME_MAX` bytes. Held inline so that a `Method` stays `Copy`.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct TechniqueName {
+    len: u8,
+    bytes: [u8; TECHNIQUE_NAME_MAX],
+}
+
+/// Why a string cannot be a technique's name.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("`{0}` cannot name a technique: a technique is named by its file's stem, which must be 1 to 40 ASCII letters, digits, `_` or `-`")]
+pub struct BadTechniqueName(pub String);
+
+impl TechniqueName {
+    pub fn new(name: &str) -> Result<TechniqueName, BadTechniqueName> {
+        let ok = !name.is_empty() && name.len() <= TECHNIQUE_NAME_MAX && name.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_' || b == b'-');
+        if !ok {
+            return Err(BadTechniqueName(name.to_string()));
+        }
+        let mut bytes = [0u8; TECHNIQUE_NAME_MAX];
+        bytes[..name.len()].copy_from_slice(name.as_bytes());
+        Ok(TechniqueName { len: name.len() as u8, bytes })
+    }
+
+    pub fn as_str(&self) -> &str {
+        std::str::from_utf8(&self.bytes[..self.len as usize]).expect("checked ASCII")
+    }
+}
+
+impl fmt::Display for TechniqueName {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+impl fmt::Debug for TechniqueName {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{:?}", self.as_str())
+    }
+}
+
+named_enum! {
     /// The named methods of the study.
     pub enum Preset("method") {
         /// Independent samples, uniform sphere sampling, no light sampling (the study's plain).
@@ -154,6 +209,11 @@ pub struct Method {
     pub environment: bool,
     /// How the environment is sampled where it is an image and `environment` is on.
     pub env_sampling: EnvSampling,
+    /// A researcher's technique sampling Phong materials (`+bsdf=NAME`), in place of their own
+    /// strategy, whatever `bsdf` says for the other kinds.
+    pub bsdf_technique: Option<TechniqueName>,
+    /// A researcher's technique sampling spherical lights from outside (`+light=NAME`).
+    pub light_technique: Option<TechniqueName>,
 }
 
 /// The method-name suffix (`mis+env`) of `Method::environment`.
@@ -183,6 +243,8 @@ impl Preset {
             lobes: LobeSelection::Fresnel,
             environment: false,
             env_sampling: EnvSampling::Luminance,
+            bsdf_technique: None,
+            light_technique: None,
         }
     }
 }
@@ -216,6 +278,9 @@ impl fmt::Display for Method {
         }
         if self.lobes != LobeSelection::Fresnel {
             write!(f, " lobes={}", self.lobes)?;
+        }
+        for (kind, name) in self.techniques() {
+            write!(f, " technique={kind}:{name}")?;
         }
         Ok(())
     }
@@ -254,6 +319,8 @@ pub struct MethodParts {
     pub lobes: Option<LobeSelection>,
     pub environment: Option<bool>,
     pub env_sampling: Option<EnvSampling>,
+    pub bsdf_technique: Option<TechniqueName>,
+    pub light_technique: Option<TechniqueName>,
 }
 
 impl MethodParts {
@@ -269,6 +336,8 @@ impl MethodParts {
             lobes: self.lobes.unwrap_or(method.lobes),
             environment: self.environment.unwrap_or(method.environment),
             env_sampling: self.env_sampling.unwrap_or(method.env_sampling),
+            bsdf_technique: self.bsdf_technique.or(method.bsdf_technique),
+            light_technique: self.light_technique.or(method.light_technique),
         }
     }
 }
@@ -277,6 +346,19 @@ impl Method {
     /// True when a deliberately biased demonstration strategy is part of the method.
     pub fn is_biased(&self) -> bool {
         self.bsdf.is_biased() || self.lights.is_biased()
+    }
+
+    /// The researcher's techniques the method uses, by kind.
+    pub fn techniques(&self) -> impl Iterator<Item = (TechniqueKind, TechniqueName)> {
+        [(TechniqueKind::Bsdf, self.bsdf_technique), (TechniqueKind::Light, self.light_technique)].into_iter().filter_map(|(k, n)| n.map(|n| (k, n)))
+    }
+
+    /// The same method using technique `name` of `kind`.
+    pub fn with_technique(self, kind: TechniqueKind, name: TechniqueName) -> Method {
+        match kind {
+            TechniqueKind::Bsdf => Method { bsdf_technique: Some(name), ..self },
+            TechniqueKind::Light => Method { light_technique: Some(name), ..self },
+        }
     }
 
     /// The preset with exactly these settings, if any.
@@ -293,6 +375,8 @@ impl Method {
             lobes: LobeSelection::Fresnel,
             environment: false,
             env_sampling: EnvSampling::Luminance,
+            bsdf_technique: None,
+            light_technique: None,
             ..*self
         }
     }
@@ -330,6 +414,9 @@ impl Method {
         if self.env_sampling != EnvSampling::Luminance {
             name = format!("{name}+{}", self.env_sampling);
         }
+        for (kind, technique) in self.techniques() {
+            name = format!("{name}+{kind}={technique}");
+        }
         name
     }
 
@@ -350,6 +437,9 @@ impl Method {
                 method.environment = true;
             } else if let Some(e) = EnvSampling::from_name(option) {
                 method.env_sampling = e;
+            } else if let Some((kind, technique)) = option.split_once('=').and_then(|(k, n)| Some((TechniqueKind::from_name(k)?, n))) {
+                let technique = TechniqueName::new(technique).map_err(|e| UnknownName { what: "technique", name: technique.to_string(), known: e.to_string() })?;
+                method = method.with_technique(kind, technique);
             } else {
                 let known: Vec<&str> = LightSelect::names()
                     .into_iter()
@@ -358,6 +448,7 @@ impl Method {
                     .chain(LobeSelection::names())
                     .chain([ENVIRONMENT_OPTION])
                     .chain(EnvSampling::names())
+                    .chain(["bsdf=NAME", "light=NAME"])
                     .collect();
                 return Err(UnknownName { what: "light option", name: option.to_string(), known: known.join(", ") });
             }
@@ -386,6 +477,8 @@ impl Method {
                 lobes: LobeSelection::Fresnel,
                 environment: false,
                 env_sampling: EnvSampling::Luminance,
+                bsdf_technique: None,
+                light_technique: None,
             }),
             _ => Err(unknown()),
         }
@@ -425,7 +518,7 @@ mod tests {
                                 for lobes in LobeSelection::ALL {
                                     for environment in [false, true] {
                                         for env_sampling in EnvSampling::ALL {
-                                            let m = Method { sampler, bsdf, lights, select, triangles, microfacet, lobes, environment, env_sampling };
+                                            let m = Method { sampler, bsdf, lights, select, triangles, microfacet, lobes, environment, env_sampling, bsdf_technique: None, light_technique: None };
                                             assert_eq!(Method::from_name(&m.name()), Ok(m), "{}", m.name());
                                         }
                                     }
@@ -443,6 +536,14 @@ mod tests {
         assert!(Method::from_name("mis+brightest").is_err());
         assert_eq!(Method::from_name("mis+fixed").unwrap(), Method { lobes: LobeSelection::Fixed, ..Preset::Mis.method() });
         assert_eq!(Method::from_name("best+uniform+env").unwrap(), Method { select: Some(LightSelect::Uniform), environment: true, ..Preset::Best.method() });
+        let cone = TechniqueName::new("my_cone").unwrap();
+        let with = Method::from_name("mis+light=my_cone").unwrap();
+        assert_eq!(with, Method { light_technique: Some(cone), ..Preset::Mis.method() });
+        assert_eq!(with.name(), "mis+light=my_cone");
+        let both = Method::from_name("sobol/cosine/mis+bsdf=phong-lobe+light=my_cone").unwrap();
+        assert_eq!(Method::from_name(&both.name()), Ok(both));
+        assert!(Method::from_name("mis+light=my cone").is_err());
+        assert!(Method::from_name("mis+lens=x").is_err());
     }
 
     #[test]

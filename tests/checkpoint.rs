@@ -25,6 +25,7 @@ fn key(scene: &pathlab::scene::Scene, method: Method, seed: u32) -> CheckpointKe
         height: scene.render.height,
         max_depth: scene.render.max_depth,
         rr_depth: scene.render.rr_depth,
+        techniques: String::new(),
     }
 }
 

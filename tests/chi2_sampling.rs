@@ -15,235 +15,32 @@
 
 use crate::common;
 
-use std::f64::consts::PI;
-
 use common::gpu;
+use pathlab::chi2::{self, Routine, GAUSS_LEGENDRE_4};
 use pathlab::gpu::{GpuLight, KernelRun};
 use pathlab::method::{BsdfSampling, LightSelect, LobeSelection};
 use pathlab::scene::{Bsdf, BsdfData, Distribution, Plastic, RoughDielectric, RoughPlastic};
 use pathlab::shaders;
-use pathlab::stats::{chi2_sf, sidak};
+use pathlab::stats::sidak;
 
 const SAMPLES: u32 = 1_000_000;
-const PHI_BINS: usize = 101;
-const S_BINS: usize = 202;
 const ALPHA: f64 = 0.01;
 
-/// 4-point Gauss-Legendre nodes and weights on [-1, 1].
-const GAUSS_LEGENDRE_4: [(f64, f64); 4] = [
-    (-0.861_136_311_594_052_6, 0.347_854_845_137_453_9),
-    (-0.339_981_043_584_856_3, 0.652_145_154_862_546_1),
-    (0.339_981_043_584_856_3, 0.652_145_154_862_546_1),
-    (0.861_136_311_594_052_6, 0.347_854_845_137_453_9),
-];
-
-/// The chi-square p-value of `observed` counts against `expected` probabilities (times `n`
-/// samples), cells expecting fewer than 5 pooled into one. A sample in a cell of probability 0
-/// is a hard failure of `name`.
+/// The chi-square p-value of `observed` counts against `expected` probabilities (the
+/// library's harness, `pathlab::chi2`); a sample where the pdf is 0 fails `name`.
 fn pooled_chi_square(name: &str, expected: &[f64], observed: &[u64], n: f64) -> f64 {
-    let (mut chi2, mut dof, mut pooled_exp, mut pooled_obs) = (0.0, 0usize, 0.0, 0.0);
-    for (c, &e) in expected.iter().enumerate() {
-        let (e, o) = (e * n, observed[c] as f64);
-        if e == 0.0 {
-            assert!(o == 0.0, "{name}: {o} samples in cell {c}, where the pdf is 0");
-        } else if e < 5.0 {
-            pooled_exp += e;
-            pooled_obs += o;
-        } else {
-            chi2 += (o - e) * (o - e) / e;
-            dof += 1;
-        }
-    }
-    if pooled_exp > 0.0 {
-        chi2 += (pooled_obs - pooled_exp) * (pooled_obs - pooled_exp) / pooled_exp;
-        dof += 1;
-    }
-    chi2_sf(chi2, dof.saturating_sub(1).max(1))
+    chi2::pooled_chi_square(expected, observed, n).unwrap_or_else(|(cell, count)| panic!("{name}: {count} samples in cell {cell}, where the pdf is 0"))
 }
 
-/// Test kernel: the routine's `routine_sample` and `routine_pdf` are spliced in per test.
-const KERNEL: &str = r#"
-struct TestParams { count: u32, seed: u32, _p0: u32, _p1: u32 }
-struct Drawn { sample: vec4f, check: vec4f }
-@group(0) @binding(0) var<storage, read> test_params: TestParams;
-@group(0) @binding(1) var<storage, read_write> test_out: array<vec4f>;
-@group(0) @binding(2) var<storage, read> test_dirs: array<vec4f>;
-
-@compute @workgroup_size(64)
-fn sample_main(@builtin(global_invocation_id) gid: vec3u) {
-    let i = gid.x;
-    if (i >= test_params.count) {
-        return;
-    }
-    let s = test_params.seed;
-    let u = vec2f(sample_independent(i, 0u, 0u, s), sample_independent(i, 0u, 1u, s));
-    let drawn = routine_sample(u, sample_independent(i, 0u, 2u, s));
-    test_out[2u * i] = drawn.sample;
-    test_out[2u * i + 1u] = drawn.check;
+fn run(routine: &Routine, entry: &str, inputs: Vec<(u32, Vec<u8>)>, out_vec4s: usize, items: usize) -> Vec<[f32; 4]> {
+    let source = chi2::source(routine, Default::default());
+    chi2::run(gpu(), &source, routine, entry, inputs, out_vec4s, items).unwrap_or_else(|e| panic!("{}: {e}", routine.name))
 }
 
-@compute @workgroup_size(64)
-fn pdf_main(@builtin(global_invocation_id) gid: vec3u) {
-    let i = gid.x;
-    if (i >= arrayLength(&test_dirs)) {
-        return;
-    }
-    test_out[i] = vec4f(routine_pdf(test_dirs[i].xyz), 0.0, 0.0, 0.0);
-}
-"#;
-
-struct Routine {
-    name: String,
-    /// WGSL defining `routine_sample(u: vec2f, u_lobe: f32) -> Drawn` (direction and reported
-    /// pdf in `sample`; `check.x` = relative error of the weight, 0 when not applicable) and
-    /// `routine_pdf(d: vec3f) -> f32`, both in a frame whose +z is the binning axis.
-    wgsl: String,
-    constants: Vec<(&'static str, f64)>,
-    /// Fine s bins cover [0, s_split]; coarse ones (s_split, 2]. Negative: bins spaced
-    /// geometrically from -s_split to 2 (after one [0, -s_split]), for lobes far narrower than
-    /// their tails (a microfacet lobe of alpha 1e-3 has GGX's tails).
-    s_split: f64,
-    /// Relative tolerance of a sample's reported pdf against the pdf function at the sampled
-    /// direction (as written out, in f32): 1e-4, more for lobes so narrow that the direction's
-    /// rounding moves the density (a 1e-7 rad shift changes a lobe of width alpha by ~1e-7 / alpha),
-    /// or whose half vector cancels.
-    pdf_tolerance: f64,
-    /// The BSDF data the routine's material reads (bound at `bindings::BSDF_DATA`; empty: none).
-    bsdf_data: Vec<f32>,
-}
-
-/// s bin edges: 150 fine + 52 coarse, or 202 uniform (then s = 1 is an edge).
-fn s_edges(s_split: f64) -> Vec<f64> {
-    if s_split < 0.0 {
-        let s_min = -s_split;
-        let mut e = vec![0.0];
-        e.extend((0..S_BINS).map(|i| s_min * (2.0 / s_min).powf(i as f64 / (S_BINS - 1) as f64)));
-        *e.last_mut().unwrap() = 2.0;
-        return e;
-    }
-    if s_split >= 2.0 {
-        return (0..=S_BINS).map(|i| 2.0 * i as f64 / S_BINS as f64).collect();
-    }
-    let (fine, coarse) = (150, S_BINS - 150);
-    let mut e: Vec<f64> = (0..=fine).map(|i| s_split * i as f64 / fine as f64).collect();
-    e.extend((1..=coarse).map(|i| s_split + (2.0 - s_split) * i as f64 / coarse as f64));
-    e
-}
-
-fn direction(phi: f64, s: f64) -> [f64; 3] {
-    let cos = 1.0 - s;
-    let sin = (s * (2.0 - s)).max(0.0).sqrt();
-    [sin * phi.cos(), sin * phi.sin(), cos]
-}
-
-/// (phi, s) of a unit direction, s = 1 - cos computed without cancellation near +z.
-fn phi_s(d: [f64; 3]) -> (f64, f64) {
-    let phi = d[1].atan2(d[0]).rem_euclid(2.0 * PI);
-    let rho2 = d[0] * d[0] + d[1] * d[1];
-    let s = if d[2] > 0.0 { rho2 / (1.0 + d[2]) } else { 1.0 - d[2] };
-    (phi, s)
-}
-
-fn run(routine: &Routine, entry: &str, mut inputs: Vec<(u32, Vec<u8>)>, out_vec4s: usize, items: usize) -> Vec<[f32; 4]> {
-    let source = shaders::assemble(&shaders::LIBRARY, &format!("{}\n{}", routine.wgsl, KERNEL));
-    if !routine.bsdf_data.is_empty() {
-        inputs.push((shaders::bindings::BSDF_DATA.number, bytemuck::cast_slice(&routine.bsdf_data).to_vec()));
-    }
-    let run = KernelRun {
-        source: &source,
-        entry,
-        constants: &routine.constants,
-        inputs,
-        uniforms: vec![],
-        texel_tables: vec![],
-        output: (1, (out_vec4s * 16) as u64),
-        workgroups: (items as u32).div_ceil(64),
-    };
-    bytemuck::pod_collect_to_vec(&run.run(gpu()).unwrap_or_else(|e| panic!("{}: {e}", routine.name)))
-}
-
-/// Runs one chi-square test; returns its p-value, or panics on a hard failure.
+/// Runs one chi-square test (`pathlab::chi2::chi_square`); returns its p-value, or panics on a
+/// hard failure.
 fn chi_square(routine: &Routine, seed: u32) -> f64 {
-    let name = &routine.name;
-    let params: [u32; 4] = [SAMPLES, seed, 0, 0];
-    let drawn = run(routine, "sample_main", vec![(0, bytemuck::cast_slice(&params).to_vec())], 2 * SAMPLES as usize, SAMPLES as usize);
-
-    let edges = s_edges(routine.s_split);
-    let dphi = 2.0 * PI / PHI_BINS as f64;
-    // Gauss-Legendre points of every cell, then the sampled directions (pdf consistency).
-    let gl = GAUSS_LEGENDRE_4;
-    let mut points: Vec<[f32; 4]> = Vec::with_capacity(PHI_BINS * S_BINS * 16 + SAMPLES as usize);
-    let mut weights = Vec::with_capacity(PHI_BINS * S_BINS * 16);
-    for j in 0..S_BINS {
-        let (s0, s1) = (edges[j], edges[j + 1]);
-        for i in 0..PHI_BINS {
-            let phi0 = i as f64 * dphi;
-            for (xs, ws) in gl {
-                for (xp, wp) in gl {
-                    let s = s0 + (s1 - s0) * (xs + 1.0) / 2.0;
-                    let phi = phi0 + dphi * (xp + 1.0) / 2.0;
-                    let d = direction(phi, s);
-                    points.push([d[0] as f32, d[1] as f32, d[2] as f32, 0.0]);
-                    weights.push(ws * wp * (s1 - s0) * dphi / 4.0);
-                }
-            }
-        }
-    }
-    let cell_points = points.len();
-    points.extend(drawn.iter().step_by(2).map(|d| [d[0], d[1], d[2], 0.0]));
-    let pdfs = run(
-        routine,
-        "pdf_main",
-        vec![(0, bytemuck::cast_slice(&params).to_vec()), (2, bytemuck::cast_slice(&points).to_vec())],
-        points.len(),
-        points.len(),
-    );
-
-    let mut expected = vec![0.0f64; PHI_BINS * S_BINS];
-    for (k, w) in weights.iter().enumerate() {
-        let p = pdfs[k][0] as f64;
-        assert!(p.is_finite() && p >= 0.0, "{name}: pdf {p} at a cell point");
-        expected[k / 16] += w * p;
-    }
-    let mass: f64 = expected.iter().sum();
-    // Samples the routine flags as lost (check.y = 1: a microfacet reflected below the surface)
-    // fill one more cell, whose probability is the pdf's missing mass.
-    let lost = drawn.chunks(2).filter(|pair| pair[1][1] != 0.0).count() as u64;
-    if lost == 0 {
-        assert!((mass - 1.0).abs() <= 1e-3, "{name}: pdf integrates to {mass}, not 1");
-    } else {
-        assert!(mass <= 1.0 + 1e-3, "{name}: pdf integrates to {mass}, more than 1");
-    }
-    expected.push((1.0 - mass).max(0.0));
-
-    let mut observed = vec![0u64; PHI_BINS * S_BINS + 1];
-    *observed.last_mut().unwrap() = lost;
-    for (n, pair) in drawn.chunks(2).enumerate() {
-        let (d, check) = (pair[0], pair[1]);
-        if check[1] != 0.0 {
-            // A lost sample may still be checked: a delta lobe's direction and weight.
-            assert!(d.iter().all(|x| x.is_finite()), "{name}: non-finite lost sample {d:?}");
-            assert!(check[0] <= 1e-4, "{name}: a lost sample is off by {} (relative): {d:?}", check[0]);
-            continue;
-        }
-        assert!(d.iter().all(|x| x.is_finite()) && check[0].is_finite(), "{name}: non-finite sample {d:?}");
-        let dir = [d[0] as f64, d[1] as f64, d[2] as f64];
-        let len = (dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]).sqrt();
-        assert!((len - 1.0).abs() < 1e-5, "{name}: direction of length {len}");
-        let (phi, s) = phi_s(dir.map(|x| x / len));
-        let i = ((phi / dphi) as usize).min(PHI_BINS - 1);
-        let j = edges.partition_point(|&e| e <= s).clamp(1, S_BINS) - 1;
-        observed[j * PHI_BINS + i] += 1;
-        // The pdf the routine reports equals its pdf function at the sampled direction.
-        let (reported, function) = (d[3] as f64, pdfs[cell_points + n][0] as f64);
-        assert!(
-            (reported - function).abs() <= routine.pdf_tolerance * function.abs().max(1e-30),
-            "{name}: sample reports pdf {reported}, pdf function gives {function} at {d:?}"
-        );
-        assert!(check[0] <= 1e-4, "{name}: weight differs from eval * cos / pdf by {} (relative)", check[0]);
-    }
-
-    pooled_chi_square(name, &expected, &observed, SAMPLES as f64)
+    chi2::chi_square(gpu(), routine, Default::default(), SAMPLES, seed).unwrap_or_else(|e| panic!("{}: {e}", routine.name)).p_value
 }
 
 // ----- the routines under test -------------------------------------------------------------
@@ -258,7 +55,9 @@ fn warp(name: &str, sample: &str, pdf: &str, s_split: f64) -> Routine {
         constants: vec![],
         s_split,
         pdf_tolerance: 1e-4,
+        pdf_floor: 1e-30,
         bsdf_data: Vec::new(),
+        integrand: false,
     }
 }
 
@@ -303,7 +102,9 @@ fn mixture(kd: f64, ks: f64, n: f64, theta_o: f64) -> Routine {
         constants: vec![("BSDF_SAMPLING", 3.0), ("HAS_SPECULAR", 1.0)],
         s_split: 2.0,
         pdf_tolerance: 1e-4,
+        pdf_floor: 1e-30,
         bsdf_data: Vec::new(),
+        integrand: false,
     }
 }
 
@@ -332,7 +133,9 @@ fn cone(ratio: f64) -> Routine {
         // on it) a bin edge: every cell beyond must stay empty.
         s_split: omc_max * (1.0 + 1e-5),
         pdf_tolerance: 1e-4,
+        pdf_floor: 1e-30,
         bsdf_data: Vec::new(),
+        integrand: false,
     }
 }
 
@@ -352,7 +155,9 @@ fn inside(x: [f64; 3]) -> Routine {
         constants: vec![],
         s_split: 2.0,
         pdf_tolerance: 1e-4,
+        pdf_floor: 1e-30,
         bsdf_data: Vec::new(),
+        integrand: false,
     }
 }
 
@@ -406,7 +211,9 @@ fn microfacet(distribution: &str, strategy: &str, alpha: f64, theta_o: f64) -> R
         // At grazing incidence h = (wo + wi) / |wo + wi| cancels (|wo + wi| = 2 wo . h is small),
         // and the two kernels round it differently: 1e-3.
         pdf_tolerance: (1e-6 / (alpha * t.cos().max(1e-3))).max(1e-3),
+        pdf_floor: 1e-30,
         bsdf_data: Vec::new(),
+        integrand: false,
     }
 }
 
@@ -480,7 +287,9 @@ fn plastic(diffuse: f64, specular: f64, int_ior: f64, nonlinear: bool, strategy:
         constants: vec![("BSDF_SAMPLING", strategy.constant() as f64), ("LOBE_SELECTION", lobes.constant() as f64)],
         s_split: 2.0,
         pdf_tolerance: 1e-4,
+        pdf_floor: 1e-30,
         bsdf_data: Vec::new(),
+        integrand: false,
     }
 }
 
@@ -554,7 +363,9 @@ fn rough_dielectric(distribution: Distribution, strategy: BsdfSampling, microfac
         s_split: 2.0,
         // The half vector of a refraction, normalize(wo + eta wi), cancels near grazing.
         pdf_tolerance: 1e-3,
+        pdf_floor: 1e-30,
         bsdf_data: Vec::new(),
+        integrand: false,
     }
 }
 
@@ -644,7 +455,9 @@ fn rough_plastic(distribution: Distribution, strategy: BsdfSampling, microfacets
         ],
         s_split: if around_mirror { -((alpha * t.cos()).powi(2) / 10.0).max(1e-12) } else { 2.0 },
         pdf_tolerance: (1e-6 / (alpha * t.cos().max(1e-3))).max(1e-3),
+        pdf_floor: 1e-30,
         bsdf_data: data.0,
+        integrand: false,
     }
 }
 
@@ -775,7 +588,9 @@ impl TriangleCase {
             constants: vec![("TRIANGLE_SAMPLING", self.strategy as f64)],
             s_split: 2.0,
             pdf_tolerance: 1e-4,
+            pdf_floor: 1e-30,
             bsdf_data: Vec::new(),
+            integrand: false,
         }
     }
 

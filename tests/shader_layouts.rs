@@ -50,7 +50,7 @@ fn shared_structs_match_the_wgsl() {
     check_struct(&pt, "FrameParams", size_of::<FrameParams>(), fields!(FrameParams: camera_origin, width, camera_forward, height,
         camera_right, sample_start, camera_up, sample_count, environment, seed, max_depth, tile_x, tile_y, tile_width, tile_height,
         opaque_zero, accum_row));
-    check_struct(&pt, "AccumPixel", size_of::<AccumPixel>(), fields!(AccumPixel: sum, count, sum_err, rays_lo, sum_sq, rays_hi, sum_sq_err));
+    check_struct(&pt, "AccumPixel", size_of::<AccumPixel>(), fields!(AccumPixel: sum, count, sum_err, rays_lo, sum_sq, rays_hi, sum_sq_err, faults));
     check_struct(&pt, "Sphere", size_of::<GpuSphere>(), fields!(GpuSphere: center, radius, material));
     check_struct(&pt, "Plane", size_of::<GpuPlane>(), fields!(GpuPlane: normal, offset, material));
     check_struct(&pt, "Material", size_of::<GpuMaterial>(), fields!(GpuMaterial: emission, flags, p0, p1, p2, kind));
@@ -61,7 +61,7 @@ fn shared_structs_match_the_wgsl() {
     check_struct(&pt, "BvhNode", size_of::<BvhNode>(), fields!(BvhNode: lo, first, hi, count));
     check_struct(&pt, "LightEntry", size_of::<GpuLight>(), fields!(GpuLight: object, power_prob, alias_index, threshold, kind));
     let display = module(&shaders::display_source());
-    check_struct(&display, "AccumPixel", size_of::<AccumPixel>(), fields!(AccumPixel: sum, count, sum_err, rays_lo, sum_sq, rays_hi, sum_sq_err));
+    check_struct(&display, "AccumPixel", size_of::<AccumPixel>(), fields!(AccumPixel: sum, count, sum_err, rays_lo, sum_sq, rays_hi, sum_sq_err, faults));
 }
 
 /// The value of the module-scope `const NAME: u32`.

@@ -1,8 +1,10 @@
 //! naga validates the assembled path tracer for every combination of `override` constants,
-//! after specialisation, exactly as wgpu would at pipeline creation.
+//! after specialisation, exactly as wgpu would at pipeline creation (with the example
+//! techniques of `examples/techniques/` spliced in and switched on in half of them).
 
 use pathlab::gpu::{pipeline_constants, PipelineKey, NO_TRAVERSAL_GUARD};
-use pathlab::method::{BsdfSampling, LightSampling, LightSelect, EnvSampling, LobeSelection, MicrofacetSampling, Method, Sampler, TriangleSampling};
+use pathlab::method::{BsdfSampling, EnvSampling, LightSampling, LightSelect, LobeSelection, Method, MicrofacetSampling, Sampler, TechniqueKind, TechniqueName, TriangleSampling};
+use pathlab::scene::Technique;
 use pathlab::gpu::SceneFeatures;
 use pathlab::shaders;
 
@@ -18,6 +20,11 @@ const SHAPES: [(u32, u32, u32, u32, u32, bool, u32); 4] = [
 #[test]
 fn every_override_permutation_validates() {
     let source = shaders::path_tracer_source();
+    // With the example techniques in their kinds' places (compiled in where `on`).
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/techniques");
+    let bsdf = Technique::load(TechniqueKind::Bsdf, dir.join("phong_lobe.wgsl")).unwrap();
+    let light = Technique::load(TechniqueKind::Light, dir.join("sphere_area.wgsl")).unwrap();
+    let with_techniques = shaders::path_tracer_source_with(12, shaders::TechniqueFiles { bsdf: Some(&bsdf), light: Some(&light) });
     let mut checked = 0;
     for sampler in Sampler::ALL {
         for bsdf in BsdfSampling::ALL {
@@ -34,7 +41,20 @@ fn every_override_permutation_validates() {
                                 let lobes = if (checked / 4) % 2 == 0 { LobeSelection::Fresnel } else { LobeSelection::Fixed };
                                 // Both environment-map strategies, with the map on and off.
                                 let env_sampling = if (checked / 8) % 2 == 0 { EnvSampling::Luminance } else { EnvSampling::Uniform };
-                                let method = Method { sampler, bsdf, lights, select: Some(select), triangles, microfacet, lobes, environment: on, env_sampling };
+                                let technique = |name: &str| on.then(|| TechniqueName::new(name).unwrap());
+                                let method = Method {
+                                    sampler,
+                                    bsdf,
+                                    lights,
+                                    select: Some(select),
+                                    triangles,
+                                    microfacet,
+                                    lobes,
+                                    environment: on,
+                                    env_sampling,
+                                    bsdf_technique: technique("phong_lobe"),
+                                    light_technique: technique("sphere_area"),
+                                };
                                 let features = SceneFeatures {
                                     num_spheres,
                                     num_planes,
@@ -54,7 +74,8 @@ fn every_override_permutation_validates() {
                                     light_interiors_reachable: on,
                                 };
                                 let key = PipelineKey { method, features, traversal_budget: budget };
-                                if let Err(e) = shaders::validate(&source, &pipeline_constants(&key)) {
+                                let source = if on { &with_techniques } else { &source };
+                                if let Err(e) = shaders::validate(source, &pipeline_constants(&key)) {
                                     panic!("{key:?}:\n{e}");
                                 }
                                 checked += 1;

@@ -43,6 +43,7 @@ mod shader_layouts;
 mod shaders_validate;
 mod shard_merge;
 mod study_reproduction;
+mod techniques;
 mod textures;
 mod unbiased_study;
 mod uv_parametrisation;

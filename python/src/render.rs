@@ -169,7 +169,7 @@ impl NativeRenderer {
         });
         let readback = readback.map_err(render_error)?;
         let stats = RenderStats { spp: readback.film.spp, seconds: st_seconds, frames: 0, interrupted: false };
-        let outcome = RenderOutcome { film: readback.film, rays: readback.rays, stats, error: None };
+        let outcome = RenderOutcome { film: readback.film, rays: readback.rays, faults: readback.faults, stats, error: None };
         outcome_tuple(py, &job, &outcome, &adapter)
     }
 }

@@ -17,13 +17,20 @@ fn inside_light(s: u32, sphere: Sphere, ctx: LightSampleContext) -> bool {
     return dot(d, d) < sphere.radius * sphere.radius;
 }
 
-// A direction from ctx towards sphere light l: cone sampling from outside, area sampling from
-// inside.
+// A direction from ctx towards sphere light l: cone sampling (or a researcher's technique) from
+// outside, area sampling from inside.
 fn sample_sphere_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> EmitterSample {
     let sphere = spheres[l];
     var ls: LightSample;
     if (inside_light(l, sphere, ctx)) {
         ls = sample_sphere_light_area(sphere.center, sphere.radius, ctx.x, u);
+    } else if (LIGHT_TECHNIQUE) {
+        // A researcher's technique (technique.wgsl); not from a point on the light's own outer
+        // surface, which sees none of it (and where the technique's geometry degenerates).
+        ls = LightSample(ctx.n, 0.0, 0.0);
+        if (l != ctx.object) {
+            ls = sample_sphere_light_technique(sphere.center, sphere.radius, ctx.x, ctx.n, u);
+        }
     } else {
         ls = sample_sphere_light_cone(sphere.center, sphere.radius, ctx.x, u);
     }
@@ -35,7 +42,11 @@ fn sample_sphere_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> EmitterSa
 // Solid-angle density with which sample_sphere_emitter gives wi from ctx.
 fn pdf_sphere_emitter(l: u32, ctx: LightSampleContext, wi: vec3f) -> f32 {
     let sphere = spheres[l];
-    return pdf_sphere_light(sphere.center, sphere.radius, ctx.x, inside_light(l, sphere, ctx), wi);
+    let inside = inside_light(l, sphere, ctx);
+    if (LIGHT_TECHNIQUE && !inside) {
+        return select(pdf_sphere_light_technique(sphere.center, sphere.radius, ctx.x, ctx.n, wi), 0.0, l == ctx.object);
+    }
+    return pdf_sphere_light(sphere.center, sphere.radius, ctx.x, inside, wi);
 }
 
 // Radiance a ray receives from the sphere it hit: its material's emission, on both sides.

@@ -130,7 +130,8 @@ fn measure(gpu: &Gpu, scene: &Scene, args: &BenchArgs, method: Method, specialis
     let features = SceneFeatures::of(scene);
     let features = if specialised { features } else { features.all_on() };
     let pipelines = PathTracerPipelines::new(&gpu.device);
-    let (_, created) = pipelines.get(&gpu.device, PipelineKey::new(method, features, scene.default_light_select()));
+    let techniques = pathlab::shaders::TechniqueFiles::of(&method, &scene.techniques)?;
+    let (_, created) = pipelines.get(&gpu.device, PipelineKey::new(method, features, scene.default_light_select()), techniques);
     let mut renderer = if specialised {
         Renderer::new(gpu, &pipelines, scene, method, 0)?
     } else {

@@ -44,6 +44,8 @@ pub fn run(args: MergeArgs) -> anyhow::Result<i32> {
         scene: None,
         display: None,
         adapter: None,
+        techniques: k.techniques.clone(),
+        technique_faults: None,
     };
     let mut extra = vec![("merged_parts", args.parts.len().to_string())];
     if !gaps.is_empty() {

@@ -8,6 +8,7 @@ mod merge;
 mod progress;
 mod render;
 mod study;
+mod technique;
 #[cfg(feature = "viewer")]
 mod view;
 
@@ -84,6 +85,10 @@ enum Command {
     Advise(advise::AdviseArgs),
     /// Measure samples per second of every method (device time, host overhead, compile time).
     Bench(bench::BenchArgs),
+    /// Prove a sampling technique of your own (KIND:FILE.wgsl) before it renders: naga
+    /// validation, then the chi-square test of its sampler against its pdf and a coverage test
+    /// on configurations drawn from a scene. Exit status 0: proven; 2: refused.
+    CheckTechnique(technique::CheckTechniqueArgs),
     /// List the graphics adapters wgpu can see, best first.
     Adapters,
 }
@@ -103,6 +108,7 @@ pub fn run() -> i32 {
         #[cfg(feature = "viewer")]
         Command::View(args) => view::run(args),
         Command::Check { scene } => check(&scene).map(|()| 0),
+        Command::CheckTechnique(args) => technique::run_check(args),
         Command::Adapters => {
             for a in pathlab::gpu::list_adapters() {
                 println!("{}", pathlab::gpu::adapter_summary(&a.get_info()));

@@ -140,6 +140,8 @@ pub struct RenderArgs {
     /// Use the first adapter whose name contains this (also: PATHLAB_ADAPTER).
     #[arg(long)]
     adapter: Option<String>,
+    #[command(flatten)]
+    techniques: super::technique::TechniqueArgs,
 }
 
 /// A note for each of the method's finer flags given where it cannot change the image.
@@ -186,6 +188,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
         bail!("-o {}: render writes OpenEXR; give a name ending in .exr (and --png for an 8-bit preview)", o.display());
     }
     let mut scene = load_scene(&args.scene)?;
+    args.techniques.load(&mut scene)?;
     let overrides = Overrides {
         width: args.width,
         height: args.height,
@@ -219,8 +222,12 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
         lobes: args.lobe_selection,
         environment: args.sample_environment.then_some(true),
         env_sampling: args.env_sampling,
+        bsdf_technique: None,
+        light_technique: None,
     };
-    let method = parts.apply(args.method);
+    let method = args.techniques.apply(parts.apply(args.method), &scene);
+    // A technique the method names must be loaded: said before any GPU work.
+    pathlab::shaders::TechniqueFiles::of(&method, &scene.techniques)?;
     for note in inapplicable_flags(&args, &scene, &method) {
         eprintln!("note: {note}");
     }
@@ -285,6 +292,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
 
     let gpu = Gpu::new(args.adapter.as_deref())?;
     eprintln!("adapter: {}", adapter_summary(&gpu.info));
+    let verdict = args.techniques.prove(&gpu, &job.scene, &method)?;
     let pipelines = PathTracerPipelines::new(&gpu.device);
     let cancel = ctrl_c_flag();
     let terminal = Terminal::new(args.quiet);
@@ -309,7 +317,11 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
         }
         return Ok(0);
     }
-    job.write(&outcome, &gpu.info.name, &files, &Vec::new())?;
+    let extra: Vec<(String, String)> = verdict.iter().map(|v| ("technique_verdict".to_string(), v.clone())).collect();
+    job.write(&outcome, &gpu.info.name, &files, &extra)?;
+    if outcome.faults > 0 {
+        eprintln!("warning: {} samples had a technique fault (a non-finite or negative number, or a stopped loop) and contributed 0", outcome.faults);
+    }
 
     let rate = stats.spp as f64 * film.mean.len() as f64 / stats.seconds.max(1e-9);
     eprintln!(
@@ -341,6 +353,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
 fn render_target(args: &RenderArgs, job: &RenderJob, target: Target, files: &OutputFiles) -> anyhow::Result<i32> {
     let gpu = Gpu::new(args.adapter.as_deref())?;
     eprintln!("adapter: {}", adapter_summary(&gpu.info));
+    let verdict = args.techniques.prove(&gpu, &job.scene, &job.method)?;
     let pipelines = PathTracerPipelines::new(&gpu.device);
     let cancel = ctrl_c_flag();
     let bar = indicatif::ProgressBar::new_spinner();
@@ -358,7 +371,8 @@ fn render_target(args: &RenderArgs, job: &RenderJob, target: Target, files: &Out
     })?;
     bar.finish_and_clear();
     let out = outcome.error.as_ref().expect("a job with an error plan tracks its error");
-    job.write(&outcome, &gpu.info.name, files, &Vec::new())?;
+    let extra: Vec<(String, String)> = verdict.iter().map(|v| ("technique_verdict".to_string(), v.clone())).collect();
+    job.write(&outcome, &gpu.info.name, files, &extra)?;
     eprintln!(
         "wrote {} ({} spp, {:.2} s; estimated relMSE {:.3e}, PSNR {} under {}; {}; target {}; {} checks took {:.2}% of the time)",
         files.exr.display(),

@@ -19,7 +19,9 @@ pub struct AccumPixel {
     pub sum_sq: [f32; 3],
     pub rays_hi: u32,
     pub sum_sq_err: [f32; 3],
-    pub _pad2: u32,
+    /// Samples in which a researcher's technique faulted (`shaders/technique.wgsl`): each
+    /// contributed 0.
+    pub faults: u32,
 }
 
 impl AccumPixel {

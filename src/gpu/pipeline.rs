@@ -76,6 +76,8 @@ pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
         ("HAS_ENVIRONMENT", f.has_environment as u32 as f64),
         ("HAS_ENVIRONMENT_MAP", f.has_environment_map as u32 as f64),
         ("LIGHT_INTERIORS_REACHABLE", f.light_interiors_reachable as u32 as f64),
+        ("BSDF_TECHNIQUE", key.method.bsdf_technique.is_some() as u32 as f64),
+        ("LIGHT_TECHNIQUE", key.method.light_technique.is_some() as u32 as f64),
     ];
     constants.extend(kinds);
     // One NUM_<KIND>_LIGHTS per emitter kind (NUM_LIGHTS is their sum, in the WGSL).
@@ -103,6 +105,28 @@ impl LoopBound {
     /// The worst case of one sample.
     pub fn per_sample(&self) -> u64 {
         self.fixed + self.rays * self.steps_per_ray
+    }
+
+    /// The bound with researchers' techniques that have loops: each call may run
+    /// `TECHNIQUE_MAX_ITERATIONS` iterations before its guard stops it. Per vertex, a BSDF
+    /// technique is called to sample and for the density there, and for the density of each
+    /// light sample; a light technique to sample and for the density, for each light sample,
+    /// and for the density of the emission the BSDF's ray finds.
+    pub fn with_techniques(mut self, key: &PipelineKey, techniques: shaders::TechniqueFiles, max_depth: u32) -> LoopBound {
+        let per_call = crate::scene::technique::TECHNIQUE_MAX_ITERATIONS as u64;
+        let shadow_rays = match key.method.select {
+            None | Some(LightSelect::All) => key.features.num_lights() as u64,
+            Some(_) => 1,
+        };
+        let mut calls = 0;
+        if techniques.bsdf.is_some_and(|t| t.loops > 0) {
+            calls += 2 + shadow_rays;
+        }
+        if techniques.light.is_some_and(|t| t.loops > 0) {
+            calls += 2 * shadow_rays + 1;
+        }
+        self.fixed += max_depth as u64 * calls * per_call;
+        self
     }
 }
 
@@ -143,13 +167,14 @@ pub struct PipelineStats {
 /// The path tracer's shader modules, bind group layout and a cache of specialised pipelines.
 pub struct PathTracerPipelines {
     /// One module per count its small-scene triangle tests are unrolled to
-    /// (`shaders::unrolled_triangles`), created on first use.
-    modules: Mutex<HashMap<u32, wgpu::ShaderModule>>,
+    /// (`shaders::unrolled_triangles`) and researchers' techniques (their SHA-256s), created
+    /// on first use.
+    modules: Mutex<HashMap<(u32, (Option<String>, Option<String>)), wgpu::ShaderModule>>,
     /// The Halton bases, bound at `bindings::HALTON_PRIMES`.
     pub halton_primes: wgpu::Buffer,
     pub bind_group_layout: wgpu::BindGroupLayout,
     layout: wgpu::PipelineLayout,
-    cache: Mutex<HashMap<PipelineKey, (Arc<wgpu::ComputePipeline>, PipelineStats)>>,
+    cache: Mutex<HashMap<(PipelineKey, (Option<String>, Option<String>)), (Arc<wgpu::ComputePipeline>, PipelineStats)>>,
 }
 
 impl PathTracerPipelines {
@@ -171,20 +196,22 @@ impl PathTracerPipelines {
         PathTracerPipelines { modules: Mutex::new(HashMap::new()), halton_primes, bind_group_layout, layout, cache: Mutex::new(HashMap::new()) }
     }
 
-    /// The pipeline for `key`, compiled on first use.
-    pub fn get(&self, device: &wgpu::Device, key: PipelineKey) -> (Arc<wgpu::ComputePipeline>, PipelineStats) {
+    /// The pipeline for `key` with `techniques` (those its method names), compiled on first
+    /// use.
+    pub fn get(&self, device: &wgpu::Device, key: PipelineKey, techniques: shaders::TechniqueFiles) -> (Arc<wgpu::ComputePipeline>, PipelineStats) {
         let mut cache = self.cache.lock().unwrap_or_else(|e| e.into_inner());
-        if let Some((p, s)) = cache.get(&key) {
+        let technique_key = techniques.key();
+        if let Some((p, s)) = cache.get(&(key, technique_key.clone())) {
             return (p.clone(), *s);
         }
         let constants = pipeline_constants(&key);
         let start = Instant::now();
         let unrolled = shaders::unrolled_triangles(key.features.num_triangles);
         let mut modules = self.modules.lock().unwrap_or_else(|e| e.into_inner());
-        let module = modules.entry(unrolled).or_insert_with(|| {
+        let module = modules.entry((unrolled, technique_key.clone())).or_insert_with(|| {
             device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some("path tracer"),
-                source: wgpu::ShaderSource::Wgsl(shaders::path_tracer_source_for(key.features.num_triangles).into()),
+                source: wgpu::ShaderSource::Wgsl(shaders::path_tracer_source_with(key.features.num_triangles, techniques).into()),
             })
         });
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
@@ -200,7 +227,7 @@ impl PathTracerPipelines {
         });
         let stats = PipelineStats { compile_time: start.elapsed() };
         let pipeline = Arc::new(pipeline);
-        cache.insert(key, (pipeline.clone(), stats));
+        cache.insert((key, technique_key), (pipeline.clone(), stats));
         (pipeline, stats)
     }
 }

@@ -41,6 +41,9 @@ pub struct CheckpointKey {
     pub max_depth: u32,
     /// Russian roulette's first vertex (`render.rr_depth`), if any.
     pub rr_depth: Option<u32>,
+    /// The researchers' techniques of the method, with their files' hashes
+    /// (`scene::technique::stamp`): a file edited since does not continue.
+    pub techniques: String,
 }
 
 /// Saved accumulators of a render.
@@ -98,6 +101,7 @@ impl CheckpointKey {
             ("lobe_selection", self.method.lobes.to_string()),
             ("environment_sampling", if self.method.environment { "on" } else { "off" }.to_string()),
             ("environment_map_sampling", self.method.env_sampling.to_string()),
+            ("techniques", if self.techniques.is_empty() { "none".to_string() } else { self.techniques.clone() }),
             ("seed", self.seed.to_string()),
             ("scene_hash", self.scene_hash.clone()),
         ]
@@ -126,6 +130,11 @@ impl Checkpoint {
     /// Rays traced for them.
     pub fn rays(&self) -> u64 {
         self.pixels.iter().map(AccumPixel::rays).sum()
+    }
+
+    /// Samples in which a researcher's technique faulted (this session's: not stored).
+    pub fn faults(&self) -> u64 {
+        self.pixels.iter().map(|p| p.faults as u64).sum()
     }
 
     /// Writes the checkpoint atomically.
@@ -236,7 +245,15 @@ impl Checkpoint {
             lobes,
             environment,
             env_sampling,
+            bsdf_technique: None,
+            light_technique: None,
         };
+        // Files written before researchers' techniques use none.
+        let techniques = match header.get("techniques") {
+            None | Some("none") => String::new(),
+            Some(v) => v.to_string(),
+        };
+        let method = crate::scene::technique::method_from_stamp(method, &techniques).map_err(|e| invalid(format!("pathlab:techniques: {e}")))?;
         let scene_hash = header.text("scene_hash").map_err(attr)?.to_string();
         if scene_hash.len() != 16 || !scene_hash.bytes().all(|b| b.is_ascii_hexdigit() && !b.is_ascii_uppercase()) {
             return Err(invalid(format!("pathlab:scene_hash is `{scene_hash}`, not 16 hex digits")));
@@ -253,6 +270,7 @@ impl Checkpoint {
                 None | Some("off") => None,
                 Some(v) => Some(v.parse::<u32>().ok().filter(|&k| k >= 1).ok_or_else(|| invalid(format!("pathlab:rr_depth is `{v}`, not a depth >= 1 or `off`")))?),
             },
+            techniques,
         };
         if (key.width as usize, key.height as usize) != (w, h) {
             return Err(invalid(format!("header says {}x{}, the data is {w}x{h}", key.width, key.height)));

@@ -29,6 +29,12 @@ pub struct ImageHeader {
     /// The display transform of the scene's `[display]` table (how the image is meant to be shown).
     pub display: Option<DisplayTransform>,
     pub adapter: Option<String>,
+    /// The researchers' techniques the method uses, with their files' SHA-256
+    /// (`scene::technique::stamp`; empty for none).
+    pub techniques: String,
+    /// Samples in which a technique faulted and contributed 0 (`None`: not known, as for a
+    /// merge, whose parts do not store them).
+    pub technique_faults: Option<u64>,
 }
 
 impl ImageHeader {
@@ -57,6 +63,12 @@ impl ImageHeader {
         }
         if let Some(a) = &self.adapter {
             m.push(("adapter", a.clone()));
+        }
+        if !self.techniques.is_empty() {
+            m.push(("techniques", self.techniques.clone()));
+            if let Some(faults) = self.technique_faults {
+                m.push(("technique_faults", faults.to_string()));
+            }
         }
         m.extend(extra.iter().cloned());
         m.into_iter().map(|(k, v)| (k.to_string(), v)).collect()

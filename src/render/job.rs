@@ -71,6 +71,9 @@ pub struct RenderOutcome {
     pub film: Film,
     /// Rays traced (camera, bounce and shadow), counted by the kernel.
     pub rays: u64,
+    /// Samples in which a researcher's technique faulted and contributed 0 (not kept in
+    /// checkpoints: counted from the session that rendered them).
+    pub faults: u64,
     pub stats: RenderStats,
     /// With an error plan: the estimates.
     pub error: Option<ErrorTrack>,
@@ -128,6 +131,7 @@ impl RenderJob {
             height: self.scene.render.height,
             max_depth: self.scene.render.max_depth,
             rr_depth: self.scene.render.rr_depth,
+            techniques: crate::scene::technique::stamp(&self.method, &self.scene.techniques),
         }
     }
 
@@ -159,7 +163,7 @@ impl RenderJob {
         let Some(plan) = &self.checkpoint else {
             let stats = renderer.render(self.budget, cancel, &mut progress)?;
             let readback = renderer.readback()?;
-            return Ok(RenderOutcome { film: readback.film, rays: readback.rays, stats, error: None });
+            return Ok(RenderOutcome { film: readback.film, rays: readback.rays, faults: readback.faults, stats, error: None });
         };
         let Budget::Samples(spp) = self.budget else {
             return Err(CheckpointError::Invalid { path: plan.path.clone(), message: "checkpoints need a sample budget (--spp), not a time".into() });
@@ -167,7 +171,7 @@ impl RenderJob {
         let (saved, interrupted) = render_checkpointed(&mut renderer, &self.checkpoint_key(), spp, plan, cancel, progress)?;
         // Seconds of every session that rendered these samples.
         let stats = RenderStats { spp: saved.spp, seconds: saved.render_seconds, frames: 0, interrupted };
-        Ok(RenderOutcome { film: saved.film(), rays: saved.rays(), stats, error: None })
+        Ok(RenderOutcome { film: saved.film(), rays: saved.rays(), faults: saved.faults(), stats, error: None })
     }
 
     /// The randomised loop of `to_target`, bounded by the budget.
@@ -204,6 +208,7 @@ impl RenderJob {
             stats: RenderStats { spp: out.film.spp, seconds: out.seconds, frames: 0, interrupted: out.interrupted },
             film: out.film,
             rays: out.rays,
+            faults: out.faults,
             error: Some(ErrorTrack {
                 estimate: out.estimate,
                 estimator: out.estimator,
@@ -229,6 +234,8 @@ impl RenderJob {
             scene: Some(self.scene_path.clone()),
             display: Some(self.scene.display),
             adapter: Some(adapter.to_string()),
+            techniques: crate::scene::technique::stamp(&self.method, &self.scene.techniques),
+            technique_faults: Some(outcome.faults),
         }
     }
 

@@ -17,6 +17,8 @@ pub struct Readback {
     /// Rays traced for the whole film so far (camera, bounce and shadow rays), counted by the
     /// kernel as it traces them.
     pub rays: u64,
+    /// Samples in which a researcher's technique faulted (each contributed 0).
+    pub faults: u64,
 }
 
 impl Renderer {
@@ -77,7 +79,8 @@ impl Renderer {
     pub fn readback(&self) -> Result<Readback, RenderError> {
         let pixels = self.accumulators()?;
         let rays = pixels.iter().map(AccumPixel::rays).sum();
-        Ok(Readback { film: Film::from_accumulators(self.params.width, self.params.height, self.spp_done, &pixels), rays })
+        let faults = pixels.iter().map(|p| p.faults as u64).sum();
+        Ok(Readback { film: Film::from_accumulators(self.params.width, self.params.height, self.spp_done, &pixels), rays, faults })
     }
 
     /// The raw per-pixel accumulators (compensated sums, sums of squares, count, rays), row-major,

@@ -28,6 +28,8 @@ pub const MAX_SPP: u64 = 1 << 32;
 pub enum RenderError {
     #[error(transparent)]
     Gpu(#[from] GpuError),
+    #[error(transparent)]
+    Technique(#[from] crate::scene::TechniqueError),
     #[error(
         "one row of a {width}-pixel-wide image needs a {bytes} byte accumulator, more than this \
          adapter's largest storage binding ({limit} bytes); render a narrower image"
@@ -170,7 +172,8 @@ impl Renderer {
         let rows_per_band = (band_bytes.min(limit) / row_bytes).clamp(1, height as u64) as u32;
         let max_samples_per_dispatch = if gpu.info.device_type == wgpu::DeviceType::Cpu {
             let leaves = packed.bvh.nodes.iter().filter(|n| n.count > 0).count() as u64;
-            let bound = loop_iterations_per_sample(&key, scene.render.max_depth, packed.bvh.nodes.len() as u64, leaves);
+            let bound = loop_iterations_per_sample(&key, scene.render.max_depth, packed.bvh.nodes.len() as u64, leaves)
+                .with_techniques(&key, crate::shaders::TechniqueFiles::of(&key.method, &scene.techniques)?, scene.render.max_depth);
             if bound.fixed > CPU_LOOP_BUDGET {
                 return Err(RenderError::LoopLimit(bound.fixed));
             }
@@ -190,7 +193,8 @@ impl Renderer {
         } else {
             MAX_SAMPLES_PER_DISPATCH
         };
-        let (pipeline, _) = pipelines.get(device, key);
+        let techniques = crate::shaders::TechniqueFiles::of(&key.method, &scene.techniques)?;
+        let (pipeline, _) = pipelines.get(device, key, techniques);
         let scene_buffers = SceneBuffers::new(device, &gpu.queue, scene, &packed);
         let mut params = FrameParams::for_scene(scene);
         params.seed = seed;

@@ -37,6 +37,8 @@ const ROUND: Duration = Duration::from_millis(250);
 pub struct TargetOutcome {
     pub film: Film,
     pub rays: u64,
+    /// Samples in which a researcher's technique faulted (each contributed 0).
+    pub faults: u64,
     pub seconds: f64,
     pub estimate: ErrorEstimate,
     pub estimator: Estimator,
@@ -88,15 +90,16 @@ pub fn render_to_target(
     let rendering = |now: Instant, check_seconds: f64| (now - start).as_secs_f64() - check_seconds;
     let mut k = 1u64;
     let mut interrupted = false;
-    let read = |renderers: &[Renderer]| -> Result<(Vec<Film>, u64), RenderError> {
+    let read = |renderers: &[Renderer]| -> Result<(Vec<Film>, u64, u64), RenderError> {
         let mut films = Vec::new();
-        let mut rays = 0;
+        let (mut rays, mut faults) = (0, 0);
         for rd in renderers {
             let b = rd.readback()?;
             rays += b.rays;
+            faults += b.faults;
             films.push(b.film);
         }
-        Ok((films, rays))
+        Ok((films, rays, faults))
     };
     loop {
         let done = renderers[0].spp() * r;
@@ -133,11 +136,12 @@ pub fn render_to_target(
         progress(Progress { spp_done: renderers[0].spp() * r, elapsed, estimate: latest, eta });
     }
     let seconds = start.elapsed().as_secs_f64();
-    let (films, rays) = read(&renderers)?;
+    let (films, rays, faults) = read(&renderers)?;
     let (film, estimate) = estimate_films(estimator, &films, Some(display));
     Ok(TargetOutcome {
         film,
         rays,
+        faults,
         seconds,
         reached: target.is_some_and(|t| t.reached(&estimate)),
         estimate,

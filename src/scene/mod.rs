@@ -17,6 +17,7 @@ pub mod mesh;
 pub mod mitsuba;
 pub mod overrides;
 mod raw;
+pub mod technique;
 pub mod transform;
 mod validate;
 
@@ -37,6 +38,7 @@ pub use diagnostic::{Diagnostic, SceneError, Severity};
 pub use emitters::{AliasTable, EmitterKind, EnvironmentMap, Light};
 pub use mesh::Mesh;
 pub use overrides::{OverrideError, Overrides, Reframing};
+pub use technique::{Technique, TechniqueError};
 pub use transform::Transform;
 
 // Most objects of each kind a scene may have: the capacities of the kernel's uniform buffers
@@ -247,6 +249,10 @@ pub struct Scene {
     pub display: crate::display::DisplayTransform,
     /// Findings that do not stop rendering (unused materials, black scenes, ...).
     pub warnings: Vec<Diagnostic>,
+    /// Researchers' sampling techniques loaded for this scene (`--technique`), at most one per
+    /// name; methods use them by name (`mis+bsdf=NAME`). Not part of `content_hash`: a
+    /// technique changes the variance, never the image's expectation.
+    pub techniques: Vec<Technique>,
 }
 
 /// Whether a scene file is Mitsuba XML (by its extension, `.xml`).

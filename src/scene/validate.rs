@@ -153,6 +153,7 @@ pub(super) fn validate(raw: &RawScene, file: &Path, sources: SourceMap, diagnost
         environment_map,
         display,
         warnings: ck.diagnostics,
+        techniques: Vec::new(),
     })
 }
 

@@ -14,6 +14,12 @@ pub const TRIANGLE_HAS_NORMALS: u32 = 2;
 /// Triangle flag: has texture coordinates (`GpuTriangleUvs` at the same index).
 pub const TRIANGLE_HAS_UVS: u32 = 4;
 
+/// Technique fault: a researcher's technique returned a non-finite or negative number, or a
+/// direction that is not a unit vector, or a point off its light (`shaders/technique.wgsl`).
+pub const TECHNIQUE_FAULT_VALUE: u32 = 1;
+/// Technique fault: a call ran its loops past `TECHNIQUE_MAX_ITERATIONS` and was stopped.
+pub const TECHNIQUE_FAULT_LOOP: u32 = 2;
+
 /// The WGSL declarations of every flag.
 pub fn wgsl() -> String {
     [
@@ -22,6 +28,8 @@ pub fn wgsl() -> String {
         ("TRIANGLE_TWO_SIDED", TRIANGLE_TWO_SIDED),
         ("TRIANGLE_HAS_NORMALS", TRIANGLE_HAS_NORMALS),
         ("TRIANGLE_HAS_UVS", TRIANGLE_HAS_UVS),
+        ("TECHNIQUE_FAULT_VALUE", TECHNIQUE_FAULT_VALUE),
+        ("TECHNIQUE_FAULT_LOOP", TECHNIQUE_FAULT_LOOP),
     ]
     .iter()
     .map(|(name, value)| format!("const {name}: u32 = {value}u;\n"))

@@ -26,6 +26,8 @@ pub fn generated_constants() -> String {
          const BRUTE_FORCE_TRIANGLES: u32 = {}u;\n\
          // Texels per row of a texel table (src/shaders/bindings.rs).\n\
          const TEXEL_TABLE_WIDTH: u32 = {}u;\n\
+         // Loop iterations one call of a researcher's technique may run (src/scene/technique.rs).\n\
+         const TECHNIQUE_MAX_ITERATIONS: u32 = {}u;\n\
          // Values of the `override` choices SAMPLER, BSDF_SAMPLING, LIGHT_SAMPLING, LIGHT_SELECT,\n\
          // TRIANGLE_SAMPLING, MICROFACET_SAMPLING, LOBE_SELECTION, ENV_SAMPLING (src/method.rs), the microfacet\n\
          // distributions (src/scene/mod.rs), and the display pass's view (src/display/view.rs).\n\
@@ -51,6 +53,7 @@ pub fn generated_constants() -> String {
         crate::accel::bvh::MAX_DEPTH,
         crate::accel::BRUTE_FORCE_TRIANGLES,
         bindings::TEXEL_TABLE_WIDTH,
+        crate::scene::technique::TECHNIQUE_MAX_ITERATIONS,
         wgsl_constants::<Sampler>("SAMPLER"),
         wgsl_constants::<BsdfSampling>("BSDF"),
         wgsl_constants::<LightSampling>("LIGHTS"),

@@ -13,6 +13,9 @@ mod generated;
 
 use std::fmt::Write as _;
 
+use crate::method::TechniqueKind;
+use crate::scene::{Technique, TechniqueError};
+
 pub use generated::{bsdf_dispatch, emitter_dispatch, generated_constants, light_counts, small_triangle_tests};
 
 /// Number of Halton dimensions with their own prime base; later dimensions fall back to the
@@ -49,6 +52,11 @@ pub mod files {
         ("bsdfs/rough_plastic.wgsl", include_str!("../../shaders/bsdfs/rough_plastic.wgsl")),
     ];
     pub const LIGHTS: (&str, &str) = ("lights.wgsl", include_str!("../../shaders/lights.wgsl"));
+    /// The seam for a researcher's technique (its contract and wrappers); the technique files,
+    /// or these stand-ins where none is loaded, follow it.
+    pub const TECHNIQUE: (&str, &str) = ("technique.wgsl", include_str!("../../shaders/technique.wgsl"));
+    pub const NO_BSDF_TECHNIQUE: (&str, &str) = ("techniques/none_bsdf.wgsl", include_str!("../../shaders/techniques/none_bsdf.wgsl"));
+    pub const NO_LIGHT_TECHNIQUE: (&str, &str) = ("techniques/none_light.wgsl", include_str!("../../shaders/techniques/none_light.wgsl"));
     pub const EMITTER: (&str, &str) = ("emitter.wgsl", include_str!("../../shaders/emitter.wgsl"));
     /// One file per kind of the emitter registry (`scene::EmitterKind`), in its order.
     pub const EMITTER_KINDS: [(&str, &str); 3] = [
@@ -68,7 +76,7 @@ pub mod files {
 /// one binding is the BSDFs' data (`bindings::BSDF_DATA`), which `KernelRun` fills with a
 /// placeholder where a test kernel gives none. Test kernels append their own bindings and entry
 /// points to this.
-pub const LIBRARY: [(&str, &str); 9] = [
+pub const LIBRARY: [(&str, &str); 10] = [
     files::COMMON,
     files::SAMPLER,
     files::WARP,
@@ -78,10 +86,11 @@ pub const LIBRARY: [(&str, &str); 9] = [
     files::BSDF,
     files::TEXTURE,
     files::LIGHTS,
+    files::TECHNIQUE,
 ];
 
 /// Everything the path-tracing kernel (`render_main`) needs.
-pub const PATH_TRACER: [(&str, &str); 17] = [
+pub const PATH_TRACER: [(&str, &str); 18] = [
     files::COMMON,
     files::SAMPLER,
     files::WARP,
@@ -91,6 +100,7 @@ pub const PATH_TRACER: [(&str, &str); 17] = [
     files::BSDF,
     files::TEXTURE,
     files::LIGHTS,
+    files::TECHNIQUE,
     files::LIGHT_TABLE,
     files::SCENE,
     files::BVH,
@@ -118,9 +128,46 @@ pub const PATH_TRACER_ENTRY: &str = "render_main";
 /// Concatenates generated constants and `parts` (then `extra`, e.g. a test kernel) into one
 /// WGSL module, each file introduced by a comment naming it. Where `parts` hold the BSDFs' or
 /// the emitters' common file, every kind's file and the generated dispatch follow it; after
-/// bvh.wgsl, the small scenes' triangle tests for any count up to `BRUTE_FORCE_TRIANGLES`.
+/// bvh.wgsl, the small scenes' triangle tests for any count up to `BRUTE_FORCE_TRIANGLES`;
+/// after technique.wgsl, the stand-ins for techniques (none loaded).
 pub fn assemble(parts: &[(&str, &str)], extra: &str) -> String {
     assemble_unrolled(parts, extra, crate::accel::BRUTE_FORCE_TRIANGLES)
+}
+
+/// The researchers' techniques a module is built with: at most one per kind (else the
+/// kind's stand-in, `files::NO_*_TECHNIQUE`).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct TechniqueFiles<'a> {
+    pub bsdf: Option<&'a Technique>,
+    pub light: Option<&'a Technique>,
+}
+
+impl<'a> TechniqueFiles<'a> {
+    /// The techniques `method` uses, from those loaded; an error names one that is not.
+    pub fn of(method: &crate::method::Method, loaded: &'a [Technique]) -> Result<TechniqueFiles<'a>, TechniqueError> {
+        let find = |kind: TechniqueKind, name: Option<crate::method::TechniqueName>| -> Result<Option<&'a Technique>, TechniqueError> {
+            let Some(name) = name else { return Ok(None) };
+            loaded
+                .iter()
+                .find(|t| t.kind == kind && t.name == name)
+                .map(Some)
+                .ok_or(TechniqueError::NotLoaded { kind, name: name.to_string() })
+        };
+        Ok(TechniqueFiles { bsdf: find(TechniqueKind::Bsdf, method.bsdf_technique)?, light: find(TechniqueKind::Light, method.light_technique)? })
+    }
+
+    /// One technique in its kind's place.
+    pub fn only(t: &'a Technique) -> TechniqueFiles<'a> {
+        match t.kind {
+            TechniqueKind::Bsdf => TechniqueFiles { bsdf: Some(t), light: None },
+            TechniqueKind::Light => TechniqueFiles { bsdf: None, light: Some(t) },
+        }
+    }
+
+    /// What identifies the module they make (their SHA-256s).
+    pub fn key(&self) -> (Option<String>, Option<String>) {
+        (self.bsdf.map(|t| t.sha256.clone()), self.light.map(|t| t.sha256.clone()))
+    }
 }
 
 /// The number of triangle tests the small scenes' code is unrolled to for a scene of
@@ -134,6 +181,12 @@ pub fn unrolled_triangles(num_triangles: u32) -> u32 {
 /// module then serves scenes of exactly that many triangles, or of more than
 /// `BRUTE_FORCE_TRIANGLES` (see `unrolled_triangles`).
 pub fn assemble_unrolled(parts: &[(&str, &str)], extra: &str, small_triangles: u32) -> String {
+    assemble_with(parts, extra, small_triangles, TechniqueFiles::default())
+}
+
+/// `assemble_unrolled`, with researchers' techniques (their guarded source) after
+/// technique.wgsl.
+pub fn assemble_with(parts: &[(&str, &str)], extra: &str, small_triangles: u32, techniques: TechniqueFiles) -> String {
     let mut source = generated_constants();
     let push = |source: &mut String, (name, text): (&str, &str)| {
         let _ = writeln!(source, "\n// ===== shaders/{name} =====");
@@ -153,6 +206,18 @@ pub fn assemble_unrolled(parts: &[(&str, &str)], extra: &str, small_triangles: u
         if part == files::LIGHT_TABLE {
             source.push_str("\n// ===== generated by src/shaders/generated.rs: the lights' counts =====\n");
             source.push_str(&light_counts());
+        }
+        if part == files::TECHNIQUE {
+            for (technique, none) in [(techniques.bsdf, files::NO_BSDF_TECHNIQUE), (techniques.light, files::NO_LIGHT_TECHNIQUE)] {
+                match technique {
+                    Some(t) => {
+                        let _ = writeln!(source, "\n// ===== {} technique {} ({}) =====", t.kind, t.name, t.path.display());
+                        source.push_str(&t.guarded);
+                        source.push('\n');
+                    }
+                    None => push(&mut source, none),
+                }
+            }
         }
         if part == files::EMITTER {
             files::EMITTER_KINDS.into_iter().for_each(|kind| push(&mut source, kind));
@@ -177,6 +242,72 @@ pub fn path_tracer_source() -> String {
 /// unrolled to `unrolled_triangles(num_triangles)`.
 pub fn path_tracer_source_for(num_triangles: u32) -> String {
     assemble_unrolled(&PATH_TRACER, "", unrolled_triangles(num_triangles))
+}
+
+/// `path_tracer_source_for`, with researchers' techniques.
+pub fn path_tracer_source_with(num_triangles: u32, techniques: TechniqueFiles) -> String {
+    assemble_with(&PATH_TRACER, "", unrolled_triangles(num_triangles), techniques)
+}
+
+/// Validates a technique file with naga, as part of the sampling library: errors point at the
+/// file's own line and column; a file that does not define its kind's functions with the
+/// contract's signatures (shaders/technique.wgsl), or keeps state (`var<private>`, bindings,
+/// `override`s), is refused naming what is missing or not allowed.
+pub fn validate_technique(t: &Technique) -> Result<(), TechniqueError> {
+    // The file as written (not guarded), so that columns are the file's.
+    let plain = Technique { guarded: t.source.clone(), ..t.clone() };
+    let source = assemble_with(&LIBRARY, "", crate::accel::BRUTE_FORCE_TRIANGLES, TechniqueFiles::only(&plain));
+    let header = format!("\n// ===== {} technique {} ({}) =====\n", t.kind, t.name, t.path.display());
+    let start = source.find(&header).expect("the technique is in the module") + header.len();
+    let end = start + t.source.len();
+    let file = t.path.display();
+    // (line, column) in the technique's file of a byte offset of the module, if it is in it.
+    let locate = |offset: usize| -> Option<(usize, usize)> {
+        if offset < start || offset > end {
+            return None;
+        }
+        let before = &source[start..offset];
+        let line = before.matches('\n').count() + 1;
+        let column = before.rfind('\n').map_or(before.len(), |n| before.len() - n - 1) + 1;
+        Some((line, column))
+    };
+    let contract = match t.kind {
+        TechniqueKind::Bsdf => "fn sample_bsdf_technique(wo: vec3f, m: PhongMaterial, u: vec2f, u_lobe: f32) -> vec3f and fn pdf_bsdf_technique(wo: vec3f, m: PhongMaterial, wi: vec3f) -> f32",
+        TechniqueKind::Light => "fn sample_light_technique(x: vec3f, n: vec3f, light: SphereLight, u: vec2f) -> vec3f and fn pdf_light_technique(x: vec3f, n: vec3f, light: SphereLight, p: vec3f) -> f32",
+    };
+    let report = |message: &str, spans: Vec<(naga::Span, String)>| -> TechniqueError {
+        let mut located = spans.iter().filter_map(|(span, label)| Some((locate(span.to_range()?.start)?, label)));
+        match located.next() {
+            Some(((line, column), label)) if label.is_empty() => TechniqueError::Invalid { message: format!("{file}:{line}:{column}: {message}") },
+            Some(((line, column), label)) => TechniqueError::Invalid { message: format!("{file}:{line}:{column}: {message} ({label})") },
+            None => TechniqueError::Invalid {
+                message: format!("{file}: does not fit the contract of a {} technique, which defines {contract} (shaders/technique.wgsl): {message}", t.kind),
+            },
+        }
+    };
+    let module = naga::front::wgsl::parse_str(&source)
+        .map_err(|e| report(e.message(), e.labels().map(|(s, l)| (s, l.to_string())).collect()))?;
+    for (handle, var) in module.global_variables.iter() {
+        let span = module.global_variables.get_span(handle);
+        if let Some((line, column)) = span.to_range().and_then(|r| locate(r.start)) {
+            let name = var.name.clone().unwrap_or_default();
+            return Err(TechniqueError::Invalid {
+                message: format!("{file}:{line}:{column}: declares the variable `{name}`: a technique is a pure function of its arguments (no var<private>, var<workgroup> or bindings)"),
+            });
+        }
+    }
+    for (handle, o) in module.overrides.iter() {
+        if let Some((line, column)) = module.overrides.get_span(handle).to_range().and_then(|r| locate(r.start)) {
+            let name = o.name.clone().unwrap_or_default();
+            return Err(TechniqueError::Invalid { message: format!("{file}:{line}:{column}: declares the override `{name}`: a technique has no pipeline constants") });
+        }
+    }
+    naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::default())
+        .validate(&module)
+        .map_err(|e| report(&e.as_inner().to_string(), e.spans().cloned().collect()))?;
+    // The guarded file must be as valid (the guard is ours: failing here is pathlab's bug).
+    let guarded = assemble_with(&LIBRARY, "", crate::accel::BRUTE_FORCE_TRIANGLES, TechniqueFiles::only(t));
+    validate(&guarded, &[]).map_err(|e| TechniqueError::Invalid { message: format!("{file}: pathlab's loop guard made it invalid (a bug of pathlab): {e}") })
 }
 
 /// The first `n` primes.

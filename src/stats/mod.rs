@@ -17,6 +17,11 @@ pub fn normal_quantile(p: f64) -> f64 {
     Normal::standard().inverse_cdf(p)
 }
 
+/// Φ(x): the standard normal distribution function (statrs).
+pub fn normal_cdf(x: f64) -> f64 {
+    Normal::standard().cdf(x)
+}
+
 /// Two-sided Student's t quantile: the t with P(|T| <= t) = `confidence` for `dof` degrees of
 /// freedom (statrs); for confidence intervals of a mean over a few seeds.
 pub fn student_t_two_sided(confidence: f64, dof: f64) -> f64 {

@@ -420,6 +420,8 @@ impl Driver {
                 scene: Some(self.scene.path.clone()),
                 display: Some(self.scene.display),
                 adapter: Some(self.gpu.info.name.clone()),
+                techniques: crate::scene::technique::stamp(&slot.method, &self.scene.techniques),
+                technique_faults: Some(readback.faults),
             };
             let metadata = header.metadata(&[("source", "pathlab view".into())]);
             let exr = dir.join(format!("{name}.exr"));

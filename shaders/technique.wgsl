@@ -1,0 +1,159 @@
+// technique.wgsl — the seam for a researcher's own sampling technique (`--technique
+// KIND:FILE.wgsl`, README "Your own technique"): the contract a technique file implements, and
+// the wrappers that call it where the built-in strategy of its kind would run. The technique's
+// file follows this one in the module (or, where none is loaded, shaders/techniques/none_*.wgsl,
+// never called: BSDF_TECHNIQUE and LIGHT_TECHNIQUE are false).
+//
+// THE CONTRACT
+//
+// kind `bsdf` — sampling a direction at a Phong material (pathlab's `phong`, the study's BRDF
+// f = kd / pi + ks (n + 2) / (2 pi) cos^n(alpha)), in place of its own strategy, whatever the
+// method's BSDF strategy is for other kinds of material:
+//   fn sample_bsdf_technique(wo: vec3f, m: PhongMaterial, u: vec2f, u_lobe: f32) -> vec3f
+//   fn pdf_bsdf_technique(wo: vec3f, m: PhongMaterial, wi: vec3f) -> f32
+// in the local shading frame: +z is the shading normal, wo (unit, towards the viewer) has
+// wo.z > 0. sample_ returns a unit direction wi anywhere on the sphere (one below the surface,
+// wi.z <= 0, is allowed: f is 0 there, and it counts as a sample that scatters nothing); pdf_
+// returns the density with which sample_ draws wi, per unit solid angle over the whole sphere.
+//
+// kind `light` — sampling a point on a spherical light seen from outside it, in place of the
+// uniform cone (from inside a light, its area is still sampled uniformly):
+//   fn sample_light_technique(x: vec3f, n: vec3f, light: SphereLight, u: vec2f) -> vec3f
+//   fn pdf_light_technique(x: vec3f, n: vec3f, light: SphereLight, p: vec3f) -> f32
+// in world space: x is the shading point, n its unit shading normal on the viewer's side (a
+// technique may ignore it). sample_ returns a point p on the sphere's surface; pdf_ returns,
+// for a point p on the sphere that x sees (the near side), the density per unit solid angle
+// at x of the direction towards p with which sample_ produces it. A point sample_ returns on the
+// far side, hidden from x by the sphere itself, is no sample of that direction: it contributes
+// nothing (drawing the near side only wastes no samples).
+//
+// Both kinds: u (and u_lobe) are the only random numbers, uniform in [0, 1): the same sample
+// dimensions the built-in strategy uses at that vertex (the layout of integrator.wgsl does not
+// change). A technique must be a pure function of its arguments: it may call pathlab's
+// functions (the warps of warp.wgsl, frame_from_normal, INV_PI, ...) and declare functions,
+// structs and constants of its own (named after the technique, not to collide with pathlab's),
+// but no bindings, no `var<private>`/`var<workgroup>`, no `override`s and no entry points. Its
+// loops are stopped after TECHNIQUE_MAX_ITERATIONS iterations per call (the host writes a guard
+// into each); a stopped call, a non-finite or negative number, a direction that is not unit or
+// a point off the light is a fault: that sample contributes 0, and faults are counted and
+// reported.
+
+// Whether a technique samples Phong materials / spherical lights (set by the method's
+// `+bsdf=NAME` / `+light=NAME`).
+override BSDF_TECHNIQUE: bool = false;
+override LIGHT_TECHNIQUE: bool = false;
+
+// A Phong material as a technique sees it: diffuse kd, specular ks, exponent n, and the
+// probability with which pathlab's own mixture samples the Phong lobe, lum(ks) / (lum(kd) +
+// lum(ks)) (a technique may use it or not).
+struct PhongMaterial {
+    kd: vec3f,
+    ks: vec3f,
+    n: f32,
+    specular_probability: f32,
+}
+
+// A spherical light: centre and radius.
+struct SphereLight {
+    center: vec3f,
+    radius: f32,
+}
+
+// Loop iterations of the current call, and the faults of the current sample (TECHNIQUE_FAULT_*).
+var<private> technique_iterations: u32;
+var<private> technique_faults: u32;
+
+// The guard at the top of every loop body of a technique file: true (break) once the call has
+// run TECHNIQUE_MAX_ITERATIONS iterations, which it records as a fault.
+fn technique_loop_guard() -> bool {
+    technique_iterations += 1u;
+    let over = technique_iterations > TECHNIQUE_MAX_ITERATIONS;
+    if (over) {
+        technique_faults |= TECHNIQUE_FAULT_LOOP;
+    }
+    return over;
+}
+
+// Whether x is finite (by its bits: compilers may fold x != x away).
+fn technique_finite(x: f32) -> bool {
+    return (bitcast<u32>(x) & 0x7f800000u) != 0x7f800000u;
+}
+
+fn technique_finite3(v: vec3f) -> bool {
+    return technique_finite(v.x) && technique_finite(v.y) && technique_finite(v.z);
+}
+
+// A density from a technique: itself if finite and >= 0, else 0 and a fault.
+fn technique_density(pdf: f32) -> f32 {
+    if (!technique_finite(pdf) || pdf < 0.0) {
+        technique_faults |= TECHNIQUE_FAULT_VALUE;
+        return 0.0;
+    }
+    return pdf;
+}
+
+// ---- kind bsdf: the wrappers bsdf.wgsl calls for a Phong material ----
+
+fn phong_material_of(m: Phong) -> PhongMaterial {
+    return PhongMaterial(m.kd, m.ks, m.n, m.p_spec);
+}
+
+// Solid-angle density of the technique at wi (world space).
+fn pdf_phong_technique(m: Phong, n_s: vec3f, wo: vec3f, wi: vec3f) -> f32 {
+    let frame = frame_from_normal(n_s);
+    technique_iterations = 0u;
+    return technique_density(pdf_bsdf_technique(frame_to_local(frame, wo), phong_material_of(m), frame_to_local(frame, wi)));
+}
+
+// wi drawn by the technique, weighted by path_weight with the Phong BRDF and the technique's
+// density there. A fault gives a sample that scatters nothing.
+fn sample_phong_technique(m: Phong, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> BsdfSample {
+    let frame = frame_from_normal(n_s);
+    technique_iterations = 0u;
+    let local = sample_bsdf_technique(frame_to_local(frame, wo), phong_material_of(m), u_dir, u_lobe);
+    let len = length(local);
+    if (!technique_finite3(local) || abs(len - 1.0) > 1e-3) {
+        technique_faults |= TECHNIQUE_FAULT_VALUE;
+        return BsdfSample(n_s, 0.0, vec3f(0.0), false, 1.0);
+    }
+    let wi = frame_to_world(frame, local / len);
+    let pdf = pdf_phong_technique(m, n_s, wo, wi);
+    return BsdfSample(wi, pdf, path_weight(eval_phong(m, n_s, wo, wi), dot(wi, n_s), pdf), false, 1.0);
+}
+
+// ---- kind light: the wrappers emitters/sphere.wgsl calls from outside a light ----
+
+// Solid-angle density at x with which the technique gives direction wi: its density at the
+// near point where the ray (x, wi) meets the sphere (0 for a ray that misses it).
+fn pdf_sphere_light_technique(center: vec3f, radius: f32, x: vec3f, n: vec3f, wi: vec3f) -> f32 {
+    // Near root of |x + t wi - center| = radius: -b - sqrt(b^2 - c).
+    let f = x - center;
+    let b = dot(f, wi);
+    let c = dot(f, f) - radius * radius;
+    let disc = b * b - c;
+    let t = -b - safe_sqrt(disc);
+    if (disc < 0.0 || t <= 0.0) {
+        return 0.0;
+    }
+    technique_iterations = 0u;
+    return technique_density(pdf_light_technique(x, n, SphereLight(center, radius), x + wi * t));
+}
+
+// A direction from x (outside the sphere) towards the point the technique draws, with the
+// technique's density for it; a point on the far side, hidden by the sphere, gets density 0
+// (no contribution), and a fault (a point off the sphere) too.
+fn sample_sphere_light_technique(center: vec3f, radius: f32, x: vec3f, n: vec3f, u: vec2f) -> LightSample {
+    technique_iterations = 0u;
+    let p = sample_light_technique(x, n, SphereLight(center, radius), u);
+    let to_p = p - x;
+    let dist = length(to_p);
+    if (!technique_finite3(p) || abs(length(p - center) - radius) > 1e-3 * radius || dist <= 0.0) {
+        technique_faults |= TECHNIQUE_FAULT_VALUE;
+        return LightSample(normalize(center - x), 0.0, 0.0);
+    }
+    let wi = to_p / dist;
+    // The near side faces x: the outward normal at p points back towards x.
+    let near = dot(p - center, x - p) > 0.0;
+    let pdf = pdf_sphere_light_technique(center, radius, x, n, wi);
+    return LightSample(wi, dist, select(0.0, pdf, near));
+}

@@ -1,0 +1,412 @@
+//! The chi-square goodness-of-fit harness of sampling routines, run on the GPU, after Mitsuba
+//! 3's `chi2.py` and pbrt-v4's `bsdfs_test.cpp`: the kernel's own WGSL sampler against its own
+//! WGSL pdf. `tests/chi2_sampling.rs` proves the built-in strategies with it, and `technique`
+//! a researcher's.
+//!
+//! A test kernel draws N directions with the routine under test. The host bins them on a
+//! 101 x 202 grid over (phi, s = 1 - cos theta) in the routine's frame (fine s bins where the
+//! density lives, coarse ones elsewhere, with s = 1 and any support boundary on bin edges),
+//! integrates the routine's pdf over every cell (4 x 4 Gauss-Legendre points, evaluated on the
+//! GPU), pools cells expecting fewer than 5 samples, and computes the chi-square p-value. Hard
+//! failures (`Chi2Failure`), whatever the p-value: a non-finite sample, a sample in a cell
+//! whose integrated pdf is 0, total pdf mass off by more than 1e-3, a reported pdf that differs
+//! from the pdf function at the sampled direction, a weight that differs from eval * cos / pdf,
+//! a fault of a researcher's technique, an integrand that is not 0 where the pdf is.
+
+use std::f64::consts::PI;
+
+use crate::gpu::{Gpu, GpuError, KernelRun};
+use crate::shaders;
+
+/// Cells in phi and in s.
+pub const PHI_BINS: usize = 101;
+pub const S_BINS: usize = 202;
+
+/// 4-point Gauss-Legendre nodes and weights on [-1, 1].
+pub const GAUSS_LEGENDRE_4: [(f64, f64); 4] = [
+    (-0.861_136_311_594_052_6, 0.347_854_845_137_453_9),
+    (-0.339_981_043_584_856_3, 0.652_145_154_862_546_1),
+    (0.339_981_043_584_856_3, 0.652_145_154_862_546_1),
+    (0.861_136_311_594_052_6, 0.347_854_845_137_453_9),
+];
+
+/// Test kernel: the routine's `routine_sample`, `routine_pdf` and `routine_integrand` are
+/// spliced in per test.
+pub const KERNEL: &str = r#"
+struct TestParams { count: u32, seed: u32, _p0: u32, _p1: u32 }
+struct Drawn { sample: vec4f, check: vec4f }
+@group(0) @binding(0) var<storage, read> test_params: TestParams;
+@group(0) @binding(1) var<storage, read_write> test_out: array<vec4f>;
+@group(0) @binding(2) var<storage, read> test_dirs: array<vec4f>;
+
+@compute @workgroup_size(64)
+fn sample_main(@builtin(global_invocation_id) gid: vec3u) {
+    let i = gid.x;
+    if (i >= test_params.count) {
+        return;
+    }
+    let s = test_params.seed;
+    let u = vec2f(sample_independent(i, 0u, 0u, s), sample_independent(i, 0u, 1u, s));
+    technique_faults = 0u;
+    var drawn = routine_sample(u, sample_independent(i, 0u, 2u, s));
+    if (technique_faults != 0u) {
+        drawn.check.w = f32(technique_faults);
+    }
+    test_out[2u * i] = drawn.sample;
+    test_out[2u * i + 1u] = drawn.check;
+}
+
+@compute @workgroup_size(64)
+fn pdf_main(@builtin(global_invocation_id) gid: vec3u) {
+    let i = gid.x;
+    if (i >= arrayLength(&test_dirs)) {
+        return;
+    }
+    technique_faults = 0u;
+    let pdf = routine_pdf(test_dirs[i].xyz);
+    test_out[i] = vec4f(pdf, routine_integrand(test_dirs[i].xyz), f32(technique_faults), 0.0);
+}
+"#;
+
+/// A sampling routine under test.
+#[derive(Debug, Clone)]
+pub struct Routine {
+    pub name: String,
+    /// WGSL defining `routine_sample(u: vec2f, u_lobe: f32) -> Drawn` (direction and reported
+    /// pdf in `sample`; `check.x` = relative error of the weight, 0 when not applicable;
+    /// `check.y` = 1 for a sample lost (in no cell: its probability is the pdf's missing mass);
+    /// `check.z` = the sample's estimate f / p of `routine_integrand`'s integral, 0 if none)
+    /// and `routine_pdf(d: vec3f) -> f32`, both in a frame whose +z is the binning axis;
+    /// optionally `routine_integrand(d: vec3f) -> f32` (see `integrand`).
+    pub wgsl: String,
+    pub constants: Vec<(&'static str, f64)>,
+    /// Fine s bins cover [0, s_split]; coarse ones (s_split, 2]. Negative: bins spaced
+    /// geometrically from -s_split to 2 (after one [0, -s_split]), for lobes far narrower than
+    /// their tails (a microfacet lobe of alpha 1e-3 has GGX's tails).
+    pub s_split: f64,
+    /// Relative tolerance of a sample's reported pdf against the pdf function at the sampled
+    /// direction (as written out, in f32): 1e-4, more for lobes so narrow that the direction's
+    /// rounding moves the density, or whose half vector cancels.
+    pub pdf_tolerance: f64,
+    /// The density below which `pdf_tolerance` applies to this floor instead (an absolute
+    /// tolerance for small densities): where a routine is binned in another frame than its
+    /// own, the direction's round trip moves a density that vanishes at a boundary (the cosine
+    /// lobe at the horizon) by ~1e-7 absolute, a large relative change. 1e-30: none.
+    pub pdf_floor: f64,
+    /// The BSDF data the routine's material reads (bound at `bindings::BSDF_DATA`; empty: none).
+    pub bsdf_data: Vec<f32>,
+    /// Whether the support check runs: a cell point where `routine_integrand` (the function
+    /// whose integral the samples estimate, `check.z`) is above 1e-3 of its largest value and
+    /// the pdf is 0 is then a hard failure (a strategy that can never draw where the integrand lives). Where `wgsl`
+    /// does not define `routine_integrand`, the harness defines it as 0.
+    pub integrand: bool,
+}
+
+/// Why a routine fails, whatever its p-value.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum Chi2Failure {
+    #[error("the test kernel failed: {0}")]
+    Kernel(String),
+    #[error("its pdf is {pdf} at the direction {direction:?}, not a finite number >= 0")]
+    BadPdf { pdf: f64, direction: [f32; 3] },
+    #[error("its pdf integrates to {mass:.6} over the sphere, not 1 (a wrongly normalised pdf)")]
+    Mass { mass: f64 },
+    #[error("its pdf integrates to {mass:.6} over the sphere, more than 1")]
+    MassAboveOne { mass: f64 },
+    #[error("{count} of its samples fall where its pdf is 0 (first: cell {cell}, direction {direction:?})")]
+    OutsideSupport { count: u64, cell: usize, direction: [f32; 3] },
+    #[error("a sample is not finite: {sample:?}")]
+    NonFinite { sample: [f32; 4] },
+    #[error("a sampled direction has length {length}, not 1")]
+    NotUnit { length: f64 },
+    #[error("a sample reports pdf {reported}, but its pdf function gives {function} at {direction:?}")]
+    ReportedPdf { reported: f64, function: f64, direction: [f32; 3] },
+    #[error("a sample's weight differs from eval * cos / pdf by {0} (relative)")]
+    Weight(f64),
+    #[error("{count} of {total} samples faulted ({what})")]
+    Faults { count: u64, total: u64, what: String },
+    #[error("its pdf is 0 where the integrand is {integrand} (direction {direction:?}): it can never sample there, so it misses part of the integral")]
+    Uncovered { integrand: f64, direction: [f32; 3] },
+}
+
+/// The binned outcome of one routine.
+#[derive(Debug, Clone)]
+pub struct Chi2Outcome {
+    pub p_value: f64,
+    /// Samples per cell (row-major: s bin, then phi bin), then the lost samples.
+    pub observed: Vec<u64>,
+    /// Expected samples per cell (times N), then the lost cell's.
+    pub expected: Vec<f64>,
+    /// The s bin edges.
+    pub s_edges: Vec<f64>,
+    /// The pdf's integral over the sphere.
+    pub mass: f64,
+    /// Mean and standard error of the samples' estimates (`check.z`).
+    pub estimate: (f64, f64),
+    /// The first hard failure found once the samples were binned (then `p_value` is 0 where
+    /// a sample lies outside the support).
+    pub failure: Option<Chi2Failure>,
+}
+
+/// The chi-square p-value of `observed` counts against `expected` probabilities (times `n`
+/// samples), cells expecting fewer than 5 pooled into one. A sample in a cell of probability 0
+/// is a failure.
+pub fn pooled_chi_square(expected: &[f64], observed: &[u64], n: f64) -> Result<f64, (usize, u64)> {
+    let (mut chi2, mut dof, mut pooled_exp, mut pooled_obs) = (0.0, 0usize, 0.0, 0.0);
+    let mut outside: Option<(usize, u64)> = None;
+    for (c, &e) in expected.iter().enumerate() {
+        let (e, o) = (e * n, observed[c] as f64);
+        if e == 0.0 {
+            if o != 0.0 {
+                let first = outside.map_or(c, |(f, _)| f);
+                outside = Some((first, outside.map_or(0, |(_, k)| k) + observed[c]));
+            }
+        } else if e < 5.0 {
+            pooled_exp += e;
+            pooled_obs += o;
+        } else {
+            chi2 += (o - e) * (o - e) / e;
+            dof += 1;
+        }
+    }
+    if let Some(o) = outside {
+        return Err(o);
+    }
+    if pooled_exp > 0.0 {
+        chi2 += (pooled_obs - pooled_exp) * (pooled_obs - pooled_exp) / pooled_exp;
+        dof += 1;
+    }
+    Ok(crate::stats::chi2_sf(chi2, dof.saturating_sub(1).max(1)))
+}
+
+/// s bin edges: 150 fine + 52 coarse, or 202 uniform (then s = 1 is an edge).
+pub fn s_edges(s_split: f64) -> Vec<f64> {
+    if s_split < 0.0 {
+        let s_min = -s_split;
+        let mut e = vec![0.0];
+        e.extend((0..S_BINS).map(|i| s_min * (2.0 / s_min).powf(i as f64 / (S_BINS - 1) as f64)));
+        *e.last_mut().unwrap() = 2.0;
+        return e;
+    }
+    if s_split >= 2.0 {
+        return (0..=S_BINS).map(|i| 2.0 * i as f64 / S_BINS as f64).collect();
+    }
+    let (fine, coarse) = (150, S_BINS - 150);
+    let mut e: Vec<f64> = (0..=fine).map(|i| s_split * i as f64 / fine as f64).collect();
+    e.extend((1..=coarse).map(|i| s_split + (2.0 - s_split) * i as f64 / coarse as f64));
+    e
+}
+
+/// The unit direction at (phi, s = 1 - cos theta) about +z.
+pub fn direction(phi: f64, s: f64) -> [f64; 3] {
+    let cos = 1.0 - s;
+    let sin = (s * (2.0 - s)).max(0.0).sqrt();
+    [sin * phi.cos(), sin * phi.sin(), cos]
+}
+
+/// (phi, s) of a unit direction, s = 1 - cos computed without cancellation near +z.
+pub fn phi_s(d: [f64; 3]) -> (f64, f64) {
+    let phi = d[1].atan2(d[0]).rem_euclid(2.0 * PI);
+    let rho2 = d[0] * d[0] + d[1] * d[1];
+    let s = if d[2] > 0.0 { rho2 / (1.0 + d[2]) } else { 1.0 - d[2] };
+    (phi, s)
+}
+
+/// The routine's WGSL and the harness's kernel, on the sampling library (with the techniques
+/// `techniques` in their kinds' places).
+pub fn source(routine: &Routine, techniques: shaders::TechniqueFiles) -> String {
+    let integrand = if routine.wgsl.contains("fn routine_integrand(") { "" } else { "fn routine_integrand(d: vec3f) -> f32 { return 0.0; }\n" };
+    shaders::assemble_with(&shaders::LIBRARY, &format!("{}\n{integrand}{KERNEL}", routine.wgsl), crate::accel::BRUTE_FORCE_TRIANGLES, techniques)
+}
+
+/// Runs `entry` of the routine's kernel over `items` invocations and returns its output.
+pub fn run(gpu: &Gpu, source: &str, routine: &Routine, entry: &str, mut inputs: Vec<(u32, Vec<u8>)>, out_vec4s: usize, items: usize) -> Result<Vec<[f32; 4]>, GpuError> {
+    if !routine.bsdf_data.is_empty() {
+        inputs.push((shaders::bindings::BSDF_DATA.number, bytemuck::cast_slice(&routine.bsdf_data).to_vec()));
+    }
+    let run = KernelRun {
+        source,
+        entry,
+        constants: &routine.constants,
+        inputs,
+        uniforms: vec![],
+        texel_tables: vec![],
+        output: (1, (out_vec4s * 16) as u64),
+        workgroups: (items as u32).div_ceil(64),
+    };
+    Ok(bytemuck::pod_collect_to_vec(&run.run(gpu)?))
+}
+
+/// What a fault flag (`TECHNIQUE_FAULT_*` bits) means.
+pub fn describe_faults(bits: u32) -> String {
+    let mut what = Vec::new();
+    if bits & shaders::flags::TECHNIQUE_FAULT_VALUE != 0 {
+        what.push("a non-finite or negative number, a direction that is not unit, or a point off the light");
+    }
+    if bits & shaders::flags::TECHNIQUE_FAULT_LOOP != 0 {
+        what.push("a loop stopped after TECHNIQUE_MAX_ITERATIONS iterations");
+    }
+    what.join("; ")
+}
+
+/// Runs one chi-square test of `samples` samples; returns the binned outcome, or the first
+/// hard failure.
+pub fn chi_square(gpu: &Gpu, routine: &Routine, techniques: shaders::TechniqueFiles, samples: u32, seed: u32) -> Result<Chi2Outcome, Chi2Failure> {
+    let mut outcome = binned(gpu, routine, techniques, samples, seed)?;
+    match outcome.failure.take() {
+        Some(f) => Err(f),
+        None => Ok(outcome),
+    }
+}
+
+/// `chi_square`, returning the binned samples with a failure found after binning (to draw
+/// them); failures before (a kernel, a fault, a bad pdf) are errors.
+pub fn binned(gpu: &Gpu, routine: &Routine, techniques: shaders::TechniqueFiles, samples: u32, seed: u32) -> Result<Chi2Outcome, Chi2Failure> {
+    let source = source(routine, techniques);
+    let kernel = |e: GpuError| Chi2Failure::Kernel(e.to_string());
+    let params: [u32; 4] = [samples, seed, 0, 0];
+    let drawn = run(gpu, &source, routine, "sample_main", vec![(0, bytemuck::cast_slice(&params).to_vec())], 2 * samples as usize, samples as usize).map_err(kernel)?;
+
+    // Faults of a researcher's technique come first: nothing else about such samples means much.
+    let faulted: Vec<u32> = drawn.chunks(2).map(|pair| pair[1][3] as u32).filter(|&f| f != 0).collect();
+    if !faulted.is_empty() {
+        let bits = faulted.iter().fold(0, |a, &b| a | b);
+        return Err(Chi2Failure::Faults { count: faulted.len() as u64, total: samples as u64, what: describe_faults(bits) });
+    }
+
+    let edges = s_edges(routine.s_split);
+    let dphi = 2.0 * PI / PHI_BINS as f64;
+    // Gauss-Legendre points of every cell, then the sampled directions (pdf consistency).
+    let gl = GAUSS_LEGENDRE_4;
+    let mut points: Vec<[f32; 4]> = Vec::with_capacity(PHI_BINS * S_BINS * 16 + samples as usize);
+    let mut weights = Vec::with_capacity(PHI_BINS * S_BINS * 16);
+    for j in 0..S_BINS {
+        let (s0, s1) = (edges[j], edges[j + 1]);
+        for i in 0..PHI_BINS {
+            let phi0 = i as f64 * dphi;
+            for (xs, ws) in gl {
+                for (xp, wp) in gl {
+                    let s = s0 + (s1 - s0) * (xs + 1.0) / 2.0;
+                    let phi = phi0 + dphi * (xp + 1.0) / 2.0;
+                    let d = direction(phi, s);
+                    points.push([d[0] as f32, d[1] as f32, d[2] as f32, 0.0]);
+                    weights.push(ws * wp * (s1 - s0) * dphi / 4.0);
+                }
+            }
+        }
+    }
+    let cell_points = points.len();
+    points.extend(drawn.iter().step_by(2).map(|d| [d[0], d[1], d[2], 0.0]));
+    let pdfs = run(
+        gpu,
+        &source,
+        routine,
+        "pdf_main",
+        vec![(0, bytemuck::cast_slice(&params).to_vec()), (2, bytemuck::cast_slice(&points).to_vec())],
+        points.len(),
+        points.len(),
+    )
+    .map_err(kernel)?;
+    let faulted = pdfs.iter().filter(|p| p[2] != 0.0).count() as u64;
+    if faulted > 0 {
+        let bits = pdfs.iter().fold(0u32, |a, p| a | p[2] as u32);
+        return Err(Chi2Failure::Faults { count: faulted, total: points.len() as u64, what: format!("{} (in its pdf)", describe_faults(bits)) });
+    }
+
+    let mut expected = vec![0.0f64; PHI_BINS * S_BINS];
+    // The support check ignores integrand values below 1e-3 of its largest: where it vanishes
+    // continuously (the rim of a light's visible cap), f32 may round the pdf to 0 first.
+    let negligible = 1e-3 * pdfs[..cell_points].iter().map(|p| p[1] as f64).fold(0.0, f64::max);
+    for (k, w) in weights.iter().enumerate() {
+        let p = pdfs[k][0] as f64;
+        let d = points[k];
+        if !(p.is_finite() && p >= 0.0) {
+            return Err(Chi2Failure::BadPdf { pdf: p, direction: [d[0], d[1], d[2]] });
+        }
+        let integrand = pdfs[k][1] as f64;
+        if routine.integrand && p == 0.0 && integrand > negligible {
+            return Err(Chi2Failure::Uncovered { integrand, direction: [d[0], d[1], d[2]] });
+        }
+        expected[k / 16] += w * p;
+    }
+    let mass: f64 = expected.iter().sum();
+    // Samples the routine flags as lost (check.y = 1: a microfacet reflected below the surface)
+    // fill one more cell, whose probability is the pdf's missing mass.
+    let lost = drawn.chunks(2).filter(|pair| pair[1][1] != 0.0).count() as u64;
+    let mut failure = None;
+    if lost == 0 {
+        if (mass - 1.0).abs() > 1e-3 {
+            failure = Some(Chi2Failure::Mass { mass });
+        }
+    } else if mass > 1.0 + 1e-3 {
+        failure = Some(Chi2Failure::MassAboveOne { mass });
+    }
+    expected.push((1.0 - mass).max(0.0));
+
+    let mut observed = vec![0u64; PHI_BINS * S_BINS + 1];
+    *observed.last_mut().unwrap() = lost;
+    let (mut sum, mut sum_sq) = (0.0f64, 0.0f64);
+    for (n, pair) in drawn.chunks(2).enumerate() {
+        let (d, check) = (pair[0], pair[1]);
+        let estimate = check[2] as f64;
+        sum += estimate;
+        sum_sq += estimate * estimate;
+        if check[1] != 0.0 {
+            // A lost sample may still be checked: a delta lobe's direction and weight.
+            if !d.iter().all(|x| x.is_finite()) {
+                failure = failure.or(Some(Chi2Failure::NonFinite { sample: d }));
+                continue;
+            }
+            if check[0] > 1e-4 {
+                failure = failure.or(Some(Chi2Failure::Weight(check[0] as f64)));
+            }
+            continue;
+        }
+        if !(d.iter().all(|x| x.is_finite()) && check[0].is_finite() && check[2].is_finite()) {
+            failure = failure.or(Some(Chi2Failure::NonFinite { sample: d }));
+            continue;
+        }
+        let dir = [d[0] as f64, d[1] as f64, d[2] as f64];
+        let len = (dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]).sqrt();
+        if (len - 1.0).abs() >= 1e-5 {
+            failure = failure.or(Some(Chi2Failure::NotUnit { length: len }));
+            continue;
+        }
+        let (phi, s) = phi_s(dir.map(|x| x / len));
+        let i = ((phi / dphi) as usize).min(PHI_BINS - 1);
+        let j = edges.partition_point(|&e| e <= s).clamp(1, S_BINS) - 1;
+        // The pdf the routine reports equals its pdf function at the sampled direction.
+        let (reported, function) = (d[3] as f64, pdfs[cell_points + n][0] as f64);
+        let cell = j * PHI_BINS + i;
+        if expected[cell] == 0.0 && function > 0.0 {
+            // A cell whose quadrature points all miss the support, which the sample's own
+            // density says it reaches (a support boundary across the cell, not on its edges):
+            // counted with the lost samples, whose cell holds the mass the quadrature misses.
+            *observed.last_mut().unwrap() += 1;
+        } else {
+            // (Where the pdf is 0 at the sample too, the chi-square names the cell.)
+            observed[cell] += 1;
+        }
+        if (reported - function).abs() > routine.pdf_tolerance * function.abs().max(routine.pdf_floor) {
+            failure = failure.or(Some(Chi2Failure::ReportedPdf { reported, function, direction: [d[0], d[1], d[2]] }));
+        }
+        if check[0] > 1e-4 {
+            failure = failure.or(Some(Chi2Failure::Weight(check[0] as f64)));
+        }
+    }
+    let n = samples as f64;
+    let mean = sum / n;
+    let std_err = ((sum_sq / n - mean * mean).max(0.0) / (n - 1.0)).sqrt();
+
+    let p_value = match pooled_chi_square(&expected, &observed, n) {
+        Ok(p) => p,
+        Err((cell, count)) => {
+            let (j, i) = (cell / PHI_BINS, cell % PHI_BINS);
+            let d = if j < S_BINS { direction((i as f64 + 0.5) * dphi, 0.5 * (edges[j] + edges[j + 1])) } else { [f64::NAN; 3] };
+            // The support comes before the mass: samples where the pdf is 0 say more.
+            failure = Some(Chi2Failure::OutsideSupport { count, cell, direction: d.map(|x| x as f32) }).or(failure);
+            0.0
+        }
+    };
+    Ok(Chi2Outcome { p_value, observed, expected: expected.iter().map(|e| e * n).collect(), s_edges: edges, mass, estimate: (mean, std_err), failure })
+}

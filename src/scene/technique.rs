@@ -1,0 +1,235 @@
+//! A researcher's own sampling technique: one WGSL file (`--technique KIND:FILE.wgsl`) that
+//! implements the contract of `shaders/technique.wgsl` for its kind, read and made safe to run
+//! here; `shaders::technique_check_source` validates it with naga (errors at the file's own line
+//! and column) and `technique` proves it with the chi-square harness before it renders.
+//!
+//! Made safe to run: WGSL has no recursion, so a technique can only run forever in a loop. The
+//! host writes a guard at the top of every loop body (`loop`, `while`, `for`), on the same line
+//! so that line numbers stay the file's: past `TECHNIQUE_MAX_ITERATIONS` iterations in one call
+//! every loop of the call breaks, and the kernel counts the sample as a fault (it contributes 0,
+//! and is reported), instead of hanging a GPU or being cut silently by llvmpipe's loop limit.
+
+use std::path::{Path, PathBuf};
+
+use sha2::{Digest, Sha256};
+
+use crate::method::{BadTechniqueName, TechniqueKind, TechniqueName};
+use crate::names::UnknownName;
+
+/// Loop iterations one call of a technique's function may run, over all its loops, before the
+/// guard breaks them (generated into the WGSL as `TECHNIQUE_MAX_ITERATIONS`).
+pub const TECHNIQUE_MAX_ITERATIONS: u32 = 256;
+
+/// The statement the guard writes at the top of every loop body of a technique file.
+pub const LOOP_GUARD: &str = "if (technique_loop_guard()) { break; } ";
+
+/// A technique file, read and guarded.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Technique {
+    pub kind: TechniqueKind,
+    /// The file's stem: the name methods use (`mis+light=NAME`).
+    pub name: TechniqueName,
+    pub path: PathBuf,
+    /// The file as written.
+    pub source: String,
+    /// `source` with the loop guard at the top of every loop body (same lines).
+    pub guarded: String,
+    /// Loops in the file (each guarded).
+    pub loops: usize,
+    /// SHA-256 of the file's bytes, in hex: recorded with every result that uses it.
+    pub sha256: String,
+}
+
+/// Why a technique cannot be used.
+#[derive(Debug, thiserror::Error)]
+pub enum TechniqueError {
+    #[error("--technique `{0}`: expected KIND:FILE.wgsl, KIND one of bsdf, light (e.g. bsdf:my_lobe.wgsl)")]
+    Spec(String),
+    #[error("--technique `{spec}`: {cause}")]
+    Kind { spec: String, cause: UnknownName },
+    #[error("{}: {cause}", path.display())]
+    Name { path: PathBuf, cause: BadTechniqueName },
+    #[error("cannot read technique {}: {cause}", path.display())]
+    Io { path: PathBuf, cause: std::io::Error },
+    #[error("{}: not UTF-8 text (a WGSL file is)", path.display())]
+    NotText { path: PathBuf },
+    #[error("two techniques are named `{name}` ({} and {}): a method names a technique by its file's stem", first.display(), second.display())]
+    Duplicate { name: String, first: PathBuf, second: PathBuf },
+    /// naga rejects the file: `message` starts with FILE:LINE:COLUMN.
+    #[error("{message}")]
+    Invalid { message: String },
+    #[error("the method uses the {kind} technique `{name}`, which no --technique (or the scene's [techniques]) loads")]
+    NotLoaded { kind: TechniqueKind, name: String },
+}
+
+impl Technique {
+    /// Reads `KIND:FILE.wgsl`.
+    pub fn from_spec(spec: &str) -> Result<Technique, TechniqueError> {
+        let (kind, file) = spec.split_once(':').ok_or_else(|| TechniqueError::Spec(spec.to_string()))?;
+        if file.is_empty() {
+            return Err(TechniqueError::Spec(spec.to_string()));
+        }
+        let kind = crate::names::parse_name::<TechniqueKind>("technique kind", kind).map_err(|cause| TechniqueError::Kind { spec: spec.to_string(), cause })?;
+        Technique::load(kind, file)
+    }
+
+    /// Reads a technique of `kind` from `path`; its name is the file's stem.
+    pub fn load(kind: TechniqueKind, path: impl AsRef<Path>) -> Result<Technique, TechniqueError> {
+        let path = path.as_ref();
+        let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+        let name = TechniqueName::new(&stem).map_err(|cause| TechniqueError::Name { path: path.to_path_buf(), cause })?;
+        let bytes = std::fs::read(path).map_err(|cause| TechniqueError::Io { path: path.to_path_buf(), cause })?;
+        let sha256 = Sha256::digest(&bytes).iter().map(|b| format!("{b:02x}")).collect();
+        let source = String::from_utf8(bytes).map_err(|_| TechniqueError::NotText { path: path.to_path_buf() })?;
+        Ok(Technique::from_source(kind, name, path, source, sha256))
+    }
+
+    /// A technique from text (its SHA-256 is the text's).
+    pub fn from_text(kind: TechniqueKind, name: TechniqueName, path: impl AsRef<Path>, source: &str) -> Technique {
+        let sha256 = Sha256::digest(source.as_bytes()).iter().map(|b| format!("{b:02x}")).collect();
+        Technique::from_source(kind, name, path.as_ref(), source.to_string(), sha256)
+    }
+
+    fn from_source(kind: TechniqueKind, name: TechniqueName, path: &Path, source: String, sha256: String) -> Technique {
+        let (guarded, loops) = guard_loops(&source);
+        Technique { kind, name, path: path.to_path_buf(), source, guarded, loops, sha256 }
+    }
+
+    /// `bsdf:NAME` (how headers and reports name it).
+    pub fn label(&self) -> String {
+        format!("{}:{}", self.kind.name(), self.name)
+    }
+}
+
+/// What a result records of the techniques `method` uses (`loaded` holds their files):
+/// `KIND=NAME@SHA256` for each, space-separated; empty where it uses none. A technique the
+/// method names but `loaded` lacks is recorded without a hash (`KIND=NAME@?`).
+pub fn stamp(method: &crate::method::Method, loaded: &[Technique]) -> String {
+    method
+        .techniques()
+        .map(|(kind, name)| {
+            let sha = loaded.iter().find(|t| t.kind == kind && t.name == name).map_or("?", |t| t.sha256.as_str());
+            format!("{}={name}@{sha}", kind.name())
+        })
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// `method` with the techniques of a `stamp` (their names; the hashes are for people).
+pub fn method_from_stamp(method: crate::method::Method, stamp: &str) -> Result<crate::method::Method, String> {
+    let mut method = method;
+    for item in stamp.split_whitespace() {
+        let (kind, rest) = item.split_once('=').ok_or_else(|| format!("`{item}` is not KIND=NAME@SHA256"))?;
+        let kind = crate::names::parse_name::<TechniqueKind>("technique kind", kind).map_err(|e| e.to_string())?;
+        let name = rest.split_once('@').map_or(rest, |(n, _)| n);
+        method = method.with_technique(kind, TechniqueName::new(name).map_err(|e| e.to_string())?);
+    }
+    Ok(method)
+}
+
+/// The techniques a scene or command has loaded, at most one name per kind each.
+pub fn check_unique(techniques: &[Technique]) -> Result<(), TechniqueError> {
+    for (i, a) in techniques.iter().enumerate() {
+        if let Some(b) = techniques[..i].iter().find(|b| b.name == a.name) {
+            return Err(TechniqueError::Duplicate { name: a.name.to_string(), first: b.path.clone(), second: a.path.clone() });
+        }
+    }
+    Ok(())
+}
+
+/// `source` with `LOOP_GUARD` at the top of every loop body, and the number of loops: after the
+/// `{` that opens the body of each `loop`, `while` and `for` (comments and identifiers that
+/// merely contain those words are skipped; a `for` header's parentheses are skipped whole).
+/// Text is only inserted, never a newline, so lines keep their numbers.
+pub fn guard_loops(source: &str) -> (String, usize) {
+    let bytes = source.as_bytes();
+    let mut out = String::with_capacity(source.len() + 64);
+    let mut loops = 0;
+    let mut i = 0;
+    // Set after a loop keyword: insert the guard after the next `{` outside parentheses.
+    let mut pending = false;
+    let mut parens = 0i32;
+    let mut copied = 0;
+    while i < bytes.len() {
+        let c = bytes[i];
+        if c == b'/' && bytes.get(i + 1) == Some(&b'/') {
+            while i < bytes.len() && bytes[i] != b'\n' {
+                i += 1;
+            }
+            continue;
+        }
+        if c == b'/' && bytes.get(i + 1) == Some(&b'*') {
+            // WGSL block comments nest.
+            let mut depth = 0;
+            while i < bytes.len() {
+                if bytes[i] == b'/' && bytes.get(i + 1) == Some(&b'*') {
+                    depth += 1;
+                    i += 2;
+                } else if bytes[i] == b'*' && bytes.get(i + 1) == Some(&b'/') {
+                    depth -= 1;
+                    i += 2;
+                    if depth == 0 {
+                        break;
+                    }
+                } else {
+                    i += 1;
+                }
+            }
+            continue;
+        }
+        if c.is_ascii_alphabetic() || c == b'_' {
+            let start = i;
+            while i < bytes.len() && (bytes[i].is_ascii_alphanumeric() || bytes[i] == b'_') {
+                i += 1;
+            }
+            if matches!(&source[start..i], "loop" | "while" | "for") {
+                pending = true;
+                parens = 0;
+                loops += 1;
+            }
+            continue;
+        }
+        if pending {
+            match c {
+                b'(' => parens += 1,
+                b')' => parens -= 1,
+                b'{' if parens == 0 => {
+                    out.push_str(&source[copied..=i]);
+                    out.push(' ');
+                    out.push_str(LOOP_GUARD);
+                    copied = i + 1;
+                    pending = false;
+                }
+                _ => {}
+            }
+        }
+        i += 1;
+    }
+    out.push_str(&source[copied..]);
+    (out, loops)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_loop_body_gets_the_guard_and_lines_keep_their_numbers() {
+        let src = "// a for loop in a comment: for (;;) {}\nfn f() -> f32 {\n  var s = 0.0;\n  for (var i = 0u; i < 4u; i++) { s += 1.0; }\n  while (s < 10.0) { s += 1.0; }\n  loop { s += 1.0; if (s > 20.0) { break; } }\n  /* loop { } */ let format = 1.0; let whiley = 2.0;\n  return s + format + whiley;\n}\n";
+        let (guarded, loops) = guard_loops(src);
+        assert_eq!(loops, 3);
+        assert_eq!(guarded.matches(LOOP_GUARD).count(), 3);
+        assert_eq!(guarded.lines().count(), src.lines().count());
+        assert!(guarded.contains(&format!("for (var i = 0u; i < 4u; i++) {{ {LOOP_GUARD} s += 1.0; }}")));
+        assert!(guarded.lines().next().unwrap().ends_with("for (;;) {}"), "comments are left alone");
+    }
+
+    #[test]
+    fn specs_name_their_kind_and_file() {
+        assert!(matches!(Technique::from_spec("phong.wgsl"), Err(TechniqueError::Spec(_))));
+        assert!(matches!(Technique::from_spec("lens:x.wgsl"), Err(TechniqueError::Kind { .. })));
+        let e = Technique::from_spec("bsdf:/nonexistent/my_lobe.wgsl").unwrap_err();
+        assert!(e.to_string().contains("/nonexistent/my_lobe.wgsl"), "{e}");
+        assert!(matches!(Technique::from_spec("bsdf:/tmp/my lobe.wgsl"), Err(TechniqueError::Name { .. })));
+    }
+}

@@ -1,0 +1,408 @@
+//! Proving a researcher's technique before it renders (`pathlab check-technique`, and before
+//! first use in every command): naga validation at the file's line and column
+//! (`shaders::validate_technique`), then on configurations drawn from the scene the chi-square
+//! harness (`chi2`) of the kernel-compiled sampler against its own pdf, and a coverage check.
+//!
+//! Configurations: for a `bsdf` technique, every distinct Phong material of the scene (the
+//! study's three where it has none) at incidences 0, 45 and 85 degrees; for a `light`
+//! technique, every distinct radius of the scene's spherical lights (1 where it has none), seen
+//! from a near point (1.5 radii from the centre) and a far one (30 radii), with the shading
+//! normal towards the light and tilted 70 degrees from it.
+//!
+//! Each configuration is two tests: the chi-square test, and the coverage test, a z-test of the
+//! technique's estimate of an integral against the built-in strategy's (both with the
+//! configuration's samples): for a BSDF the albedo, the integral of f cos over the sphere; for
+//! a light the integral of max(0, cos) over the directions that meet it. The coverage test
+//! catches a pdf that agrees with its sampler but not with the integrand: zero where the
+//! integrand is not, or one whose sampler and pdf are wrong together. Before the samples are
+//! binned, the support is checked on the 4 x 4 quadrature points of every cell: a point where
+//! the integrand is positive and the pdf 0 is a hard failure. The verdict passes when no test
+//! fails at the Šidák-corrected level for a family-wise false-rejection probability of
+//! `ALPHA` = 0.01 over all tests of the check (a correct technique is refused with probability
+//! at most 0.01), and nothing failed hard (a fault, a pdf that does not integrate to 1 within
+//! 1e-3, samples where the pdf is 0, a reported pdf that is not the pdf function's).
+
+mod histogram;
+
+use std::path::Path;
+
+use crate::chi2::{self, Chi2Failure, Chi2Outcome, Routine};
+use crate::gpu::Gpu;
+use crate::method::TechniqueKind;
+use crate::scene::{Bsdf, BsdfData, Scene, Technique, TechniqueError};
+use crate::shaders::{self, TechniqueFiles};
+
+pub use histogram::write_histogram;
+
+/// Family-wise false-rejection probability of a check of a correct technique.
+pub const ALPHA: f64 = 0.01;
+
+/// Samples per configuration by default.
+pub const DEFAULT_SAMPLES: u32 = 1 << 20;
+
+/// One configuration a technique is tested on.
+#[derive(Debug, Clone)]
+pub struct Configuration {
+    pub name: String,
+    /// The technique, as the kernel runs it.
+    pub technique: Routine,
+    /// The built-in strategy of its kind on the same configuration (for the coverage test).
+    pub builtin: Routine,
+}
+
+/// The result of one configuration.
+#[derive(Debug, Clone)]
+pub struct ConfigurationResult {
+    pub name: String,
+    /// The chi-square test's p-value (None: a hard failure came first).
+    pub p_value: Option<f64>,
+    /// The coverage z-test's two-sided p-value, and the two estimates (mean, standard error).
+    pub coverage: Option<(f64, (f64, f64), (f64, f64))>,
+    /// A hard failure, if any.
+    pub failure: Option<Chi2Failure>,
+    /// The technique's binned samples, where they were binned.
+    pub outcome: Option<Chi2Outcome>,
+}
+
+impl ConfigurationResult {
+    /// The smaller of its p-values (0 for a hard failure).
+    pub fn worst_p(&self) -> f64 {
+        if self.failure.is_some() {
+            return 0.0;
+        }
+        self.p_value.unwrap_or(0.0).min(self.coverage.map_or(1.0, |c| c.0))
+    }
+}
+
+/// A technique's verdict.
+#[derive(Debug, Clone)]
+pub struct Verdict {
+    /// `bsdf:NAME`.
+    pub label: String,
+    pub sha256: String,
+    pub samples: u32,
+    /// The per-test level (Šidák-corrected for `ALPHA` over every test of the check).
+    pub level: f64,
+    pub results: Vec<ConfigurationResult>,
+    /// What the scene gave the configurations (or why defaults were used).
+    pub source: String,
+}
+
+impl Verdict {
+    /// Whether every configuration passed.
+    pub fn passed(&self) -> bool {
+        self.results.iter().all(|r| r.failure.is_none() && r.worst_p() >= self.level)
+    }
+
+    /// The configuration with the smallest p-value (a failing one first).
+    pub fn worst(&self) -> Option<&ConfigurationResult> {
+        self.results.iter().min_by(|a, b| a.worst_p().total_cmp(&b.worst_p()))
+    }
+
+    /// The report, one line per configuration, then the verdict.
+    pub fn report(&self) -> String {
+        let mut out = format!("{} (sha256 {}): {} configurations from {}, {} samples each, level {:.2e} per test (alpha {ALPHA} over the check)\n", self.label, self.sha256, self.results.len(), self.source, self.samples, self.level);
+        for r in &self.results {
+            let chi = r.p_value.map_or("-".to_string(), |p| format!("{p:.4}"));
+            let cov = r.coverage.map_or("-".to_string(), |(p, t, b)| format!("{p:.4} (technique {:.5} ± {:.5}, built-in {:.5} ± {:.5})", t.0, t.1, b.0, b.1));
+            let status = match &r.failure {
+                Some(f) => format!("FAILS: {f}"),
+                None if r.worst_p() < self.level => "FAILS: p below the level".to_string(),
+                None => "ok".to_string(),
+            };
+            out += &format!("  {}: chi-square p = {chi}, coverage p = {cov}: {status}\n", r.name);
+        }
+        match (self.passed(), self.worst()) {
+            (true, _) => out += &format!("verdict: PROVEN ({} passes every test)\n", self.label),
+            (false, Some(w)) => {
+                let why = match &w.failure {
+                    Some(f) => f.to_string(),
+                    None => format!("p = {:.3e} < {:.2e}", w.worst_p(), self.level),
+                };
+                out += &format!("verdict: REFUSED ({} fails at {}: {why})\n", self.label, w.name);
+            }
+            (false, None) => out += "verdict: REFUSED (no configuration)\n",
+        }
+        out
+    }
+}
+
+/// Options of a check.
+#[derive(Debug, Clone, Copy)]
+pub struct CheckOptions {
+    pub samples: u32,
+    pub seed: u32,
+    /// Stop at the first configuration that fails hard (what a refusal needs).
+    pub stop_at_failure: bool,
+}
+
+impl Default for CheckOptions {
+    fn default() -> Self {
+        CheckOptions { samples: DEFAULT_SAMPLES, seed: 1, stop_at_failure: true }
+    }
+}
+
+/// Validates `technique` (no GPU), then tests it on `scene`'s configurations.
+pub fn check(gpu: &Gpu, technique: &Technique, scene: &Scene, options: CheckOptions, mut progress: impl FnMut(usize, usize, &str)) -> Result<Verdict, TechniqueError> {
+    shaders::validate_technique(technique)?;
+    let (configurations, source) = configurations(technique.kind, scene);
+    let tests = configurations.len() * 2;
+    let level = crate::stats::sidak(ALPHA, tests.max(1));
+    let files = TechniqueFiles::only(technique);
+    let mut results = Vec::new();
+    for (k, c) in configurations.iter().enumerate() {
+        progress(k, configurations.len(), &c.name);
+        let seed = options.seed.wrapping_mul(1000).wrapping_add(k as u32);
+        let result = match chi2::binned(gpu, &c.technique, files, options.samples, seed) {
+            Err(failure) => ConfigurationResult { name: c.name.clone(), p_value: None, coverage: None, failure: Some(failure), outcome: None },
+            Ok(mut outcome) => {
+                let failure = outcome.failure.take();
+                let coverage = if failure.is_none() {
+                    // Only the built-in's estimate is needed (the suite proves the built-in itself).
+                    let builtin = chi2::binned(gpu, &c.builtin, TechniqueFiles::default(), options.samples, seed ^ 0x5eed).map_err(|e| TechniqueError::Invalid {
+                        message: format!("the built-in strategy's kernel failed at {} (a bug of pathlab): {e}", c.name),
+                    })?;
+                    let (t, b) = (outcome.estimate, builtin.estimate);
+                    // Where both estimates have no variance (cosine sampling of a diffuse BRDF:
+                    // every sample is kd), only f32 rounding tells them apart: 1e-5 relative.
+                    let rounding = 1e-5 * t.0.abs().max(b.0.abs());
+                    let z = (t.0 - b.0) / (t.1 * t.1 + b.1 * b.1 + rounding * rounding).sqrt().max(1e-300);
+                    let p = 2.0 * (1.0 - crate::stats::normal_cdf(z.abs()));
+                    Some((p, t, b))
+                } else {
+                    None
+                };
+                ConfigurationResult { name: c.name.clone(), p_value: Some(outcome.p_value), coverage, failure, outcome: Some(outcome) }
+            }
+        };
+        let hard = result.failure.is_some();
+        results.push(result);
+        if hard && options.stop_at_failure {
+            break;
+        }
+    }
+    Ok(Verdict { label: technique.label(), sha256: technique.sha256.clone(), samples: options.samples, level, results, source })
+}
+
+/// The configurations of a technique of `kind` on `scene`, and where they came from.
+pub fn configurations(kind: TechniqueKind, scene: &Scene) -> (Vec<Configuration>, String) {
+    match kind {
+        TechniqueKind::Bsdf => {
+            let mut materials: Vec<([f64; 3], [f64; 3], f64, f64)> = Vec::new();
+            for m in &scene.materials {
+                if let Some(p) = m.bsdf.as_phong() {
+                    let [_, p1, _] = Bsdf::Phong(p.clone()).pack(&mut BsdfData::default());
+                    let key = (p.diffuse.to_array(), p.specular.to_array(), p.glossiness, p1[3] as f64);
+                    if !materials.contains(&key) {
+                        materials.push(key);
+                    }
+                }
+            }
+            let source = if materials.is_empty() {
+                // The study's diffuse, glossy and mostly specular materials.
+                materials = vec![([0.8; 3], [0.0; 3], 1.0, 0.0), ([0.5; 3], [0.5; 3], 20.0, 0.5), ([0.1; 3], [0.9; 3], 200.0, 0.9)];
+                "the study's materials (the scene has no Phong material, where a bsdf technique applies)".to_string()
+            } else {
+                format!("the scene's {} Phong material(s)", materials.len())
+            };
+            let configs = materials
+                .iter()
+                .flat_map(|&(kd, ks, n, p_spec)| [0.0, 45.0, 85.0].map(move |theta| phong_configuration(kd, ks, n, p_spec, theta)))
+                .collect();
+            (configs, source)
+        }
+        TechniqueKind::Light => {
+            let mut radii: Vec<f64> = Vec::new();
+            for l in scene.lights_of(crate::scene::EmitterKind::Sphere) {
+                if let crate::scene::Light::Sphere(s) = l {
+                    let radius = scene.spheres[s].radius;
+                    if !radii.contains(&radius) {
+                        radii.push(radius);
+                    }
+                }
+            }
+            let source = if radii.is_empty() {
+                radii.push(1.0);
+                "a unit sphere (the scene has no spherical light, where a light technique applies)".to_string()
+            } else {
+                format!("the scene's {} spherical light radius(es)", radii.len())
+            };
+            let configs = radii
+                .iter()
+                .flat_map(|&r| [(1.5, 0.0), (1.5, 70.0), (30.0, 0.0), (30.0, 70.0)].map(move |(ratio, tilt)| sphere_configuration(r, ratio, tilt)))
+                .collect();
+            (configs, source)
+        }
+    }
+}
+
+fn v3(v: [f64; 3]) -> String {
+    format!("vec3f({:?}, {:?}, {:?})", v[0] as f32, v[1] as f32, v[2] as f32)
+}
+
+/// A Phong material (kd, ks, exponent n, the lobe probability of pathlab's mixture) at
+/// incidence `theta` degrees, shading normal +z: the technique through `sample_phong_technique`
+/// and `pdf_phong_technique` (what the path tracer calls), and the built-in mixture. Binned
+/// around the mirror direction, in s bins spaced geometrically from 0.1 / (n + 1) (a tenth of
+/// the Phong lobe's width in s): the study's exponents reach 3000, a lobe a few cells wide on a
+/// uniform grid.
+fn phong_configuration(kd: [f64; 3], ks: [f64; 3], n: f64, p_spec: f64, theta: f64) -> Configuration {
+    let t = theta.to_radians();
+    let common = format!(
+        "fn routine_material() -> Phong {{ return Phong({}, {}, {:?}, {:?}); }}\n\
+         fn routine_wo() -> vec3f {{ return vec3f({:?}, 0.0, {:?}); }}\n\
+         // The binning frame: +z along the mirror direction of wo.\n\
+         fn routine_frame() -> Frame {{ return frame_from_normal(vec3f({:?}, 0.0, {:?})); }}\n\
+         fn routine_integrand(d: vec3f) -> f32 {{\n\
+             let wi = frame_to_world(routine_frame(), d);\n\
+             let f = eval_phong(routine_material(), vec3f(0.0, 0.0, 1.0), routine_wo(), wi);\n\
+             return (f.x + f.y + f.z) / 3.0 * max(wi.z, 0.0);\n\
+         }}\n",
+        v3(kd),
+        v3(ks),
+        n as f32,
+        p_spec as f32,
+        t.sin() as f32,
+        t.cos() as f32,
+        -t.sin() as f32,
+        t.cos() as f32,
+    );
+    let routine = |sample: &str, pdf: &str| -> String {
+        format!(
+            "{common}\
+             fn routine_sample(u: vec2f, u_lobe: f32) -> Drawn {{\n\
+                 let m = routine_material(); let n_s = vec3f(0.0, 0.0, 1.0); let wo = routine_wo();\n\
+                 let bs = {sample}(m, n_s, wo, u, u_lobe);\n\
+                 let expect = path_weight(eval_phong(m, n_s, wo, bs.wi), dot(bs.wi, n_s), bs.pdf);\n\
+                 let err = max3(abs(bs.weight - expect)) / max(max3(abs(expect)), 1e-30);\n\
+                 let estimate = (bs.weight.x + bs.weight.y + bs.weight.z) / 3.0;\n\
+                 return Drawn(vec4f(frame_to_local(routine_frame(), bs.wi), bs.pdf), vec4f(err, 0.0, estimate, 0.0));\n\
+             }}\n\
+             fn routine_pdf(d: vec3f) -> f32 {{ let wi = frame_to_world(routine_frame(), d); return {pdf}; }}\n"
+        )
+    };
+    let name = format!("phong kd={:.3} ks={:.3} n={n} at {theta} degrees", kd[1], ks[1]);
+    let make = |wgsl: String, constants: Vec<(&'static str, f64)>, integrand: bool| Routine {
+        name: name.clone(),
+        wgsl,
+        constants,
+        s_split: -(0.1 / (n + 1.0)).min(1e-2),
+        // The direction's round trip through the binning frame moves its cosine to the mirror
+        // direction by a few ulps of 1 (6e-8 each; measured up to 2.4e-7 at 85 degrees): a
+        // density cos^n computed from an f32 cosine then moves by up to ~n 2.4e-7 relative.
+        pdf_tolerance: 1e-4 + 4e-7 * n,
+        // (Densities are of order 1 / pi: 1e-6 absolute, where the round trip moves the cosine
+        // lobe by ~3e-8 at the horizon.)
+        pdf_floor: 1e-2,
+        bsdf_data: Vec::new(),
+        integrand,
+    };
+    Configuration {
+        name: name.clone(),
+        technique: make(routine("sample_phong_technique", "pdf_phong_technique(routine_material(), vec3f(0.0, 0.0, 1.0), routine_wo(), wi)"), vec![("BSDF_TECHNIQUE", 1.0)], true),
+        builtin: make(
+            routine("sample_phong", "eval_pdf_phong(routine_material(), vec3f(0.0, 0.0, 1.0), routine_wo(), wi).pdf"),
+            vec![("BSDF_SAMPLING", crate::method::BsdfSampling::Phong.constant() as f64), ("HAS_SPECULAR", 1.0)],
+            false,
+        ),
+    }
+}
+
+/// A sphere of `radius` at `ratio` radii from the shading point x (the origin), whose shading
+/// normal is tilted `tilt` degrees from the direction to the sphere's centre: the technique
+/// through `sample_sphere_light_technique` and `pdf_sphere_light_technique` (what the path
+/// tracer calls), and the built-in cone. The technique's samples are binned where they land on
+/// the sphere, by the direction d from the centre (+z towards x: the centre is at -z): the
+/// density there is the solid-angle density at x times cos(theta_light) r^2 / dist^2, finite
+/// up to the edge of the visible cap (s = 1 - r / dist_centre, a bin edge), where the
+/// solid-angle density of sampling by area diverges and 4 x 4 quadrature points over the
+/// directions at x could not integrate it. Points beyond the cap are hidden by the sphere:
+/// lost samples, which contribute nothing. The integrand is max(0, cos) at x over the
+/// directions that meet the sphere.
+fn sphere_configuration(radius: f64, ratio: f64, tilt: f64) -> Configuration {
+    let s_cap = 1.0 - 1.0 / ratio;
+    let t = tilt.to_radians();
+    let common = format!(
+        "const ROUTINE_C: vec3f = vec3f(0.0, 0.0, {:?});\n\
+         const ROUTINE_R: f32 = {:?};\n\
+         const ROUTINE_S_CAP: f32 = {:?};\n\
+         fn routine_n() -> vec3f {{ return vec3f({:?}, 0.0, {:?}); }}\n\
+         // The point of the sphere in direction d from its centre, and whether x sees it.\n\
+         fn routine_point(d: vec3f) -> vec3f {{ return ROUTINE_C + ROUTINE_R * d; }}\n\
+         fn routine_visible(d: vec3f) -> bool {{ return 1.0 - d.z < ROUTINE_S_CAP; }}\n\
+         // d(solid angle at x) / d(solid angle of d at the centre): cos(theta_light) r^2 / dist^2.\n\
+         fn routine_jacobian(d: vec3f) -> f32 {{\n\
+             let to_x = -routine_point(d);\n\
+             let dist2 = dot(to_x, to_x);\n\
+             return max(dot(d, to_x), 0.0) / sqrt(dist2) * ROUTINE_R * ROUTINE_R / dist2;\n\
+         }}\n\
+         fn routine_integrand(d: vec3f) -> f32 {{\n\
+             let wi = normalize(routine_point(d));\n\
+             return select(0.0, max(dot(wi, routine_n()), 0.0) * routine_jacobian(d), routine_visible(d));\n\
+         }}\n\
+         // The technique's density at the point p itself (the path tracer's wrapper finds p again\n\
+         // from the direction, which f32 conditions badly where the sight line grazes the sphere).\n\
+         fn routine_technique_pdf(p: vec3f) -> f32 {{\n\
+             technique_iterations = 0u;\n\
+             return technique_density(pdf_light_technique(vec3f(0.0), routine_n(), SphereLight(ROUTINE_C, ROUTINE_R), p));\n\
+         }}\n",
+        -(radius * ratio) as f32,
+        radius as f32,
+        s_cap as f32,
+        t.sin() as f32,
+        -t.cos() as f32,
+    );
+    let technique = format!(
+        "{common}\
+         fn routine_sample(u: vec2f, u_lobe: f32) -> Drawn {{\n\
+             let ls = sample_sphere_light_technique(ROUTINE_C, ROUTINE_R, vec3f(0.0), routine_n(), u);\n\
+             let p = ls.wi * ls.dist;\n\
+             let d = normalize(p - ROUTINE_C);\n\
+             let far = dot(p - ROUTINE_C, -p) <= 0.0;\n\
+             let pdf = routine_technique_pdf(p);\n\
+             let estimate = select(0.0, max(dot(ls.wi, routine_n()), 0.0) / pdf, !far && pdf > 0.0);\n\
+             // (The technique reports no density of its own: pathlab asks its pdf, as here.)\n\
+             return Drawn(vec4f(d, routine_pdf(d)), vec4f(0.0, select(0.0, 1.0, far), estimate, 0.0));\n\
+         }}\n\
+         fn routine_pdf(d: vec3f) -> f32 {{\n\
+             if (!routine_visible(d)) {{ return 0.0; }}\n\
+             return routine_technique_pdf(routine_point(d)) * routine_jacobian(d);\n\
+         }}\n"
+    );
+    let builtin = format!(
+        "{common}\
+         fn routine_sample(u: vec2f, u_lobe: f32) -> Drawn {{\n\
+             let ls = sample_sphere_light_cone(ROUTINE_C, ROUTINE_R, vec3f(0.0), u);\n\
+             let estimate = select(0.0, max(dot(ls.wi, routine_n()), 0.0) / ls.pdf, ls.pdf > 0.0);\n\
+             return Drawn(vec4f(ls.wi, ls.pdf), vec4f(0.0, 0.0, estimate, 0.0));\n\
+         }}\n\
+         fn routine_pdf(d: vec3f) -> f32 {{ return pdf_sphere_light(ROUTINE_C, ROUTINE_R, vec3f(0.0), false, d); }}\n"
+    );
+    let name = format!("sphere r={radius} seen from {ratio} radii, normal tilted {tilt} degrees");
+    let make = |wgsl: String, constants: Vec<(&'static str, f64)>, integrand: bool| Routine {
+        name: name.clone(),
+        wgsl,
+        constants,
+        // The edge of the visible cap is a bin edge.
+        s_split: s_cap,
+        pdf_tolerance: 1e-4,
+        pdf_floor: 1e-30,
+        bsdf_data: Vec::new(),
+        integrand,
+    };
+    Configuration {
+        name: name.clone(),
+        technique: make(technique, vec![("LIGHT_TECHNIQUE", 1.0)], true),
+        // Only the built-in cone's estimate is used (the chi-square suite proves the cone).
+        builtin: make(builtin, vec![], false),
+    }
+}
+
+/// Writes the worst configuration's histogram (observed against expected) to `path`, if it
+/// was binned.
+pub fn write_worst_histogram(verdict: &Verdict, path: &Path) -> Result<bool, crate::output::OutputError> {
+    let Some(worst) = verdict.worst() else { return Ok(false) };
+    let Some(outcome) = &worst.outcome else { return Ok(false) };
+    write_histogram(outcome, &format!("{}: {}", verdict.label, worst.name), path)?;
+    Ok(true)
+}
