@@ -213,3 +213,42 @@ fn the_command_line_refuses_a_technique_naming_why_and_records_a_proven_one() {
     assert_eq!(get("technique_verdict"), "proven");
     assert_eq!(get("technique_faults"), "0");
 }
+
+#[test]
+fn a_quick_study_gives_the_technique_its_rows() {
+    let dir = tempfile::tempdir().unwrap();
+    let study = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/study.toml");
+    let out = Command::new(env!("CARGO_BIN_EXE_pathlab"))
+        .args(["study", study.to_str().unwrap(), "--quick", "--quiet", "--methods", "nee,mis", "--spp", "1,16", "--time", "0.1", "--seeds", "1", "--reference-spp", "256"])
+        .arg("--out")
+        .arg(dir.path().join("s"))
+        .arg("--technique")
+        .arg(format!("light:{}", example("sphere_area.wgsl").display()))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(stderr.contains("technique light:sphere_area: proven"), "{stderr}");
+    let report = std::fs::read_to_string(dir.path().join("s/report.md")).unwrap();
+    // Beside each method that samples lights, in every table.
+    for row in ["| nee+light=sphere_area | 16 |", "| mis+light=sphere_area | 16 |", "| nee+light=sphere_area | 0.1 |", "| mis+light=sphere_area | no bias detected"] {
+        assert!(report.contains(row), "no `{row}` in\n{report}");
+    }
+}
+
+#[test]
+fn a_toml_scene_loads_its_techniques_and_names_a_bad_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let study = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/study.toml")).unwrap();
+    std::fs::copy(example("sphere_area.wgsl"), dir.path().join("sphere_area.wgsl")).unwrap();
+    let with = format!("{study}\n[techniques]\nlight = [\"sphere_area.wgsl\"]\n");
+    let scene = Scene::parse(&with, dir.path().join("scene.toml")).unwrap();
+    assert_eq!(scene.techniques.len(), 1);
+    assert_eq!((scene.techniques[0].kind, scene.techniques[0].name.as_str()), (TechniqueKind::Light, "sphere_area"));
+    // Not part of the scene's identity: a technique changes the variance, not the image.
+    assert_eq!(scene.content_hash(), study_scene().content_hash());
+    let bad = format!("{study}\n[techniques]\nbsdf = [\"missing.wgsl\"]\n");
+    let line = bad.lines().count();
+    let e = Scene::parse(&bad, dir.path().join("scene.toml")).unwrap_err().to_string();
+    assert!(e.contains(&format!("scene.toml:{line}:")) && e.contains("techniques.bsdf") && e.contains("missing.wgsl"), "{e}");
+}

@@ -32,6 +32,7 @@ __version__: str = _pathlab.VERSION
 
 __all__ = [
     "Scene",
+    "Technique",
     "Render",
     "Renderer",
     "SceneError",
@@ -182,12 +183,56 @@ def _warnings_too(progress: _Progress) -> Callable[[str, float, float, str], Non
 # Scenes.
 
 
-def load_scene(path: PathLike, *, defines: Optional[Mapping[str, Any]] = None, **overrides: Any) -> Scene:
+@dataclass(frozen=True)
+class Technique:
+    """A sampling technique of your own: one WGSL file implementing the contract of
+    ``shaders/technique.wgsl`` (README, "Your own technique"). ``Technique("light:cone.wgsl")``
+    or ``Technique("cone.wgsl", kind="light")``; ``kind`` is ``"bsdf"`` (directions at Phong
+    materials) or ``"light"`` (points on spherical lights). Load it with
+    ``load_scene(..., techniques=[t])`` (or ``scene.with_technique``); methods then use it as
+    ``"mis+light=NAME"``, NAME the file's stem (``t.name``). ``render`` and ``study`` check it
+    (chi-square and coverage, as ``pathlab check-technique``) before its first use and raise
+    ``RenderError`` with the report if it is refused.
+    """
+
+    path: str
+    kind: str
+
+    def __init__(self, path: PathLike, kind: Optional[str] = None) -> None:
+        p = _path("path", path)
+        if kind is None:
+            k, sep, rest = p.partition(":")
+            if not sep or k not in ("bsdf", "light"):
+                raise ValueError(f"Technique({p!r}): give KIND:FILE.wgsl (KIND bsdf or light), or kind=")
+            kind, p = k, rest
+        if kind not in ("bsdf", "light"):
+            raise ValueError(f"Technique kind must be 'bsdf' or 'light', not {kind!r}")
+        object.__setattr__(self, "path", p)
+        object.__setattr__(self, "kind", kind)
+
+    @property
+    def name(self) -> str:
+        """The name methods use: the file's stem."""
+        return os.path.splitext(os.path.basename(self.path))[0]
+
+    def method(self, base: str = "mis") -> str:
+        """``base`` using this technique, e.g. ``"mis+light=cone"``."""
+        return f"{base}+{self.kind}={self.name}"
+
+
+def load_scene(
+    path: PathLike,
+    *,
+    defines: Optional[Mapping[str, Any]] = None,
+    techniques: Sequence[Technique] = (),
+    **overrides: Any,
+) -> Scene:
     """Reads and validates a scene: pathlab TOML, or Mitsuba 3 XML (``.xml``).
 
     Keyword overrides replace render settings: ``width``, ``height``, ``max_depth``,
     ``rr_depth`` (an int, or None / ``"off"``) and ``spp`` (the default of ``render``).
     ``defines`` gives a Mitsuba scene's ``$name`` values (Mitsuba's ``-D name=value``).
+    ``techniques`` loads researchers' techniques (``Technique``) with the scene.
 
     Raises ``SceneError`` (a ``ValueError``) with the CLI's ``file:line:column: error: ...``
     message for a file that cannot be read or is invalid.
@@ -201,7 +246,12 @@ def load_scene(path: PathLike, *, defines: Optional[Mapping[str, Any]] = None, *
             if not isinstance(k, str):
                 raise TypeError(f"defines: a name is a str, not {type(k).__name__}")
             pairs.append((k, str(v).lower() if isinstance(v, bool) else str(v)))
-    return _pathlab.load_scene(p, pairs, overrides)
+    scene = _pathlab.load_scene(p, pairs, overrides)
+    for t in techniques:
+        if not isinstance(t, Technique):
+            raise TypeError(f"techniques: a Technique, not {type(t).__name__}")
+        scene = scene.with_technique(t.kind, t.path)
+    return scene
 
 
 # ---------------------------------------------------------------------------------------------

@@ -60,6 +60,11 @@ class Scene:
     def lights(self) -> List[Dict[str, Any]]:
         """One dict per emissive sphere (kind, index, center, radius, emission, power) and per
         emissive mesh (kind, index, triangles, emission, two_sided, power)."""
+    @property
+    def techniques(self) -> List[Tuple[str, str, str, str]]:
+        """The researchers' techniques loaded: (kind, name, path, sha256) each."""
+    def with_technique(self, kind: str, path: str) -> "Scene":
+        """A copy with a technique loaded (validated by naga; ValueError at the file's line)."""
     def with_(
         self,
         *,

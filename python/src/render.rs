@@ -92,6 +92,11 @@ pub(crate) fn render<'py>(
         job.error = Some(ErrorPlan { target: Some(Target::RelMse(e)), every: None, display: s.display });
     }
     let device = device(py)?;
+    // A researcher's technique renders only once proven (README: "Your own technique").
+    let verdicts = py.detach(|| pathlab::technique::prove(&device.gpu, s, &method)).map_err(render_error)?;
+    if let Some(v) = verdicts.iter().find(|v| !v.passed()) {
+        return Err(render_error(format!("technique {} is refused:\n{}", v.label, v.report())));
+    }
     let watch = Watch::new(progress);
     let result = py.detach(|| job.run(&device.gpu, &device.pipelines, &watch.cancel, |p| watch.frame(&p, 0, budget)));
     if let Some(e) = watch.take_error() {

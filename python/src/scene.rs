@@ -198,6 +198,22 @@ impl PyScene {
         }
         Ok(out)
     }
+    /// A copy with a researcher's technique loaded (`kind`: "bsdf" or "light"; the WGSL file
+    /// at `path`), validated by naga; methods use it as `+KIND=NAME`, NAME the file's stem.
+    fn with_technique(&self, kind: &str, path: PathBuf) -> PyResult<PyScene> {
+        let spec = format!("{kind}:{}", path.display());
+        let t = pathlab::scene::Technique::from_spec(&spec).map_err(|e| PyValueError::new_err(e.to_string()))?;
+        pathlab::shaders::validate_technique(&t).map_err(|e| PyValueError::new_err(e.to_string()))?;
+        let mut scene = self.scene.clone();
+        scene.techniques.retain(|o| o.name != t.name);
+        scene.techniques.push(t);
+        Ok(PyScene { scene })
+    }
+    /// The techniques loaded: (kind, name, path, sha256) each.
+    #[getter]
+    fn techniques(&self) -> Vec<(String, String, String, String)> {
+        self.scene.techniques.iter().map(|t| (t.kind.name().to_string(), t.name.to_string(), t.path.display().to_string(), t.sha256.clone())).collect()
+    }
     /// A copy with render settings replaced: width, height, max_depth, rr_depth (an int, or
     /// None / "off"), spp.
     #[pyo3(signature = (**kwargs))]

@@ -71,6 +71,12 @@ pub(crate) fn study_json(py: Python<'_>, scene: &PyScene, out: PathBuf, options:
     let study = o.study(s.clone(), s.path.clone(), out.clone(), command).map_err(|e| PyValueError::new_err(e.to_string()))?;
     let loaded = study.validate().map_err(|e| PyValueError::new_err(e.to_string()))?;
     let device = device(py)?;
+    for m in &study.methods {
+        let verdicts = py.detach(|| pathlab::technique::prove(&device.gpu, &study.scene, &m.method)).map_err(crate::render_error)?;
+        if let Some(v) = verdicts.iter().find(|v| !v.passed()) {
+            return Err(crate::render_error(format!("technique {} is refused:\n{}", v.label, v.report())));
+        }
+    }
     let watch = Watch::new(progress);
     let result = py.detach(|| study.run(loaded, &device.gpu, &device.pipelines, &watch.cancel, &watch));
     if let Some(e) = watch.take_error() {

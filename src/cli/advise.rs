@@ -45,6 +45,10 @@ pub struct AdviseArgs {
     /// Use the first adapter whose name contains this (also: PATHLAB_ADAPTER).
     #[arg(long)]
     adapter: Option<String>,
+    /// Each technique is piloted beside the methods whose strategy it replaces (as in
+    /// `study`), after its check.
+    #[command(flatten)]
+    techniques: super::technique::TechniqueArgs,
 }
 
 #[derive(Serialize)]
@@ -73,6 +77,7 @@ struct Report {
 
 pub fn run(args: AdviseArgs) -> anyhow::Result<i32> {
     let mut scene = load_scene(&args.scene)?;
+    args.techniques.load(&mut scene)?;
     let target = match (args.target_rel_error, args.target_psnr) {
         (Some(e), _) if !(e.is_finite() && e > 0.0) => bail!("--target-rel-error must be a positive relative MSE"),
         (Some(e), _) => Target::RelMse(e),
@@ -84,7 +89,9 @@ pub fn run(args: AdviseArgs) -> anyhow::Result<i32> {
         bail!("--pilot-seconds must be positive");
     }
     let mut methods = Vec::new();
-    for name in args.methods.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+    let names: Vec<String> = args.methods.split(',').map(str::trim).filter(|s| !s.is_empty()).map(String::from).collect();
+    let names = if names.is_empty() { names } else { super::technique::with_technique_rows(Some(names), &scene)?.unwrap_or_default() };
+    for name in &names {
         let m = Method::from_name(name)?;
         if m.is_biased() {
             bail!("{name} is a biased demonstration: its error does not fall to any target");
@@ -98,6 +105,12 @@ pub fn run(args: AdviseArgs) -> anyhow::Result<i32> {
 
     let gpu = Gpu::new(args.adapter.as_deref())?;
     eprintln!("adapter: {}", adapter_summary(&gpu.info));
+    // A technique allowed unproven is piloted as such, and said so.
+    let unproven = args.techniques.prove_all(&gpu, &scene)?;
+    if !unproven.is_empty() {
+        let names: Vec<String> = unproven.iter().map(|n| n.to_string()).collect();
+        eprintln!("warning: the advice covers UNPROVEN techniques ({}): their errors may not fall to the target", names.join(", "));
+    }
     let pipelines = PathTracerPipelines::new(&gpu.device);
     let cancel = ctrl_c_flag();
     eprintln!("piloting {} methods for {} s each", methods.len(), args.pilot_seconds);

@@ -45,6 +45,10 @@ pub struct BenchArgs {
     /// Use the first adapter whose name contains this (also: PATHLAB_ADAPTER).
     #[arg(long)]
     adapter: Option<String>,
+    /// Each technique is measured beside the methods whose strategy it replaces (as in
+    /// `study`); bench measures speed, so it does not run the technique's check.
+    #[command(flatten)]
+    techniques: super::technique::TechniqueArgs,
     /// After each measurement, measure the same method with every optional feature of the
     /// kernel on (not specialised to the scene), for the speed-up of specialisation.
     #[arg(long)]
@@ -88,11 +92,16 @@ pub struct Record {
 }
 
 pub fn run(args: BenchArgs) -> anyhow::Result<i32> {
-    let base = load_scene(&args.scene)?;
+    let mut base = load_scene(&args.scene)?;
+    args.techniques.load(&mut base)?;
     if !(args.seconds.is_finite() && args.seconds > 0.0) {
         bail!("--seconds must be positive");
     }
-    let methods = if args.methods.is_empty() { Preset::ALL.iter().map(|p| p.method()).collect() } else { args.methods.clone() };
+    let methods: Vec<Method> = if args.methods.is_empty() { Preset::ALL.iter().map(|p| p.method()).collect() } else { args.methods.clone() };
+    let methods: Vec<Method> = match super::technique::with_technique_rows(Some(methods.iter().map(|m| m.name()).collect()), &base)? {
+        Some(names) => names.iter().map(|n| Method::from_name(n)).collect::<Result<_, _>>()?,
+        None => methods,
+    };
     let sizes = if args.sizes.is_empty() { vec![(256, 128), (1024, 512)] } else { args.sizes.clone() };
     let gpu = Gpu::new(args.adapter.as_deref())?;
     eprintln!("adapter: {}", adapter_summary(&gpu.info));

@@ -67,15 +67,22 @@ pub struct StudyArgs {
     /// Use the first adapter whose name contains this (also: PATHLAB_ADAPTER).
     #[arg(long)]
     adapter: Option<String>,
+    /// Each technique joins the study beside the methods whose strategy it replaces: a bsdf
+    /// technique as `M+bsdf=NAME` for every method M that samples the material (phong, mis,
+    /// best), a light technique as `M+light=NAME` for every method that samples lights.
+    #[command(flatten)]
+    techniques: super::technique::TechniqueArgs,
 }
 
 pub fn run(args: StudyArgs) -> anyhow::Result<i32> {
-    let scene = load_scene(&args.scene)?;
+    let mut scene = load_scene(&args.scene)?;
+    args.techniques.load(&mut scene)?;
     if !(args.checkpoint_every.is_finite() && args.checkpoint_every > 0.0) {
         bail!("--checkpoint-every must be a positive number of seconds");
     }
+    let methods: Option<Vec<String>> = args.methods.as_deref().map(|m| m.split(',').map(str::trim).filter(|s| !s.is_empty()).map(String::from).collect());
     let options = StudyOptions {
-        methods: args.methods.as_deref().map(|m| m.split(',').map(str::trim).filter(|s| !s.is_empty()).map(String::from).collect()),
+        methods: super::technique::with_technique_rows(methods, &scene)?,
         spp: args.spp.as_deref().map(|s| parse_list(s, "--spp")).transpose()?,
         times: args.time.as_deref().map(|s| parse_list(s, "--time")).transpose()?,
         seeds: args.seeds,
@@ -100,6 +107,15 @@ pub fn run(args: StudyArgs) -> anyhow::Result<i32> {
 
     let gpu = Gpu::new(args.adapter.as_deref())?;
     eprintln!("adapter: {}", adapter_summary(&gpu.info));
+    // Every technique is proven before its first run; one allowed unproven marks its rows as
+    // the biased demonstrations are marked.
+    let unproven = args.techniques.prove_all(&gpu, &study.scene)?;
+    let mut study = study;
+    for m in study.methods.iter_mut() {
+        if m.method.techniques().any(|(_, name)| unproven.contains(&name)) {
+            m.biased = true;
+        }
+    }
     let pipelines = PathTracerPipelines::new(&gpu.device);
     let cancel = ctrl_c_flag();
     match study.run(loaded, &gpu, &pipelines, &cancel, &Terminal::new(args.quiet))? {

@@ -28,26 +28,41 @@ pub struct TechniqueArgs {
 }
 
 impl TechniqueArgs {
-    /// Reads and validates (naga, no GPU) every technique into `scene.techniques`.
+    /// Reads every technique into `scene.techniques` (after those of the scene's
+    /// `[techniques]`), and validates them all (naga, no GPU).
     pub fn load(&self, scene: &mut Scene) -> anyhow::Result<()> {
         for spec in &self.techniques {
-            let t = Technique::from_spec(spec)?;
-            pathlab::shaders::validate_technique(&t)?;
-            scene.techniques.push(t);
+            scene.techniques.push(Technique::from_spec(spec)?);
         }
         pathlab::scene::technique::check_unique(&scene.techniques)?;
+        for t in &scene.techniques {
+            pathlab::shaders::validate_technique(t)?;
+        }
         Ok(())
     }
 
-    /// `method`, using each loaded technique whose kind it names none of.
+    /// `method`, using each technique given on the command line whose kind it names none of
+    /// (a scene's `[techniques]` are used by name: `+KIND=NAME`).
     pub fn apply(&self, method: Method, scene: &Scene) -> Method {
         let mut method = method;
-        for t in &scene.techniques {
+        for t in scene.techniques.iter().filter(|t| self.techniques.iter().any(|s| Technique::from_spec(s).is_ok_and(|g| g.path == t.path))) {
             if !method.techniques().any(|(kind, _)| kind == t.kind) {
                 method = method.with_technique(t.kind, t.name);
             }
         }
         method
+    }
+
+    /// Proves every loaded technique (`prove`); returns the names of those used unproven.
+    pub fn prove_all(&self, gpu: &Gpu, scene: &Scene) -> anyhow::Result<Vec<pathlab::method::TechniqueName>> {
+        let mut unproven = Vec::new();
+        for t in &scene.techniques {
+            let method = Method::from_name("mis")?.with_technique(t.kind, t.name);
+            if self.prove(gpu, scene, &method)?.is_some_and(|v| v != "proven") {
+                unproven.push(t.name);
+            }
+        }
+        Ok(unproven)
     }
 
     /// Proves the techniques `method` uses on `scene` before they render. A refused one stops
@@ -85,6 +100,37 @@ impl TechniqueArgs {
             (true, false) => Some(format!("UNPROVEN: {} failed the check (--allow-unproven)", unproven.join(", "))),
         })
     }
+}
+
+/// The study's method names with a row for every loaded technique beside each method whose
+/// strategy it replaces (`names`: the chosen methods, `None`: every preset): a bsdf technique
+/// beside the methods that sample the material with its own strategy, a light technique beside
+/// those that sample lights. Where none of the methods can use a technique, its `mis` row.
+pub fn with_technique_rows(names: Option<Vec<String>>, scene: &Scene) -> anyhow::Result<Option<Vec<String>>> {
+    if scene.techniques.is_empty() {
+        return Ok(names);
+    }
+    use pathlab::method::{BsdfSampling, LightSampling, Preset, TechniqueKind};
+    let names = names.unwrap_or_else(|| Preset::ALL.iter().map(|p| p.name().to_string()).collect());
+    let mut rows = names.clone();
+    for t in &scene.techniques {
+        let mut added = false;
+        for name in &names {
+            let m = Method::from_name(name)?;
+            let uses = match t.kind {
+                TechniqueKind::Bsdf => m.bsdf == BsdfSampling::Phong,
+                TechniqueKind::Light => m.lights != LightSampling::None && !m.lights.is_biased(),
+            };
+            if uses && !m.is_biased() && !m.techniques().any(|(k, _)| k == t.kind) {
+                rows.push(m.with_technique(t.kind, t.name).name());
+                added = true;
+            }
+        }
+        if !added {
+            rows.push(Preset::Mis.method().with_technique(t.kind, t.name).name());
+        }
+    }
+    Ok(Some(rows))
 }
 
 /// `<technique stem>-check.png` in the current directory.

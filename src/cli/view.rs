@@ -63,11 +63,16 @@ pub struct ViewArgs {
     /// Adapter whose name contains this (default: the best; or PATHLAB_ADAPTER).
     #[arg(long)]
     adapter: Option<String>,
+    /// The method (and --compare) use each technique whose kind they name none of; it is
+    /// checked before the window opens.
+    #[command(flatten)]
+    techniques: super::technique::TechniqueArgs,
 }
 
 pub fn run(args: ViewArgs) -> anyhow::Result<i32> {
     // Everything the user gave is checked before a window or a device is opened.
     let mut scene = load_scene(&args.scene)?;
+    args.techniques.load(&mut scene)?;
     let mut display = args.overrides.apply(&mut scene, None)?;
     display.exposure = args.exposure;
     if args.frames == Some(0) {
@@ -101,14 +106,20 @@ pub fn run(args: ViewArgs) -> anyhow::Result<i32> {
     if !args.save_dir.is_dir() {
         bail!("--save-dir {} is not a directory", args.save_dir.display());
     }
+    if !scene.techniques.is_empty() {
+        // Proven (or allowed unproven) before any window opens.
+        let gpu = pathlab::gpu::Gpu::new(args.adapter.as_deref())?;
+        args.techniques.prove_all(&gpu, &scene)?;
+    }
+    let (method, compare) = (args.techniques.apply(args.method, &scene), args.compare.map(|c| args.techniques.apply(c, &scene)));
     let options = ViewerOptions {
         scene,
         size: args.overrides.size,
         max_depth: args.overrides.max_depth,
         rr_depth: args.overrides.rr_depth.map(|r| r.0),
         defines: super::defines(),
-        method: args.method,
-        compare: args.compare,
+        method,
+        compare,
         seed: args.seed,
         reference,
         display,

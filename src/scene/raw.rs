@@ -27,6 +27,19 @@ pub(crate) struct RawScene {
     pub cubes: Vec<Spanned<RawShape>>,
     /// `[environment_map]`: Mitsuba's `envmap`.
     pub environment_map: Option<Spanned<RawEnvironmentMap>>,
+    /// `[techniques]`: researchers' sampling techniques loaded with the scene.
+    pub techniques: Option<Spanned<RawTechniques>>,
+}
+
+/// `[techniques]`: WGSL files by kind (relative to the scene's folder), as `--technique
+/// KIND:FILE` would give them.
+#[derive(Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawTechniques {
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub bsdf: Vec<Spanned<String>>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub light: Vec<Spanned<String>>,
 }
 
 /// `[environment_map]`: a latitude-longitude image lighting the scene from infinity.

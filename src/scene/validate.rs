@@ -128,6 +128,7 @@ pub(super) fn validate(raw: &RawScene, file: &Path, sources: SourceMap, diagnost
         }
     }
     let environment_map = raw.environment_map.as_ref().and_then(|e| check_environment_map(&mut ck, e));
+    let techniques = raw.techniques.as_ref().map(|t| check_techniques(&mut ck, t.get_ref())).unwrap_or_default();
     if environment_map.is_some() && render.environment.max_element() > 0.0 {
         ck.error(raw.render.span(), "render.environment", "give either a constant environment or an environment map, not both (Mitsuba has one infinite emitter)");
     }
@@ -153,8 +154,29 @@ pub(super) fn validate(raw: &RawScene, file: &Path, sources: SourceMap, diagnost
         environment_map,
         display,
         warnings: ck.diagnostics,
-        techniques: Vec::new(),
+        techniques,
     })
+}
+
+/// `[techniques]`: each file read (relative to the scene's folder), named by a valid stem, valid
+/// WGSL is checked later (`shaders::validate_technique`, which needs the kernels); two of one
+/// name are refused.
+fn check_techniques(ck: &mut Checker, raw: &super::raw::RawTechniques) -> Vec<super::Technique> {
+    let base = ck.file.parent().map(Path::to_path_buf).unwrap_or_default();
+    let mut out: Vec<super::Technique> = Vec::new();
+    for (kind, files) in [(crate::method::TechniqueKind::Bsdf, &raw.bsdf), (crate::method::TechniqueKind::Light, &raw.light)] {
+        let field = format!("techniques.{kind}");
+        for f in files {
+            match super::Technique::load(kind, base.join(f.get_ref())) {
+                Ok(t) if out.iter().any(|o| o.name == t.name) => {
+                    ck.error(f.span(), &field, format!("two techniques are named `{}`: a method names a technique by its file's stem", t.name))
+                }
+                Ok(t) => out.push(t),
+                Err(e) => ck.error(f.span(), &field, e.to_string()),
+            }
+        }
+    }
+    out
 }
 
 /// `[environment_map]`: its image read (relative to the scene's folder), its scale finite and

@@ -184,6 +184,30 @@ pub fn check(gpu: &Gpu, technique: &Technique, scene: &Scene, options: CheckOpti
     Ok(Verdict { label: technique.label(), sha256: technique.sha256.clone(), samples: options.samples, level, results, source })
 }
 
+/// The verdicts of the techniques `method` uses on `scene`, each checked once per process for
+/// its file's hash and the scene's content (`check` with the default options).
+pub fn prove(gpu: &Gpu, scene: &Scene, method: &crate::method::Method) -> Result<Vec<Verdict>, TechniqueError> {
+    use std::collections::HashMap;
+    use std::sync::{Mutex, OnceLock};
+    static CACHE: OnceLock<Mutex<HashMap<(String, String), Verdict>>> = OnceLock::new();
+    let files = TechniqueFiles::of(method, &scene.techniques)?;
+    let mut verdicts = Vec::new();
+    for t in [files.bsdf, files.light].into_iter().flatten() {
+        let key = (t.sha256.clone(), scene.content_hash());
+        let cached = CACHE.get_or_init(Default::default).lock().unwrap_or_else(|e| e.into_inner()).get(&key).cloned();
+        let verdict = match cached {
+            Some(v) => v,
+            None => {
+                let v = check(gpu, t, scene, CheckOptions::default(), |_, _, _| {})?;
+                CACHE.get_or_init(Default::default).lock().unwrap_or_else(|e| e.into_inner()).insert(key, v.clone());
+                v
+            }
+        };
+        verdicts.push(verdict);
+    }
+    Ok(verdicts)
+}
+
 /// The configurations of a technique of `kind` on `scene`, and where they came from.
 pub fn configurations(kind: TechniqueKind, scene: &Scene) -> (Vec<Configuration>, String) {
     match kind {

@@ -121,6 +121,10 @@ impl ViewerApp {
 
     /// The scene with this window's overrides applied.
     fn with_overrides(&self, mut scene: Scene) -> Scene {
+        // The researchers' techniques given on the command line stay loaded across reloads.
+        if scene.techniques.is_empty() {
+            scene.techniques = self.driver.scene.techniques.clone();
+        }
         if let Some((w, h)) = self.size {
             scene.render.width = w;
             scene.render.height = h;

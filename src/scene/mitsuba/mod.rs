@@ -607,6 +607,7 @@ impl Translator<'_> {
         // Roulette that never acts (from a vertex at or beyond the last) is none.
         let rr_depth = (max_depth == -1 || rr < max_depth).then_some(rr);
         Some(RawScene {
+            techniques: None,
             camera: spanned(0, camera),
             render: spanned(
                 depth_at,
