@@ -252,3 +252,36 @@ fn a_toml_scene_loads_its_techniques_and_names_a_bad_one() {
     let e = Scene::parse(&bad, dir.path().join("scene.toml")).unwrap_err().to_string();
     assert!(e.contains(&format!("scene.toml:{line}:")) && e.contains("techniques.bsdf") && e.contains("missing.wgsl"), "{e}");
 }
+
+#[test]
+fn faults_survive_shards_and_their_merge() {
+    let dir = tempfile::tempdir().unwrap();
+    let study = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/study.toml");
+    let nan = format!("bsdf:{}", broken("nan.wgsl").display());
+    let run = |extra: &[&str]| {
+        let out = Command::new(env!("CARGO_BIN_EXE_pathlab"))
+            .current_dir(dir.path())
+            .args(["render", study.to_str().unwrap(), "--width", "16", "--height", "8", "--spp", "8", "--method", "mis", "--allow-unproven", "--quiet"])
+            .args(["--technique", &nan])
+            .args(extra)
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        String::from_utf8_lossy(&out.stderr).to_string()
+    };
+    let stderr = run(&["-o", "whole.exr"]);
+    assert!(stderr.contains("UNPROVEN") && stderr.contains("samples had a technique fault"), "{stderr}");
+    run(&["--shard", "0/2", "-o", "a.exr"]);
+    run(&["--shard", "1/2", "-o", "b.exr"]);
+    let out = Command::new(env!("CARGO_BIN_EXE_pathlab")).current_dir(dir.path()).args(["merge", "a.exr", "b.exr", "-o", "merged.exr"]).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let header = |name: &str| pathlab::output::read_exr(&dir.path().join(name)).unwrap();
+    let (_, whole_meta) = header("whole.exr");
+    let (_, merged_meta) = header("merged.exr");
+    let get = |m: &pathlab::output::Metadata, k: &str| m.iter().find(|(key, _)| key == k).map(|(_, v)| v.clone());
+    let faults = get(&whole_meta, "technique_faults").unwrap();
+    assert!(faults.parse::<u64>().unwrap() > 0);
+    assert_eq!(get(&merged_meta, "technique_faults"), Some(faults));
+    assert_eq!(get(&merged_meta, "techniques"), get(&whole_meta, "techniques"));
+    assert!(get(&whole_meta, "technique_verdict").unwrap().starts_with("UNPROVEN"));
+}

@@ -45,7 +45,7 @@ pub fn run(args: MergeArgs) -> anyhow::Result<i32> {
         display: None,
         adapter: None,
         techniques: k.techniques.clone(),
-        technique_faults: None,
+        technique_faults: (!k.techniques.is_empty()).then_some(merged.faults),
     };
     let mut extra = vec![("merged_parts", args.parts.len().to_string())];
     if !gaps.is_empty() {

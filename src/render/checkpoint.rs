@@ -6,7 +6,8 @@
 //! exactly.
 //!
 //! Channels: `sum.{R,G,B}`, `sum_err.*`, `sum_sq.*`, `sum_sq_err.*` (f32), `count`, `rays_lo`,
-//! `rays_hi` (u32). Header: `pathlab:kind = accumulator`, `scene_hash`, `sampler`, `bsdf`,
+//! `rays_hi` (u32), and `faults` (u32: samples a researcher's technique faulted in) where the
+//! method uses a technique. Header: `pathlab:kind = accumulator`, `scene_hash`, `sampler`, `bsdf`,
 //! `scene_hash_encoding`, `data_sha256` (see `output::content_sha256`), `lights`, `seed`, `max_depth`, `first_sample`, `spp`, `render_seconds`
 //! (all sessions),
 //! `version`. Written through a temporary file and renamed, so a checkpoint on disk is always
@@ -132,7 +133,8 @@ impl Checkpoint {
         self.pixels.iter().map(AccumPixel::rays).sum()
     }
 
-    /// Samples in which a researcher's technique faulted (this session's: not stored).
+    /// Samples in which a researcher's technique faulted (stored, as channel `faults`, where the
+    /// method uses a technique).
     pub fn faults(&self) -> u64 {
         self.pixels.iter().map(|p| p.faults as u64).sum()
     }
@@ -158,6 +160,9 @@ impl Checkpoint {
         list.push(AnyChannel::new("count", FlatSamples::U32(self.pixels.iter().map(|p| p.count).collect())));
         list.push(AnyChannel::new("rays_lo", FlatSamples::U32(self.pixels.iter().map(|p| p.rays_lo).collect())));
         list.push(AnyChannel::new("rays_hi", FlatSamples::U32(self.pixels.iter().map(|p| p.rays_hi).collect())));
+        if !self.key.techniques.is_empty() {
+            list.push(AnyChannel::new("faults", FlatSamples::U32(self.pixels.iter().map(|p| p.faults).collect())));
+        }
         let mut header = self.key.fields();
         header.extend([
             ("kind", "accumulator".to_string()),
@@ -286,7 +291,7 @@ impl Checkpoint {
         let expected: Vec<String> = F32_CHANNELS
             .iter()
             .flat_map(|n| RGB.iter().map(move |c| format!("{n}.{c}")))
-            .chain(["count", "rays_lo", "rays_hi"].map(String::from))
+            .chain(["count", "rays_lo", "rays_hi", "faults"].map(String::from))
             .collect();
         if let Some(extra) = layer.channel_data.list.iter().find(|c| !expected.iter().any(|e| c.name == Text::from(e.as_str()))) {
             return Err(invalid(format!("unexpected channel {}", extra.name)));
@@ -319,6 +324,12 @@ impl Checkpoint {
         }
         for (p, ((count, lo), hi)) in pixels.iter_mut().zip(u32s("count")?.into_iter().zip(u32s("rays_lo")?).zip(u32s("rays_hi")?)) {
             (p.count, p.rays_lo, p.rays_hi) = (count, lo, hi);
+        }
+        // Faulted samples of a researcher's technique: only files of a method that uses one.
+        if channel("faults").is_some() {
+            for (p, faults) in pixels.iter_mut().zip(u32s("faults")?) {
+                p.faults = faults;
+            }
         }
         let at = |i: usize| format!("pixel ({}, {})", i % w.max(1), i / w.max(1));
         if let Some(i) = AccumPixel::first_miscounted(&pixels, spp) {

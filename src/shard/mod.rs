@@ -99,6 +99,8 @@ pub struct Merged {
     /// Samples per pixel merged (the sum of the parts').
     pub spp: u64,
     pub rays: u64,
+    /// Samples in which a researcher's technique faulted, over all parts.
+    pub faults: u64,
     /// Rendering time of all parts together.
     pub render_seconds: f64,
     /// Sample ranges missing (only with `allow_gaps`).
@@ -157,6 +159,7 @@ pub fn merge(paths: &[PathBuf], allow_gaps: bool) -> Result<Merged, MergeError> 
     let n = parts[0].1.pixels.len();
     let mut sums = vec![([0.0f64; 3], [0.0f64; 3]); n];
     let mut rays = 0u64;
+    let faults = parts.iter().map(|(_, c)| c.faults()).sum();
     for (_, part) in &parts {
         for (acc, p) in sums.iter_mut().zip(&part.pixels) {
             let (sum, sum_sq) = p.exact_sums();
@@ -173,6 +176,7 @@ pub fn merge(paths: &[PathBuf], allow_gaps: bool) -> Result<Merged, MergeError> 
         key,
         spp,
         rays,
+        faults,
         render_seconds: parts.iter().map(|(_, c)| c.render_seconds).sum(),
         gaps,
         ranges: parts.iter().map(|(_, c)| range(c)).collect(),
