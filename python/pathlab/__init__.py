@@ -190,15 +190,18 @@ class Technique:
     or ``Technique("cone.wgsl", kind="light")``; ``kind`` is ``"bsdf"`` (directions at Phong
     materials) or ``"light"`` (points on spherical lights). Load it with
     ``load_scene(..., techniques=[t])`` (or ``scene.with_technique``); methods then use it as
-    ``"mis+light=NAME"``, NAME the file's stem (``t.name``). ``render`` and ``study`` check it
-    (chi-square and coverage, as ``pathlab check-technique``) before its first use and raise
-    ``RenderError`` with the report if it is refused.
+    ``"mis+light=NAME"``, NAME the file's stem (``t.name``). ``render``, ``Renderer`` and
+    ``study`` check it (chi-square and coverage, as ``pathlab check-technique``) before its first
+    use and raise ``RenderError`` with the report if it is refused, unless ``allow_unproven``.
     """
 
     path: str
     kind: str
+    #: Used even where it fails its check, every result marked unproven (``technique_verdict``
+    #: in the header ``UNPROVEN: ...``; a study's rows marked as the biased demonstrations).
+    allow_unproven: bool
 
-    def __init__(self, path: PathLike, kind: Optional[str] = None) -> None:
+    def __init__(self, path: PathLike, kind: Optional[str] = None, *, allow_unproven: bool = False) -> None:
         p = _path("path", path)
         if kind is None:
             k, sep, rest = p.partition(":")
@@ -209,6 +212,7 @@ class Technique:
             raise ValueError(f"Technique kind must be 'bsdf' or 'light', not {kind!r}")
         object.__setattr__(self, "path", p)
         object.__setattr__(self, "kind", kind)
+        object.__setattr__(self, "allow_unproven", bool(allow_unproven))
 
     @property
     def name(self) -> str:
@@ -250,7 +254,7 @@ def load_scene(
     for t in techniques:
         if not isinstance(t, Technique):
             raise TypeError(f"techniques: a Technique, not {type(t).__name__}")
-        scene = scene.with_technique(t.kind, t.path)
+        scene = scene.with_technique(t.kind, t.path, t.allow_unproven)
     return scene
 
 

@@ -63,7 +63,7 @@ class Scene:
     @property
     def techniques(self) -> List[Tuple[str, str, str, str]]:
         """The researchers' techniques loaded: (kind, name, path, sha256) each."""
-    def with_technique(self, kind: str, path: str) -> "Scene":
+    def with_technique(self, kind: str, path: str, allow_unproven: bool = False) -> "Scene":
         """A copy with a technique loaded (validated by naga; ValueError at the file's line)."""
     def with_(
         self,

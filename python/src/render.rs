@@ -93,10 +93,7 @@ pub(crate) fn render<'py>(
     }
     let device = device(py)?;
     // A researcher's technique renders only once proven (README: "Your own technique").
-    let verdicts = py.detach(|| pathlab::technique::prove(&device.gpu, s, &method)).map_err(render_error)?;
-    if let Some(v) = verdicts.iter().find(|v| !v.passed()) {
-        return Err(render_error(format!("technique {} is refused:\n{}", v.label, v.report())));
-    }
+    job.technique_verdict = py.detach(|| pathlab::technique::prove(&device.gpu, s, &method)).map_err(render_error)?;
     let watch = Watch::new(progress);
     let result = py.detach(|| job.run(&device.gpu, &device.pipelines, &watch.cancel, |p| watch.frame(&p, 0, budget)));
     if let Some(e) = watch.take_error() {
@@ -129,7 +126,8 @@ impl NativeRenderer {
         let method = method_of(method, sampler, bsdf, lights)?;
         let device = device(py)?;
         let s = scene.scene.clone();
-        let job = RenderJob::new(s.clone(), s.path.clone(), method, seed, Budget::Samples(0));
+        let mut job = RenderJob::new(s.clone(), s.path.clone(), method, seed, Budget::Samples(0));
+        job.technique_verdict = py.detach(|| pathlab::technique::prove(&device.gpu, &s, &method)).map_err(render_error)?;
         let renderer = py.detach(|| Renderer::new(&device.gpu, &device.pipelines, &s, method, seed)).map_err(render_error)?;
         Ok(NativeRenderer { state: Mutex::new(RendererState { renderer, job, device, seconds: 0.0 }) })
     }

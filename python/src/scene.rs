@@ -200,9 +200,12 @@ impl PyScene {
     }
     /// A copy with a researcher's technique loaded (`kind`: "bsdf" or "light"; the WGSL file
     /// at `path`), validated by naga; methods use it as `+KIND=NAME`, NAME the file's stem.
-    fn with_technique(&self, kind: &str, path: PathBuf) -> PyResult<PyScene> {
+    /// `allow_unproven`: used even where it fails its check, its results marked unproven.
+    #[pyo3(signature = (kind, path, allow_unproven=false))]
+    fn with_technique(&self, kind: &str, path: PathBuf, allow_unproven: bool) -> PyResult<PyScene> {
         let spec = format!("{kind}:{}", path.display());
-        let t = pathlab::scene::Technique::from_spec(&spec).map_err(|e| PyValueError::new_err(e.to_string()))?;
+        let mut t = pathlab::scene::Technique::from_spec(&spec).map_err(|e| PyValueError::new_err(e.to_string()))?;
+        t.allow_unproven = allow_unproven;
         pathlab::shaders::validate_technique(&t).map_err(|e| PyValueError::new_err(e.to_string()))?;
         let mut scene = self.scene.clone();
         scene.techniques.retain(|o| o.name != t.name);

@@ -71,10 +71,13 @@ pub(crate) fn study_json(py: Python<'_>, scene: &PyScene, out: PathBuf, options:
     let study = o.study(s.clone(), s.path.clone(), out.clone(), command).map_err(|e| PyValueError::new_err(e.to_string()))?;
     let loaded = study.validate().map_err(|e| PyValueError::new_err(e.to_string()))?;
     let device = device(py)?;
-    for m in &study.methods {
-        let verdicts = py.detach(|| pathlab::technique::prove(&device.gpu, &study.scene, &m.method)).map_err(crate::render_error)?;
-        if let Some(v) = verdicts.iter().find(|v| !v.passed()) {
-            return Err(crate::render_error(format!("technique {} is refused:\n{}", v.label, v.report())));
+    // Techniques are proven first; rows of one allowed unproven are marked as the biased
+    // demonstrations are.
+    let mut study = study;
+    for m in study.methods.iter_mut() {
+        let verdict = py.detach(|| pathlab::technique::prove(&device.gpu, &study.scene, &m.method)).map_err(crate::render_error)?;
+        if verdict.is_some_and(|v| v.starts_with("UNPROVEN")) {
+            m.biased = true;
         }
     }
     let watch = Watch::new(progress);

@@ -38,3 +38,12 @@ def test_a_refused_technique_raises_with_the_report():
         pathlab.Technique("phong_lobe.wgsl")
     with pytest.raises(ValueError, match=r"syntax_error\.wgsl:6:5"):
         pathlab.load_scene(STUDY, techniques=[pathlab.Technique(REPO / "tests" / "fixtures" / "techniques" / "syntax_error.wgsl", kind="bsdf")])
+
+
+def test_an_unproven_technique_renders_when_allowed_and_says_so():
+    t = pathlab.Technique(EXAMPLES / "phong_n_plus_2.wgsl", kind="bsdf", allow_unproven=True)
+    scene = pathlab.load_scene(STUDY, width=16, height=8, techniques=[t])
+    r = pathlab.render(scene, t.method("phong"), spp=4)
+    assert r.metadata["technique_verdict"].startswith("UNPROVEN: bsdf:phong_n_plus_2")
+    progressive = pathlab.Renderer(scene, t.method("mis"))
+    assert progressive.add(2).render().metadata["technique_verdict"].startswith("UNPROVEN")

@@ -284,7 +284,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
             None => Budget::Samples(args.spp.unwrap_or(MAX_SPP)),
         };
         job.error = Some(ErrorPlan { target: Some(target), every: None, display: files.display });
-        return render_target(&args, &job, target, &files);
+        return render_target(&args, &mut job, target, &files);
     }
     let budget = job.budget;
     // A file to continue is checked before any GPU work.
@@ -292,7 +292,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
 
     let gpu = Gpu::new(args.adapter.as_deref())?;
     eprintln!("adapter: {}", adapter_summary(&gpu.info));
-    let verdict = args.techniques.prove(&gpu, &job.scene, &method)?;
+    job.technique_verdict = args.techniques.prove(&gpu, &job.scene, &method)?;
     let pipelines = PathTracerPipelines::new(&gpu.device);
     let cancel = ctrl_c_flag();
     let terminal = Terminal::new(args.quiet);
@@ -317,8 +317,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
         }
         return Ok(0);
     }
-    let extra: Vec<(String, String)> = verdict.iter().map(|v| ("technique_verdict".to_string(), v.clone())).collect();
-    job.write(&outcome, &gpu.info.name, &files, &extra)?;
+    job.write(&outcome, &gpu.info.name, &files, &Vec::new())?;
     if outcome.faults > 0 {
         eprintln!("warning: {} samples had a technique fault (a non-finite or negative number, or a stopped loop) and contributed 0", outcome.faults);
     }
@@ -350,10 +349,10 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
 }
 
 /// `--target-rel-error` / `--target-psnr`: the job renders until its estimate meets the target.
-fn render_target(args: &RenderArgs, job: &RenderJob, target: Target, files: &OutputFiles) -> anyhow::Result<i32> {
+fn render_target(args: &RenderArgs, job: &mut RenderJob, target: Target, files: &OutputFiles) -> anyhow::Result<i32> {
     let gpu = Gpu::new(args.adapter.as_deref())?;
     eprintln!("adapter: {}", adapter_summary(&gpu.info));
-    let verdict = args.techniques.prove(&gpu, &job.scene, &job.method)?;
+    job.technique_verdict = args.techniques.prove(&gpu, &job.scene, &job.method)?;
     let pipelines = PathTracerPipelines::new(&gpu.device);
     let cancel = ctrl_c_flag();
     let bar = indicatif::ProgressBar::new_spinner();
@@ -371,8 +370,7 @@ fn render_target(args: &RenderArgs, job: &RenderJob, target: Target, files: &Out
     })?;
     bar.finish_and_clear();
     let out = outcome.error.as_ref().expect("a job with an error plan tracks its error");
-    let extra: Vec<(String, String)> = verdict.iter().map(|v| ("technique_verdict".to_string(), v.clone())).collect();
-    job.write(&outcome, &gpu.info.name, files, &extra)?;
+    job.write(&outcome, &gpu.info.name, files, &Vec::new())?;
     eprintln!(
         "wrote {} ({} spp, {:.2} s; estimated relMSE {:.3e}, PSNR {} under {}; {}; target {}; {} checks took {:.2}% of the time)",
         files.exr.display(),

@@ -32,7 +32,12 @@ impl TechniqueArgs {
     /// `[techniques]`), and validates them all (naga, no GPU).
     pub fn load(&self, scene: &mut Scene) -> anyhow::Result<()> {
         for spec in &self.techniques {
-            scene.techniques.push(Technique::from_spec(spec)?);
+            let mut t = Technique::from_spec(spec)?;
+            t.allow_unproven = self.allow_unproven;
+            scene.techniques.push(t);
+        }
+        if self.allow_unproven {
+            scene.techniques.iter_mut().for_each(|t| t.allow_unproven = true);
         }
         pathlab::scene::technique::check_unique(&scene.techniques)?;
         for t in &scene.techniques {

@@ -50,6 +50,8 @@ pub struct RenderJob {
     pub first_sample: u64,
     /// Save the accumulators during the render (needs a sample budget).
     pub checkpoint: Option<CheckpointPlan>,
+    /// What the header records of the method's techniques' check (`technique::prove`).
+    pub technique_verdict: Option<String>,
 }
 
 /// The error estimates of a render with an error plan.
@@ -118,7 +120,7 @@ pub fn ctrl_c_flag() -> Arc<AtomicBool> {
 impl RenderJob {
     /// A job of `budget` from sample index 0, without checkpoints or error plan.
     pub fn new(scene: Scene, scene_path: PathBuf, method: Method, seed: u32, budget: Budget) -> RenderJob {
-        RenderJob { scene, scene_path, method, seed, budget, error: None, first_sample: 0, checkpoint: None }
+        RenderJob { scene, scene_path, method, seed, budget, error: None, first_sample: 0, checkpoint: None, technique_verdict: None }
     }
 
     /// What a checkpoint of this job must match.
@@ -242,6 +244,9 @@ impl RenderJob {
     /// The EXR header of `outcome`, with the error plan's results when there was one.
     pub fn metadata(&self, outcome: &RenderOutcome, adapter: &str) -> Metadata {
         let mut extra: Vec<(&str, String)> = Vec::new();
+        if let Some(v) = &self.technique_verdict {
+            extra.push(("technique_verdict", v.clone()));
+        }
         if let (Some(plan), Some(track)) = (&self.error, &outcome.error) {
             match plan.target {
                 Some(Target::RelMse(t)) => extra.push(("target_rel_mse", t.to_string())),

@@ -38,6 +38,9 @@ pub struct Technique {
     pub loops: usize,
     /// SHA-256 of the file's bytes, in hex: recorded with every result that uses it.
     pub sha256: String,
+    /// Used even where it fails its check, every result that uses it marked unproven
+    /// (`--allow-unproven`).
+    pub allow_unproven: bool,
 }
 
 /// Why a technique cannot be used.
@@ -60,6 +63,9 @@ pub enum TechniqueError {
     Invalid { message: String },
     #[error("the method uses the {kind} technique `{name}`, which no --technique (or the scene's [techniques]) loads")]
     NotLoaded { kind: TechniqueKind, name: String },
+    /// Its check failed and it is not allowed unproven: the check's report.
+    #[error("technique {label} is refused:\n{report}(allow it unproven to render with it anyway: --allow-unproven, or allow_unproven=True in Python)")]
+    Refused { label: String, report: String },
 }
 
 impl Technique {
@@ -92,7 +98,7 @@ impl Technique {
 
     fn from_source(kind: TechniqueKind, name: TechniqueName, path: &Path, source: String, sha256: String) -> Technique {
         let (guarded, loops) = guard_loops(&source);
-        Technique { kind, name, path: path.to_path_buf(), source, guarded, loops, sha256 }
+        Technique { kind, name, path: path.to_path_buf(), source, guarded, loops, sha256, allow_unproven: false }
     }
 
     /// `bsdf:NAME` (how headers and reports name it).

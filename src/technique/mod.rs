@@ -184,9 +184,30 @@ pub fn check(gpu: &Gpu, technique: &Technique, scene: &Scene, options: CheckOpti
     Ok(Verdict { label: technique.label(), sha256: technique.sha256.clone(), samples: options.samples, level, results, source })
 }
 
+/// What the results of `method` on `scene` record of its techniques (`technique_verdict`):
+/// `None` where it uses none, `proven`, or `UNPROVEN: ...` where a technique allowed unproven
+/// failed its check; a failing technique not allowed is refused (`TechniqueError::Refused`).
+pub fn prove(gpu: &Gpu, scene: &Scene, method: &crate::method::Method) -> Result<Option<String>, TechniqueError> {
+    let verdicts = verdicts(gpu, scene, method)?;
+    if verdicts.is_empty() {
+        return Ok(None);
+    }
+    let files = TechniqueFiles::of(method, &scene.techniques)?;
+    let mut unproven = Vec::new();
+    for (v, t) in verdicts.iter().zip([files.bsdf, files.light].into_iter().flatten()) {
+        if !v.passed() {
+            if !t.allow_unproven {
+                return Err(TechniqueError::Refused { label: v.label.clone(), report: v.report() });
+            }
+            unproven.push(v.label.clone());
+        }
+    }
+    Ok(Some(if unproven.is_empty() { "proven".to_string() } else { format!("UNPROVEN: {} failed the check (allowed unproven)", unproven.join(", ")) }))
+}
+
 /// The verdicts of the techniques `method` uses on `scene`, each checked once per process for
 /// its file's hash and the scene's content (`check` with the default options).
-pub fn prove(gpu: &Gpu, scene: &Scene, method: &crate::method::Method) -> Result<Vec<Verdict>, TechniqueError> {
+pub fn verdicts(gpu: &Gpu, scene: &Scene, method: &crate::method::Method) -> Result<Vec<Verdict>, TechniqueError> {
     use std::collections::HashMap;
     use std::sync::{Mutex, OnceLock};
     static CACHE: OnceLock<Mutex<HashMap<(String, String), Verdict>>> = OnceLock::new();
