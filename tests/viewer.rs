@@ -315,3 +315,22 @@ fn a_failed_reload_shows_the_error_and_keeps_the_last_image() {
     assert!(spread(&image) > 20.0, "the last good image is gone");
     assert!(r["slots"][0]["spp"].as_u64().unwrap() >= 5);
 }
+
+#[test]
+fn a_technique_renders_in_the_window_and_is_offered_in_the_panel() {
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
+    let Some(x) = xvfb("technique") else { return };
+    let technique = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/techniques/sphere_area.wgsl");
+    let out = viewer(&x)
+        .arg(study())
+        .args(["--size", "64x32", "--frames", "20", "--method", "mis", "--technique"])
+        .arg(format!("light:{}", technique.display()))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr).to_string();
+    let r = report(&out);
+    // Proven before the window opened; the method given uses it.
+    assert!(stderr.contains("technique light:sphere_area: proven"), "{stderr}");
+    assert_eq!(r["slots"][0]["method"], "mis+light=sphere_area", "{r}");
+    assert!(r["slots"][0]["spp"].as_u64().unwrap() >= 1, "{r}");
+}

@@ -194,6 +194,12 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
         scene.default_light_select(),
         scene.content_hash(),
     );
+    // A scene's [techniques]: valid WGSL fitting the contract (naga, no GPU); their check
+    // needs one (`pathlab check-technique`).
+    for t in &scene.techniques {
+        pathlab::shaders::validate_technique(t)?;
+        println!("technique {}: {} ({} loops guarded), sha256 {}; use it as +{}={}", t.label(), t.path.display(), t.loops, t.sha256, t.kind, t.name);
+    }
     let textures: Vec<(&str, &pathlab::scene::Texture)> =
         scene.materials.iter().flat_map(|m| m.bsdf.textures().into_iter().map(move |t| (m.name.as_str(), t))).collect();
     if !textures.is_empty() {

@@ -7,7 +7,7 @@ use std::time::Instant;
 use egui::{Color32, RichText, Ui};
 
 use crate::display::{DisplayTransform, Transfer};
-use crate::method::{BsdfSampling, EnvSampling, LightSampling, LightSelect, LobeSelection, Method, MicrofacetSampling, Preset, Sampler, TriangleSampling};
+use crate::method::{BsdfSampling, EnvSampling, LightSampling, LightSelect, LobeSelection, Method, MicrofacetSampling, Preset, Sampler, TechniqueKind, TechniqueName, TriangleSampling};
 use crate::scene::ApplicableOptions;
 
 use crate::display::View;
@@ -183,6 +183,27 @@ fn method_section(app: &PanelState, ui: &mut Ui, actions: &mut Vec<Action>) {
                 let name = |e: EnvSampling| e.name().to_string();
                 if let Some(e) = ui.add_enabled_ui(can.env_sampling, |ui| choose(ui, ("env", i), method.env_sampling, &EnvSampling::ALL, name)).inner {
                     next = Some(Method { env_sampling: e, ..method });
+                }
+                ui.end_row();
+            }
+            // Researchers' techniques (`--technique`), where one of the kind is loaded.
+            for kind in TechniqueKind::ALL {
+                let loaded = app.driver.scene.techniques.iter().filter(|t| t.kind == kind).map(|t| Some(t.name));
+                let options: Vec<Option<TechniqueName>> = [None].into_iter().chain(loaded).collect();
+                if options.len() < 2 {
+                    continue;
+                }
+                ui.label(format!("{} technique", kind.name()));
+                let current = match kind {
+                    TechniqueKind::Bsdf => method.bsdf_technique,
+                    TechniqueKind::Light => method.light_technique,
+                };
+                let label = |n: Option<TechniqueName>| n.map_or_else(|| "built-in".to_string(), |n| n.to_string());
+                if let Some(choice) = choose(ui, ("technique", kind.name(), i), current, &options, label) {
+                    next = Some(match kind {
+                        TechniqueKind::Bsdf => Method { bsdf_technique: choice, ..method },
+                        TechniqueKind::Light => Method { light_technique: choice, ..method },
+                    });
                 }
                 ui.end_row();
             }
