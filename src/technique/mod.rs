@@ -12,7 +12,8 @@
 //! Each configuration is two tests: the chi-square test, and the coverage test, a z-test of the
 //! technique's estimate of an integral against the built-in strategy's (both with the
 //! configuration's samples): for a BSDF the albedo, the integral of f cos over the sphere; for
-//! a light the integral of max(0, cos) over the directions that meet it. The coverage test
+//! a light its solid angle, the integral of 1 over the directions that meet it (a surface that
+//! transmits takes light from below its tangent plane too). The coverage test
 //! catches a pdf that agrees with its sampler but not with the integrand: zero where the
 //! integrand is not, or one whose sampler and pdf are wrong together. Before the samples are
 //! binned, the support is checked on the 4 x 4 quadrature points of every cell: a point where
@@ -362,8 +363,9 @@ fn phong_configuration(kd: [f64; 3], ks: [f64; 3], n: f64, p_spec: f64, theta: f
 /// up to the edge of the visible cap (s = 1 - r / dist_centre, a bin edge), where the
 /// solid-angle density of sampling by area diverges and 4 x 4 quadrature points over the
 /// directions at x could not integrate it. Points beyond the cap are hidden by the sphere:
-/// lost samples, which contribute nothing. The integrand is max(0, cos) at x over the
-/// directions that meet the sphere.
+/// lost samples, which contribute nothing. The integrand is 1 over the directions that meet the
+/// sphere (a transmitting surface takes light from below its tangent plane too): the coverage
+/// test compares estimates of the light's solid angle.
 fn sphere_configuration(radius: f64, ratio: f64, tilt: f64) -> Configuration {
     let s_cap = 1.0 - 1.0 / ratio;
     let t = tilt.to_radians();
@@ -381,10 +383,9 @@ fn sphere_configuration(radius: f64, ratio: f64, tilt: f64) -> Configuration {
              let dist2 = dot(to_x, to_x);\n\
              return max(dot(d, to_x), 0.0) / sqrt(dist2) * ROUTINE_R * ROUTINE_R / dist2;\n\
          }}\n\
-         fn routine_integrand(d: vec3f) -> f32 {{\n\
-             let wi = normalize(routine_point(d));\n\
-             return select(0.0, max(dot(wi, routine_n()), 0.0) * routine_jacobian(d), routine_visible(d));\n\
-         }}\n\
+         // 1 over the directions that meet the sphere (its solid angle): a surface that transmits\n\
+         // takes light from below its tangent plane too, so the support is the whole visible cap.\n\
+         fn routine_integrand(d: vec3f) -> f32 {{ return select(0.0, routine_jacobian(d), routine_visible(d)); }}\n\
          // The technique's density at the point p itself (the path tracer's wrapper finds p again\n\
          // from the direction, which f32 conditions badly where the sight line grazes the sphere).\n\
          fn routine_technique_pdf(p: vec3f) -> f32 {{\n\
@@ -405,7 +406,7 @@ fn sphere_configuration(radius: f64, ratio: f64, tilt: f64) -> Configuration {
              let d = normalize(p - ROUTINE_C);\n\
              let far = dot(p - ROUTINE_C, -p) <= 0.0;\n\
              let pdf = routine_technique_pdf(p);\n\
-             let estimate = select(0.0, max(dot(ls.wi, routine_n()), 0.0) / pdf, !far && pdf > 0.0);\n\
+             let estimate = select(0.0, 1.0 / pdf, !far && pdf > 0.0);\n\
              // (The technique reports no density of its own: pathlab asks its pdf, as here.)\n\
              return Drawn(vec4f(d, routine_pdf(d)), vec4f(0.0, select(0.0, 1.0, far), estimate, 0.0));\n\
          }}\n\
@@ -418,7 +419,7 @@ fn sphere_configuration(radius: f64, ratio: f64, tilt: f64) -> Configuration {
         "{common}\
          fn routine_sample(u: vec2f, u_lobe: f32) -> Drawn {{\n\
              let ls = sample_sphere_light_cone(ROUTINE_C, ROUTINE_R, vec3f(0.0), u);\n\
-             let estimate = select(0.0, max(dot(ls.wi, routine_n()), 0.0) / ls.pdf, ls.pdf > 0.0);\n\
+             let estimate = select(0.0, 1.0 / ls.pdf, ls.pdf > 0.0);\n\
              return Drawn(vec4f(ls.wi, ls.pdf), vec4f(0.0, 0.0, estimate, 0.0));\n\
          }}\n\
          fn routine_pdf(d: vec3f) -> f32 {{ return pdf_sphere_light(ROUTINE_C, ROUTINE_R, vec3f(0.0), false, d); }}\n"
