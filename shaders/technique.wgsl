@@ -2,7 +2,7 @@
 // KIND:FILE.wgsl`, README "Your own technique"): the contract a technique file implements, and
 // the wrappers that call it where the built-in strategy of its kind would run. The technique's
 // file follows this one in the module (or, where none is loaded, shaders/techniques/none_*.wgsl,
-// never called: BSDF_TECHNIQUE and LIGHT_TECHNIQUE are false).
+// never called: BSDF_TECHNIQUE, LIGHT_TECHNIQUE and ENV_TECHNIQUE are false).
 //
 // THE CONTRACT
 //
@@ -27,7 +27,19 @@
 // far side, hidden from x by the sphere itself, is no sample of that direction: it contributes
 // nothing (drawing the near side only wastes no samples).
 //
-// Both kinds: u (and u_lobe) are the only random numbers, uniform in [0, 1): the same sample
+// kind `env` — sampling a direction towards the environment map where next event estimation
+// samples the environment (`+env`), in place of the map's luminance distribution:
+//   fn sample_env_technique(n: vec3f, u: vec2f) -> vec3f
+//   fn pdf_env_technique(n: vec3f, wi: vec3f) -> f32
+// in world space: n is the shading normal on the viewer's side; sample_ returns a unit
+// direction, pdf_ its density per unit solid angle over the whole sphere. The map is the
+// technique's to read: environment_map_radiance(d) (its radiance, scale included),
+// sample_environment_map(u) (a direction in xyz, its density in w, by luminance times
+// sin(theta)) and pdf_environment_map(d) (emitters/environment.wgsl). The density must be
+// positive wherever the map is not black, on both sides of the surface (a surface that
+// transmits takes light from below it).
+//
+// Every kind: u (and u_lobe) are the only random numbers, uniform in [0, 1): the same sample
 // dimensions the built-in strategy uses at that vertex (the layout of integrator.wgsl does not
 // change). A technique must be a pure function of its arguments: it may call pathlab's
 // functions (the warps of warp.wgsl, frame_from_normal, INV_PI, ...) and declare functions,
@@ -38,10 +50,11 @@
 // a point off the light is a fault: that sample contributes 0, and faults are counted and
 // reported.
 
-// Whether a technique samples Phong materials / spherical lights (set by the method's
-// `+bsdf=NAME` / `+light=NAME`).
+// Whether a technique samples Phong materials / spherical lights / the environment map (set by
+// the method's `+bsdf=NAME` / `+light=NAME` / `+env=NAME`).
 override BSDF_TECHNIQUE: bool = false;
 override LIGHT_TECHNIQUE: bool = false;
+override ENV_TECHNIQUE: bool = false;
 
 // A Phong material as a technique sees it: diffuse kd, specular ks, exponent n, and the
 // probability with which pathlab's own mixture samples the Phong lobe, lum(ks) / (lum(kd) +
@@ -156,4 +169,25 @@ fn sample_sphere_light_technique(center: vec3f, radius: f32, x: vec3f, n: vec3f,
     let near = dot(p - center, x - p) > 0.0;
     let pdf = pdf_sphere_light_technique(center, radius, x, n, wi);
     return LightSample(wi, dist, select(0.0, pdf, near));
+}
+
+// ---- kind env: the wrappers emitters/environment.wgsl calls for a map ----
+
+// Solid-angle density of the technique at wi, with shading normal n.
+fn pdf_environment_technique(n: vec3f, wi: vec3f) -> f32 {
+    technique_iterations = 0u;
+    return technique_density(pdf_env_technique(n, wi));
+}
+
+// A direction (xyz) by the technique, with its density (w); a fault gives density 0.
+fn sample_environment_technique(n: vec3f, u: vec2f) -> vec4f {
+    technique_iterations = 0u;
+    let d = sample_env_technique(n, u);
+    let len = length(d);
+    if (!technique_finite3(d) || abs(len - 1.0) > 1e-3) {
+        technique_faults |= TECHNIQUE_FAULT_VALUE;
+        return vec4f(n, 0.0);
+    }
+    let wi = d / len;
+    return vec4f(wi, pdf_environment_technique(n, wi));
 }

@@ -124,6 +124,9 @@ named_enum! {
         Bsdf = "bsdf",
         /// Sampling a point on a spherical light seen from outside it (in place of the cone).
         Light = "light",
+        /// Sampling a direction towards the environment map (in place of its luminance
+        /// distribution), where next event estimation samples the environment.
+        Env = "env",
     }
 }
 
@@ -214,6 +217,9 @@ pub struct Method {
     pub bsdf_technique: Option<TechniqueName>,
     /// A researcher's technique sampling spherical lights from outside (`+light=NAME`).
     pub light_technique: Option<TechniqueName>,
+    /// A researcher's technique sampling the environment map (`+env=NAME`, which samples the
+    /// environment: `environment` is then true).
+    pub env_technique: Option<TechniqueName>,
 }
 
 /// The method-name suffix (`mis+env`) of `Method::environment`.
@@ -245,6 +251,7 @@ impl Preset {
             env_sampling: EnvSampling::Luminance,
             bsdf_technique: None,
             light_technique: None,
+            env_technique: None,
         }
     }
 }
@@ -321,6 +328,7 @@ pub struct MethodParts {
     pub env_sampling: Option<EnvSampling>,
     pub bsdf_technique: Option<TechniqueName>,
     pub light_technique: Option<TechniqueName>,
+    pub env_technique: Option<TechniqueName>,
 }
 
 impl MethodParts {
@@ -338,6 +346,7 @@ impl MethodParts {
             env_sampling: self.env_sampling.unwrap_or(method.env_sampling),
             bsdf_technique: self.bsdf_technique.or(method.bsdf_technique),
             light_technique: self.light_technique.or(method.light_technique),
+            env_technique: self.env_technique.or(method.env_technique),
         }
     }
 }
@@ -350,7 +359,9 @@ impl Method {
 
     /// The researcher's techniques the method uses, by kind.
     pub fn techniques(&self) -> impl Iterator<Item = (TechniqueKind, TechniqueName)> {
-        [(TechniqueKind::Bsdf, self.bsdf_technique), (TechniqueKind::Light, self.light_technique)].into_iter().filter_map(|(k, n)| n.map(|n| (k, n)))
+        [(TechniqueKind::Bsdf, self.bsdf_technique), (TechniqueKind::Light, self.light_technique), (TechniqueKind::Env, self.env_technique)]
+            .into_iter()
+            .filter_map(|(k, n)| n.map(|n| (k, n)))
     }
 
     /// The same method using technique `name` of `kind`.
@@ -358,6 +369,8 @@ impl Method {
         match kind {
             TechniqueKind::Bsdf => Method { bsdf_technique: Some(name), ..self },
             TechniqueKind::Light => Method { light_technique: Some(name), ..self },
+            // An environment technique runs where next event estimation samples the environment.
+            TechniqueKind::Env => Method { env_technique: Some(name), environment: true, ..self },
         }
     }
 
@@ -377,6 +390,7 @@ impl Method {
             env_sampling: EnvSampling::Luminance,
             bsdf_technique: None,
             light_technique: None,
+            env_technique: None,
             ..*self
         }
     }
@@ -408,7 +422,8 @@ impl Method {
         if self.lobes != LobeSelection::Fresnel {
             name = format!("{name}+{}", self.lobes);
         }
-        if self.environment {
+        // (`+env=NAME` says `+env` too.)
+        if self.environment && self.env_technique.is_none() {
             name = format!("{name}+{ENVIRONMENT_OPTION}");
         }
         if self.env_sampling != EnvSampling::Luminance {
@@ -448,7 +463,7 @@ impl Method {
                     .chain(LobeSelection::names())
                     .chain([ENVIRONMENT_OPTION])
                     .chain(EnvSampling::names())
-                    .chain(["bsdf=NAME", "light=NAME"])
+                    .chain(["bsdf=NAME", "light=NAME", "env=NAME"])
                     .collect();
                 return Err(UnknownName { what: "light option", name: option.to_string(), known: known.join(", ") });
             }
@@ -479,6 +494,7 @@ impl Method {
                 env_sampling: EnvSampling::Luminance,
                 bsdf_technique: None,
                 light_technique: None,
+                env_technique: None,
             }),
             _ => Err(unknown()),
         }
@@ -518,7 +534,7 @@ mod tests {
                                 for lobes in LobeSelection::ALL {
                                     for environment in [false, true] {
                                         for env_sampling in EnvSampling::ALL {
-                                            let m = Method { sampler, bsdf, lights, select, triangles, microfacet, lobes, environment, env_sampling, bsdf_technique: None, light_technique: None };
+                                            let m = Method { sampler, bsdf, lights, select, triangles, microfacet, lobes, environment, env_sampling, bsdf_technique: None, light_technique: None, env_technique: None };
                                             assert_eq!(Method::from_name(&m.name()), Ok(m), "{}", m.name());
                                         }
                                     }
@@ -544,6 +560,9 @@ mod tests {
         assert_eq!(Method::from_name(&both.name()), Ok(both));
         assert!(Method::from_name("mis+light=my cone").is_err());
         assert!(Method::from_name("mis+lens=x").is_err());
+        let sky = Method::from_name("mis+env=my_sky").unwrap();
+        assert!(sky.environment && sky.env_technique == Some(TechniqueName::new("my_sky").unwrap()));
+        assert_eq!(sky.name(), "mis+env=my_sky");
     }
 
     #[test]

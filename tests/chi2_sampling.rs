@@ -57,7 +57,9 @@ fn warp(name: &str, sample: &str, pdf: &str, s_split: f64) -> Routine {
         pdf_tolerance: 1e-4,
         pdf_floor: 1e-30,
         bsdf_data: Vec::new(),
+        environment_map: Vec::new(),
         integrand: false,
+        bins: chi2::DEFAULT_BINS,
     }
 }
 
@@ -104,7 +106,9 @@ fn mixture(kd: f64, ks: f64, n: f64, theta_o: f64) -> Routine {
         pdf_tolerance: 1e-4,
         pdf_floor: 1e-30,
         bsdf_data: Vec::new(),
+        environment_map: Vec::new(),
         integrand: false,
+        bins: chi2::DEFAULT_BINS,
     }
 }
 
@@ -135,7 +139,9 @@ fn cone(ratio: f64) -> Routine {
         pdf_tolerance: 1e-4,
         pdf_floor: 1e-30,
         bsdf_data: Vec::new(),
+        environment_map: Vec::new(),
         integrand: false,
+        bins: chi2::DEFAULT_BINS,
     }
 }
 
@@ -157,7 +163,9 @@ fn inside(x: [f64; 3]) -> Routine {
         pdf_tolerance: 1e-4,
         pdf_floor: 1e-30,
         bsdf_data: Vec::new(),
+        environment_map: Vec::new(),
         integrand: false,
+        bins: chi2::DEFAULT_BINS,
     }
 }
 
@@ -213,7 +221,9 @@ fn microfacet(distribution: &str, strategy: &str, alpha: f64, theta_o: f64) -> R
         pdf_tolerance: (1e-6 / (alpha * t.cos().max(1e-3))).max(1e-3),
         pdf_floor: 1e-30,
         bsdf_data: Vec::new(),
+        environment_map: Vec::new(),
         integrand: false,
+        bins: chi2::DEFAULT_BINS,
     }
 }
 
@@ -289,7 +299,9 @@ fn plastic(diffuse: f64, specular: f64, int_ior: f64, nonlinear: bool, strategy:
         pdf_tolerance: 1e-4,
         pdf_floor: 1e-30,
         bsdf_data: Vec::new(),
+        environment_map: Vec::new(),
         integrand: false,
+        bins: chi2::DEFAULT_BINS,
     }
 }
 
@@ -365,7 +377,9 @@ fn rough_dielectric(distribution: Distribution, strategy: BsdfSampling, microfac
         pdf_tolerance: 1e-3,
         pdf_floor: 1e-30,
         bsdf_data: Vec::new(),
+        environment_map: Vec::new(),
         integrand: false,
+        bins: chi2::DEFAULT_BINS,
     }
 }
 
@@ -457,7 +471,9 @@ fn rough_plastic(distribution: Distribution, strategy: BsdfSampling, microfacets
         pdf_tolerance: (1e-6 / (alpha * t.cos().max(1e-3))).max(1e-3),
         pdf_floor: 1e-30,
         bsdf_data: data.0,
+        environment_map: Vec::new(),
         integrand: false,
+        bins: chi2::DEFAULT_BINS,
     }
 }
 
@@ -590,7 +606,9 @@ impl TriangleCase {
             pdf_tolerance: 1e-4,
             pdf_floor: 1e-30,
             bsdf_data: Vec::new(),
+            environment_map: Vec::new(),
             integrand: false,
+            bins: chi2::DEFAULT_BINS,
         }
     }
 

@@ -24,7 +24,8 @@ fn every_override_permutation_validates() {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/techniques");
     let bsdf = Technique::load(TechniqueKind::Bsdf, dir.join("phong_lobe.wgsl")).unwrap();
     let light = Technique::load(TechniqueKind::Light, dir.join("sphere_area.wgsl")).unwrap();
-    let with_techniques = shaders::path_tracer_source_with(12, shaders::TechniqueFiles { bsdf: Some(&bsdf), light: Some(&light) });
+    let env = Technique::load(TechniqueKind::Env, dir.join("env_cosine_mix.wgsl")).unwrap();
+    let with_techniques = shaders::path_tracer_source_with(12, shaders::TechniqueFiles { bsdf: Some(&bsdf), light: Some(&light), env: Some(&env) });
     let mut checked = 0;
     for sampler in Sampler::ALL {
         for bsdf in BsdfSampling::ALL {
@@ -54,6 +55,7 @@ fn every_override_permutation_validates() {
                                     env_sampling,
                                     bsdf_technique: technique("phong_lobe"),
                                     light_technique: technique("sphere_area"),
+                                    env_technique: technique("env_cosine_mix"),
                                 };
                                 let features = SceneFeatures {
                                     num_spheres,

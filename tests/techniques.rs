@@ -285,3 +285,29 @@ fn faults_survive_shards_and_their_merge() {
     assert_eq!(get(&merged_meta, "techniques"), get(&whole_meta, "techniques"));
     assert!(get(&whole_meta, "technique_verdict").unwrap().starts_with("UNPROVEN"));
 }
+
+#[test]
+fn an_environment_technique_is_proven_on_the_map_and_renders_its_image() {
+    let envmap = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/envmap/envmap.xml");
+    let mut scene = Scene::load(&envmap).unwrap();
+    scene.render.width = 24;
+    scene.render.height = 24;
+    scene.render.max_depth = 3;
+    let mix = Technique::load(TechniqueKind::Env, example("env_cosine_mix.wgsl")).unwrap();
+    let v = technique::check(gpu(), &mix, &scene, CheckOptions::default(), |_, _, _| {}).unwrap();
+    println!("{}", v.report());
+    assert!(v.passed() && v.results.len() == 3, "{}", v.report());
+    // The cosine alone never draws below the surface, where the map is not black.
+    let only = Technique::load(TechniqueKind::Env, broken("env_cosine_only.wgsl")).unwrap();
+    let v = technique::check(gpu(), &only, &scene, CheckOptions::default(), |_, _, _| {}).unwrap();
+    assert!(matches!(failure(&v), Chi2Failure::Uncovered { .. }), "{}", v.report());
+    // Its image is the built-in's: `mis+env` (the map by luminance) against `mis+env=env_cosine_mix`.
+    let reference = render(&scene, Method::from_name("mis+env").unwrap(), 16384, 3);
+    scene.techniques.push(mix);
+    let r = pathlab::render::Renderer::new(gpu(), pipelines(), &scene, Method::from_name("mis+env=env_cosine_mix").unwrap(), 4).expect("renderer");
+    let out = finish(r, 4096);
+    assert_eq!(out.faults, 0);
+    let z = z_test(&reference, &out.film, 0.01);
+    println!("mis+env=env_cosine_mix (4096 spp) against mis+env (16384): {:.4} of {} channels pass, max |z| {:.2}, mean z {:+.3}", z.pass_fraction, z.channels, z.max_abs_z, z.mean_z);
+    assert!(z.pass_fraction >= MIN_PASS, "{:.4} pass, max |z| {:.2}", z.pass_fraction, z.max_abs_z);
+}

@@ -116,6 +116,11 @@ fn pdf_environment_map(d: vec3f) -> f32 {
 // (density 1 / (4 pi)), as Mitsuba's ConstantBackgroundEmitter, or for a map under
 // ENV_SAMPLING_ENV_LUMINANCE by its luminance distribution (sample_environment_map).
 fn sample_environment_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> EmitterSample {
+    if (ENV_TECHNIQUE && HAS_ENVIRONMENT_MAP) {
+        // A researcher's technique (technique.wgsl).
+        let s = sample_environment_technique(ctx.n, u);
+        return EmitterSample(s.xyz, INFINITY, s.w, eval_environment_emitter(s.xyz), INVALID);
+    }
     if (environment_map_sampled()) {
         let s = sample_environment_map(u);
         return EmitterSample(s.xyz, INFINITY, s.w, eval_environment_emitter(s.xyz), INVALID);
@@ -126,6 +131,9 @@ fn sample_environment_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> Emit
 
 // Solid-angle density with which sample_environment_emitter gives wi.
 fn pdf_environment_emitter(l: u32, ctx: LightSampleContext, wi: vec3f) -> f32 {
+    if (ENV_TECHNIQUE && HAS_ENVIRONMENT_MAP) {
+        return pdf_environment_technique(ctx.n, wi);
+    }
     if (environment_map_sampled()) {
         return pdf_environment_map(wi);
     }

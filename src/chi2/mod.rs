@@ -18,9 +18,10 @@ use std::f64::consts::PI;
 use crate::gpu::{Gpu, GpuError, KernelRun};
 use crate::shaders;
 
-/// Cells in phi and in s.
+/// Cells in phi and in s, by default (`Routine::bins`).
 pub const PHI_BINS: usize = 101;
 pub const S_BINS: usize = 202;
+pub const DEFAULT_BINS: (usize, usize) = (PHI_BINS, S_BINS);
 
 /// 4-point Gauss-Legendre nodes and weights on [-1, 1].
 pub const GAUSS_LEGENDRE_4: [(f64, f64); 4] = [
@@ -95,6 +96,13 @@ pub struct Routine {
     pub pdf_floor: f64,
     /// The BSDF data the routine's material reads (bound at `bindings::BSDF_DATA`; empty: none).
     pub bsdf_data: Vec<f32>,
+    /// The environment map the routine reads (`EnvironmentMap::pack`, bound at
+    /// `bindings::ENVIRONMENT_MAP`; empty: none). The routine then runs in the whole path
+    /// tracer's module, where the map's functions are.
+    pub environment_map: Vec<f32>,
+    /// Cells in phi and in s: `DEFAULT_BINS`, or a grid whose edges fall on a piecewise-constant
+    /// density's (an environment map's texels).
+    pub bins: (usize, usize),
     /// Whether the support check runs: a cell point where `routine_integrand` (the function
     /// whose integral the samples estimate, `check.z`) is above 1e-3 of its largest value and
     /// the pdf is 0 is then a hard failure (a strategy that can never draw where the integrand lives). Where `wgsl`
@@ -139,6 +147,8 @@ pub struct Chi2Outcome {
     pub expected: Vec<f64>,
     /// The s bin edges.
     pub s_edges: Vec<f64>,
+    /// Cells in phi and in s.
+    pub bins: (usize, usize),
     /// The pdf's integral over the sphere.
     pub mass: f64,
     /// Mean and standard error of the samples' estimates (`check.z`).
@@ -179,19 +189,21 @@ pub fn pooled_chi_square(expected: &[f64], observed: &[u64], n: f64) -> Result<f
     Ok(crate::stats::chi2_sf(chi2, dof.saturating_sub(1).max(1)))
 }
 
-/// s bin edges: 150 fine + 52 coarse, or 202 uniform (then s = 1 is an edge).
-pub fn s_edges(s_split: f64) -> Vec<f64> {
+/// `s_bins` s bin edges: three quarters fine and the rest coarse (150 + 52 of 202), or uniform
+/// (then s = 1 is an edge for an even count).
+pub fn s_edges(s_split: f64, s_bins: usize) -> Vec<f64> {
     if s_split < 0.0 {
         let s_min = -s_split;
         let mut e = vec![0.0];
-        e.extend((0..S_BINS).map(|i| s_min * (2.0 / s_min).powf(i as f64 / (S_BINS - 1) as f64)));
+        e.extend((0..s_bins).map(|i| s_min * (2.0 / s_min).powf(i as f64 / (s_bins - 1) as f64)));
         *e.last_mut().unwrap() = 2.0;
         return e;
     }
     if s_split >= 2.0 {
-        return (0..=S_BINS).map(|i| 2.0 * i as f64 / S_BINS as f64).collect();
+        return (0..=s_bins).map(|i| 2.0 * i as f64 / s_bins as f64).collect();
     }
-    let (fine, coarse) = (150, S_BINS - 150);
+    let fine = s_bins * 150 / S_BINS;
+    let coarse = s_bins - fine;
     let mut e: Vec<f64> = (0..=fine).map(|i| s_split * i as f64 / fine as f64).collect();
     e.extend((1..=coarse).map(|i| s_split + (2.0 - s_split) * i as f64 / coarse as f64));
     e
@@ -216,13 +228,17 @@ pub fn phi_s(d: [f64; 3]) -> (f64, f64) {
 /// `techniques` in their kinds' places).
 pub fn source(routine: &Routine, techniques: shaders::TechniqueFiles) -> String {
     let integrand = if routine.wgsl.contains("fn routine_integrand(") { "" } else { "fn routine_integrand(d: vec3f) -> f32 { return 0.0; }\n" };
-    shaders::assemble_with(&shaders::LIBRARY, &format!("{}\n{integrand}{KERNEL}", routine.wgsl), crate::accel::BRUTE_FORCE_TRIANGLES, techniques)
+    let parts: &[(&str, &str)] = if routine.environment_map.is_empty() { &shaders::LIBRARY } else { &shaders::PATH_TRACER };
+    shaders::assemble_with(parts, &format!("{}\n{integrand}{KERNEL}", routine.wgsl), crate::accel::BRUTE_FORCE_TRIANGLES, techniques)
 }
 
 /// Runs `entry` of the routine's kernel over `items` invocations and returns its output.
 pub fn run(gpu: &Gpu, source: &str, routine: &Routine, entry: &str, mut inputs: Vec<(u32, Vec<u8>)>, out_vec4s: usize, items: usize) -> Result<Vec<[f32; 4]>, GpuError> {
     if !routine.bsdf_data.is_empty() {
         inputs.push((shaders::bindings::BSDF_DATA.number, bytemuck::cast_slice(&routine.bsdf_data).to_vec()));
+    }
+    if !routine.environment_map.is_empty() {
+        inputs.push((shaders::bindings::ENVIRONMENT_MAP.number, bytemuck::cast_slice(&routine.environment_map).to_vec()));
     }
     let run = KernelRun {
         source,
@@ -274,15 +290,16 @@ pub fn binned(gpu: &Gpu, routine: &Routine, techniques: shaders::TechniqueFiles,
         return Err(Chi2Failure::Faults { count: faulted.len() as u64, total: samples as u64, what: describe_faults(bits) });
     }
 
-    let edges = s_edges(routine.s_split);
-    let dphi = 2.0 * PI / PHI_BINS as f64;
+    let (phi_bins, s_bins) = routine.bins;
+    let edges = s_edges(routine.s_split, s_bins);
+    let dphi = 2.0 * PI / phi_bins as f64;
     // Gauss-Legendre points of every cell, then the sampled directions (pdf consistency).
     let gl = GAUSS_LEGENDRE_4;
-    let mut points: Vec<[f32; 4]> = Vec::with_capacity(PHI_BINS * S_BINS * 16 + samples as usize);
-    let mut weights = Vec::with_capacity(PHI_BINS * S_BINS * 16);
-    for j in 0..S_BINS {
+    let mut points: Vec<[f32; 4]> = Vec::with_capacity(phi_bins * s_bins * 16 + samples as usize);
+    let mut weights = Vec::with_capacity(phi_bins * s_bins * 16);
+    for j in 0..s_bins {
         let (s0, s1) = (edges[j], edges[j + 1]);
-        for i in 0..PHI_BINS {
+        for i in 0..phi_bins {
             let phi0 = i as f64 * dphi;
             for (xs, ws) in gl {
                 for (xp, wp) in gl {
@@ -313,7 +330,7 @@ pub fn binned(gpu: &Gpu, routine: &Routine, techniques: shaders::TechniqueFiles,
         return Err(Chi2Failure::Faults { count: faulted, total: points.len() as u64, what: format!("{} (in its pdf)", describe_faults(bits)) });
     }
 
-    let mut expected = vec![0.0f64; PHI_BINS * S_BINS];
+    let mut expected = vec![0.0f64; phi_bins * s_bins];
     // The support check ignores integrand values below 1e-3 of its largest: where it vanishes
     // continuously (the rim of a light's visible cap), f32 may round the pdf to 0 first.
     let negligible = 1e-3 * pdfs[..cell_points].iter().map(|p| p[1] as f64).fold(0.0, f64::max);
@@ -343,7 +360,7 @@ pub fn binned(gpu: &Gpu, routine: &Routine, techniques: shaders::TechniqueFiles,
     }
     expected.push((1.0 - mass).max(0.0));
 
-    let mut observed = vec![0u64; PHI_BINS * S_BINS + 1];
+    let mut observed = vec![0u64; phi_bins * s_bins + 1];
     *observed.last_mut().unwrap() = lost;
     let (mut sum, mut sum_sq) = (0.0f64, 0.0f64);
     for (n, pair) in drawn.chunks(2).enumerate() {
@@ -373,11 +390,11 @@ pub fn binned(gpu: &Gpu, routine: &Routine, techniques: shaders::TechniqueFiles,
             continue;
         }
         let (phi, s) = phi_s(dir.map(|x| x / len));
-        let i = ((phi / dphi) as usize).min(PHI_BINS - 1);
-        let j = edges.partition_point(|&e| e <= s).clamp(1, S_BINS) - 1;
+        let i = ((phi / dphi) as usize).min(phi_bins - 1);
+        let j = edges.partition_point(|&e| e <= s).clamp(1, s_bins) - 1;
         // The pdf the routine reports equals its pdf function at the sampled direction.
         let (reported, function) = (d[3] as f64, pdfs[cell_points + n][0] as f64);
-        let cell = j * PHI_BINS + i;
+        let cell = j * phi_bins + i;
         if expected[cell] == 0.0 && function > 0.0 {
             // A cell whose quadrature points all miss the support, which the sample's own
             // density says it reaches (a support boundary across the cell, not on its edges):
@@ -401,12 +418,12 @@ pub fn binned(gpu: &Gpu, routine: &Routine, techniques: shaders::TechniqueFiles,
     let p_value = match pooled_chi_square(&expected, &observed, n) {
         Ok(p) => p,
         Err((cell, count)) => {
-            let (j, i) = (cell / PHI_BINS, cell % PHI_BINS);
-            let d = if j < S_BINS { direction((i as f64 + 0.5) * dphi, 0.5 * (edges[j] + edges[j + 1])) } else { [f64::NAN; 3] };
+            let (j, i) = (cell / phi_bins, cell % phi_bins);
+            let d = if j < s_bins { direction((i as f64 + 0.5) * dphi, 0.5 * (edges[j] + edges[j + 1])) } else { [f64::NAN; 3] };
             // The support comes before the mass: samples where the pdf is 0 say more.
             failure = Some(Chi2Failure::OutsideSupport { count, cell, direction: d.map(|x| x as f32) }).or(failure);
             0.0
         }
     };
-    Ok(Chi2Outcome { p_value, observed, expected: expected.iter().map(|e| e * n).collect(), s_edges: edges, mass, estimate: (mean, std_err), failure })
+    Ok(Chi2Outcome { p_value, observed, expected: expected.iter().map(|e| e * n).collect(), s_edges: edges, mass, estimate: (mean, std_err), failure, bins: routine.bins })
 }

@@ -224,6 +224,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
         env_sampling: args.env_sampling,
         bsdf_technique: None,
         light_technique: None,
+        env_technique: None,
     };
     let method = args.techniques.apply(parts.apply(args.method), &scene);
     // A technique the method names must be loaded: said before any GPU work.

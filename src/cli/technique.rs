@@ -15,7 +15,8 @@ use pathlab::technique::{self, CheckOptions, Verdict};
 #[derive(Args, Debug, Clone, Default)]
 pub struct TechniqueArgs {
     /// A sampling technique of your own, KIND:FILE.wgsl (KIND `bsdf`: directions at Phong
-    /// materials; `light`: points on spherical lights), implementing the contract of
+    /// materials; `light`: points on spherical lights; `env`: directions towards the
+    /// environment map), implementing the contract of
     /// shaders/technique.wgsl; repeatable. Methods use it as +KIND=NAME (NAME: the file's
     /// stem); a method that names no technique of its kind uses it. It must pass its check
     /// (`pathlab check-technique`) first.
@@ -125,6 +126,8 @@ pub fn with_technique_rows(names: Option<Vec<String>>, scene: &Scene) -> anyhow:
             let uses = match t.kind {
                 TechniqueKind::Bsdf => m.bsdf == BsdfSampling::Phong,
                 TechniqueKind::Light => m.lights != LightSampling::None && !m.lights.is_biased(),
+                // Next event estimation of the environment: `+env=NAME` turns it on.
+                TechniqueKind::Env => m.lights != LightSampling::None && !m.lights.is_biased() && scene.environment_map.is_some(),
             };
             if uses && !m.is_biased() && !m.techniques().any(|(k, _)| k == t.kind) {
                 rows.push(m.with_technique(t.kind, t.name).name());

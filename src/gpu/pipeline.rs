@@ -78,6 +78,7 @@ pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
         ("LIGHT_INTERIORS_REACHABLE", f.light_interiors_reachable as u32 as f64),
         ("BSDF_TECHNIQUE", key.method.bsdf_technique.is_some() as u32 as f64),
         ("LIGHT_TECHNIQUE", key.method.light_technique.is_some() as u32 as f64),
+        ("ENV_TECHNIQUE", key.method.env_technique.is_some() as u32 as f64),
     ];
     constants.extend(kinds);
     // One NUM_<KIND>_LIGHTS per emitter kind (NUM_LIGHTS is their sum, in the WGSL).
@@ -125,6 +126,9 @@ impl LoopBound {
         if techniques.light.is_some_and(|t| t.loops > 0) {
             calls += 2 * shadow_rays + 1;
         }
+        if techniques.env.is_some_and(|t| t.loops > 0) {
+            calls += 2 + 1;
+        }
         self.fixed += max_depth as u64 * calls * per_call;
         self
     }
@@ -164,17 +168,20 @@ pub struct PipelineStats {
     pub compile_time: Duration,
 }
 
+/// The researchers' techniques a module holds: their files' SHA-256 by kind.
+type TechniqueKey = (Option<String>, Option<String>, Option<String>);
+
 /// The path tracer's shader modules, bind group layout and a cache of specialised pipelines.
 pub struct PathTracerPipelines {
     /// One module per count its small-scene triangle tests are unrolled to
     /// (`shaders::unrolled_triangles`) and researchers' techniques (their SHA-256s), created
     /// on first use.
-    modules: Mutex<HashMap<(u32, (Option<String>, Option<String>)), wgpu::ShaderModule>>,
+    modules: Mutex<HashMap<(u32, TechniqueKey), wgpu::ShaderModule>>,
     /// The Halton bases, bound at `bindings::HALTON_PRIMES`.
     pub halton_primes: wgpu::Buffer,
     pub bind_group_layout: wgpu::BindGroupLayout,
     layout: wgpu::PipelineLayout,
-    cache: Mutex<HashMap<(PipelineKey, (Option<String>, Option<String>)), (Arc<wgpu::ComputePipeline>, PipelineStats)>>,
+    cache: Mutex<HashMap<(PipelineKey, TechniqueKey), (Arc<wgpu::ComputePipeline>, PipelineStats)>>,
 }
 
 impl PathTracerPipelines {

@@ -252,6 +252,7 @@ impl Checkpoint {
             env_sampling,
             bsdf_technique: None,
             light_technique: None,
+            env_technique: None,
         };
         // Files written before researchers' techniques use none.
         let techniques = match header.get("techniques") {

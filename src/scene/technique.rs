@@ -46,7 +46,7 @@ pub struct Technique {
 /// Why a technique cannot be used.
 #[derive(Debug, thiserror::Error)]
 pub enum TechniqueError {
-    #[error("--technique `{0}`: expected KIND:FILE.wgsl, KIND one of bsdf, light (e.g. bsdf:my_lobe.wgsl)")]
+    #[error("--technique `{0}`: expected KIND:FILE.wgsl, KIND one of bsdf, light, env (e.g. bsdf:my_lobe.wgsl)")]
     Spec(String),
     #[error("--technique `{spec}`: {cause}")]
     Kind { spec: String, cause: UnknownName },

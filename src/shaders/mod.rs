@@ -57,6 +57,7 @@ pub mod files {
     pub const TECHNIQUE: (&str, &str) = ("technique.wgsl", include_str!("../../shaders/technique.wgsl"));
     pub const NO_BSDF_TECHNIQUE: (&str, &str) = ("techniques/none_bsdf.wgsl", include_str!("../../shaders/techniques/none_bsdf.wgsl"));
     pub const NO_LIGHT_TECHNIQUE: (&str, &str) = ("techniques/none_light.wgsl", include_str!("../../shaders/techniques/none_light.wgsl"));
+    pub const NO_ENV_TECHNIQUE: (&str, &str) = ("techniques/none_env.wgsl", include_str!("../../shaders/techniques/none_env.wgsl"));
     pub const EMITTER: (&str, &str) = ("emitter.wgsl", include_str!("../../shaders/emitter.wgsl"));
     /// One file per kind of the emitter registry (`scene::EmitterKind`), in its order.
     pub const EMITTER_KINDS: [(&str, &str); 3] = [
@@ -140,6 +141,7 @@ pub fn assemble(parts: &[(&str, &str)], extra: &str) -> String {
 pub struct TechniqueFiles<'a> {
     pub bsdf: Option<&'a Technique>,
     pub light: Option<&'a Technique>,
+    pub env: Option<&'a Technique>,
 }
 
 impl<'a> TechniqueFiles<'a> {
@@ -153,20 +155,30 @@ impl<'a> TechniqueFiles<'a> {
                 .map(Some)
                 .ok_or(TechniqueError::NotLoaded { kind, name: name.to_string() })
         };
-        Ok(TechniqueFiles { bsdf: find(TechniqueKind::Bsdf, method.bsdf_technique)?, light: find(TechniqueKind::Light, method.light_technique)? })
+        Ok(TechniqueFiles {
+            bsdf: find(TechniqueKind::Bsdf, method.bsdf_technique)?,
+            light: find(TechniqueKind::Light, method.light_technique)?,
+            env: find(TechniqueKind::Env, method.env_technique)?,
+        })
     }
 
     /// One technique in its kind's place.
     pub fn only(t: &'a Technique) -> TechniqueFiles<'a> {
         match t.kind {
-            TechniqueKind::Bsdf => TechniqueFiles { bsdf: Some(t), light: None },
-            TechniqueKind::Light => TechniqueFiles { bsdf: None, light: Some(t) },
+            TechniqueKind::Bsdf => TechniqueFiles { bsdf: Some(t), ..Default::default() },
+            TechniqueKind::Light => TechniqueFiles { light: Some(t), ..Default::default() },
+            TechniqueKind::Env => TechniqueFiles { env: Some(t), ..Default::default() },
         }
     }
 
     /// What identifies the module they make (their SHA-256s).
-    pub fn key(&self) -> (Option<String>, Option<String>) {
-        (self.bsdf.map(|t| t.sha256.clone()), self.light.map(|t| t.sha256.clone()))
+    pub fn key(&self) -> (Option<String>, Option<String>, Option<String>) {
+        (self.bsdf.map(|t| t.sha256.clone()), self.light.map(|t| t.sha256.clone()), self.env.map(|t| t.sha256.clone()))
+    }
+
+    /// The files, by kind.
+    pub fn all(&self) -> impl Iterator<Item = &'a Technique> {
+        [self.bsdf, self.light, self.env].into_iter().flatten()
     }
 }
 
@@ -208,7 +220,7 @@ pub fn assemble_with(parts: &[(&str, &str)], extra: &str, small_triangles: u32, 
             source.push_str(&light_counts());
         }
         if part == files::TECHNIQUE {
-            for (technique, none) in [(techniques.bsdf, files::NO_BSDF_TECHNIQUE), (techniques.light, files::NO_LIGHT_TECHNIQUE)] {
+            for (technique, none) in [(techniques.bsdf, files::NO_BSDF_TECHNIQUE), (techniques.light, files::NO_LIGHT_TECHNIQUE), (techniques.env, files::NO_ENV_TECHNIQUE)] {
                 match technique {
                     Some(t) => {
                         let _ = writeln!(source, "\n// ===== {} technique {} ({}) =====", t.kind, t.name, t.path.display());
@@ -256,7 +268,8 @@ pub fn path_tracer_source_with(num_triangles: u32, techniques: TechniqueFiles) -
 pub fn validate_technique(t: &Technique) -> Result<(), TechniqueError> {
     // The file as written (not guarded), so that columns are the file's.
     let plain = Technique { guarded: t.source.clone(), ..t.clone() };
-    let source = assemble_with(&LIBRARY, "", crate::accel::BRUTE_FORCE_TRIANGLES, TechniqueFiles::only(&plain));
+    // In the whole path tracer: an environment technique reads the map's functions.
+    let source = assemble_with(&PATH_TRACER, "", crate::accel::BRUTE_FORCE_TRIANGLES, TechniqueFiles::only(&plain));
     let header = format!("\n// ===== {} technique {} ({}) =====\n", t.kind, t.name, t.path.display());
     let start = source.find(&header).expect("the technique is in the module") + header.len();
     let end = start + t.source.len();
@@ -274,6 +287,7 @@ pub fn validate_technique(t: &Technique) -> Result<(), TechniqueError> {
     let contract = match t.kind {
         TechniqueKind::Bsdf => "fn sample_bsdf_technique(wo: vec3f, m: PhongMaterial, u: vec2f, u_lobe: f32) -> vec3f and fn pdf_bsdf_technique(wo: vec3f, m: PhongMaterial, wi: vec3f) -> f32",
         TechniqueKind::Light => "fn sample_light_technique(x: vec3f, n: vec3f, light: SphereLight, u: vec2f) -> vec3f and fn pdf_light_technique(x: vec3f, n: vec3f, light: SphereLight, p: vec3f) -> f32",
+        TechniqueKind::Env => "fn sample_env_technique(n: vec3f, u: vec2f) -> vec3f and fn pdf_env_technique(n: vec3f, wi: vec3f) -> f32",
     };
     let report = |message: &str, spans: Vec<(naga::Span, String)>| -> TechniqueError {
         let mut located = spans.iter().filter_map(|(span, label)| Some((locate(span.to_range()?.start)?, label)));
@@ -306,7 +320,7 @@ pub fn validate_technique(t: &Technique) -> Result<(), TechniqueError> {
         .validate(&module)
         .map_err(|e| report(&e.as_inner().to_string(), e.spans().cloned().collect()))?;
     // The guarded file must be as valid (the guard is ours: failing here is pathlab's bug).
-    let guarded = assemble_with(&LIBRARY, "", crate::accel::BRUTE_FORCE_TRIANGLES, TechniqueFiles::only(t));
+    let guarded = assemble_with(&PATH_TRACER, "", crate::accel::BRUTE_FORCE_TRIANGLES, TechniqueFiles::only(t));
     validate(&guarded, &[]).map_err(|e| TechniqueError::Invalid { message: format!("{file}: pathlab's loop guard made it invalid (a bug of pathlab): {e}") })
 }
 

@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use crate::chi2::{Chi2Outcome, PHI_BINS, S_BINS};
+use crate::chi2::Chi2Outcome;
 use crate::figures::colormap::magma_at;
 use crate::figures::text::Canvas;
 use crate::output::{write_rgb8_png, OutputError};
@@ -18,14 +18,15 @@ const TITLE: u32 = 44;
 
 /// Writes the histogram of `outcome`, titled `title`, as a PNG.
 pub fn write_histogram(outcome: &Chi2Outcome, title: &str, path: &Path) -> Result<(), OutputError> {
-    let (w, h) = (PHI_BINS as u32 * CELL_W, S_BINS as u32 * CELL_H);
+    let (phi_bins, s_bins) = outcome.bins;
+    let (w, h) = (phi_bins as u32 * CELL_W, s_bins as u32 * CELL_H);
     let width = 3 * w + 4 * MARGIN;
     let height = h + TITLE + 2 * MARGIN;
     let mut canvas = Canvas::new(width, height, [255, 255, 255]);
     canvas.text(MARGIN as f32, 4.0, 14.0, [0, 0, 0], title);
     let mass_line = format!("pdf mass {:.5}, p = {:.3e}; rows: s = 1 - cos theta from 0 (top) to 2", outcome.mass, outcome.p_value);
     canvas.text(MARGIN as f32, 22.0, 12.0, [60, 60, 60], &mass_line);
-    let cells = PHI_BINS * S_BINS;
+    let cells = phi_bins * s_bins;
     let peak = outcome.observed[..cells].iter().map(|&o| o as f64).chain(outcome.expected[..cells].iter().copied()).fold(0.0f64, f64::max).max(1.0);
     let panels: [(&str, Box<dyn Fn(usize) -> [u8; 3]>); 3] = [
         ("observed", Box::new(|c| magma_at((outcome.observed[c] as f64 / peak).sqrt()))),
@@ -44,9 +45,9 @@ pub fn write_histogram(outcome: &Chi2Outcome, title: &str, path: &Path) -> Resul
     for (k, (label, colour)) in panels.iter().enumerate() {
         let x0 = MARGIN + k as u32 * (w + MARGIN);
         let mut rgb = vec![0u8; (w * h * 3) as usize];
-        for j in 0..S_BINS {
-            for i in 0..PHI_BINS {
-                let c = colour(j * PHI_BINS + i);
+        for j in 0..s_bins {
+            for i in 0..phi_bins {
+                let c = colour(j * phi_bins + i);
                 for dy in 0..CELL_H {
                     for dx in 0..CELL_W {
                         let at = (((j as u32 * CELL_H + dy) * w + i as u32 * CELL_W + dx) * 3) as usize;

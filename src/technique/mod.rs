@@ -195,7 +195,7 @@ pub fn prove(gpu: &Gpu, scene: &Scene, method: &crate::method::Method) -> Result
     }
     let files = TechniqueFiles::of(method, &scene.techniques)?;
     let mut unproven = Vec::new();
-    for (v, t) in verdicts.iter().zip([files.bsdf, files.light].into_iter().flatten()) {
+    for (v, t) in verdicts.iter().zip(files.all()) {
         if !v.passed() {
             if !t.allow_unproven {
                 return Err(TechniqueError::Refused { label: v.label.clone(), report: v.report() });
@@ -214,7 +214,7 @@ pub fn verdicts(gpu: &Gpu, scene: &Scene, method: &crate::method::Method) -> Res
     static CACHE: OnceLock<Mutex<HashMap<(String, String), Verdict>>> = OnceLock::new();
     let files = TechniqueFiles::of(method, &scene.techniques)?;
     let mut verdicts = Vec::new();
-    for t in [files.bsdf, files.light].into_iter().flatten() {
+    for t in files.all() {
         let key = (t.sha256.clone(), scene.content_hash());
         let cached = CACHE.get_or_init(Default::default).lock().unwrap_or_else(|e| e.into_inner()).get(&key).cloned();
         let verdict = match cached {
@@ -279,6 +279,17 @@ pub fn configurations(kind: TechniqueKind, scene: &Scene) -> (Vec<Configuration>
                 .collect();
             (configs, source)
         }
+        TechniqueKind::Env => match &scene.environment_map {
+            Some(map) => {
+                let packed = map.pack();
+                let name = map.file.file_name().map_or_else(|| map.file.display().to_string(), |n| n.to_string_lossy().into_owned());
+                let configs = [([0.0, 1.0, 0.0], "up (+y)"), ([1.0, 0.0, 0.0], "the horizon (+x)"), ([0.0, -1.0, 0.0], "down (-y)")]
+                    .map(|(n, what)| environment_configuration(&packed, n, what))
+                    .into();
+                (configs, format!("the scene's environment map {name}, normals up, at the horizon and down"))
+            }
+            None => (Vec::new(), "no configuration: an env technique samples an environment map, and the scene has none".to_string()),
+        },
     }
 }
 
@@ -341,6 +352,8 @@ fn phong_configuration(kd: [f64; 3], ks: [f64; 3], n: f64, p_spec: f64, theta: f
         // lobe by ~3e-8 at the horizon.)
         pdf_floor: 1e-2,
         bsdf_data: Vec::new(),
+        environment_map: Vec::new(),
+        bins: chi2::DEFAULT_BINS,
         integrand,
     };
     Configuration {
@@ -434,6 +447,8 @@ fn sphere_configuration(radius: f64, ratio: f64, tilt: f64) -> Configuration {
         pdf_tolerance: 1e-4,
         pdf_floor: 1e-30,
         bsdf_data: Vec::new(),
+        environment_map: Vec::new(),
+        bins: chi2::DEFAULT_BINS,
         integrand,
     };
     Configuration {
@@ -441,6 +456,80 @@ fn sphere_configuration(radius: f64, ratio: f64, tilt: f64) -> Configuration {
         technique: make(technique, vec![("LIGHT_TECHNIQUE", 1.0)], true),
         // Only the built-in cone's estimate is used (the chi-square suite proves the cone).
         builtin: make(builtin, vec![], false),
+    }
+}
+
+/// The environment map `packed` (`EnvironmentMap::pack`) seen from a point with shading normal
+/// `n`: the technique through `sample_environment_technique` and `pdf_environment_technique`
+/// (what the path tracer calls), and the map's luminance distribution. Binned in the map's own
+/// (u, t) square, written as the direction at phi = 2 pi u, s = 1 - cos = 2 t about +z: the
+/// cells then follow the map's rows and columns, where a distribution drawn from the map is
+/// piecewise constant, and the density in that square is the solid-angle density times
+/// d(omega) / d(square) = (pi / 2) sin(pi t). The integrand is the map's luminance, on both
+/// sides of the surface (a surface that transmits takes light from below it).
+fn environment_configuration(packed: &[f32], n: [f64; 3], what: &str) -> Configuration {
+    let (width, height) = (packed[0] as usize, packed[1] as usize);
+    let common = format!(
+        "const ROUTINE_N: vec3f = {};\n\
+         fn routine_luminance(c: vec3f) -> f32 {{ return dot(c, vec3f(0.2126, 0.7152, 0.0722)); }}\n\
+         // The binning direction of world direction wi: the map's (u, t) as (phi, s = 2 t).\n\
+         fn routine_square(wi: vec3f) -> vec3f {{\n\
+             let uv = environment_map_uv(wi);\n\
+             let s = 2.0 * uv.y;\n\
+             let sin_t = safe_sqrt(s * (2.0 - s));\n\
+             return vec3f(sin_t * cos(2.0 * PI * uv.x), sin_t * sin(2.0 * PI * uv.x), 1.0 - s);\n\
+         }}\n\
+         fn routine_s(d: vec3f) -> f32 {{ return select(1.0 - d.z, (d.x * d.x + d.y * d.y) / (1.0 + d.z), d.z > 0.0); }}\n\
+         // The world direction of a binning direction.\n\
+         fn routine_world(d: vec3f) -> vec3f {{\n\
+             var u = atan2_accurate(d.y, d.x) * (0.5 * INV_PI);\n\
+             u = u - floor(u);\n\
+             return environment_map_direction(vec2f(u, clamp(0.5 * routine_s(d), 0.0, 1.0)));\n\
+         }}\n\
+         // d(solid angle) / d(binning solid angle) = (pi / 2) sin(pi t), t = s / 2.\n\
+         fn routine_jacobian(d: vec3f) -> f32 {{ return 0.5 * PI * sin(0.5 * PI * routine_s(d)); }}\n\
+         fn routine_integrand(d: vec3f) -> f32 {{ return routine_luminance(environment_map_radiance(routine_world(d))) * routine_jacobian(d); }}\n",
+        v3(n),
+    );
+    let technique = format!(
+        "{common}\
+         fn routine_pdf(d: vec3f) -> f32 {{ return pdf_environment_technique(ROUTINE_N, routine_world(d)) * routine_jacobian(d); }}\n\
+         fn routine_sample(u: vec2f, u_lobe: f32) -> Drawn {{\n\
+             let s = sample_environment_technique(ROUTINE_N, u);\n\
+             let d = routine_square(s.xyz);\n\
+             let estimate = select(0.0, routine_luminance(environment_map_radiance(s.xyz)) / s.w, s.w > 0.0);\n\
+             // (The technique reports no density of its own: pathlab asks its pdf, as here.)\n\
+             return Drawn(vec4f(d, routine_pdf(d)), vec4f(0.0, 0.0, estimate, 0.0));\n\
+         }}\n"
+    );
+    let builtin = format!(
+        "{common}\
+         fn routine_pdf(d: vec3f) -> f32 {{ return pdf_environment_map(routine_world(d)) * routine_jacobian(d); }}\n\
+         fn routine_sample(u: vec2f, u_lobe: f32) -> Drawn {{\n\
+             let s = sample_environment_map(u);\n\
+             let estimate = select(0.0, routine_luminance(environment_map_radiance(s.xyz)) / s.w, s.w > 0.0);\n\
+             let d = routine_square(s.xyz);\n\
+             return Drawn(vec4f(d, routine_pdf(d)), vec4f(0.0, 0.0, estimate, 0.0));\n\
+         }}\n"
+    );
+    let name = format!("environment map, normal towards {what}");
+    let make = |wgsl: String, constants: Vec<(&'static str, f64)>, integrand: bool| Routine {
+        name: name.clone(),
+        wgsl,
+        constants,
+        s_split: 2.0,
+        pdf_tolerance: 1e-4,
+        pdf_floor: 1e-30,
+        bsdf_data: Vec::new(),
+        environment_map: packed.to_vec(),
+        // Two cells per texel each way: the map's distribution is constant over a cell.
+        bins: (2 * width, 2 * height),
+        integrand,
+    };
+    Configuration {
+        name: name.clone(),
+        technique: make(technique, vec![("ENV_TECHNIQUE", 1.0), ("HAS_ENVIRONMENT_MAP", 1.0)], true),
+        builtin: make(builtin, vec![("HAS_ENVIRONMENT_MAP", 1.0)], false),
     }
 }
 

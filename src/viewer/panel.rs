@@ -197,12 +197,14 @@ fn method_section(app: &PanelState, ui: &mut Ui, actions: &mut Vec<Action>) {
                 let current = match kind {
                     TechniqueKind::Bsdf => method.bsdf_technique,
                     TechniqueKind::Light => method.light_technique,
+                    TechniqueKind::Env => method.env_technique,
                 };
                 let label = |n: Option<TechniqueName>| n.map_or_else(|| "built-in".to_string(), |n| n.to_string());
                 if let Some(choice) = choose(ui, ("technique", kind.name(), i), current, &options, label) {
                     next = Some(match kind {
                         TechniqueKind::Bsdf => Method { bsdf_technique: choice, ..method },
                         TechniqueKind::Light => Method { light_technique: choice, ..method },
+                        TechniqueKind::Env => Method { env_technique: choice, environment: method.environment || choice.is_some(), ..method },
                     });
                 }
                 ui.end_row();
