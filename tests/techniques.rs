@@ -311,3 +311,11 @@ fn an_environment_technique_is_proven_on_the_map_and_renders_its_image() {
     println!("mis+env=env_cosine_mix (4096 spp) against mis+env (16384): {:.4} of {} channels pass, max |z| {:.2}, mean z {:+.3}", z.pass_fraction, z.channels, z.max_abs_z, z.mean_z);
     assert!(z.pass_fraction >= MIN_PASS, "{:.4} pass, max |z| {:.2}", z.pass_fraction, z.max_abs_z);
 }
+
+#[test]
+fn a_technique_the_scene_cannot_test_is_not_proven_by_nothing() {
+    // The study scene has no environment map: no configuration, no proof.
+    let v = check(TechniqueKind::Env, &example("env_cosine_mix.wgsl")).unwrap();
+    assert!(!v.passed() && v.results.is_empty());
+    assert!(v.report().contains("verdict: REFUSED (env:env_cosine_mix: no configuration: an env technique samples an environment map, and the scene has none)"), "{}", v.report());
+}

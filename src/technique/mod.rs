@@ -90,9 +90,10 @@ pub struct Verdict {
 }
 
 impl Verdict {
-    /// Whether every configuration passed.
+    /// Whether every configuration passed (and there was one: a technique the scene gives no
+    /// configuration, an env technique without a map, is not proven by nothing).
     pub fn passed(&self) -> bool {
-        self.results.iter().all(|r| r.failure.is_none() && r.worst_p() >= self.level)
+        !self.results.is_empty() && self.results.iter().all(|r| r.failure.is_none() && r.worst_p() >= self.level)
     }
 
     /// The configuration with the smallest p-value (a failing one first).
@@ -122,7 +123,7 @@ impl Verdict {
                 };
                 out += &format!("verdict: REFUSED ({} fails at {}: {why})\n", self.label, w.name);
             }
-            (false, None) => out += "verdict: REFUSED (no configuration)\n",
+            (false, None) => out += &format!("verdict: REFUSED ({}: {})\n", self.label, self.source),
         }
         out
     }
