@@ -71,40 +71,30 @@ impl TechniqueArgs {
         Ok(unproven)
     }
 
-    /// Proves the techniques `method` uses on `scene` before they render. A refused one stops
-    /// the command with its report (and its histogram beside `histogram_dir`), unless
-    /// `--allow-unproven`. Returns the header attribute to record: `proven`, or `UNPROVEN: ...`.
+    /// Proves the techniques `method` uses on `scene` before they render (`technique::prove`,
+    /// which decides; here the reports are printed and a failing one's histogram written). A
+    /// refused one stops the command with its report, unless `--allow-unproven`. Returns the
+    /// header attribute to record: `proven`, or `UNPROVEN: ...`.
     pub fn prove(&self, gpu: &Gpu, scene: &Scene, method: &Method) -> anyhow::Result<Option<String>> {
-        let mut unproven = Vec::new();
-        let mut any = false;
-        for (kind, name) in method.techniques() {
-            let Some(t) = scene.techniques.iter().find(|t| t.kind == kind && t.name == name) else {
-                bail!(pathlab::scene::TechniqueError::NotLoaded { kind, name: name.to_string() });
-            };
-            any = true;
+        let files = pathlab::shaders::TechniqueFiles::of(method, &scene.techniques)?;
+        for t in files.all() {
             eprintln!("checking technique {} (chi-square and coverage on the scene's configurations)...", t.label());
-            let verdict = technique::check(gpu, t, scene, CheckOptions::default(), |_, _, _| {})?;
+        }
+        // Checked once per file and scene: `prove` below reads the same verdicts.
+        for (verdict, t) in technique::verdicts(gpu, scene, method)?.iter().zip(files.all()) {
             if verdict.passed() {
                 eprintln!("technique {}: proven ({} configurations)", t.label(), verdict.results.len());
                 continue;
             }
             let histogram = histogram_path(t);
-            let drawn = technique::write_worst_histogram(&verdict, &histogram)?;
-            let mut report = verdict.report();
-            if drawn {
-                report += &format!("histogram of the worst configuration: {}\n", histogram.display());
+            if technique::write_worst_histogram(verdict, &histogram)? {
+                eprintln!("histogram of the worst configuration of {}: {}", t.label(), histogram.display());
             }
-            if !self.allow_unproven {
-                bail!("technique {} is refused:\n{report}(--allow-unproven renders with it anyway, marking every result unproven)", t.label());
+            if t.allow_unproven {
+                eprintln!("warning: technique {} is UNPROVEN (--allow-unproven):\n{}", t.label(), verdict.report());
             }
-            eprintln!("warning: technique {} is UNPROVEN (--allow-unproven):\n{report}", t.label());
-            unproven.push(t.label());
         }
-        Ok(match (any, unproven.is_empty()) {
-            (false, _) => None,
-            (true, true) => Some("proven".to_string()),
-            (true, false) => Some(format!("UNPROVEN: {} failed the check (--allow-unproven)", unproven.join(", "))),
-        })
+        Ok(technique::prove(gpu, scene, method)?)
     }
 }
 
