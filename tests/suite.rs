@@ -42,6 +42,7 @@ mod sampler_twin;
 mod shader_layouts;
 mod shaders_validate;
 mod shard_merge;
+mod spectra;
 mod study_reproduction;
 mod techniques;
 mod textures;

@@ -16,6 +16,7 @@ pub mod image_file;
 pub mod mesh;
 pub mod mitsuba;
 pub mod overrides;
+pub mod spectrum;
 mod raw;
 pub mod technique;
 pub mod transform;

@@ -66,8 +66,8 @@ impl Conductor {
         if let Some(at) = p.texture() {
             p.error(at, "", "a textured parameter other than specular_reflectance is not supported (give <rgb> or <float> values)".into());
         }
-        let eta = p.color("eta");
-        let k = p.color("k");
+        let eta = p.unbounded_color("eta");
+        let k = p.unbounded_color("k");
         let mut fields = Vec::new();
         match p.string("material") {
             // Mitsuba: a named material replaces eta and k, which may then not be given.

@@ -200,6 +200,9 @@ pub(crate) trait PluginProps {
     /// Where the first nested texture not taken by `color_or_texture` is, if any.
     fn texture(&self) -> Option<usize>;
     fn color(&mut self, name: &str) -> Option<[f64; 3]>;
+    /// A colour without the [0, 1] bound of a reflectance (a conductor's `eta`, `k`): Mitsuba's
+    /// `get_unbounded_texture`, which converts a spectrum differently.
+    fn unbounded_color(&mut self, name: &str) -> Option<[f64; 3]>;
     /// A colour, or a nested `<texture name=…>` as its TOML inline table (refused with the
     /// reason where pathlab lacks its kind or a parameter).
     fn color_or_texture(&mut self, name: &str) -> Option<toml::Value>;

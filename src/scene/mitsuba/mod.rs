@@ -23,6 +23,7 @@ use super::raw::{
     RawSphere, RawTransform,
 };
 use super::bsdfs::{color_value, PluginProps, DEFAULT_REFLECTANCE};
+use super::spectrum::{Spectrum, SpectrumRole};
 use super::{validate, BsdfKind, Fov, Scene, SceneError};
 use xml::{describe, compose, Object, OpKind, Prop, TransformOp, Value};
 
@@ -260,7 +261,7 @@ impl PluginProps for PluginReader<'_, '_, '_> {
         let mut table = toml::Table::new();
         table.insert("texture".into(), toml::Value::String("checkerboard".into()));
         for key in ["color0", "color1"] {
-            if let Some(c) = self.t.color(&mut p, key) {
+            if let Some(c) = self.t.color(&mut p, key, SpectrumRole::Reflectance) {
                 table.insert(key.into(), color_value(c.0));
             }
         }
@@ -284,7 +285,13 @@ impl PluginProps for PluginReader<'_, '_, '_> {
     }
     fn color(&mut self, name: &str) -> Option<[f64; 3]> {
         let mut p = self.p.take().expect("props before finish");
-        let c = self.t.color(&mut p, name).map(|c| c.0);
+        let c = self.t.color(&mut p, name, SpectrumRole::Reflectance).map(|c| c.0);
+        self.p = Some(p);
+        c
+    }
+    fn unbounded_color(&mut self, name: &str) -> Option<[f64; 3]> {
+        let mut p = self.p.take().expect("props before finish");
+        let c = self.t.color(&mut p, name, SpectrumRole::Unbounded).map(|c| c.0);
         self.p = Some(p);
         c
     }
@@ -379,8 +386,12 @@ trait PropKind: Sized {
     fn read(value: Value) -> Result<Self, Value>;
 }
 
-/// A colour property: an `<rgb>`, a constant `<spectrum>`, or a `<float>` for all three channels.
-struct Rgb([f64; 3]);
+/// A colour property before its role is known: an `<rgb>`, a `<float>` for all three channels,
+/// or a `<spectrum>` (converted by role, `Translator::color`).
+enum ColorValue {
+    Rgb([f64; 3]),
+    Spectrum(Spectrum),
+}
 
 /// A property that is a number or a name (an index of refraction: `<float>` or `<string>`).
 struct FloatOrString(Result<f64, String>);
@@ -406,7 +417,7 @@ prop_kind!(i64, "an <integer>", Value::Integer(v) => v);
 prop_kind!(bool, "a <boolean>", Value::Boolean(v) => v);
 prop_kind!(String, "a <string>", Value::String(v) => v);
 prop_kind!(FloatOrString, "a <float> or a <string>", Value::Float(v) => FloatOrString(Ok(v)), Value::Integer(v) => FloatOrString(Ok(v as f64)), Value::String(v) => FloatOrString(Err(v)));
-prop_kind!(Rgb, "an <rgb> or a constant <spectrum>", Value::Color(c) => Rgb(c), Value::Float(v) => Rgb([v; 3]));
+prop_kind!(ColorValue, "an <rgb>, a <spectrum> or a <float>", Value::Color(c) => ColorValue::Rgb(c), Value::Float(v) => ColorValue::Rgb([v; 3]), Value::Spectrum(s) => ColorValue::Spectrum(s));
 prop_kind!(DVec3, "a <point>", Value::Point(v) | Value::Vector(v) => v);
 prop_kind!(Vec<TransformOp>, "a <transform>", Value::Transform(ops) => ops);
 
@@ -478,15 +489,33 @@ impl Translator<'_> {
         self.get::<String>(p, name).map(|(v, prop)| (v, prop.value_at))
     }
 
-    /// A colour: finite, non-negative channels.
-    fn color(&mut self, p: &mut Props, name: &str) -> Option<([f64; 3], usize)> {
-        let (c, prop) = self.get::<Rgb>(p, name)?;
-        if !c.0.iter().all(|v| v.is_finite() && *v >= 0.0) {
+    /// A colour for `role`: finite, non-negative channels. A `<spectrum>` becomes the colour
+    /// Mitsuba's RGB variants give it in that role (`scene::spectrum`), with Mitsuba's warning
+    /// where it is clamped into the role's gamut.
+    fn color(&mut self, p: &mut Props, name: &str, role: SpectrumRole) -> Option<([f64; 3], usize)> {
+        let (c, prop) = self.get::<ColorValue>(p, name)?;
+        let rgb = match c {
+            ColorValue::Rgb(rgb) => rgb,
+            ColorValue::Spectrum(Spectrum::Blackbody { .. }) if role != SpectrumRole::Emission => {
+                let what = p.what();
+                self.error(prop.at, name, format!("`{name}` of {what} cannot be a blackbody: a blackbody is an emission spectrum"));
+                return None;
+            }
+            ColorValue::Spectrum(s) => {
+                let converted = s.to_srgb(role);
+                if let Some(from) = converted.clamped_from {
+                    let range = if role == SpectrumRole::Reflectance { "[0, 1]" } else { ">= 0" };
+                    self.warn(prop.value_at, name, format!("the spectrum's colour {from:.4?} lies outside {range}: clamped to {:.4?}, as Mitsuba clamps it", converted.rgb));
+                }
+                converted.rgb
+            }
+        };
+        if !rgb.iter().all(|v| v.is_finite() && *v >= 0.0) {
             let what = p.what();
-            self.error(prop.value_at, name, format!("`{name}` of {what} must be finite and >= 0 in every channel (got {:?})", c.0));
+            self.error(prop.value_at, name, format!("`{name}` of {what} must be finite and >= 0 in every channel (got {rgb:?})"));
             return None;
         }
-        Some((c.0, prop.value_at))
+        Some((rgb, prop.value_at))
     }
 
     fn point(&mut self, p: &mut Props, name: &str) -> Option<DVec3> {
@@ -570,7 +599,7 @@ impl Translator<'_> {
                 "emitter" => match o.plugin.as_str() {
                     "constant" => {
                         let mut p = Props::of(o);
-                        let radiance = self.color(&mut p, "radiance");
+                        let radiance = self.color(&mut p, "radiance", SpectrumRole::Emission);
                         self.finish(p, "radiance");
                         if environment.is_some() || environment_map.is_some() {
                             self.error(o.at, "", "a second infinite emitter (pathlab has one environment: constant or envmap)");
@@ -983,7 +1012,7 @@ impl Translator<'_> {
                 ("bsdf", _) => bsdf = Some(self.bsdf(c)),
                 ("emitter", "area") => {
                     let mut ep = Props::of(c);
-                    match self.color(&mut ep, "radiance") {
+                    match self.color(&mut ep, "radiance", SpectrumRole::Emission) {
                         Some((r, _)) => emission = Some(r),
                         None if ep.props.iter().any(|q| q.name == "radiance") || self.has_errors() => {}
                         None => self.error(c.at, "radiance", "<emitter type=\"area\"> needs `radiance`"),

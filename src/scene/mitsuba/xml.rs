@@ -9,6 +9,7 @@ use std::path::{Path, PathBuf};
 use glam::{DMat4, DVec3};
 
 use super::super::diagnostic::{Diagnostic, Findings, Severity, SourceMap};
+use super::super::spectrum::{Spectrum, CIE_MAX, CIE_MIN};
 
 /// Deepest `<include>` nesting (a cycle would otherwise recurse without end).
 const MAX_INCLUDE_DEPTH: usize = 16;
@@ -49,8 +50,11 @@ pub(crate) enum Value {
     Integer(i64),
     Boolean(bool),
     String(String),
-    /// `rgb`, or a constant `spectrum`.
+    /// `rgb`.
     Color([f64; 3]),
+    /// `spectrum`: one value, wavelength:value pairs, or a blackbody. Its colour depends on
+    /// what it is for (`SpectrumRole`), so it is converted where it is read.
+    Spectrum(Spectrum),
     Point(DVec3),
     Vector(DVec3),
     Transform(Vec<TransformOp>),
@@ -64,6 +68,7 @@ impl Value {
             Value::Boolean(_) => "boolean",
             Value::String(_) => "string",
             Value::Color(_) => "rgb",
+            Value::Spectrum(_) => "spectrum",
             Value::Point(_) => "point",
             Value::Vector(_) => "vector",
             Value::Transform(_) => "transform",
@@ -430,6 +435,14 @@ impl Loader<'_> {
         let tag = node.tag_name().name();
         let at = base + node.range().start;
         let name = self.attr(node, "name", base)?;
+        if tag == "spectrum" {
+            if let Some(kind) = self.opt_attr(node, "type", base)? {
+                return self.spectrum_plugin(node, &kind, name, at, base);
+            }
+            if node.attributes().any(|a| a.name() == "filename") {
+                return self.bad(at, &name, "<spectrum filename> (a spectral data file) is not supported: give the wavelength:value pairs in `value`");
+            }
+        }
         let value_attr = node.attributes().find(|a| a.name() == "value");
         let value_at = value_attr.map_or(at, |a| base + a.range_value().start);
         let numbers = |s: &str| -> Result<Vec<f64>, String> {
@@ -480,22 +493,71 @@ impl Loader<'_> {
                         _ => return self.bad(value_at, &name, format!("`{text}` is not true or false")),
                     },
                     "string" => Value::String(text),
-                    "rgb" | "spectrum" => {
-                        if tag == "spectrum" && text.contains(':') {
-                            return self.bad(value_at, &name, "a spectrum given by wavelengths is not supported (pathlab renders RGB: give <rgb> or one constant value)");
-                        }
-                        match numbers(&text) {
-                            Ok(n) if n.len() == 3 && tag == "rgb" => Value::Color([n[0], n[1], n[2]]),
-                            Ok(n) if n.len() == 1 => Value::Color([n[0]; 3]),
-                            Ok(n) => return self.bad(value_at, &name, format!("<{tag}> needs {} numbers, got {}", if tag == "rgb" { "3 (or 1)" } else { "1" }, n.len())),
-                            Err(e) => return self.bad(value_at, &name, e),
-                        }
-                    }
+                    "spectrum" => match Spectrum::parse(&text) {
+                        Ok(s) => Value::Spectrum(s),
+                        Err(e) => return self.bad(value_at, &name, format!("<spectrum>: {e}")),
+                    },
+                    "rgb" => match numbers(&text) {
+                        Ok(n) if n.len() == 3 => Value::Color([n[0], n[1], n[2]]),
+                        Ok(n) if n.len() == 1 => Value::Color([n[0]; 3]),
+                        Ok(n) => return self.bad(value_at, &name, format!("<rgb> needs 3 (or 1) numbers, got {}", n.len())),
+                        Err(e) => return self.bad(value_at, &name, e),
+                    },
                     _ => unreachable!("VALUE_TAGS"),
                 }
             }
         };
         Some(Prop { name, value, at, value_at })
+    }
+
+    /// `<spectrum type="blackbody" name="radiance">` with its `<float>`s `temperature`,
+    /// `wavelength_min` and `wavelength_max` (default Mitsuba's CIE range); other spectrum
+    /// plugins are refused.
+    fn spectrum_plugin(&mut self, node: roxmltree::Node, kind: &str, name: String, at: usize, base: usize) -> Option<Prop> {
+        if kind != "blackbody" {
+            return self.bad(at, "type", format!("<spectrum type=\"{kind}\"> is not supported (pathlab reads <spectrum value=\"…\"/> and <spectrum type=\"blackbody\">)"));
+        }
+        let (mut temperature, mut min, mut max) = (None, CIE_MIN, CIE_MAX);
+        let mut ok = true;
+        for child in node.children().filter(|n| n.is_element()) {
+            let child_at = base + child.range().start;
+            let Some(p) = self.property(child, base) else {
+                ok = false;
+                continue;
+            };
+            let value = match p.value {
+                Value::Float(v) => v,
+                Value::Integer(v) => v as f64,
+                other => {
+                    ok = false;
+                    self.error(child_at, &p.name, format!("`{}` of a blackbody must be a <float>, not <{}>", p.name, other.kind()));
+                    continue;
+                }
+            };
+            match p.name.as_str() {
+                "temperature" if value.is_finite() && value > 0.0 => temperature = Some(value),
+                "temperature" => {
+                    ok = false;
+                    self.error(p.value_at, "temperature", format!("a blackbody's `temperature` must be a finite number of kelvin > 0 (got {value})"));
+                }
+                "wavelength_min" => min = value,
+                "wavelength_max" => max = value,
+                other => {
+                    ok = false;
+                    self.error(child_at, other, format!("`{other}` of a blackbody is not supported (pathlab reads: temperature, wavelength_min, wavelength_max)"));
+                }
+            }
+        }
+        if !(min.is_finite() && max.is_finite() && min < max) {
+            return self.bad(at, &name, format!("a blackbody's wavelength range must be increasing (got {min} to {max} nm)"));
+        }
+        let Some(temperature) = temperature else {
+            if ok {
+                self.error(at, "temperature", "<spectrum type=\"blackbody\"> needs <float name=\"temperature\">".to_string());
+            }
+            return None;
+        };
+        ok.then(|| Prop { name, value: Value::Spectrum(Spectrum::Blackbody { temperature, min, max }), at, value_at: at })
     }
 
     fn bad<T>(&mut self, at: usize, field: &str, message: impl Into<String>) -> Option<T> {
