@@ -1,6 +1,7 @@
 // emitter.wgsl — what every emitter shares: the point lights are sampled from and the record
-// a light sample gives. Each kind of emitter is one file of shaders/emitters/ (sphere.wgsl,
-// triangle.wgsl, environment.wgsl) with
+// a light sample gives, and the delta lights' records. Each kind of emitter is one file of
+// shaders/emitters/ (sphere.wgsl, triangle.wgsl, point.wgsl, spot.wgsl, directional.wgsl,
+// environment.wgsl) with
 //   sample_<kind>_emitter(l, ctx, u)  a direction from ctx towards light l, with its density;
 //   pdf_<kind>_emitter(l, ctx, wi)    the density sample_ gives wi (for a wi that meets it);
 //   eval_<kind>_emitter(...)          the radiance a ray that found it receives.
@@ -22,12 +23,46 @@ struct LightSampleContext {
 
 // A light sample seen from a shading point: direction, distance (INFINITY for a light at
 // infinity), solid-angle density of the light's strategy (selection not included), the radiance
-// it carries towards x, and the sphere the shadow ray must not count as a blocker (INVALID for
-// others).
+// it carries towards x, the sphere the shadow ray must not count as a blocker (INVALID for
+// others), and whether the light is a delta (a point or a direction: `pdf` is then 1 and
+// `emission` the radiance already integrated over the delta, I / d^2 or E; no BSDF-sampled
+// ray can find it, so its MIS weight is 1).
 struct EmitterSample {
     wi: vec3f,
     dist: f32,
     pdf: f32,
     emission: vec3f,
     skip: u32,
+    delta: bool,
+}
+
+// A point, spot or directional light (src/gpu/scene_buffers.rs GpuDeltaLight): the point
+// lights, then the spot lights, then the directional lights; light_table[l].object names one.
+struct DeltaLight {
+    // Point and spot: the position.
+    position: vec3f,
+    // Spot: cos of the cutoff angle.
+    cos_cutoff: f32,
+    // Spot: the axis it shines along; directional: the direction the light travels.
+    direction: vec3f,
+    // Spot: cos of the beam width.
+    cos_beam: f32,
+    // Point and spot: the intensity (W/sr); directional: the irradiance.
+    intensity: vec3f,
+    // Spot: the cutoff angle (radians) and 1 / (cutoff - beam width).
+    cutoff: f32,
+    inv_transition: f32,
+}
+
+@group(0) @binding(BINDING_DELTA_LIGHTS) var<uniform> delta_lights: array<DeltaLight, MAX_DELTA_LIGHTS>;
+
+// The direction and distance from x to a light at point p, and the radiance I / d^2 of
+// intensity I there (the inverse-square law of a point source; none where x is at p).
+fn sample_point_source(p: vec3f, intensity: vec3f, x: vec3f) -> EmitterSample {
+    let to_p = p - x;
+    let dist = length(to_p);
+    let ok = dist > 0.0;
+    let wi = select(vec3f(0.0, 0.0, 1.0), to_p / dist, ok);
+    let emission = select(vec3f(0.0), intensity / (dist * dist), ok);
+    return EmitterSample(wi, dist, select(0.0, 1.0, ok), emission, INVALID, true);
 }

@@ -113,14 +113,15 @@ fn direct_light(es: EmitterSample, prob: f32, x: vec3f, origin_wo_side: vec3f, n
     let shadow_dist = length(to_light);
     var shadow_dir = to_light / shadow_dist;
     var shadow_max = shadow_dist * (1.0 - 1e-4);
-    if (NUM_ENVIRONMENT_LIGHTS > 0u && es.dist >= INFINITY) {
+    if ((NUM_ENVIRONMENT_LIGHTS > 0u || NUM_DIRECTIONAL_LIGHTS > 0u) && es.dist >= INFINITY) {
         // A light at infinity: the shadow ray runs along wi without end.
         shadow_dir = es.wi;
         shadow_max = INFINITY;
     }
-    // The branch spares GPUs the shadow ray of samples that cannot contribute.
+    // The branch spares GPUs the shadow ray of samples that cannot contribute. A delta light
+    // is found by this strategy alone: BSDF sampling's density for it counts 0 (weight 1).
     if (contributes && !occluded(origin, shadow_dir, shadow_max, es.skip)) {
-        return path_weight(e.f, cos_i, pdf) * es.emission * mis_weight(pdf, e.pdf);
+        return path_weight(e.f, cos_i, pdf) * es.emission * mis_weight(pdf, select(e.pdf, 0.0, es.delta));
     }
     return vec3f(0.0);
 }

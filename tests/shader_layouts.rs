@@ -10,7 +10,7 @@ use naga::proc::Layouter;
 
 use pathlab::film::AccumPixel;
 use pathlab::accel::BvhNode;
-use pathlab::gpu::{pipeline_constants, FrameParams, GpuLight, GpuMaterial, GpuPlane, GpuSphere, GpuTriangle, GpuTriangleNormals, PipelineKey};
+use pathlab::gpu::{pipeline_constants, FrameParams, GpuDeltaLight, GpuLight, GpuMaterial, GpuPlane, GpuSphere, GpuTriangle, GpuTriangleNormals, PipelineKey};
 use pathlab::gpu::{GpuSphereAxes, GpuTriangleUvs};
 use pathlab::method::{BsdfSampling, LightSampling, LightSelect, Preset, Sampler, TriangleSampling};
 use pathlab::names::Named;
@@ -60,6 +60,7 @@ fn shared_structs_match_the_wgsl() {
     check_struct(&pt, "SphereAxes", size_of::<GpuSphereAxes>(), fields!(GpuSphereAxes: x, y, z));
     check_struct(&pt, "BvhNode", size_of::<BvhNode>(), fields!(BvhNode: lo, first, hi, count));
     check_struct(&pt, "LightEntry", size_of::<GpuLight>(), fields!(GpuLight: object, power_prob, alias_index, threshold, kind));
+    check_struct(&pt, "DeltaLight", size_of::<GpuDeltaLight>(), fields!(GpuDeltaLight: position, cos_cutoff, direction, cos_beam, intensity, cutoff, inv_transition));
     let display = module(&shaders::display_source());
     check_struct(&display, "AccumPixel", size_of::<AccumPixel>(), fields!(AccumPixel: sum, count, sum_err, rays_lo, sum_sq, rays_hi, sum_sq_err, faults));
 }
@@ -84,6 +85,9 @@ fn overrides_set_by_the_host_are_those_the_module_declares() {
         num_sphere_lights: 1,
         num_triangle_lights: 2,
         num_environment_lights: 1,
+        num_point_lights: 1,
+        num_spot_lights: 1,
+        num_directional_lights: 1,
         num_triangles: 4,
         has_shading_normals: true,
         has_uvs: true,

@@ -64,6 +64,10 @@ fn every_override_permutation_validates() {
                                     num_triangle_lights: triangle_lights,
                                     // The environment as a light where it is on.
                                     num_environment_lights: on as u32,
+                                    // A point, a spot and a directional light where it is on.
+                                    num_point_lights: on as u32,
+                                    num_spot_lights: on as u32,
+                                    num_directional_lights: on as u32,
                                     num_triangles,
                                     has_shading_normals,
                                     has_uvs: on,

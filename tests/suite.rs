@@ -18,6 +18,7 @@ mod conductors;
 mod cornell_box;
 mod cornell_conductors;
 mod deploy;
+mod delta_lights;
 mod dielectrics;
 mod environment_light;
 mod environment_map;

@@ -155,8 +155,9 @@ impl PyScene {
     fn display(&self) -> (String, f32) {
         (self.scene.display.transfer.to_string(), self.scene.display.exposure)
     }
-    /// The emitters: one dict per emissive sphere and per emissive mesh, with its radiance and
-    /// emitted power (luminance, the weight of power light selection).
+    /// The emitters: one dict per emissive sphere, per emissive mesh and per point, spot or
+    /// directional light, with its radiance (intensity, irradiance) and emitted power
+    /// (luminance, the weight of power light selection).
     #[getter]
     fn lights<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
         let s = &self.scene;
@@ -182,7 +183,41 @@ impl PyScene {
                     }
                     _ => mesh_power.push((mesh, 1, s.light_power(light))),
                 },
-                // `lights()` lists the area lights; the environment is the scene's `environment`.
+                Light::Point(i) => {
+                    let d = PyDict::new(py);
+                    let l = &s.point_lights[i];
+                    d.set_item("kind", "point")?;
+                    d.set_item("index", i)?;
+                    d.set_item("position", vec3(l.position))?;
+                    d.set_item("intensity", vec3(l.intensity))?;
+                    d.set_item("power", s.light_power(light))?;
+                    out.push(d);
+                }
+                Light::Spot(i) => {
+                    let d = PyDict::new(py);
+                    let l = &s.spot_lights[i];
+                    d.set_item("kind", "spot")?;
+                    d.set_item("index", i)?;
+                    d.set_item("position", vec3(l.position))?;
+                    d.set_item("direction", vec3(l.direction))?;
+                    d.set_item("intensity", vec3(l.intensity))?;
+                    d.set_item("cutoff_angle", l.cutoff_angle)?;
+                    d.set_item("beam_width", l.beam_width)?;
+                    d.set_item("power", s.light_power(light))?;
+                    out.push(d);
+                }
+                Light::Directional(i) => {
+                    let d = PyDict::new(py);
+                    let l = &s.directional_lights[i];
+                    d.set_item("kind", "directional")?;
+                    d.set_item("index", i)?;
+                    d.set_item("direction", vec3(l.direction))?;
+                    d.set_item("irradiance", vec3(l.irradiance))?;
+                    d.set_item("power", s.light_power(light))?;
+                    out.push(d);
+                }
+                // `lights()` lists every light but the environment, which is the scene's
+                // `environment`.
                 Light::Environment => {}
             }
         }

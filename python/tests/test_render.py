@@ -110,3 +110,17 @@ def test_a_render_on_a_headless_machine_prints_nothing(tmp_path):
     p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, cwd=tmp_path)
     assert p.returncode == 0, p.stderr
     assert p.stderr == "", p.stderr
+
+
+def test_delta_lights_are_listed_and_methods_blind_to_them_refused():
+    # Mitsuba's point, spot and directional lights (tests/fixtures/delta_lights): only next
+    # event estimation finds them, so a method without it is refused, naming the light.
+    scene = pathlab.load_scene(STUDY.parents[2] / "tests" / "fixtures" / "delta_lights" / "delta_lights.xml", width=16, height=12)
+    kinds = [l["kind"] for l in scene.lights]
+    assert kinds == ["point", "spot", "directional"]
+    spot = scene.lights[1]
+    assert (spot["cutoff_angle"], spot["beam_width"]) == (30.0, 15.0) and spot["power"] > 0
+    with pytest.raises(pathlab.RenderError, match="cannot see point light 0"):
+        pathlab.render(scene, "plain", spp=1)
+    image = pathlab.render(scene, "mis", spp=2, seed=1).image
+    assert np.isfinite(image).all() and image.mean() > 0

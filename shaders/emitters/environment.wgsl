@@ -119,14 +119,14 @@ fn sample_environment_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> Emit
     if (ENV_TECHNIQUE && HAS_ENVIRONMENT_MAP) {
         // A researcher's technique (technique.wgsl).
         let s = sample_environment_technique(ctx.n, u);
-        return EmitterSample(s.xyz, INFINITY, s.w, eval_environment_emitter(s.xyz), INVALID);
+        return EmitterSample(s.xyz, INFINITY, s.w, eval_environment_emitter(s.xyz), INVALID, false);
     }
     if (environment_map_sampled()) {
         let s = sample_environment_map(u);
-        return EmitterSample(s.xyz, INFINITY, s.w, eval_environment_emitter(s.xyz), INVALID);
+        return EmitterSample(s.xyz, INFINITY, s.w, eval_environment_emitter(s.xyz), INVALID, false);
     }
     let wi = square_to_uniform_sphere(u);
-    return EmitterSample(wi, INFINITY, pdf_uniform_sphere(), eval_environment_emitter(wi), INVALID);
+    return EmitterSample(wi, INFINITY, pdf_uniform_sphere(), eval_environment_emitter(wi), INVALID, false);
 }
 
 // Solid-angle density with which sample_environment_emitter gives wi.

@@ -36,7 +36,7 @@ fn sample_sphere_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> EmitterSa
     }
     let on_outer_surface = l == ctx.object && !ctx.from_inside;
     let emission = select(materials[sphere.material].emission, vec3f(0.0), on_outer_surface);
-    return EmitterSample(ls.wi, ls.dist, ls.pdf, emission, l);
+    return EmitterSample(ls.wi, ls.dist, ls.pdf, emission, l, false);
 }
 
 // Solid-angle density with which sample_sphere_emitter gives wi from ctx.

@@ -14,7 +14,7 @@ fn sample_triangle_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> Emitter
         n_s = triangle_shading_normal(i, tri, normalize(n_s), triangle_barycentrics(tri, ctx.x + ls.wi * ls.dist));
     }
     let emission = select(vec3f(0.0), materials[tri.material].emission, triangle_emits_along(tri, n_s, ls.wi));
-    return EmitterSample(ls.wi, ls.dist, ls.pdf, emission, INVALID);
+    return EmitterSample(ls.wi, ls.dist, ls.pdf, emission, INVALID, false);
 }
 
 // Solid-angle density with which sample_triangle_emitter gives wi from ctx.

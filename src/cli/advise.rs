@@ -101,6 +101,15 @@ pub fn run(args: AdviseArgs) -> anyhow::Result<i32> {
     if methods.is_empty() {
         bail!("--methods names no method");
     }
+    // Methods that cannot see one of the scene's lights are left out, and said.
+    let (seeing, blind): (Vec<Method>, Vec<Method>) = methods.into_iter().partition(|m| scene.delta_light_unseen_by(m).is_none());
+    for m in &blind {
+        eprintln!("note: {} is left out: it cannot see {} (a delta light is found only by next event estimation)", m.name(), scene.first_delta_light().unwrap_or_default());
+    }
+    let methods = seeing;
+    if methods.is_empty() {
+        bail!("no method left to advise on: every one given cannot see the scene's delta lights");
+    }
     let display = args.overrides.apply(&mut scene, None)?;
 
     let gpu = Gpu::new(args.adapter.as_deref())?;

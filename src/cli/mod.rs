@@ -209,6 +209,26 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
             println!("  {material}: {} ({:.1} KiB)", t.describe(), t.gpu_bytes() as f64 / 1024.0);
         }
     }
+    // Delta lights: what they are, and that only next event estimation sees them.
+    for (i, l) in scene.point_lights.iter().enumerate() {
+        println!("point light {i}: at {:?}, intensity {:?} W/sr", l.position.to_array(), l.intensity.to_array());
+    }
+    for (i, l) in scene.spot_lights.iter().enumerate() {
+        println!(
+            "spot light {i}: at {:?} along {:?}, intensity {:?} W/sr, cutoff {} deg, beam width {} deg",
+            l.position.to_array(),
+            l.direction.to_array(),
+            l.intensity.to_array(),
+            l.cutoff_angle,
+            l.beam_width
+        );
+    }
+    for (i, l) in scene.directional_lights.iter().enumerate() {
+        println!("directional light {i}: along {:?}, irradiance {:?}", l.direction.to_array(), l.irradiance.to_array());
+    }
+    if scene.num_delta_lights() > 0 {
+        println!("delta lights: {}; only methods with next event estimation see them (not lights=none)", scene.num_delta_lights());
+    }
     if let Some(m) = &scene.environment_map {
         let name = m.file.file_name().map_or_else(|| m.file.display().to_string(), |n| n.to_string_lossy().into_owned());
         println!(

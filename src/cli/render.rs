@@ -255,6 +255,8 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
         },
         variance: args.variance,
     };
+    // A method that cannot see one of the scene's lights is refused before any GPU work.
+    pathlab::render::RenderError::check_sees_lights(&scene, &method)?;
     let mut job = RenderJob::new(scene, args.scene.clone(), method, args.seed, budget);
     let resume = if args.resume.is_some() { Resume::Required } else { Resume::Never };
     if let Some((range, planned_total)) = &part {

@@ -16,6 +16,10 @@ pub struct SceneFeatures {
     pub num_sphere_lights: u32,
     pub num_triangle_lights: u32,
     pub num_environment_lights: u32,
+    /// The delta lights of each kind (point, spot, directional).
+    pub num_point_lights: u32,
+    pub num_spot_lights: u32,
+    pub num_directional_lights: u32,
     pub num_triangles: u32,
     /// Some mesh has vertex normals (interpolated as shading normals).
     pub has_shading_normals: bool,
@@ -48,6 +52,9 @@ impl SceneFeatures {
         match kind {
             EmitterKind::Sphere => self.num_sphere_lights,
             EmitterKind::Triangle => self.num_triangle_lights,
+            EmitterKind::Point => self.num_point_lights,
+            EmitterKind::Spot => self.num_spot_lights,
+            EmitterKind::Directional => self.num_directional_lights,
             EmitterKind::Environment => self.num_environment_lights,
         }
     }
@@ -60,6 +67,9 @@ impl SceneFeatures {
             num_sphere_lights: scene.lights_of(EmitterKind::Sphere).len() as u32,
             num_triangle_lights: scene.lights_of(EmitterKind::Triangle).len() as u32,
             num_environment_lights: scene.lights_of(EmitterKind::Environment).len() as u32,
+            num_point_lights: scene.point_lights.len() as u32,
+            num_spot_lights: scene.spot_lights.len() as u32,
+            num_directional_lights: scene.directional_lights.len() as u32,
             num_triangles: scene.num_triangles() as u32,
             has_shading_normals: scene.meshes.iter().any(|m| !m.normals.is_empty()),
             has_uvs: scene.materials.iter().any(|m| m.bsdf.reads_uv()),

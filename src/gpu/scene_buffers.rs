@@ -12,7 +12,7 @@ use glam::DVec3;
 use wgpu::util::DeviceExt;
 
 use crate::accel::{Bvh, BvhNode};
-use crate::scene::{AliasTable, BsdfData, Light, Scene, MAX_MATERIALS, MAX_PLANES, MAX_SPHERES};
+use crate::scene::{AliasTable, BsdfData, Light, Scene, MAX_DELTA_LIGHTS, MAX_MATERIALS, MAX_PLANES, MAX_SPHERES};
 use crate::shaders::bindings::{self, Binding};
 use crate::shaders::flags::{MATERIAL_EMISSIVE, MATERIAL_ONE_SIDED, TRIANGLE_HAS_NORMALS, TRIANGLE_HAS_UVS, TRIANGLE_TWO_SIDED};
 
@@ -94,6 +94,27 @@ pub struct GpuSphereAxes {
     pub _pad1: u32,
     pub z: [f32; 3],
     pub _pad2: u32,
+}
+
+/// A point, spot or directional light (`DeltaLight`, emitter.wgsl): what each kind's file reads.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct GpuDeltaLight {
+    /// Point and spot: the position.
+    pub position: [f32; 3],
+    /// Spot: cos of the cutoff angle.
+    pub cos_cutoff: f32,
+    /// Spot: the axis it shines along; directional: the direction the light travels.
+    pub direction: [f32; 3],
+    /// Spot: cos of the beam width.
+    pub cos_beam: f32,
+    /// Point and spot: the intensity (W/sr); directional: the irradiance.
+    pub intensity: [f32; 3],
+    /// Spot: the cutoff angle in radians.
+    pub cutoff: f32,
+    /// Spot: 1 / (cutoff - beam width) in radians (infinite where they meet: a hard edge).
+    pub inv_transition: f32,
+    pub _pad: [u32; 3],
 }
 
 /// One entry of the light table (`LightEntry`, light_table.wgsl).
@@ -199,6 +220,11 @@ impl PackedTriangles {
                 object: match *light {
                     Light::Sphere(_) => l as u32,
                     Light::Triangle { mesh, triangle } => gpu_index[first[mesh] + triangle],
+                    // Index into `delta_lights`: the point lights, the spot lights, the
+                    // directional lights (`SceneBuffers::pack_delta_lights`).
+                    Light::Point(i) => i as u32,
+                    Light::Spot(i) => (scene.point_lights.len() + i) as u32,
+                    Light::Directional(i) => (scene.point_lights.len() + scene.spot_lights.len() + i) as u32,
                     Light::Environment => 0,
                 },
                 power_prob: alias.prob[l] as f32,
@@ -251,6 +277,7 @@ impl SceneBuffers {
             contents(bindings::SPHERES, "spheres", uniform_array(&Self::pack_spheres(scene), MAX_SPHERES)),
             contents(bindings::PLANES, "planes", uniform_array(&Self::pack_planes(scene), MAX_PLANES)),
             contents(bindings::MATERIALS, "materials", uniform_array(&materials, MAX_MATERIALS)),
+            contents(bindings::DELTA_LIGHTS, "delta lights", uniform_array(&Self::pack_delta_lights(scene), MAX_DELTA_LIGHTS)),
             contents(bindings::BSDF_DATA, "bsdf data", storage_array(&bsdf_data.0)),
             contents(bindings::ENVIRONMENT_MAP, "environment map", storage_array(&scene.environment_map.as_ref().map_or(Vec::new(), |m| m.pack()))),
             contents(bindings::TRIANGLES, "triangles", storage_array(&packed.triangles)),
@@ -336,6 +363,29 @@ impl SceneBuffers {
                 GpuSphere { center: f3(s.center), radius: s.radius as f32, material: s.material as u32, _pad: [0; 3] }
             })
             .collect()
+    }
+
+    /// The delta lights as `delta_lights` holds them: the point lights, then the spot lights,
+    /// then the directional lights, each in scene order (the light table names them by this
+    /// index).
+    pub fn pack_delta_lights(scene: &Scene) -> Vec<GpuDeltaLight> {
+        let zero = GpuDeltaLight::zeroed();
+        let points = scene.point_lights.iter().map(|l| GpuDeltaLight { position: f3(l.position), intensity: f3(l.intensity), ..zero });
+        let spots = scene.spot_lights.iter().map(|l| {
+            let (cutoff, beam) = (l.cutoff_angle.to_radians(), l.beam_width.to_radians());
+            GpuDeltaLight {
+                position: f3(l.position),
+                direction: f3(l.direction),
+                intensity: f3(l.intensity),
+                cos_cutoff: cutoff.cos() as f32,
+                cos_beam: beam.cos() as f32,
+                cutoff: cutoff as f32,
+                inv_transition: (1.0 / (cutoff - beam)) as f32,
+                ..zero
+            }
+        });
+        let directionals = scene.directional_lights.iter().map(|l| GpuDeltaLight { direction: f3(l.direction), intensity: f3(l.irradiance), ..zero });
+        points.chain(spots).chain(directionals).collect()
     }
 
     /// The spheres' object axes, in kernel order.

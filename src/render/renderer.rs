@@ -35,6 +35,12 @@ pub enum RenderError {
          adapter's largest storage binding ({limit} bytes); render a narrower image"
     )]
     TooLarge { width: u32, bytes: u64, limit: u64 },
+    #[error(
+        "method {method} cannot see {light}: a point, spot or directional light is found only by \
+         next event estimation, which {method} does not do (lights=none); choose a method with \
+         light sampling (nee, mis)"
+    )]
+    UnseenDeltaLight { method: String, light: String },
     #[error("reading the image back from the GPU failed: {0}")]
     Readback(String),
     #[error("cannot resume from the saved accumulators: {0}")]
@@ -63,6 +69,17 @@ pub enum RenderError {
          storage binding ({limit} bytes); the largest: {largest} (`pathlab check` lists them)"
     )]
     TexturesTooLarge { bytes: u64, limit: u64, largest: String },
+}
+
+impl RenderError {
+    /// Refuses a method that cannot see one of the scene's lights (a delta light without next
+    /// event estimation): no GPU needed, so commands call it before any GPU work.
+    pub fn check_sees_lights(scene: &Scene, method: &Method) -> Result<(), RenderError> {
+        match scene.delta_light_unseen_by(method) {
+            Some(light) => Err(RenderError::UnseenDeltaLight { method: method.name(), light }),
+            None => Ok(()),
+        }
+    }
 }
 
 /// When to stop a render.
@@ -148,6 +165,7 @@ impl Renderer {
     }
 
     fn build(gpu: &Gpu, pipelines: &PathTracerPipelines, scene: &Scene, mut key: PipelineKey, seed: u32, band_bytes: u64) -> Result<Renderer, RenderError> {
+        RenderError::check_sees_lights(scene, &key.method)?;
         let device = &gpu.device;
         let binding = gpu.limits.max_storage_buffer_binding_size.min(gpu.limits.max_buffer_size);
         let count = scene.num_triangles() as u64;

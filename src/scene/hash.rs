@@ -20,6 +20,14 @@
 //! meshes=N, then mesh.i.material=INDEX .two_sided=0|1 (its emission) .triangles=T .data=SHA256
 //! ```
 //!
+//! and, only where the scene has delta lights, for each kind that has any:
+//!
+//! ```text
+//! point_lights=N, then point_light.i.position=… .intensity=…
+//! spot_lights=N, then spot_light.i.position=… .direction=… .intensity=… .cutoff_angle=… .beam_width=…
+//! directional_lights=N, then directional_light.i.direction=… .irradiance=…
+//! ```
+//!
 //! where `data` is the hex SHA-256 of the world-space mesh as little-endian bytes: every
 //! position (3 f64), then every normal (3 f64, none for face normals), then every triangle
 //! (3 u32).
@@ -122,6 +130,31 @@ pub fn canonical_encoding(scene: &Scene) -> String {
             line(&format!("mesh.{i}.two_sided"), (m.two_sided_emission as u8).to_string());
             line(&format!("mesh.{i}.triangles"), m.triangles.len().to_string());
             line(&format!("mesh.{i}.data"), mesh_digest(m));
+        }
+    }
+    // Only kinds a scene has add lines, so that scenes written before keep their hash.
+    if !scene.point_lights.is_empty() {
+        line("point_lights", scene.point_lights.len().to_string());
+        for (i, l) in scene.point_lights.iter().enumerate() {
+            line(&format!("point_light.{i}.position"), vec3(l.position));
+            line(&format!("point_light.{i}.intensity"), vec3(l.intensity));
+        }
+    }
+    if !scene.spot_lights.is_empty() {
+        line("spot_lights", scene.spot_lights.len().to_string());
+        for (i, l) in scene.spot_lights.iter().enumerate() {
+            line(&format!("spot_light.{i}.position"), vec3(l.position));
+            line(&format!("spot_light.{i}.direction"), vec3(l.direction));
+            line(&format!("spot_light.{i}.intensity"), vec3(l.intensity));
+            line(&format!("spot_light.{i}.cutoff_angle"), real(l.cutoff_angle));
+            line(&format!("spot_light.{i}.beam_width"), real(l.beam_width));
+        }
+    }
+    if !scene.directional_lights.is_empty() {
+        line("directional_lights", scene.directional_lights.len().to_string());
+        for (i, l) in scene.directional_lights.iter().enumerate() {
+            line(&format!("directional_light.{i}.direction"), vec3(l.direction));
+            line(&format!("directional_light.{i}.irradiance"), vec3(l.irradiance));
         }
     }
     t

@@ -36,7 +36,7 @@ pub use bsdfs::{
     ThinDielectric, NAMED_CONDUCTORS, ROUGH_PLASTIC_TABLE_RES,
 };
 pub use diagnostic::{Diagnostic, SceneError, Severity};
-pub use emitters::{AliasTable, EmitterKind, EnvironmentMap, Light};
+pub use emitters::{AliasTable, DirectionalLight, EmitterKind, EnvironmentMap, Light, PointLight, SpotLight};
 pub use mesh::Mesh;
 pub use overrides::{OverrideError, Overrides, Reframing};
 pub use technique::{Technique, TechniqueError};
@@ -52,6 +52,8 @@ pub const MAX_SPHERES: usize = 1024;
 pub const MAX_PLANES: usize = 1024;
 /// Most materials (80 bytes each).
 pub const MAX_MATERIALS: usize = 512;
+/// Most point, spot and directional lights together (64 bytes each).
+pub const MAX_DELTA_LIGHTS: usize = 256;
 
 /// The depth `max_depth = -1` (unbounded, allowed only with Russian roulette) stands for. Paths
 /// that survive roulette this long are cut: the energy lost is that of light bounced more than
@@ -245,6 +247,11 @@ pub struct Scene {
     /// The environment as an image (`[environment_map]`, Mitsuba's `envmap`); the constant
     /// `render.environment` is then black.
     pub environment_map: Option<EnvironmentMap>,
+    /// Delta lights (`[[point_lights]]`, `[[spot_lights]]`, `[[directional_lights]]`; Mitsuba's
+    /// `point`, `spot`, `directional`): found only by next event estimation.
+    pub point_lights: Vec<PointLight>,
+    pub spot_lights: Vec<SpotLight>,
+    pub directional_lights: Vec<DirectionalLight>,
     /// How images of this scene are shown and scored on screen (`[display]`, default sRGB):
     /// PNG previews, figures and the display-referred metrics. Not part of `content_hash`.
     pub display: crate::display::DisplayTransform,
@@ -343,6 +350,14 @@ impl Scene {
                             d * camera <= 0.0 || d.abs() <= MARGIN * scale.max(v.abs().max_element())
                         })
                     })
+                    // A point or spot light as a sphere of radius 0.
+                    || self.point_lights.iter().map(|l| l.position).chain(self.spot_lights.iter().map(|l| l.position)).any(|x| {
+                        let d = side(x);
+                        d * camera <= 0.0 || d.abs() <= MARGIN * scale.max(x.abs().max_element())
+                    })
+                    // A directional light's shadow rays run to infinity against its direction:
+                    // they cross the plane unless they head away from it, into the camera's side.
+                    || self.directional_lights.iter().any(|l| -l.direction.dot(p.normal) * camera <= MARGIN * camera.abs())
             })
             .collect()
     }

@@ -29,6 +29,44 @@ pub(crate) struct RawScene {
     pub environment_map: Option<Spanned<RawEnvironmentMap>>,
     /// `[techniques]`: researchers' sampling techniques loaded with the scene.
     pub techniques: Option<Spanned<RawTechniques>>,
+    /// Delta lights: Mitsuba's `point`, `spot` and `directional`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub point_lights: Vec<Spanned<RawPointLight>>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub spot_lights: Vec<Spanned<RawSpotLight>>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub directional_lights: Vec<Spanned<RawDirectionalLight>>,
+}
+
+/// `[[point_lights]]`: a point light of `intensity` (W/sr) at `position`.
+#[derive(Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawPointLight {
+    pub position: Spanned<[f64; 3]>,
+    pub intensity: Spanned<RawColor>,
+}
+
+/// `[[spot_lights]]`: a spot light at `position` shining along `direction`, with Mitsuba's
+/// `cutoff_angle` and `beam_width` in degrees (defaults 20 and 3/4 of the cutoff).
+#[derive(Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawSpotLight {
+    pub position: Spanned<[f64; 3]>,
+    pub direction: Spanned<[f64; 3]>,
+    pub intensity: Spanned<RawColor>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cutoff_angle: Option<Spanned<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub beam_width: Option<Spanned<f64>>,
+}
+
+/// `[[directional_lights]]`: `irradiance` arriving along `direction` (the way the light
+/// travels) from infinity.
+#[derive(Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawDirectionalLight {
+    pub direction: Spanned<[f64; 3]>,
+    pub irradiance: Spanned<RawColor>,
 }
 
 /// `[techniques]`: WGSL files by kind (relative to the scene's folder), as `--technique

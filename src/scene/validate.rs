@@ -13,12 +13,78 @@ use crate::display::{DisplayTransform, Transfer};
 use super::checker::Checker;
 use super::diagnostic::SourceMap;
 use super::mesh::{self, shapes, Mesh, MeshData, Shading};
+use super::emitters::{DirectionalLight, PointLight, SpotLight, BEAM_WIDTH_OF_CUTOFF, DEFAULT_CUTOFF_ANGLE};
 use super::raw::{RawEnvironmentMap, RawMaterial, RawRotations, RawScale, RawScene, RawTransform};
 use super::transform::Transform;
 use super::{
-    Camera, Diagnostic, Fov, Material, Plane, RenderSettings, Scene, SceneError, Severity, Sphere, MAX_MATERIALS,
-    MAX_PLANES, MAX_SPHERES,
+    Camera, Diagnostic, Fov, Material, Plane, RenderSettings, Scene, SceneError, Severity, Sphere, MAX_DELTA_LIGHTS,
+    MAX_MATERIALS, MAX_PLANES, MAX_SPHERES,
 };
+
+/// A unit direction from `value`, refusing the zero vector.
+fn unit_direction(ck: &mut Checker, value: &Spanned<[f64; 3]>, field: &str) -> DVec3 {
+    let v = ck.vector(value, field);
+    let length = v.length();
+    if length > 0.0 && length.is_finite() {
+        return v / length;
+    }
+    if v.is_finite() {
+        ck.error(value.span(), field, "must be a non-zero direction");
+    }
+    DVec3::Z
+}
+
+/// `[[point_lights]]`, `[[spot_lights]]` and `[[directional_lights]]`: positions and directions
+/// finite (directions non-zero), intensities finite and >= 0, a spot's angles in degrees with
+/// 0 < beam_width <= cutoff_angle <= 180 (Mitsuba's defaults 20 and 3/4 of the cutoff), at most
+/// `MAX_DELTA_LIGHTS` of them together.
+fn check_delta_lights(ck: &mut Checker, raw: &RawScene) -> (Vec<PointLight>, Vec<SpotLight>, Vec<DirectionalLight>) {
+    let mut points = Vec::new();
+    for (i, l) in raw.point_lights.iter().enumerate() {
+        let l = l.get_ref();
+        let position = ck.vector(&l.position, &format!("point_lights[{i}].position"));
+        let intensity = ck.color(Some(&l.intensity), &format!("point_lights[{i}].intensity"));
+        points.push(PointLight { position, intensity });
+    }
+    let mut spots = Vec::new();
+    for (i, l) in raw.spot_lights.iter().enumerate() {
+        let l = l.get_ref();
+        let position = ck.vector(&l.position, &format!("spot_lights[{i}].position"));
+        let direction = unit_direction(ck, &l.direction, &format!("spot_lights[{i}].direction"));
+        let intensity = ck.color(Some(&l.intensity), &format!("spot_lights[{i}].intensity"));
+        let angle = |ck: &mut Checker, v: &Option<Spanned<f64>>, name: &str, default: f64| match v {
+            None => default,
+            Some(v) => {
+                let field = format!("spot_lights[{i}].{name}");
+                let a = ck.number(v, &field);
+                if !(a > 0.0 && a <= 180.0) && v.get_ref().is_finite() {
+                    ck.error(v.span(), &field, format!("`{name}` must be an angle in (0, 180] degrees (got {a})"));
+                }
+                a
+            }
+        };
+        let cutoff_angle = angle(ck, &l.cutoff_angle, "cutoff_angle", DEFAULT_CUTOFF_ANGLE);
+        let beam_width = angle(ck, &l.beam_width, "beam_width", cutoff_angle * BEAM_WIDTH_OF_CUTOFF);
+        if beam_width > cutoff_angle {
+            let span = l.beam_width.as_ref().map_or(l.position.span(), Spanned::span);
+            ck.error(span, &format!("spot_lights[{i}].beam_width"), format!("`beam_width` ({beam_width}) must not exceed `cutoff_angle` ({cutoff_angle})"));
+        }
+        spots.push(SpotLight { position, direction, intensity, cutoff_angle, beam_width });
+    }
+    let mut directionals = Vec::new();
+    for (i, l) in raw.directional_lights.iter().enumerate() {
+        let l = l.get_ref();
+        let direction = unit_direction(ck, &l.direction, &format!("directional_lights[{i}].direction"));
+        let irradiance = ck.color(Some(&l.irradiance), &format!("directional_lights[{i}].irradiance"));
+        directionals.push(DirectionalLight { direction, irradiance });
+    }
+    let total = points.len() + spots.len() + directionals.len();
+    if total > MAX_DELTA_LIGHTS {
+        let span = raw.point_lights.iter().map(Spanned::span).chain(raw.spot_lights.iter().map(Spanned::span)).chain(raw.directional_lights.iter().map(Spanned::span)).nth(MAX_DELTA_LIGHTS).unwrap_or(0..0);
+        ck.error(span, "point_lights", format!("the scene has {total} point, spot and directional lights, more than the {MAX_DELTA_LIGHTS} the kernel holds"));
+    }
+    (points, spots, directionals)
+}
 
 /// Largest accepted width, height or max_depth: beyond this the GPU buffers cannot be sized.
 const MAX_IMAGE_SIDE: i64 = 65_536;
@@ -132,8 +198,12 @@ pub(super) fn validate(raw: &RawScene, file: &Path, sources: SourceMap, diagnost
     if environment_map.is_some() && render.environment.max_element() > 0.0 {
         ck.error(raw.render.span(), "render.environment", "give either a constant environment or an environment map, not both (Mitsuba has one infinite emitter)");
     }
+    let (point_lights, spot_lights, directional_lights) = check_delta_lights(&mut ck, raw);
     let any_emitter = spheres.iter().map(|s| s.material).chain(meshes.iter().map(|m| m.material))
-        .any(|m| materials.get(m).is_some_and(Material::is_emissive));
+        .any(|m| materials.get(m).is_some_and(Material::is_emissive))
+        || point_lights.iter().any(|l| l.intensity.max_element() > 0.0)
+        || spot_lights.iter().any(|l| l.intensity.max_element() > 0.0)
+        || directional_lights.iter().any(|l| l.irradiance.max_element() > 0.0);
     if !any_emitter && render.environment.max_element() <= 0.0 && environment_map.is_none() {
         ck.warn(raw.render.span(), "render.environment", "the scene has no emitter and a black environment: the image will be black");
     }
@@ -152,6 +222,9 @@ pub(super) fn validate(raw: &RawScene, file: &Path, sources: SourceMap, diagnost
         planes,
         meshes,
         environment_map,
+        point_lights,
+        spot_lights,
+        directional_lights,
         display,
         warnings: ck.diagnostics,
         techniques,

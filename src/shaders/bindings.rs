@@ -75,8 +75,11 @@ pub const BSDF_DATA: Binding = Binding { number: 14, name: "BSDF_DATA", kind: Ki
 /// rotation and texels.
 pub const ENVIRONMENT_MAP: Binding = Binding { number: 15, name: "ENVIRONMENT_MAP", kind: Kind::Storage { read_only: true } };
 
+/// The point, spot and directional lights (`DeltaLight`, emitter.wgsl).
+pub const DELTA_LIGHTS: Binding = Binding { number: 16, name: "DELTA_LIGHTS", kind: Kind::Uniform };
+
 /// The path tracer's bind group.
-pub const PATH_TRACER: [Binding; 15] = [
+pub const PATH_TRACER: [Binding; 16] = [
     FRAME,
     SPHERES,
     PLANES,
@@ -92,6 +95,7 @@ pub const PATH_TRACER: [Binding; 15] = [
     SPHERE_AXES,
     BSDF_DATA,
     ENVIRONMENT_MAP,
+    DELTA_LIGHTS,
 ];
 
 /// The display pass's parameters (`DisplayParams`, display.wgsl).

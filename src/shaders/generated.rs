@@ -6,7 +6,7 @@ use crate::display::{Transfer, View};
 use crate::metrics::linear::REL_MSE_EPSILON;
 use crate::method::{BsdfSampling, LightSampling, LightSelect, EnvSampling, LobeSelection, MicrofacetSampling, Sampler, TriangleSampling};
 use crate::names::wgsl_constants;
-use crate::scene::{BsdfKind, Distribution, EmitterKind, MAX_MATERIALS, MAX_PLANES, MAX_SPHERES};
+use crate::scene::{BsdfKind, Distribution, EmitterKind, MAX_DELTA_LIGHTS, MAX_MATERIALS, MAX_PLANES, MAX_SPHERES};
 
 use super::{bindings, flags, HALTON_DIMENSIONS};
 
@@ -20,6 +20,7 @@ pub fn generated_constants() -> String {
          const MAX_SPHERES: u32 = {MAX_SPHERES}u;\n\
          const MAX_PLANES: u32 = {MAX_PLANES}u;\n\
          const MAX_MATERIALS: u32 = {MAX_MATERIALS}u;\n\
+         const MAX_DELTA_LIGHTS: u32 = {MAX_DELTA_LIGHTS}u;\n\
          // The BVH traversal stack: the deepest node the builder makes (src/accel/bvh.rs).\n\
          const BVH_MAX_DEPTH: u32 = {}u;\n\
          // Scenes of at most this many triangles test them all from a uniform buffer (src/accel/mod.rs).\n\
@@ -250,7 +251,7 @@ pub fn emitter_dispatch() -> String {
         "A direction from ctx towards light l, by its kind.",
         "sample_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> EmitterSample",
         "sample_{kind}_emitter(l, ctx, u)",
-        "EmitterSample(vec3f(0.0, 0.0, 1.0), 0.0, 0.0, vec3f(0.0), INVALID)",
+        "EmitterSample(vec3f(0.0, 0.0, 1.0), 0.0, 0.0, vec3f(0.0), INVALID, false)",
     );
     s += &dispatch(
         "Solid-angle density with which light l's sampling gives wi from ctx, by its kind.",

@@ -60,9 +60,12 @@ pub mod files {
     pub const NO_ENV_TECHNIQUE: (&str, &str) = ("techniques/none_env.wgsl", include_str!("../../shaders/techniques/none_env.wgsl"));
     pub const EMITTER: (&str, &str) = ("emitter.wgsl", include_str!("../../shaders/emitter.wgsl"));
     /// One file per kind of the emitter registry (`scene::EmitterKind`), in its order.
-    pub const EMITTER_KINDS: [(&str, &str); 3] = [
+    pub const EMITTER_KINDS: [(&str, &str); 6] = [
         ("emitters/sphere.wgsl", include_str!("../../shaders/emitters/sphere.wgsl")),
         ("emitters/triangle.wgsl", include_str!("../../shaders/emitters/triangle.wgsl")),
+        ("emitters/point.wgsl", include_str!("../../shaders/emitters/point.wgsl")),
+        ("emitters/spot.wgsl", include_str!("../../shaders/emitters/spot.wgsl")),
+        ("emitters/directional.wgsl", include_str!("../../shaders/emitters/directional.wgsl")),
         ("emitters/environment.wgsl", include_str!("../../shaders/emitters/environment.wgsl")),
     ];
     pub const SCENE: (&str, &str) = ("scene.wgsl", include_str!("../../shaders/scene.wgsl"));

@@ -94,6 +94,8 @@ pub struct Study {
     pub command: String,
     /// How the study's size changes the scene's framing, if it does (told when it runs).
     pub reframing: Option<crate::scene::Reframing>,
+    /// Methods left out of the study, each with why (told when it runs).
+    pub left_out: Vec<String>,
 }
 
 /// How a study ended.
@@ -165,6 +167,9 @@ impl Study {
         let started = std::time::Instant::now();
         if let Some(reframing) = &self.reframing {
             reporter.note(&format!("note: {reframing}"));
+        }
+        for why in &self.left_out {
+            reporter.note(&format!("note: {why}"));
         }
         reporter.stage("[1/4] reference");
         let reference = match (&self.reference, loaded) {

@@ -54,12 +54,26 @@ impl StudyOptions {
             Some(names) => names.iter().map(|n| StudyMethod::by_name(n.trim())).collect::<Result<Vec<_>, _>>()?,
             None => Preset::ALL.iter().map(|p| StudyMethod::by_name(p.name())).collect::<Result<Vec<_>, _>>()?,
         };
+        // Methods that cannot see one of the scene's lights (a delta light without next event
+        // estimation) are left out, each with its reason.
+        let (methods, blind): (Vec<StudyMethod>, Vec<StudyMethod>) =
+            methods.into_iter().partition(|m| scene.delta_light_unseen_by(&m.method).is_none());
+        let left_out: Vec<String> = blind
+            .iter()
+            .map(|m| format!("{} is left out: it cannot see {} (a delta light is found only by next event estimation)", m.name, scene.first_delta_light().unwrap_or_default()))
+            .collect();
+        if methods.is_empty() {
+            return Err(StudyError::Input(format!("no method left to study: {}", left_out.join("; "))));
+        }
         let reference = match &self.reference {
             Some(path) => ReferenceSource::File(path.clone()),
             None => {
                 let m = StudyMethod::by_name(self.reference_method.as_deref().unwrap_or("best"))?;
                 if m.biased {
                     return Err(StudyError::Input(format!("reference method {} is a biased demonstration; a reference must be unbiased", m.name)));
+                }
+                if let Some(light) = scene.delta_light_unseen_by(&m.method) {
+                    return Err(StudyError::Input(format!("reference method {} cannot see {light} (a delta light is found only by next event estimation)", m.name)));
                 }
                 ReferenceSource::Render { method: m.method, spp: self.reference_spp.unwrap_or(if q { 4096 } else { 100_000 }) }
             }
@@ -99,6 +113,7 @@ impl StudyOptions {
             checkpoint_every: self.checkpoint_every.unwrap_or(Duration::from_secs(300)),
             command,
             reframing,
+            left_out,
         })
     }
 }

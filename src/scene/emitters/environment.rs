@@ -30,7 +30,7 @@ pub(super) fn power(scene: &Scene) -> f64 {
 
 /// Radius of a sphere around the scene's bounded objects (spheres, mesh vertices) and its
 /// camera, centred on their bounding box; planes are unbounded and left out.
-fn bounding_radius(scene: &Scene) -> f64 {
+pub(super) fn bounding_radius(scene: &Scene) -> f64 {
     let mut lo = scene.camera.position;
     let mut hi = scene.camera.position;
     for s in &scene.spheres {

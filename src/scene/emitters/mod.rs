@@ -1,6 +1,6 @@
 //! Emitters, one file per kind, as Mitsuba 3 lays out `src/emitters/`: an emissive sphere
-//! (`sphere.rs`), an emissive triangle of a mesh (`triangle.rs`) and the constant environment
-//! (`environment.rs`). A kind's Rust file lists its lights in a scene and gives their emitted
+//! (`sphere.rs`), an emissive triangle of a mesh (`triangle.rs`), the delta lights `point.rs`,
+//! `spot.rs` and `directional.rs`, and the environment (`environment.rs`). A kind's Rust file lists its lights in a scene and gives their emitted
 //! power; its WGSL file, `shaders/emitters/<kind>.wgsl`, has `sample_<kind>_emitter`,
 //! `pdf_<kind>_emitter` and `eval_<kind>_emitter`, and is listed in
 //! `shaders::files::EMITTER_KINDS`.
@@ -11,12 +11,18 @@
 //! lights as one contiguous range, the kinds in this order; which light next event estimation
 //! samples is `selection.rs`'s. See the README's "Adding an emitter".
 
+mod directional;
 mod environment;
+mod point;
 mod selection;
 mod sphere;
+mod spot;
 mod triangle;
 
+pub use directional::DirectionalLight;
 pub use environment::{EnvironmentMap, ENVIRONMENT_MAP_HEADER};
+pub use point::PointLight;
+pub use spot::{SpotLight, BEAM_WIDTH_OF_CUTOFF, DEFAULT_CUTOFF_ANGLE};
 pub use selection::{luminance, AliasTable};
 
 use super::Scene;
@@ -29,6 +35,12 @@ named_enum! {
         Sphere = "sphere",
         /// An emissive mesh triangle: a diffuse area light, one- or two-sided.
         Triangle = "triangle",
+        /// A point light (Mitsuba's `point`): a delta light.
+        Point = "point",
+        /// A spot light (Mitsuba's `spot`): a point light with an angular falloff.
+        Spot = "spot",
+        /// A directional light (Mitsuba's `directional`): a delta light at infinity.
+        Directional = "directional",
         /// The constant environment (Mitsuba's `constant`): radiance from every direction at
         /// infinity.
         Environment = "environment",
@@ -51,6 +63,12 @@ pub enum Light {
     Sphere(usize),
     /// Triangle `triangle` of `Scene::meshes[mesh]`.
     Triangle { mesh: usize, triangle: usize },
+    /// Index into `Scene::point_lights`.
+    Point(usize),
+    /// Index into `Scene::spot_lights`.
+    Spot(usize),
+    /// Index into `Scene::directional_lights`.
+    Directional(usize),
     /// The constant environment (`RenderSettings::environment`).
     Environment,
 }
@@ -61,8 +79,19 @@ impl Light {
         match self {
             Light::Sphere(_) => EmitterKind::Sphere,
             Light::Triangle { .. } => EmitterKind::Triangle,
+            Light::Point(_) => EmitterKind::Point,
+            Light::Spot(_) => EmitterKind::Spot,
+            Light::Directional(_) => EmitterKind::Directional,
             Light::Environment => EmitterKind::Environment,
         }
+    }
+}
+
+impl EmitterKind {
+    /// Whether its lights are deltas (a point, a direction): BSDF-sampled rays never find them,
+    /// so only methods with next event estimation see them.
+    pub fn is_delta(self) -> bool {
+        matches!(self, EmitterKind::Point | EmitterKind::Spot | EmitterKind::Directional)
     }
 }
 
@@ -72,15 +101,41 @@ impl Scene {
         match kind {
             EmitterKind::Sphere => sphere::lights(self),
             EmitterKind::Triangle => triangle::lights(self),
+            EmitterKind::Point => point::lights(self),
+            EmitterKind::Spot => spot::lights(self),
+            EmitterKind::Directional => directional::lights(self),
             EmitterKind::Environment => environment::lights(self),
         }
     }
 
-    /// The area lights (the emissive spheres, then every emissive triangle), in kernel order:
-    /// what next event estimation samples unless the environment is sampled too. This order
-    /// fixes which sample dimensions each light uses when every light is sampled.
+    /// The lights but the environment (the emissive spheres, every emissive triangle, the point,
+    /// spot and directional lights), in kernel order: what next event estimation samples unless
+    /// the environment is sampled too. This order fixes which sample dimensions each light uses
+    /// when every light is sampled.
     pub fn lights(&self) -> Vec<Light> {
-        [EmitterKind::Sphere, EmitterKind::Triangle].into_iter().flat_map(|k| self.lights_of(k)).collect()
+        EmitterKind::ALL.into_iter().filter(|k| *k != EmitterKind::Environment).flat_map(|k| self.lights_of(k)).collect()
+    }
+
+    /// How many delta lights (point, spot, directional) the scene has.
+    pub fn num_delta_lights(&self) -> usize {
+        self.point_lights.len() + self.spot_lights.len() + self.directional_lights.len()
+    }
+
+    /// A delta light `method` cannot see, named for messages, where the scene has one and the
+    /// method has no next event estimation (only light sampling finds a point or a direction).
+    pub fn delta_light_unseen_by(&self, method: &crate::method::Method) -> Option<String> {
+        if method.lights != crate::method::LightSampling::None {
+            return None;
+        }
+        self.first_delta_light()
+    }
+
+    /// The first delta light, named for messages ("point light 0"), if any.
+    pub fn first_delta_light(&self) -> Option<String> {
+        let named = |kind: &str, n: usize| (n > 0).then(|| format!("{kind} light 0"));
+        named("point", self.point_lights.len())
+            .or_else(|| named("spot", self.spot_lights.len()))
+            .or_else(|| named("directional", self.directional_lights.len()))
     }
 
     /// The lights next event estimation samples, in kernel order (the light table): the area
@@ -95,7 +150,7 @@ impl Scene {
 
     /// How many lights `lights()` lists, counted without listing them.
     pub fn num_lights(&self) -> usize {
-        self.light_spheres().len() + triangle::count(self)
+        self.light_spheres().len() + triangle::count(self) + self.num_delta_lights()
     }
 
     /// Whether any mesh emits.
@@ -113,6 +168,9 @@ impl Scene {
         match light {
             Light::Sphere(i) => sphere::power(self, i),
             Light::Triangle { mesh, triangle } => triangle::power(self, mesh, triangle),
+            Light::Point(i) => point::power(self, i),
+            Light::Spot(i) => spot::power(self, i),
+            Light::Directional(i) => directional::power(self, i),
             Light::Environment => environment::power(self),
         }
     }

@@ -9,6 +9,7 @@
 //! is accepted with a warning. The subset and the warnings are listed in the README
 //! ("Scenes from Mitsuba").
 
+mod emitters;
 mod xml;
 
 use std::collections::BTreeMap;
@@ -569,6 +570,7 @@ impl Translator<'_> {
         let mut rectangles = Vec::new();
         let mut cubes = Vec::new();
         let mut spheres = Vec::new();
+        let (mut point_lights, mut spot_lights, mut directional_lights) = (Vec::new(), Vec::new(), Vec::new());
         let mut sensors = 0;
         let mut integrators = 0;
         for o in objects {
@@ -616,7 +618,10 @@ impl Translator<'_> {
                     // A named one is a definition that shapes take by <ref> (Mitsuba's cbox-rgb).
                     "area" if o.id.is_some() => {}
                     "area" => self.error(o.at, "", "<emitter type=\"area\"> belongs inside the <shape> that emits (or, with an id, is taken by a <ref> in one)"),
-                    other => self.error(o.at, "type", format!("<emitter type=\"{other}\"> is not supported (pathlab has area, constant, envmap)")),
+                    "point" => point_lights.extend(self.point_emitter(o)),
+                    "spot" => spot_lights.extend(self.spot_emitter(o)),
+                    "directional" => directional_lights.extend(self.directional_emitter(o)),
+                    other => self.error(o.at, "type", format!("<emitter type=\"{other}\"> is not supported (pathlab has area, constant, envmap, point, spot, directional)")),
                 },
                 // A named texture is a definition that BSDFs take by <ref name="…" id="…"/>.
                 "texture" if o.id.is_some() => {}
@@ -657,6 +662,9 @@ impl Translator<'_> {
             meshes,
             rectangles,
             cubes,
+            point_lights,
+            spot_lights,
+            directional_lights,
         })
     }
 
@@ -1019,7 +1027,7 @@ impl Translator<'_> {
                     }
                     self.finish(ep, "radiance");
                 }
-                ("emitter", other) => self.error(c.at, "type", format!("<emitter type=\"{other}\"> inside a <shape> is not supported (pathlab has area)")),
+                ("emitter", other) => self.error(c.at, "type", format!("<emitter type=\"{other}\"> inside a <shape> is not supported (pathlab has area; a {other} emitter stands alone in the <scene>)")),
                 (other, plugin) => self.error(c.at, "", format!("{} inside a <shape> is not supported", describe(other, plugin))),
             }
         }

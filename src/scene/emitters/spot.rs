@@ -1,0 +1,60 @@
+//! A spot light (Mitsuba's `spot`): a point light whose intensity falls off around its axis
+//! (`shaders/emitters/spot.wgsl`). As Mitsuba's `falloff_curve`: at angle theta from the axis,
+//! full intensity within `beam_width`, none beyond `cutoff_angle`, and between them a linear
+//! ramp in the angle, (cutoff - theta) / (cutoff - beam_width). A delta light, like `point`.
+
+use std::f64::consts::PI;
+
+use glam::DVec3;
+
+use super::{luminance, Light};
+use crate::scene::Scene;
+
+/// Mitsuba's defaults: a cutoff of 20 degrees, a beam width of three quarters of the cutoff.
+pub const DEFAULT_CUTOFF_ANGLE: f64 = 20.0;
+pub const BEAM_WIDTH_OF_CUTOFF: f64 = 0.75;
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct SpotLight {
+    pub position: DVec3,
+    /// The unit direction it shines along (its local +z).
+    pub direction: DVec3,
+    /// Radiant intensity on the axis, W/sr per channel.
+    pub intensity: DVec3,
+    /// Degrees, 0 < beam_width <= cutoff_angle <= 180.
+    pub cutoff_angle: f64,
+    pub beam_width: f64,
+}
+
+impl SpotLight {
+    /// The falloff at cos(theta) from the axis (Mitsuba's `falloff_curve`): 1 inside the beam,
+    /// the linear ramp in angle to 0 at the cutoff, 0 beyond.
+    pub fn falloff(&self, cos_theta: f64) -> f64 {
+        let (cutoff, beam) = (self.cutoff_angle.to_radians(), self.beam_width.to_radians());
+        if cos_theta <= cutoff.cos() {
+            0.0
+        } else if cos_theta >= beam.cos() {
+            1.0
+        } else {
+            (cutoff - cos_theta.clamp(-1.0, 1.0).acos()) / (cutoff - beam)
+        }
+    }
+
+    /// Emitted power: 2 pi I times the falloff integrated over the sphere,
+    /// int_0^cutoff falloff(theta) sin(theta) dtheta = 1 - (sin(cutoff) - sin(beam)) / (cutoff - beam)
+    /// (1 - cos(beam) where they meet).
+    pub fn power(&self) -> f64 {
+        let (cutoff, beam) = (self.cutoff_angle.to_radians(), self.beam_width.to_radians());
+        let profile = if cutoff - beam > 1e-9 { 1.0 - (cutoff.sin() - beam.sin()) / (cutoff - beam) } else { 1.0 - beam.cos() };
+        2.0 * PI * luminance(self.intensity) * profile
+    }
+}
+
+/// The spot lights, in scene order.
+pub(super) fn lights(scene: &Scene) -> Vec<Light> {
+    (0..scene.spot_lights.len()).map(Light::Spot).collect()
+}
+
+pub(super) fn power(scene: &Scene, i: usize) -> f64 {
+    scene.spot_lights[i].power()
+}
