@@ -6,8 +6,9 @@
 //
 // Sample dimension layout (fixed, so that the samplers can be addressed by dimension):
 //   0, 1                     pixel jitter
+//   2, 3                     the point on the lens, only with a thin lens (THIN_LENS)
 //   then per scattering vertex k = 1, 2, ... a block of dims_per_vertex() dimensions
-//   starting at 2 + (k - 1) * dims_per_vertex():
+//   starting at first_vertex_dim() + (k - 1) * dims_per_vertex():
 //     +0, +1                 BSDF direction
 //     +2                     BSDF lobe choice
 //     +3                     Russian roulette (from vertex RR_DEPTH on)
@@ -63,7 +64,13 @@ fn mis_weight(pdf_a: f32, pdf_b: f32) -> f32 {
 }
 
 const DIM_PIXEL: u32 = 0u;
-const DIM_FIRST_VERTEX: u32 = 2u;
+const DIM_LENS: u32 = 2u;
+
+// The first dimension of the first vertex's block: after the pixel's, and the lens's where the
+// camera has one (a pinhole's samples keep their dimensions).
+fn first_vertex_dim() -> u32 {
+    return select(2u, 4u, THIN_LENS);
+}
 
 fn dims_per_vertex() -> u32 {
     if (LIGHT_SELECT == LIGHT_SELECT_ALL) {
@@ -82,6 +89,27 @@ fn camera_ray_direction(px: u32, py: u32, jitter: vec2f) -> vec3f {
     let sx = 2.0 * (f32(px) + jitter.x) / f32(frame.width) - 1.0;
     let sy = 1.0 - 2.0 * (f32(py) + jitter.y) / f32(frame.height);
     return normalize(frame.camera_forward + sx * frame.camera_right + sy * frame.camera_up);
+}
+
+struct CameraRay {
+    o: vec3f,
+    d: vec3f,
+}
+
+// The camera ray through the jittered pixel: from the pinhole, or (THIN_LENS) from a point of
+// the lens, as Mitsuba's thinlens: the pinhole ray's point on the plane in focus,
+// d focus_distance / cos(theta) from the centre, seen from a point uniform on the aperture's
+// disk (Shirley-Chiu concentric map of u_lens, in the plane of the image's right and up axes).
+// Every ray through one point of the plane in focus carries the same weight 1.
+fn camera_ray(px: u32, py: u32, jitter: vec2f, u_lens: vec2f) -> CameraRay {
+    let d = camera_ray_direction(px, py, jitter);
+    if (!THIN_LENS) {
+        return CameraRay(frame.camera_origin, d);
+    }
+    let focus_p = d * (frame.focus_distance / dot(d, frame.camera_forward));
+    let a = frame.aperture_radius * square_to_uniform_disk_concentric(u_lens);
+    let lens_p = a.x * normalize(frame.camera_right) + a.y * normalize(frame.camera_up);
+    return CameraRay(frame.camera_origin + lens_p, normalize(focus_p - lens_p));
 }
 
 // The contribution of one light sample, picked with probability `prob`: f |cos| / (prob pdf)
@@ -230,8 +258,13 @@ fn radiance_along(hit: Hit, ray_d: vec3f) -> vec3f {
 // the current hit and traces the next segment, with the exit test at the end of the body: no
 // iteration runs only to find that every lane is done.
 fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
-    var ray_o = frame.camera_origin;
-    var ray_d = camera_ray_direction(px, py, sample_2d(id.pixel, id.index, DIM_PIXEL, id.seed));
+    var u_lens = vec2f(0.0);
+    if (THIN_LENS) {
+        u_lens = sample_2d(id.pixel, id.index, DIM_LENS, id.seed);
+    }
+    let camera = camera_ray(px, py, sample_2d(id.pixel, id.index, DIM_PIXEL, id.seed), u_lens);
+    var ray_o = camera.o;
+    var ray_d = camera.d;
     var hit = intersect_scene(ray_o, ray_d);
     var radiance = radiance_along(hit, ray_d);
     if (frame.max_depth <= 1u || hit.object == INVALID) {
@@ -269,7 +302,7 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
         }
         var m = material_bsdf(hit.material, hit.uv);
         m.inside = from_inside;
-        let dim_base = DIM_FIRST_VERTEX + (depth - 1u) * dims_per_vertex();
+        let dim_base = first_vertex_dim() + (depth - 1u) * dims_per_vertex();
         // A one-sided BSDF seen from behind (the side its surface normal points away from)
         // scatters nothing: Mitsuba's rule for BSDFs not wrapped in `twosided`.
         let scatters = !from_inside || (materials[hit.material].flags & MATERIAL_ONE_SIDED) == 0u;

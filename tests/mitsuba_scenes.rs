@@ -108,10 +108,11 @@ fn includes_defaults_defines_and_refs_work_as_in_mitsuba_and_convert_keeps_the_s
     assert_eq!((s.render.width, s.render.height, s.render.max_depth, s.render.rr_depth, s.render.spp), (24, 16, 3, Some(2), Some(16)));
     assert_eq!(s.render.environment.to_array(), [0.1; 3]);
     assert_eq!((s.spheres.len(), s.meshes.len(), s.num_triangles()), (1, 1, 1));
-    // The twosided grey; the sphere's default BSDF (diffuse 0.5, one-sided) with its emission.
+    // The twosided grey; the emitting sphere's default BSDF (Mitsuba's for an emitter: diffuse
+    // black, one-sided) with its emission.
     let kd = |m: &pathlab::scene::Material| m.bsdf.as_phong().map_or(-1.0, |p| p.diffuse.x);
     assert!(s.materials.iter().any(|m| m.two_sided && kd(m) == 0.4));
-    assert!(s.materials.iter().any(|m| !m.two_sided && kd(m) == 0.5 && m.emission.x == 5.0));
+    assert!(s.materials.iter().any(|m| !m.two_sided && kd(m) == 0.0 && m.emission.x == 5.0));
     // The matrix camera: at (0, 0, 4) looking down -z; a diagonal field of view.
     assert_eq!(s.camera.position.to_array(), [0.0, 0.0, 4.0]);
     assert!((s.camera.look_at - glam::DVec3::new(0.0, 0.0, 3.0)).length() < 1e-12);
@@ -392,4 +393,22 @@ fn paths_focal_lengths_and_published_camera_matrices_are_read_as_mitsuba_reads_t
     // A constant emitter without radiance has Mitsuba's default, 1.
     let dir = dir_with(&[("s.xml", &small(r#"<emitter type="constant"/>"#))]);
     assert_eq!(Scene::load(dir.path().join("s.xml")).unwrap().render.environment, glam::DVec3::ONE);
+}
+
+/// Mitsuba gives a shape without a BSDF its default diffuse, but a black one where the shape
+/// emits (`Shape::Shape`): an area light reflects nothing unless given a BSDF.
+#[test]
+fn an_area_light_without_a_bsdf_reflects_nothing_as_in_mitsuba() {
+    let text = small("<shape type=\"cube\"/>");
+    let dir = dir_with(&[("s.xml", &text)]);
+    let s = Scene::load(dir.path().join("s.xml")).unwrap();
+    let diffuse = |emits: bool| {
+        let m = s.materials.iter().find(|m| m.is_emissive() == emits).expect("the material");
+        match &m.bsdf {
+            Bsdf::Phong(p) => p.diffuse.to_array(),
+            other => panic!("{other:?}"),
+        }
+    };
+    assert_eq!(diffuse(true), [0.0; 3], "the emitting rectangle");
+    assert_eq!(diffuse(false), [0.5; 3], "the plain cube");
 }

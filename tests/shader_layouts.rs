@@ -49,7 +49,7 @@ fn shared_structs_match_the_wgsl() {
     let pt = module(&shaders::path_tracer_source());
     check_struct(&pt, "FrameParams", size_of::<FrameParams>(), fields!(FrameParams: camera_origin, width, camera_forward, height,
         camera_right, sample_start, camera_up, sample_count, environment, seed, max_depth, tile_x, tile_y, tile_width, tile_height,
-        opaque_zero, accum_row));
+        opaque_zero, accum_row, aperture_radius, focus_distance));
     check_struct(&pt, "AccumPixel", size_of::<AccumPixel>(), fields!(AccumPixel: sum, count, sum_err, rays_lo, sum_sq, rays_hi, sum_sq_err, faults));
     check_struct(&pt, "Sphere", size_of::<GpuSphere>(), fields!(GpuSphere: center, radius, material));
     check_struct(&pt, "Plane", size_of::<GpuPlane>(), fields!(GpuPlane: normal, offset, material));
@@ -92,6 +92,7 @@ fn overrides_set_by_the_host_are_those_the_module_declares() {
         has_shading_normals: true,
         has_uvs: true,
         rr_depth: 3,
+        thin_lens: true,
         num_occluding_planes: 1,
         has_specular: true,
         bsdf_kinds: u32::MAX,

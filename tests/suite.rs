@@ -47,6 +47,7 @@ mod spectra;
 mod study_reproduction;
 mod techniques;
 mod textures;
+mod thin_lens;
 mod unbiased_study;
 mod uv_parametrisation;
 mod veach_mis;

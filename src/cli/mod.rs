@@ -209,6 +209,12 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
             println!("  {material}: {} ({:.1} KiB)", t.describe(), t.gpu_bytes() as f64 / 1024.0);
         }
     }
+    if scene.camera.aperture_radius > 0.0 {
+        println!(
+            "camera: thin lens, aperture radius {}, in focus at distance {} (depth of field; the lens takes sample dimensions 2 and 3)",
+            scene.camera.aperture_radius, scene.camera.focus_distance
+        );
+    }
     // Delta lights: what they are, and that only next event estimation sees them.
     for (i, l) in scene.point_lights.iter().enumerate() {
         println!("point light {i}: at {:?}, intensity {:?} W/sr", l.position.to_array(), l.intensity.to_array());

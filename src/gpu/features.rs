@@ -28,6 +28,8 @@ pub struct SceneFeatures {
     pub has_uvs: bool,
     /// Russian roulette from this vertex on; 0: none.
     pub rr_depth: u32,
+    /// The camera has a thin lens (`Camera::aperture_radius` > 0).
+    pub thin_lens: bool,
     /// Planes that shadow rays must test (the first ones in kernel order).
     pub num_occluding_planes: u32,
     pub has_specular: bool,
@@ -74,6 +76,7 @@ impl SceneFeatures {
             has_shading_normals: scene.meshes.iter().any(|m| !m.normals.is_empty()),
             has_uvs: scene.materials.iter().any(|m| m.bsdf.reads_uv()),
             rr_depth: scene.render.rr_depth.unwrap_or(0),
+            thin_lens: scene.camera.aperture_radius > 0.0,
             has_specular: scene.materials.iter().any(|m| m.bsdf.as_phong().is_some_and(|p| p.specular.max_element() > 0.0)),
             bsdf_kinds: scene.materials.iter().fold(0, |kinds, m| kinds | m.bsdf_kind().bit()),
             has_environment: scene.has_environment(),

@@ -1,5 +1,5 @@
 //! The per-dispatch uniform of the path tracer (`FrameParams` in `shaders/scene.wgsl`): the
-//! pinhole camera's frame and image-plane extents, the sample range, seed and the tile of rows a
+//! camera's frame, image-plane extents and thin lens, the sample range, seed and the tile of rows a
 //! dispatch covers.
 
 use bytemuck::{Pod, Zeroable};
@@ -31,7 +31,10 @@ pub struct FrameParams {
     pub opaque_zero: u32,
     /// Row of the bound accumulator that the tile's first row goes to.
     pub accum_row: u32,
-    pub _pad: u32,
+    /// The thin lens (`Camera::aperture_radius`, `focus_distance`); 0: a pinhole.
+    pub aperture_radius: f32,
+    pub focus_distance: f32,
+    pub _pad: [u32; 3],
 }
 
 impl FrameParams {
@@ -61,7 +64,9 @@ impl FrameParams {
             tile_height: scene.render.height,
             opaque_zero: 0,
             accum_row: 0,
-            _pad: 0,
+            aperture_radius: cam.aperture_radius as f32,
+            focus_distance: cam.focus_distance as f32,
+            _pad: [0; 3],
         }
     }
 }

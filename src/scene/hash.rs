@@ -20,7 +20,9 @@
 //! meshes=N, then mesh.i.material=INDEX .two_sided=0|1 (its emission) .triangles=T .data=SHA256
 //! ```
 //!
-//! and, only where the scene has delta lights, for each kind that has any:
+//! and, only where the camera has a thin lens (aperture_radius > 0),
+//! `camera.thin_lens=APERTURE_RADIUS FOCUS_DISTANCE`; and, only where the scene has delta
+//! lights, for each kind that has any:
 //!
 //! ```text
 //! point_lights=N, then point_light.i.position=… .intensity=…
@@ -131,6 +133,10 @@ pub fn canonical_encoding(scene: &Scene) -> String {
             line(&format!("mesh.{i}.triangles"), m.triangles.len().to_string());
             line(&format!("mesh.{i}.data"), mesh_digest(m));
         }
+    }
+    // Only a thin lens adds a line, so that scenes written before keep their hash.
+    if scene.camera.aperture_radius > 0.0 {
+        line("camera.thin_lens", format!("{} {}", real(scene.camera.aperture_radius), real(scene.camera.focus_distance)));
     }
     // Only kinds a scene has add lines, so that scenes written before keep their hash.
     if !scene.point_lights.is_empty() {

@@ -67,6 +67,11 @@ pub struct Camera {
     pub look_at: DVec3,
     pub up: DVec3,
     pub fov: Fov,
+    /// A thin lens (Mitsuba's `thinlens`): rays leave from a disk of this radius about
+    /// `position`, across the image plane, and meet again on the plane at `focus_distance` along
+    /// the view direction, so only that plane is sharp. 0: a pinhole, in focus everywhere.
+    pub aperture_radius: f64,
+    pub focus_distance: f64,
 }
 
 /// Field of view in degrees along one image axis, or by one of Mitsuba's other `fov_axis`

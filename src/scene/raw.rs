@@ -179,6 +179,12 @@ pub(crate) struct RawCamera {
     pub fov_smaller: Option<Spanned<f64>>,
     pub fov_larger: Option<Spanned<f64>>,
     pub fov_diagonal: Option<Spanned<f64>>,
+    /// A thin lens: the aperture's radius (default 0, a pinhole) and the distance of the plane
+    /// in focus (default the distance to `look_at`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub aperture_radius: Option<Spanned<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub focus_distance: Option<Spanned<f64>>,
 }
 
 #[derive(Debug, Deserialize, Serialize)]

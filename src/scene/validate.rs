@@ -548,7 +548,32 @@ fn check_camera(ck: &mut Checker, raw: &RawScene) -> Camera {
             Fov::Y(90.0)
         }
     };
-    Camera { position, look_at, up, fov }
+    // A thin lens: an aperture radius >= 0 (0: a pinhole) and a focus distance > 0 (default the
+    // distance to look_at), which a pinhole does not use (said, not ignored).
+    let aperture_radius = match &c.aperture_radius {
+        None => 0.0,
+        Some(a) => {
+            let v = ck.number(a, "camera.aperture_radius");
+            if v < 0.0 {
+                ck.error(a.span(), "camera.aperture_radius", format!("aperture_radius must be >= 0 (got {v}; 0 is a pinhole)"));
+            }
+            v.max(0.0)
+        }
+    };
+    let focus_distance = match &c.focus_distance {
+        None => forward.length(),
+        Some(f) => {
+            let v = ck.number(f, "camera.focus_distance");
+            if !(v > 0.0) && f.get_ref().is_finite() {
+                ck.error(f.span(), "camera.focus_distance", format!("focus_distance must be > 0 (got {v})"));
+            }
+            if aperture_radius == 0.0 {
+                ck.warn(f.span(), "camera.focus_distance", "focus_distance has no effect without an aperture_radius: a pinhole is in focus everywhere");
+            }
+            v
+        }
+    };
+    Camera { position, look_at, up, fov, aperture_radius, focus_distance }
 }
 
 fn check_render(ck: &mut Checker, raw: &RawScene) -> RenderSettings {

@@ -30,6 +30,8 @@ use xml::{describe, compose, Object, OpKind, Prop, TransformOp, Value};
 
 /// Mitsuba's defaults where a file says nothing.
 const DEFAULT_FILM_SIZE: (i64, i64) = (768, 576);
+/// Mitsuba's default far clip distance, which is also a thin lens's default focus distance.
+const MITSUBA_FAR_CLIP: f64 = 1e4;
 const DEFAULT_MAX_DEPTH: i64 = -1;
 const DEFAULT_RR_DEPTH: i64 = 5;
 
@@ -149,14 +151,12 @@ struct Bsdf {
 }
 
 impl Bsdf {
-    /// Mitsuba's BSDF of a shape without one: `diffuse` with its default reflectance.
-    fn default_diffuse() -> Bsdf {
-        Bsdf {
-            kind: BsdfKind::Phong,
-            fields: vec![("diffuse", color_value([DEFAULT_REFLECTANCE; 3]))],
-            two_sided: false,
-            name: Some("default-diffuse".into()),
-        }
+    /// Mitsuba's BSDF of a shape without one (`Shape::Shape` in its shape.cpp): `diffuse` with
+    /// its default reflectance, or black where the shape emits (an area light reflects nothing
+    /// unless given a BSDF).
+    fn default_diffuse(emits: bool) -> Bsdf {
+        let (reflectance, name) = if emits { (0.0, "default-emitter") } else { (DEFAULT_REFLECTANCE, "default-diffuse") };
+        Bsdf { kind: BsdfKind::Phong, fields: vec![("diffuse", color_value([reflectance; 3]))], two_sided: false, name: Some(name.into()) }
     }
 }
 
@@ -676,14 +676,11 @@ impl Translator<'_> {
     fn sensor(&mut self, o: &Object) -> (Option<(RawCamera, usize)>, (i64, i64, usize), Option<(i64, usize)>) {
         let mut film = (DEFAULT_FILM_SIZE.0, DEFAULT_FILM_SIZE.1, o.at);
         let mut spp = None;
-        if o.plugin != "perspective" {
-            let why = match o.plugin.as_str() {
-                "thinlens" => " (pathlab's camera is a pinhole: no depth of field)",
-                _ => "",
-            };
-            self.error(o.at, "type", format!("{} is not supported{why} (pathlab has perspective)", describe(&o.tag, &o.plugin)));
+        if o.plugin != "perspective" && o.plugin != "thinlens" {
+            self.error(o.at, "type", format!("{} is not supported (pathlab has perspective, thinlens)", describe(&o.tag, &o.plugin)));
             return (None, film, spp);
         }
+        let thin_lens = o.plugin == "thinlens";
         for child in &o.children {
             match child.tag.as_str() {
                 "film" => film = self.film(child),
@@ -727,13 +724,41 @@ impl Translator<'_> {
             None if written.is_none() => Some((50.0, o.at)),
             None => None,
         };
-        if let Some(prop) = p.take("focus_distance") {
+        // A thin lens: `aperture_radius` (required, as Mitsuba) and `focus_distance` (Mitsuba's
+        // default: far_clip, 1e4 unless given).
+        let mut lens = (None, None);
+        if thin_lens {
+            lens.0 = match self.get::<f64>(&mut p, "aperture_radius") {
+                Some((v, prop)) if v.is_finite() && v >= 0.0 => Some(spanned(prop.value_at, v)),
+                Some((v, prop)) => {
+                    self.error(prop.value_at, "aperture_radius", format!("`aperture_radius` must be a finite number >= 0 (got {v})"));
+                    None
+                }
+                None => {
+                    self.error(o.at, "aperture_radius", "<sensor type=\"thinlens\"> needs <float name=\"aperture_radius\">".to_string());
+                    None
+                }
+            };
+            lens.1 = self.get::<f64>(&mut p, "focus_distance").map(|(v, prop)| spanned(prop.value_at, v));
+        } else if let Some(prop) = p.take("focus_distance") {
             self.warn(prop.at, "focus_distance", "`focus_distance` is ignored: a perspective camera is a pinhole, in focus everywhere (the image is the same)".to_string());
         }
         for clip in ["near_clip", "far_clip"] {
+            let value = p.props.iter().find(|q| q.name == clip).and_then(|q| match q.value {
+                Value::Float(v) => Some(v),
+                Value::Integer(v) => Some(v as f64),
+                _ => None,
+            });
             if let Some(prop) = p.take(clip) {
+                if clip == "far_clip" && thin_lens && lens.1.is_none() {
+                    // Mitsuba's focus distance defaults to the far clip distance.
+                    lens.1 = value.map(|v| spanned(prop.value_at, v));
+                }
                 self.warn(prop.at, clip, format!("`{clip}` is ignored: pathlab does not clip (the image differs only where geometry lies outside the clip range)"));
             }
+        }
+        if thin_lens && lens.1.is_none() {
+            lens.1 = Some(spanned(o.at, MITSUBA_FAR_CLIP));
         }
         for offset in ["principal_point_offset_x", "principal_point_offset_y"] {
             if let Some(prop) = p.take(offset) {
@@ -743,7 +768,10 @@ impl Translator<'_> {
             }
         }
         let to_world = self.transform(&mut p, "to_world");
-        self.finish(p, "fov, fov_axis, focal_length, to_world, near_clip, far_clip (and, with a warning, focus_distance)");
+        self.finish(
+            p,
+            if thin_lens { "fov, fov_axis, focal_length, to_world, aperture_radius, focus_distance, near_clip, far_clip" } else { "fov, fov_axis, focal_length, to_world, near_clip, far_clip (and, with a warning, focus_distance)" },
+        );
         let (fov, fov_at, axis_name) = match (fov, focal) {
             (Some((fov, at)), _) => (fov, at, axis.as_ref().map_or("x", |(a, _)| a.as_str()).to_string()),
             (None, Some((mm, at))) => {
@@ -800,6 +828,8 @@ impl Translator<'_> {
             fov_smaller: given(fov, "fov_smaller"),
             fov_larger: given(fov, "fov_larger"),
             fov_diagonal: given(fov, "fov_diagonal"),
+            aperture_radius: lens.0,
+            focus_distance: lens.1,
         };
         (Some((camera, fov_at)), film, spp)
     }
@@ -1032,7 +1062,7 @@ impl Translator<'_> {
             }
         }
         let bsdf = match bsdf {
-            None => Bsdf::default_diffuse(),
+            None => Bsdf::default_diffuse(emission.is_some()),
             Some(Some(b)) => b,
             Some(None) => return,
         };
