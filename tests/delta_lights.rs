@@ -80,6 +80,12 @@ fn methods_that_cannot_see_delta_lights_are_refused_by_render_and_left_out_by_st
     assert_eq!(r.status.code(), Some(1), "{stderr}");
     assert!(stderr.contains("method plain cannot see point light 0") && stderr.contains("next event estimation"), "{stderr}");
     assert!(!stderr.contains("adapter:"), "refused after opening the GPU: {stderr}");
+    // bench leaves it out, says so, and measures the others.
+    let r = pathlab().args(["bench", scene.to_str().unwrap(), "--methods", "plain,nee", "--size", "8x8", "--seconds", "0.2"]).output().unwrap();
+    let (stdout, stderr) = (String::from_utf8_lossy(&r.stdout), String::from_utf8_lossy(&r.stderr));
+    assert!(r.status.success(), "{stderr}");
+    assert!(stderr.contains("plain is left out: it cannot see point light 0"), "{stderr}");
+    assert!(stdout.lines().any(|l| l.starts_with("nee")) && !stdout.lines().any(|l| l.starts_with("plain")), "{stdout}");
     // The library refuses it too (Python and the viewer share it).
     let s = Scene::load(&scene).unwrap();
     let err = pathlab::render::RenderError::check_sees_lights(&s, &Preset::Plain.method()).unwrap_err();

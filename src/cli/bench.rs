@@ -102,6 +102,14 @@ pub fn run(args: BenchArgs) -> anyhow::Result<i32> {
         Some(names) => names.iter().map(|n| Method::from_name(n)).collect::<Result<_, _>>()?,
         None => methods,
     };
+    // Methods that cannot see one of the scene's lights are left out, and said (before any GPU work).
+    let (methods, blind): (Vec<Method>, Vec<Method>) = methods.into_iter().partition(|m| base.delta_light_unseen_by(m).is_none());
+    for m in &blind {
+        eprintln!("note: {} is left out: it cannot see {} (a delta light is found only by next event estimation)", m.name(), base.first_delta_light().unwrap_or_default());
+    }
+    if methods.is_empty() {
+        bail!("no method left to measure: every one given cannot see the scene's delta lights");
+    }
     let sizes = if args.sizes.is_empty() { vec![(256, 128), (1024, 512)] } else { args.sizes.clone() };
     let gpu = Gpu::new(args.adapter.as_deref())?;
     eprintln!("adapter: {}", adapter_summary(&gpu.info));

@@ -58,3 +58,22 @@ pub(super) fn lights(scene: &Scene) -> Vec<Light> {
 pub(super) fn power(scene: &Scene, i: usize) -> f64 {
     scene.spot_lights[i].power()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The closed-form power is 2 pi I times the falloff integrated over the sphere, checked by
+    /// a midpoint sum of `falloff` (the profile the kernel evaluates) in theta.
+    #[test]
+    fn power_integrates_the_falloff() {
+        for (cutoff, beam) in [(20.0, 15.0), (30.0, 15.0), (60.0, 5.0), (45.0, 45.0), (170.0, 90.0)] {
+            let spot = SpotLight { position: DVec3::ZERO, direction: DVec3::Z, intensity: DVec3::ONE, cutoff_angle: cutoff, beam_width: beam };
+            let n = 200_000;
+            let dt = PI / n as f64;
+            let sum: f64 = (0..n).map(|i| (i as f64 + 0.5) * dt).map(|t| spot.falloff(t.cos()) * t.sin() * dt).sum();
+            let expected = 2.0 * PI * luminance(spot.intensity) * sum;
+            assert!((spot.power() - expected).abs() < 1e-6 * expected, "cutoff {cutoff}, beam {beam}: {} against {expected}", spot.power());
+        }
+    }
+}
