@@ -102,9 +102,9 @@ pub fn run(args: AdviseArgs) -> anyhow::Result<i32> {
         bail!("--methods names no method");
     }
     // Methods that cannot see one of the scene's lights are left out, and said.
-    let (seeing, blind): (Vec<Method>, Vec<Method>) = methods.into_iter().partition(|m| scene.delta_light_unseen_by(m).is_none());
-    for m in &blind {
-        eprintln!("note: {} is left out: it cannot see {} (a delta light is found only by next event estimation)", m.name(), scene.first_delta_light().unwrap_or_default());
+    let (seeing, blind): (Vec<Method>, Vec<Method>) = methods.into_iter().partition(|m| scene.why_left_out(m).is_none());
+    for why in blind.iter().filter_map(|m| scene.why_left_out(m)) {
+        eprintln!("note: {why}");
     }
     let methods = seeing;
     if methods.is_empty() {

@@ -103,9 +103,9 @@ pub fn run(args: BenchArgs) -> anyhow::Result<i32> {
         None => methods,
     };
     // Methods that cannot see one of the scene's lights are left out, and said (before any GPU work).
-    let (methods, blind): (Vec<Method>, Vec<Method>) = methods.into_iter().partition(|m| base.delta_light_unseen_by(m).is_none());
-    for m in &blind {
-        eprintln!("note: {} is left out: it cannot see {} (a delta light is found only by next event estimation)", m.name(), base.first_delta_light().unwrap_or_default());
+    let (methods, blind): (Vec<Method>, Vec<Method>) = methods.into_iter().partition(|m| base.why_left_out(m).is_none());
+    for why in blind.iter().filter_map(|m| base.why_left_out(m)) {
+        eprintln!("note: {why}");
     }
     if methods.is_empty() {
         bail!("no method left to measure: every one given cannot see the scene's delta lights");

@@ -56,12 +56,8 @@ impl StudyOptions {
         };
         // Methods that cannot see one of the scene's lights (a delta light without next event
         // estimation) are left out, each with its reason.
-        let (methods, blind): (Vec<StudyMethod>, Vec<StudyMethod>) =
-            methods.into_iter().partition(|m| scene.delta_light_unseen_by(&m.method).is_none());
-        let left_out: Vec<String> = blind
-            .iter()
-            .map(|m| format!("{} is left out: it cannot see {} (a delta light is found only by next event estimation)", m.name, scene.first_delta_light().unwrap_or_default()))
-            .collect();
+        let (methods, blind): (Vec<StudyMethod>, Vec<StudyMethod>) = methods.into_iter().partition(|m| scene.why_left_out(&m.method).is_none());
+        let left_out: Vec<String> = blind.iter().filter_map(|m| scene.why_left_out(&m.method)).collect();
         if methods.is_empty() {
             return Err(StudyError::Input(format!("no method left to study: {}", left_out.join("; "))));
         }

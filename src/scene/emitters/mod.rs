@@ -116,9 +116,14 @@ impl Scene {
         EmitterKind::ALL.into_iter().filter(|k| *k != EmitterKind::Environment).flat_map(|k| self.lights_of(k)).collect()
     }
 
-    /// How many delta lights (point, spot, directional) the scene has.
+    /// How many delta lights (of the kinds `EmitterKind::is_delta`) the scene has.
     pub fn num_delta_lights(&self) -> usize {
-        self.point_lights.len() + self.spot_lights.len() + self.directional_lights.len()
+        EmitterKind::ALL.into_iter().filter(|k| k.is_delta()).map(|k| self.lights_of(k).len()).sum()
+    }
+
+    /// The first delta light, named for messages ("point light 0"), if any.
+    pub fn first_delta_light(&self) -> Option<String> {
+        EmitterKind::ALL.into_iter().find(|k| k.is_delta() && !self.lights_of(*k).is_empty()).map(|k| format!("{} light 0", k.name()))
     }
 
     /// A delta light `method` cannot see, named for messages, where the scene has one and the
@@ -130,12 +135,11 @@ impl Scene {
         self.first_delta_light()
     }
 
-    /// The first delta light, named for messages ("point light 0"), if any.
-    pub fn first_delta_light(&self) -> Option<String> {
-        let named = |kind: &str, n: usize| (n > 0).then(|| format!("{kind} light 0"));
-        named("point", self.point_lights.len())
-            .or_else(|| named("spot", self.spot_lights.len()))
-            .or_else(|| named("directional", self.directional_lights.len()))
+    /// Why `study`, `advise` and `bench` leave `method` out on this scene, if they do: one of
+    /// its lights is a delta the method cannot see.
+    pub fn why_left_out(&self, method: &crate::method::Method) -> Option<String> {
+        self.delta_light_unseen_by(method)
+            .map(|light| format!("{} is left out: it cannot see {light} (a delta light is found only by next event estimation)", method.name()))
     }
 
     /// The lights next event estimation samples, in kernel order (the light table): the area
