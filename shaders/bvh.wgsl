@@ -81,15 +81,18 @@ fn bvh_node(i: u32) -> BvhNode {
     return BvhNode(bitcast<vec3f>(a.xyz), a.w, bitcast<vec3f>(b.xyz), b.w);
 }
 // Scenes of at most BRUTE_FORCE_TRIANGLES triangles (generated from src/accel/mod.rs) also
-// have them in a uniform buffer, and test every one in turn at lane-uniform indices instead of
-// traversing the BVH: on SIMD CPU drivers a divergent traversal of a small BVH through
-// storage loads (lane by lane on lavapipe) costs more than testing every triangle from a
-// buffer served as one broadcast load (the Cornell box: 36 triangles).
+// have them in a uniform buffer. Where the module unrolls their tests (SMALL_TRIANGLE_TESTS,
+// generated: on CPU adapters only, `gpu::pipeline::brute_force_limit`), the kernel tests every
+// one in turn at lane-uniform indices instead of traversing the BVH: on SIMD CPU drivers a
+// divergent traversal of a small BVH through storage loads (lane by lane on lavapipe) costs
+// more than testing every triangle from a buffer served as one broadcast load (the Cornell
+// box: 36 triangles). On a GPU the copy of them each invocation keeps lives in local memory,
+// and the BVH is far faster.
 @group(0) @binding(BINDING_SMALL_TRIANGLES) var<uniform> small_triangles: array<Triangle, BRUTE_FORCE_TRIANGLES>;
 
 // Triangle i, from the uniform copy where the scene is small.
 fn triangle_at(i: u32) -> Triangle {
-    if (NUM_TRIANGLES <= BRUTE_FORCE_TRIANGLES) {
+    if (NUM_TRIANGLES <= SMALL_TRIANGLE_TESTS) {
         return small_triangles[i];
     }
     return triangle_record(i);
@@ -239,7 +242,8 @@ fn traversal_step() -> bool {
 
 // The small scenes' tests, `load_small_triangles()` and `triangles_brute_force(o, d, t_max)`,
 // are generated after this file (src/shaders/generated.rs): one step per triangle at constant
-// indices (the module is assembled per triangle count; steps past NUM_TRIANGLES fold away). Every entry point that traces rays
+// indices, SMALL_TRIANGLE_TESTS of them (the module is assembled per triangle count; steps
+// past NUM_TRIANGLES fold away). Every entry point that traces rays
 // calls `load_small_triangles()` first, outside any branch or loop. Why, on lavapipe (Mesa
 // 22.3, gallivm): inside a branch or loop even a constant-index uniform read is compiled as 8
 // lane-by-lane loads (LLVM could not merge them here), and at a loop counter's index always
@@ -252,7 +256,7 @@ fn traversal_step() -> bool {
 // The nearest triangle along (o, d) closer than t_max (brute force for small scenes, else the
 // BVH); with `any`, the first one found (shadow rays).
 fn triangles_closest(o: vec3f, d: vec3f, t_max: f32, any: bool) -> TriangleHit {
-    if (NUM_TRIANGLES <= BRUTE_FORCE_TRIANGLES) {
+    if (NUM_TRIANGLES <= SMALL_TRIANGLE_TESTS) {
         return triangles_brute_force(o, d, t_max);
     }
     return bvh_traverse(o, d, t_max, any);

@@ -192,12 +192,46 @@ fn bvh_main(@builtin(global_invocation_id) gid: vec3u) {
     test_out[i] = vec4f(select(-1.0, closest.t, closest.index != INVALID), bitcast<f32>(closest.index),
                         select(0.0, 1.0, any.index != INVALID), select(0.0, 1.0, traversal_exhausted));
 }
+
+// Every triangle tested in turn with the kernel's own arithmetic: the closest hit below the
+// ray's closest t_max, as the traversal would find it.
+@compute @workgroup_size(64)
+fn brute_main(@builtin(global_invocation_id) gid: vec3u) {
+    let i = gid.x;
+    if (i >= arrayLength(&test_rays)) {
+        return;
+    }
+    let r = test_rays[i];
+    let ray = sheared_ray(r.o.xyz, r.d.xyz);
+    var best = TriangleHit(r.o.w, INVALID, vec2f(0.0));
+    for (var k = 0u; k < NUM_TRIANGLES; k++) {
+        let tri = triangle_record(k);
+        var bary: vec2f;
+        let t = intersect_triangle(ray, tri.p0, tri.p1, tri.p2, best.t, &bary);
+        if (t > 0.0) {
+            best = TriangleHit(t, k, bary);
+        }
+    }
+    test_out[i] = vec4f(select(-1.0, best.t, best.index != INVALID), bitcast<f32>(best.index), 0.0, 0.0);
+}
 "#;
 
 /// Runs the kernel's closest and any queries for `rays` (origin, direction, closest t_max,
 /// any t_max) over `tris` with traversal budget `budget`: (closest t or -1, triangle index in
 /// `tris`, any hit, guard tripped) per ray.
 fn gpu_queries(tris: &[Triangle], rays: &[(Vec3, Vec3, f32, f32)], budget: u32) -> Vec<(f32, u32, bool, bool)> {
+    gpu_kernel(tris, rays, budget, "bvh_main")
+}
+
+/// The kernel's brute force (`brute_main`) for `rays` over `tris`: (closest t or -1, triangle
+/// index in `tris`, false, false) per ray.
+fn gpu_brute_force(tris: &[Triangle], rays: &[(Vec3, Vec3, f32, f32)]) -> Vec<(f32, u32, bool, bool)> {
+    gpu_kernel(tris, rays, u32::MAX, "brute_main")
+}
+
+/// Runs `entry` of the test kernel over `rays` and `tris` (in the BVH's order, indices mapped
+/// back to `tris`).
+fn gpu_kernel(tris: &[Triangle], rays: &[(Vec3, Vec3, f32, f32)], budget: u32, entry: &str) -> Vec<(f32, u32, bool, bool)> {
     use pathlab::gpu::{GpuTriangle, KernelRun};
     use pathlab::shaders::{self, bindings, files};
     let bvh = Bvh::build(tris);
@@ -214,7 +248,7 @@ fn gpu_queries(tris: &[Triangle], rays: &[(Vec3, Vec3, f32, f32)], budget: u32) 
     let constants = [("NUM_TRIANGLES", tris.len() as f64), ("TRAVERSAL_BUDGET", budget as f64)];
     let run = KernelRun {
         source: &source,
-        entry: "bvh_main",
+        entry,
         constants: &constants,
         inputs: vec![(0, bytemuck::cast_slice(&ray_data).to_vec()), (bindings::TRIANGLE_NORMALS.number, vec![0; 48])],
         uniforms: vec![],
@@ -249,19 +283,26 @@ fn the_kernels_traversal_agrees_with_brute_force_and_is_watertight() {
         r.3 = brute(&tris, r.0, r.1, f32::INFINITY).map_or(10.0, |t| t * 1.5);
     }
     let got = gpu_queries(&tris, &rays, u32::MAX);
+    // The traversal is held to the kernel's own brute force, which shares its arithmetic, on any
+    // adapter. On a CPU adapter (lavapipe) that arithmetic is the CPU's, IEEE single precision
+    // without contraction, so the kernel's brute force must also give the CPU twin's distances
+    // bit for bit. A GPU may fuse multiply-adds and round division and normalisation otherwise
+    // (WGSL allows both): on an NVIDIA H200, 19% of these rays' distances differ from the CPU's
+    // in the last bits.
+    let kernel_brute = gpu_brute_force(&tris, &rays);
+    let cpu_arithmetic = common::gpu().info.device_type == wgpu::DeviceType::Cpu;
     let (mut hits, mut mismatches) = (0, Vec::new());
-    for (k, (&(o, d, _, any_max), &(t, index, any, exhausted))) in rays.iter().zip(&got).enumerate() {
+    for (k, ((&(o, d, _, any_max), &(t, index, any, exhausted)), &(tb, _, _, _))) in rays.iter().zip(&got).zip(&kernel_brute).enumerate() {
         assert!(!exhausted);
         let expected = brute(&tris, o, d, f32::INFINITY);
-        let same = match expected {
-            None => t < 0.0,
-            // A tie between triangles at one distance may resolve either way: the distance counts.
-            Some(te) => t == te && index != u32::MAX,
-        };
-        if !same || any != brute(&tris, o, d, any_max).is_some() {
-            mismatches.push(format!("ray {k}: gpu t {t} (triangle {index}) any {any}, brute force {expected:?}"));
+        // A tie between triangles at one distance may resolve either way: the distance counts.
+        let same = if tb < 0.0 { t < 0.0 } else { t == tb && index != u32::MAX };
+        let any_expected = tb > 0.0 && tb < any_max;
+        let twin = !cpu_arithmetic || expected.map_or(tb < 0.0, |te| te == tb);
+        if !same || any != any_expected || !twin {
+            mismatches.push(format!("ray {k}: traversal t {t} (triangle {index}) any {any}, the kernel's brute force t {tb}, the CPU's {expected:?}"));
         }
-        hits += expected.is_some() as usize;
+        hits += (tb > 0.0) as usize;
     }
     assert!(mismatches.is_empty(), "{} of {} rays disagree: {:?}", mismatches.len(), rays.len(), &mismatches[..mismatches.len().min(5)]);
     assert!(hits > 20_000, "only {hits} rays hit");

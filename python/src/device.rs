@@ -24,7 +24,7 @@ pub(crate) fn device(py: Python<'_>) -> PyResult<Arc<Device>> {
             return Ok(d.clone());
         }
         let gpu = Gpu::new(None).map_err(|e| GpuError::new_err(e.to_string()))?;
-        let pipelines = PathTracerPipelines::new(&gpu.device);
+        let pipelines = PathTracerPipelines::new(&gpu);
         let d = Arc::new(Device { gpu, pipelines });
         *slot = Some(d.clone());
         Ok(d)

@@ -120,7 +120,7 @@ pub fn run(args: AdviseArgs) -> anyhow::Result<i32> {
         let names: Vec<String> = unproven.iter().map(|n| n.to_string()).collect();
         eprintln!("warning: the advice covers UNPROVEN techniques ({}): their errors may not fall to the target", names.join(", "));
     }
-    let pipelines = PathTracerPipelines::new(&gpu.device);
+    let pipelines = PathTracerPipelines::new(&gpu);
     let cancel = ctrl_c_flag();
     eprintln!("piloting {} methods for {} s each", methods.len(), args.pilot_seconds);
     let advice = advise(&gpu, &pipelines, &scene, &methods, target, &display, Duration::from_secs_f64(args.pilot_seconds), &cancel)?;

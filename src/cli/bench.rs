@@ -146,7 +146,7 @@ fn measure(gpu: &Gpu, scene: &Scene, args: &BenchArgs, method: Method, specialis
     let never = AtomicBool::new(false);
     let features = SceneFeatures::of(scene);
     let features = if specialised { features } else { features.all_on() };
-    let pipelines = PathTracerPipelines::new(&gpu.device);
+    let pipelines = PathTracerPipelines::new(&gpu);
     let techniques = pathlab::shaders::TechniqueFiles::of(&method, &scene.techniques)?;
     let (_, created) = pipelines.get(&gpu.device, PipelineKey::new(method, features, scene.default_light_select()), techniques);
     let mut renderer = if specialised {

@@ -296,7 +296,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
     let gpu = Gpu::new(args.adapter.as_deref())?;
     eprintln!("adapter: {}", adapter_summary(&gpu.info));
     job.technique_verdict = args.techniques.prove(&gpu, &job.scene, &method)?;
-    let pipelines = PathTracerPipelines::new(&gpu.device);
+    let pipelines = PathTracerPipelines::new(&gpu);
     let cancel = ctrl_c_flag();
     let terminal = Terminal::new(args.quiet);
     terminal.begin_budget(budget);
@@ -356,7 +356,7 @@ fn render_target(args: &RenderArgs, job: &mut RenderJob, target: Target, files: 
     let gpu = Gpu::new(args.adapter.as_deref())?;
     eprintln!("adapter: {}", adapter_summary(&gpu.info));
     job.technique_verdict = args.techniques.prove(&gpu, &job.scene, &job.method)?;
-    let pipelines = PathTracerPipelines::new(&gpu.device);
+    let pipelines = PathTracerPipelines::new(&gpu);
     let cancel = ctrl_c_flag();
     let bar = indicatif::ProgressBar::new_spinner();
     if args.quiet || !std::io::IsTerminal::is_terminal(&std::io::stderr()) {

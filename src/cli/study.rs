@@ -116,7 +116,7 @@ pub fn run(args: StudyArgs) -> anyhow::Result<i32> {
             m.biased = true;
         }
     }
-    let pipelines = PathTracerPipelines::new(&gpu.device);
+    let pipelines = PathTracerPipelines::new(&gpu);
     let cancel = ctrl_c_flag();
     match study.run(loaded, &gpu, &pipelines, &cancel, &Terminal::new(args.quiet))? {
         StudyOutcome::Finished { report } => {

@@ -163,6 +163,20 @@ pub fn loop_iterations_per_sample(key: &PipelineKey, max_depth: u32, bvh_nodes: 
     LoopBound { fixed, rays, steps_per_ray }
 }
 
+/// The most triangles a scene may have for the kernel to test every one in turn (unrolled, from
+/// a uniform buffer) rather than traverse the BVH, on an adapter of `device_type`. On CPU
+/// adapters `accel::BRUTE_FORCE_TRIANGLES` (lavapipe, 2026-12-03: the Cornell box, 36
+/// triangles, 1.32 M samples/s unrolled against 0.56 through the BVH). On GPUs none: each
+/// invocation's copy of the triangles lives in local memory there (NVIDIA H200, 2026-12-04,
+/// `pathlab bench assets/scenes/cornell_box.toml --methods mis --size 1024x1024`: 74 M
+/// samples/s unrolled; see the README's GPU table for the BVH's).
+pub fn brute_force_limit(device_type: wgpu::DeviceType) -> u32 {
+    match device_type {
+        wgpu::DeviceType::Cpu => crate::accel::BRUTE_FORCE_TRIANGLES,
+        _ => 0,
+    }
+}
+
 /// Time spent creating one pipeline (shader specialisation and driver compilation).
 #[derive(Debug, Clone, Copy)]
 pub struct PipelineStats {
@@ -178,6 +192,8 @@ pub struct PathTracerPipelines {
     /// (`shaders::unrolled_triangles`) and researchers' techniques (their SHA-256s), created
     /// on first use.
     modules: Mutex<HashMap<(u32, TechniqueKey), wgpu::ShaderModule>>,
+    /// Scenes of at most this many triangles test each in turn (`brute_force_limit`).
+    brute_force_limit: u32,
     /// The Halton bases, bound at `bindings::HALTON_PRIMES`.
     pub halton_primes: wgpu::Buffer,
     pub bind_group_layout: wgpu::BindGroupLayout,
@@ -186,7 +202,15 @@ pub struct PathTracerPipelines {
 }
 
 impl PathTracerPipelines {
-    pub fn new(device: &wgpu::Device) -> PathTracerPipelines {
+    /// The pipelines of `gpu`, its small scenes tested triangle by triangle where its kind of
+    /// adapter gains by it (`brute_force_limit`).
+    pub fn new(gpu: &super::Gpu) -> PathTracerPipelines {
+        Self::with_brute_force_limit(&gpu.device, brute_force_limit(gpu.info.device_type))
+    }
+
+    /// The pipelines of `device`, scenes of at most `brute_force_limit` triangles (and at most
+    /// `accel::BRUTE_FORCE_TRIANGLES`) tested triangle by triangle, larger ones through the BVH.
+    pub fn with_brute_force_limit(device: &wgpu::Device, brute_force_limit: u32) -> PathTracerPipelines {
         let bind_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("path tracer"),
             entries: &bindings::layout_entries(&bindings::PATH_TRACER),
@@ -201,7 +225,7 @@ impl PathTracerPipelines {
             contents: &shaders::halton_primes_bytes(),
             usage: wgpu::BufferUsages::UNIFORM,
         });
-        PathTracerPipelines { modules: Mutex::new(HashMap::new()), halton_primes, bind_group_layout, layout, cache: Mutex::new(HashMap::new()) }
+        PathTracerPipelines { modules: Mutex::new(HashMap::new()), brute_force_limit, halton_primes, bind_group_layout, layout, cache: Mutex::new(HashMap::new()) }
     }
 
     /// The pipeline for `key` with `techniques` (those its method names), compiled on first
@@ -214,12 +238,12 @@ impl PathTracerPipelines {
         }
         let constants = pipeline_constants(&key);
         let start = Instant::now();
-        let unrolled = shaders::unrolled_triangles(key.features.num_triangles);
+        let unrolled = shaders::unrolled_triangles(key.features.num_triangles, self.brute_force_limit);
         let mut modules = self.modules.lock().unwrap_or_else(|e| e.into_inner());
         let module = modules.entry((unrolled, technique_key.clone())).or_insert_with(|| {
             device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some("path tracer"),
-                source: wgpu::ShaderSource::Wgsl(shaders::path_tracer_source_with(key.features.num_triangles, techniques).into()),
+                source: wgpu::ShaderSource::Wgsl(shaders::path_tracer_source_with(unrolled, techniques).into()),
             })
         });
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {

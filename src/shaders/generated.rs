@@ -197,12 +197,15 @@ pub fn light_counts() -> String {
 /// (`unrolled_triangles`): dead steps still cost the driver their compilation before it folds
 /// them (64 dead steps cost every scene's pipeline a second on lavapipe).
 pub fn small_triangle_tests(n: u32) -> String {
-    let mut s = String::from(
-        "var<private> small_triangle_cache: array<Triangle, BRUTE_FORCE_TRIANGLES>;\n\n\
+    let mut s = format!(
+        "// The triangle tests unrolled in this module: a scene of at most this many triangles\n\
+         // tests them all in turn, a larger one traverses the BVH.\n\
+         const SMALL_TRIANGLE_TESTS: u32 = {n}u;\n\n\
+         var<private> small_triangle_cache: array<Triangle, BRUTE_FORCE_TRIANGLES>;\n\n\
          // Copies the small scene's triangles into registers: called by every entry point that\n\
          // traces rays, first, outside any branch or loop (where lavapipe reads a uniform as one\n\
          // load for all lanes).\n\
-         fn load_small_triangles() {\n",
+         fn load_small_triangles() {{\n",
     );
     for k in 0..n {
         s += &format!("    if ({k}u < NUM_TRIANGLES) {{ small_triangle_cache[{k}] = small_triangles[{k}]; }}\n");

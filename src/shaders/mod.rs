@@ -186,10 +186,11 @@ impl<'a> TechniqueFiles<'a> {
 }
 
 /// The number of triangle tests the small scenes' code is unrolled to for a scene of
-/// `num_triangles`: its own count where it is tested triangle by triangle, else none (a larger
-/// scene traverses the BVH, and an empty one tests nothing).
-pub fn unrolled_triangles(num_triangles: u32) -> u32 {
-    if num_triangles <= crate::accel::BRUTE_FORCE_TRIANGLES { num_triangles } else { 0 }
+/// `num_triangles` where scenes of at most `limit` triangles are tested triangle by triangle
+/// (`gpu::pipeline::brute_force_limit`, at most `BRUTE_FORCE_TRIANGLES`): its own count where
+/// it is, else none (a larger scene traverses the BVH, and an empty one tests nothing).
+pub fn unrolled_triangles(num_triangles: u32, limit: u32) -> u32 {
+    if num_triangles <= limit.min(crate::accel::BRUTE_FORCE_TRIANGLES) { num_triangles } else { 0 }
 }
 
 /// `assemble`, with the small scenes' triangle tests unrolled to `small_triangles` steps: the
@@ -253,15 +254,16 @@ pub fn path_tracer_source() -> String {
     assemble(&PATH_TRACER, "")
 }
 
-/// The path-tracing module for scenes of `num_triangles` triangles: its small-scene tests
-/// unrolled to `unrolled_triangles(num_triangles)`.
-pub fn path_tracer_source_for(num_triangles: u32) -> String {
-    assemble_unrolled(&PATH_TRACER, "", unrolled_triangles(num_triangles))
+/// The path-tracing module with its small-scene tests unrolled to `unrolled` steps
+/// (`unrolled_triangles`): it serves scenes of exactly that many triangles by testing each, and
+/// larger ones through the BVH.
+pub fn path_tracer_source_for(unrolled: u32) -> String {
+    assemble_unrolled(&PATH_TRACER, "", unrolled)
 }
 
 /// `path_tracer_source_for`, with researchers' techniques.
-pub fn path_tracer_source_with(num_triangles: u32, techniques: TechniqueFiles) -> String {
-    assemble_with(&PATH_TRACER, "", unrolled_triangles(num_triangles), techniques)
+pub fn path_tracer_source_with(unrolled: u32, techniques: TechniqueFiles) -> String {
+    assemble_with(&PATH_TRACER, "", unrolled, techniques)
 }
 
 /// Validates a technique file with naga, as part of the sampling library: errors point at the
@@ -393,7 +395,10 @@ mod path_tracer_tests {
     #[test]
     fn path_tracer_for_each_triangle_count_is_valid_wgsl() {
         for n in [0u32, 1, 36, crate::accel::BRUTE_FORCE_TRIANGLES, crate::accel::BRUTE_FORCE_TRIANGLES + 1] {
-            super::validate(&super::path_tracer_source_for(n), &[("NUM_TRIANGLES", n as f64)]).unwrap();
+            for limit in [0, crate::accel::BRUTE_FORCE_TRIANGLES] {
+                let unrolled = super::unrolled_triangles(n, limit);
+                super::validate(&super::path_tracer_source_for(unrolled), &[("NUM_TRIANGLES", n as f64)]).unwrap();
+            }
         }
     }
 }

@@ -140,7 +140,7 @@ const WARM_UP_FRAMES: u64 = 2;
 
 impl Driver {
     pub fn new(gpu: Gpu, scene: Scene, methods: &[Method], seed: u32, reference: Option<Film>, frame_target: Duration) -> Result<Driver, RenderError> {
-        let pipelines = PathTracerPipelines::new(&gpu.device);
+        let pipelines = PathTracerPipelines::new(&gpu);
         let display = DisplayPass::new(&gpu.device, &gpu.queue);
         let reference = reference.map(|film| {
             let on_device = GpuReference::new(&gpu.device, &gpu.queue, &film);

@@ -17,7 +17,7 @@ pub fn gpu() -> &'static Gpu {
 
 pub fn pipelines() -> &'static PathTracerPipelines {
     static PIPELINES: OnceLock<PathTracerPipelines> = OnceLock::new();
-    PIPELINES.get_or_init(|| PathTracerPipelines::new(&gpu().device))
+    PIPELINES.get_or_init(|| PathTracerPipelines::new(&gpu()))
 }
 
 pub fn scene(text: &str) -> Scene {
