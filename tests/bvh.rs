@@ -255,6 +255,7 @@ fn gpu_kernel(tris: &[Triangle], rays: &[(Vec3, Vec3, f32, f32)], budget: u32, e
         texel_tables: vec![
             (bindings::TRIANGLES.number, bytemuck::cast_slice(&gpu_tris).to_vec()),
             (bindings::BVH_NODES.number, bytemuck::cast_slice(&bvh.nodes).to_vec()),
+            (bindings::BVH_PARENTS.number, bytemuck::cast_slice(&bvh.pair_parents()).to_vec()),
         ],
         output: (1, rays.len() as u64 * 16),
         workgroups: (rays.len() as u32).div_ceil(64),
@@ -338,9 +339,11 @@ fn a_worst_case_traversal_trips_the_guard_and_only_then() {
     let tris = slivers(3000);
     let ray = [(Vec3::ZERO, Vec3::Z, f32::INFINITY, f32::INFINITY)];
     assert!(brute(&tris, Vec3::ZERO, Vec3::Z, f32::INFINITY).is_none(), "the slivers must not cover the axis");
-    // The kernel's count of a full traversal: every node, two more per leaf, every triangle.
+    // The host's bound on the kernel's count of a full traversal (`LoopBound::steps_per_ray`):
+    // four per node (visited, climbed out of, a climb started, two steps), three per leaf,
+    // every triangle. A full traversal takes more than half of it.
     let bvh = Bvh::build(&tris);
-    let steps = (bvh.nodes.len() + 2 * bvh.nodes.iter().filter(|n| n.count > 0).count()) as u32 + 3000;
+    let steps = (4 * bvh.nodes.len() + 3 * bvh.nodes.iter().filter(|n| n.count > 0).count()) as u32 + 3000;
     let (t, _, any, exhausted) = gpu_queries(&tris, &ray, 2 * steps + 10)[0];
     assert!(t < 0.0 && !any && !exhausted, "with room for both traversals the guard must stay quiet");
     let (_, _, _, exhausted) = gpu_queries(&tris, &ray, steps / 2)[0];
@@ -348,9 +351,31 @@ fn a_worst_case_traversal_trips_the_guard_and_only_then() {
     // The kernel's count stays at or above llvmpipe's own count of loop back-edges, which ends
     // every loop of an invocation at 65535: a traversal far past that, guarded at 60000,
     // trips the guard (were the count lower, llvmpipe would cut the traversal short first, and
-    // the ray would silently miss). On a hardware GPU the guard trips as well.
+    // the ray would silently miss). On a hardware GPU the guard trips as well. (Measured with
+    // this scene, 2026-12-04: counting two per leaf and one per climb start, a guard of 55000
+    // was already too late; with three and two, a guard of 66000 still trips first.)
     let deep = slivers(100_000);
     let (t, _, _, exhausted) = gpu_queries(&deep, &ray, 60_000)[0];
     assert!(t < 0.0 && exhausted, "llvmpipe ended the traversal before the guard's count reached 60000");
 }
 
+/// The parents the kernel's stackless traversal climbs (`Bvh::pair_parents`): every node but the
+/// root is one of a pair (2p + 1, 2p + 2) whose entry p names the node whose children they
+/// are; the table is whole texels of four.
+#[test]
+fn every_node_but_the_root_finds_its_parent() {
+    let mut rng = Rng(5);
+    for n in [1, 2, 3, 57, 3000] {
+        let tris = soup(&mut rng, n, (0.01, 0.4), 2.0, Vec3::ZERO);
+        let bvh = Bvh::build(&tris);
+        let parents = bvh.pair_parents();
+        assert!(!parents.is_empty() && parents.len() % 4 == 0);
+        let mut found = 0;
+        for (i, node) in bvh.nodes.iter().enumerate().filter(|(_, node)| node.count == 0) {
+            assert_eq!(node.first % 2, 1, "node {i}'s children do not start a pair");
+            assert_eq!(parents[(node.first as usize - 1) / 2], i as u32);
+            found += 2;
+        }
+        assert_eq!(found, bvh.nodes.len() - 1, "{n} triangles: every node but the root is a child");
+    }
+}

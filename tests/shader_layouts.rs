@@ -136,6 +136,7 @@ fn generated_values_and_bindings_are_the_rust_ones() {
         ("triangles", bindings::TRIANGLES),
         ("triangle_normals", bindings::TRIANGLE_NORMALS),
         ("bvh_nodes", bindings::BVH_NODES),
+        ("bvh_parents", bindings::BVH_PARENTS),
         ("light_table", bindings::LIGHTS),
         ("small_triangles", bindings::SMALL_TRIANGLES),
         ("triangle_uvs", bindings::TRIANGLE_UVS),

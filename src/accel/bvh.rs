@@ -107,6 +107,22 @@ impl Bvh {
         Bvh { nodes, order, depth }
     }
 
+    /// The parents of the nodes, for the kernel's stackless traversal (bvh.wgsl): every node
+    /// but the root is one of an adjacent pair (2p + 1, 2p + 2), and entry p is pair p's
+    /// parent. Padded with zeros to whole texels of four, at least one.
+    pub fn pair_parents(&self) -> Vec<u32> {
+        let mut parents = vec![0u32; (self.nodes.len() / 2).div_ceil(4).max(1) * 4];
+        for (i, n) in self.nodes.iter().enumerate() {
+            // (An interior node's children are at 1 or beyond; a BVH without triangles is one
+            // zeroed node.)
+            if n.count == 0 && n.first > 0 {
+                debug_assert!(n.first % 2 == 1, "children pairs start at odd indices");
+                parents[(n.first as usize - 1) / 2] = i as u32;
+            }
+        }
+        parents
+    }
+
     /// The nearest hit of the ray (origin, direction) closer than `t_max`: (t, triangle).
     pub fn closest(&self, triangles: &[Triangle], origin: Vec3, direction: Vec3, t_max: f32) -> Option<(f32, u32)> {
         self.traverse(triangles, origin, direction, t_max, false)

@@ -97,9 +97,10 @@ pub struct LoopBound {
     pub fixed: u64,
     /// Rays (camera, scattered and shadow rays) one sample traces at most.
     pub rays: u64,
-    /// Traversal steps of one ray at worst: every node visited and every triangle tested once,
-    /// and two more per leaf (entering a leaf's loop costs llvmpipe about two back-edges of
-    /// its own: measured, tests/bvh.rs), as the kernel's guard counts them.
+    /// Traversal steps of one ray at worst, as the kernel's guard counts them (bvh.wgsl): every
+    /// node visited once, climbed out of once, and at most once the start of a climb, which
+    /// costs llvmpipe two back-edges of its own; every triangle tested once, and three more per
+    /// leaf for its loop (those costs measured: tests/bvh.rs).
     pub steps_per_ray: u64,
 }
 
@@ -159,7 +160,7 @@ pub fn loop_iterations_per_sample(key: &PipelineKey, max_depth: u32, bvh_nodes: 
     let per_vertex = 1 + s + p + shadow_rays * (1 + s + p) + (3 + light_dims) * per_dim + env_search;
     let fixed = 1 + 2 * per_dim + max_depth as u64 * per_vertex;
     let rays = 1 + max_depth as u64 * (1 + shadow_rays);
-    let steps_per_ray = if f.num_triangles > 0 { bvh_nodes + 2 * bvh_leaves + f.num_triangles as u64 } else { 0 };
+    let steps_per_ray = if f.num_triangles > 0 { 4 * bvh_nodes + 3 * bvh_leaves + f.num_triangles as u64 } else { 0 };
     LoopBound { fixed, rays, steps_per_ray }
 }
 

@@ -154,12 +154,14 @@ pub struct PackedTriangles {
 }
 
 impl PackedTriangles {
-    /// Bytes of the five storage buffers.
+    /// Bytes of the triangles, their normals and uvs, the BVH (nodes and parents) and the
+    /// light table.
     pub fn gpu_bytes(&self) -> usize {
         std::mem::size_of_val(&self.triangles[..])
             + std::mem::size_of_val(&self.normals[..])
             + std::mem::size_of_val(&self.uvs[..])
             + std::mem::size_of_val(&self.bvh.nodes[..])
+            + self.bvh.nodes.len() / 2 * 4
             + std::mem::size_of_val(&self.lights[..])
     }
 
@@ -284,6 +286,7 @@ impl SceneBuffers {
             contents(bindings::TRIANGLE_NORMALS, "triangle normals", storage_array(&packed.normals)),
             contents(bindings::TRIANGLE_UVS, "triangle uvs", storage_array(&packed.uvs)),
             contents(bindings::BVH_NODES, "bvh nodes", storage_array(&packed.bvh.nodes)),
+            contents(bindings::BVH_PARENTS, "bvh parents", storage_array(&packed.bvh.pair_parents())),
             contents(bindings::LIGHTS, "lights", storage_array(&packed.lights)),
             contents(bindings::SPHERE_AXES, "sphere axes", storage_array(&Self::pack_sphere_axes(scene))),
             contents(

@@ -56,6 +56,9 @@ pub const HALTON_PRIMES: Binding = Binding { number: 6, name: "HALTON_PRIMES", k
 pub const TRIANGLES: Binding = Binding { number: 7, name: "TRIANGLES", kind: Kind::TexelTable };
 pub const TRIANGLE_NORMALS: Binding = Binding { number: 8, name: "TRIANGLE_NORMALS", kind: Kind::Storage { read_only: true } };
 pub const BVH_NODES: Binding = Binding { number: 9, name: "BVH_NODES", kind: Kind::TexelTable };
+/// The BVH nodes' parents, one per pair of children, four per texel (`Bvh::pair_parents`): the
+/// stackless traversal climbs them.
+pub const BVH_PARENTS: Binding = Binding { number: 17, name: "BVH_PARENTS", kind: Kind::TexelTable };
 /// The light table: objects and the power alias table (`LightEntry`, light_table.wgsl).
 pub const LIGHTS: Binding = Binding { number: 10, name: "LIGHTS", kind: Kind::Storage { read_only: true } };
 
@@ -79,7 +82,7 @@ pub const ENVIRONMENT_MAP: Binding = Binding { number: 15, name: "ENVIRONMENT_MA
 pub const DELTA_LIGHTS: Binding = Binding { number: 16, name: "DELTA_LIGHTS", kind: Kind::Uniform };
 
 /// The path tracer's bind group.
-pub const PATH_TRACER: [Binding; 16] = [
+pub const PATH_TRACER: [Binding; 17] = [
     FRAME,
     SPHERES,
     PLANES,
@@ -89,6 +92,7 @@ pub const PATH_TRACER: [Binding; 16] = [
     TRIANGLES,
     TRIANGLE_NORMALS,
     BVH_NODES,
+    BVH_PARENTS,
     LIGHTS,
     SMALL_TRIANGLES,
     TRIANGLE_UVS,
