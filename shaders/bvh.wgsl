@@ -1,12 +1,14 @@
 // bvh.wgsl — triangles and the bounding volume hierarchy over them (built on the host, whose
 // `Bvh::closest` and `Bvh::any` are this traversal's CPU twins, checked against brute force). Nodes are 32 bytes; an interior node's two
 // children are adjacent; a leaf's triangles are a contiguous range of `triangles` (the host
-// stores them in leaf order). Traversal visits the nearer child first and keeps the farther in
-// a trail of bits, one per level, BVH_MAX_DEPTH levels at most (see bvh_traverse).
+// stores them in leaf order). Traversal visits the nearer child first and keeps the farther on
+// a stack or in a trail of bits, one per level, BVH_MAX_DEPTH levels at most (bvh_traverse).
 
 // Triangles of the scene (0: the mesh code compiles out), and whether any has vertex normals.
 override NUM_TRIANGLES: u32 = 0u;
 override HAS_SHADING_NORMALS: bool = false;
+// The BVH traversal without a stack (bvh_traverse_stackless), else with one.
+override BVH_STACKLESS: bool = true;
 // Most traversal steps (nodes visited, leaves entered twice, triangles tested) one invocation
 // may take in all:
 // where the host cannot bound traversal within llvmpipe's loop limit, the kernel counts them
@@ -83,7 +85,7 @@ fn bvh_node(i: u32) -> BvhNode {
 }
 // Scenes of at most BRUTE_FORCE_TRIANGLES triangles (generated from src/accel/mod.rs) also
 // have them in a uniform buffer. Where the module unrolls their tests (SMALL_TRIANGLE_TESTS,
-// generated: on CPU adapters only, `gpu::pipeline::brute_force_limit`), the kernel tests every
+// generated: on CPU adapters only, `gpu::AdapterTuning`), the kernel tests every
 // one in turn at lane-uniform indices instead of traversing the BVH: on SIMD CPU drivers a
 // divergent traversal of a small BVH through storage loads (lane by lane on lavapipe) costs
 // more than testing every triangle from a buffer served as one broadcast load (the Cornell
@@ -177,6 +179,20 @@ fn sheared_ray(o: vec3f, d: vec3f) -> ShearedRay {
     return ShearedRay(o, vec3u(kx, ky, kz), vec3f(d[kx] / d[kz], d[ky] / d[kz], 1.0 / d[kz]));
 }
 
+// The 2D edge function q.x p.y - q.y p.x of sheared vertices p and q, computed in one order
+// for both directions of the edge (its ends ordered lexicographically) and negated exactly
+// for the other: the two triangles sharing an edge then get exactly opposite values even
+// where the driver fuses a product into a multiply-add, which WGSL allows (an NVIDIA H200
+// does: rays through shared edges escaped there). The test's watertightness rests on that
+// antisymmetry. Without fusion (lavapipe) it is the plain difference, bit for bit.
+fn edge_function(p: vec2f, q: vec2f) -> f32 {
+    let swap = p.x > q.x || (p.x == q.x && p.y > q.y);
+    let a = select(p, q, swap);
+    let b = select(q, p, swap);
+    let e = b.x * a.y - b.y * a.x;
+    return select(e, -e, swap);
+}
+
 // Distance to the triangle along the ray if it is hit in (0, t_max), else -1; barycentrics of
 // p1 and p2 in `bary`.
 fn intersect_triangle(r: ShearedRay, p0: vec3f, p1: vec3f, p2: vec3f, t_max: f32, bary: ptr<function, vec2f>) -> f32 {
@@ -191,9 +207,9 @@ fn intersect_triangle(r: ShearedRay, p0: vec3f, p1: vec3f, p2: vec3f, t_max: f32
     let cx = c[r.k.x] - r.shear.x * c[r.k.z];
     let cy = c[r.k.y] - r.shear.y * c[r.k.z];
     // Scaled barycentrics: the edge functions.
-    let u = cx * by - cy * bx;
-    let v = ax * cy - ay * cx;
-    let w = bx * ay - by * ax;
+    let u = edge_function(vec2f(bx, by), vec2f(cx, cy));
+    let v = edge_function(vec2f(cx, cy), vec2f(ax, ay));
+    let w = edge_function(vec2f(ax, ay), vec2f(bx, by));
     let mixed = (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0);
     let det = u + v + w;
     // The hit's distance scaled by det, compared without a division.
@@ -276,9 +292,89 @@ fn bvh_sibling(x: u32) -> u32 {
 }
 
 // The nearest triangle along (o, d) closer than t_max through the BVH; with `any`, the first
-// one found (shadow rays).
-//
-// Stackless (after Hapala et al. 2011 and Áfra and Szirmay-Kalos 2014): the nodes still to visit
+// one found (shadow rays): stackless on CPU adapters, with a stack on GPUs (BVH_STACKLESS, set
+// by the host: `gpu::pipeline::AdapterTuning`). Both visit the nodes in the same order and find
+// the same hits.
+fn bvh_traverse(o: vec3f, d: vec3f, t_max: f32, any: bool) -> TriangleHit {
+    if (BVH_STACKLESS) {
+        return bvh_traverse_stackless(o, d, t_max, any);
+    }
+    return bvh_traverse_stack(o, d, t_max, any);
+}
+
+// The traversal with a stack of the farther children, BVH_MAX_DEPTH entries (the deepest node
+// the builder makes). On an NVIDIA H200 it is faster than the stackless one (2026-12-04,
+// `pathlab bench ... --methods mis`, 1024x1024: 80-triangle icosphere 3748 against 3250 M
+// samples/s, 1.3 M triangles 642 against 446, Veach's scene 698 against 633).
+fn bvh_traverse_stack(o: vec3f, d: vec3f, t_max: f32, any: bool) -> TriangleHit {
+    var best = TriangleHit(t_max, INVALID, vec2f(0.0));
+    let ray = sheared_ray(o, d);
+    let inv_d = 1.0 / d;
+    var stack: array<u32, BVH_MAX_DEPTH>;
+    var top = 0u;
+    var node = 0u;
+    let root = bvh_node(0u);
+    if (intersect_node(root.lo, root.hi, o, inv_d, t_max) < 0.0) {
+        return best;
+    }
+    loop {
+        if (!traversal_step()) {
+            break;
+        }
+        let n = bvh_node(node);
+        var next = INVALID;
+        if (n.count > 0u) {
+            // Entering a leaf's loop costs llvmpipe about two back-edges of its own (measured:
+            // tests/bvh.rs), counted here so that the guard always trips first.
+            traversal_steps += 2u;
+            for (var i = n.first; i < n.first + n.count; i++) {
+                if (!traversal_step()) {
+                    break;
+                }
+                let tri = triangle_record(i);
+                var bary: vec2f;
+                let t = intersect_triangle(ray, tri.p0, tri.p1, tri.p2, best.t, &bary);
+                if (t > 0.0) {
+                    best = TriangleHit(t, i, bary);
+                    if (any) {
+                        break;
+                    }
+                }
+            }
+            if (any && best.index != INVALID) {
+                break;
+            }
+        } else {
+            // The nearer child next, the farther on the stack.
+            let l = n.first;
+            let r = n.first + 1u;
+            let nl = bvh_node(l);
+            let nr = bvh_node(r);
+            let tl = intersect_node(nl.lo, nl.hi, o, inv_d, best.t);
+            let tr = intersect_node(nr.lo, nr.hi, o, inv_d, best.t);
+            if (tl >= 0.0 && tr >= 0.0) {
+                next = select(r, l, tl <= tr);
+                stack[top] = select(l, r, tl <= tr);
+                top++;
+            } else if (tl >= 0.0) {
+                next = l;
+            } else if (tr >= 0.0) {
+                next = r;
+            }
+        }
+        if (next == INVALID) {
+            if (top == 0u) {
+                break;
+            }
+            top--;
+            next = stack[top];
+        }
+        node = next;
+    }
+    return best;
+}
+
+// The stackless traversal (after Hapala et al. 2011 and Áfra and Szirmay-Kalos 2014): the nodes still to visit
 // are a trail of bits, one per level from the root down to the current node, set where that
 // level's farther child waits. Descending shifts a bit in; where no child is entered, the
 // traversal climbs the parents (shifting bits out) to the deepest level whose bit is set and
@@ -292,7 +388,7 @@ fn bvh_sibling(x: u32) -> u32 {
 // what llvmpipe charges beyond its back-edges for entering a loop: three per leaf, two per
 // climb (measured on the worst case of tests/bvh.rs, where counting two and one let llvmpipe's
 // count run ahead by a quarter). `LoopBound::steps_per_ray` bounds the sum.
-fn bvh_traverse(o: vec3f, d: vec3f, t_max: f32, any: bool) -> TriangleHit {
+fn bvh_traverse_stackless(o: vec3f, d: vec3f, t_max: f32, any: bool) -> TriangleHit {
     var best = TriangleHit(t_max, INVALID, vec2f(0.0));
     let ray = sheared_ray(o, d);
     let inv_d = 1.0 / d;

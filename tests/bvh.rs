@@ -217,21 +217,22 @@ fn brute_main(@builtin(global_invocation_id) gid: vec3u) {
 "#;
 
 /// Runs the kernel's closest and any queries for `rays` (origin, direction, closest t_max,
-/// any t_max) over `tris` with traversal budget `budget`: (closest t or -1, triangle index in
-/// `tris`, any hit, guard tripped) per ray.
-fn gpu_queries(tris: &[Triangle], rays: &[(Vec3, Vec3, f32, f32)], budget: u32) -> Vec<(f32, u32, bool, bool)> {
-    gpu_kernel(tris, rays, budget, "bvh_main")
+/// any t_max) over `tris` with traversal budget `budget`, through the stackless traversal or
+/// the one with a stack (`BVH_STACKLESS`): (closest t or -1, triangle index in `tris`, any hit,
+/// guard tripped) per ray.
+fn gpu_queries_with(tris: &[Triangle], rays: &[(Vec3, Vec3, f32, f32)], budget: u32, stackless: bool) -> Vec<(f32, u32, bool, bool)> {
+    gpu_kernel(tris, rays, budget, "bvh_main", stackless)
 }
 
 /// The kernel's brute force (`brute_main`) for `rays` over `tris`: (closest t or -1, triangle
 /// index in `tris`, false, false) per ray.
 fn gpu_brute_force(tris: &[Triangle], rays: &[(Vec3, Vec3, f32, f32)]) -> Vec<(f32, u32, bool, bool)> {
-    gpu_kernel(tris, rays, u32::MAX, "brute_main")
+    gpu_kernel(tris, rays, u32::MAX, "brute_main", true)
 }
 
 /// Runs `entry` of the test kernel over `rays` and `tris` (in the BVH's order, indices mapped
 /// back to `tris`).
-fn gpu_kernel(tris: &[Triangle], rays: &[(Vec3, Vec3, f32, f32)], budget: u32, entry: &str) -> Vec<(f32, u32, bool, bool)> {
+fn gpu_kernel(tris: &[Triangle], rays: &[(Vec3, Vec3, f32, f32)], budget: u32, entry: &str, stackless: bool) -> Vec<(f32, u32, bool, bool)> {
     use pathlab::gpu::{GpuTriangle, KernelRun};
     use pathlab::shaders::{self, bindings, files};
     let bvh = Bvh::build(tris);
@@ -245,7 +246,7 @@ fn gpu_kernel(tris: &[Triangle], rays: &[(Vec3, Vec3, f32, f32)], budget: u32, e
         .collect();
     let ray_data: Vec<[f32; 8]> = rays.iter().map(|(o, d, tc, ta)| [o.x, o.y, o.z, *tc, d.x, d.y, d.z, *ta]).collect();
     let source = shaders::assemble(&[files::COMMON, files::BVH], BVH_KERNEL);
-    let constants = [("NUM_TRIANGLES", tris.len() as f64), ("TRAVERSAL_BUDGET", budget as f64)];
+    let constants = [("NUM_TRIANGLES", tris.len() as f64), ("TRAVERSAL_BUDGET", budget as f64), ("BVH_STACKLESS", stackless as u32 as f64)];
     let run = KernelRun {
         source: &source,
         entry,
@@ -283,7 +284,6 @@ fn the_kernels_traversal_agrees_with_brute_force_and_is_watertight() {
     for r in rays.iter_mut() {
         r.3 = brute(&tris, r.0, r.1, f32::INFINITY).map_or(10.0, |t| t * 1.5);
     }
-    let got = gpu_queries(&tris, &rays, u32::MAX);
     // The traversal is held to the kernel's own brute force, which shares its arithmetic, on any
     // adapter. On a CPU adapter (lavapipe) that arithmetic is the CPU's, IEEE single precision
     // without contraction, so the kernel's brute force must also give the CPU twin's distances
@@ -292,20 +292,24 @@ fn the_kernels_traversal_agrees_with_brute_force_and_is_watertight() {
     // in the last bits.
     let kernel_brute = gpu_brute_force(&tris, &rays);
     let cpu_arithmetic = common::gpu().info.device_type == wgpu::DeviceType::Cpu;
-    let (mut hits, mut mismatches) = (0, Vec::new());
-    for (k, ((&(o, d, _, any_max), &(t, index, any, exhausted)), &(tb, _, _, _))) in rays.iter().zip(&got).zip(&kernel_brute).enumerate() {
-        assert!(!exhausted);
-        let expected = brute(&tris, o, d, f32::INFINITY);
-        // A tie between triangles at one distance may resolve either way: the distance counts.
-        let same = if tb < 0.0 { t < 0.0 } else { t == tb && index != u32::MAX };
-        let any_expected = tb > 0.0 && tb < any_max;
-        let twin = !cpu_arithmetic || expected.map_or(tb < 0.0, |te| te == tb);
-        if !same || any != any_expected || !twin {
-            mismatches.push(format!("ray {k}: traversal t {t} (triangle {index}) any {any}, the kernel's brute force t {tb}, the CPU's {expected:?}"));
+    let hits = kernel_brute.iter().filter(|r| r.0 > 0.0).count();
+    for stackless in [true, false] {
+        let traversal = if stackless { "stackless" } else { "with a stack" };
+        let got = gpu_queries_with(&tris, &rays, u32::MAX, stackless);
+        let mut mismatches = Vec::new();
+        for (k, ((&(o, d, _, any_max), &(t, index, any, exhausted)), &(tb, _, _, _))) in rays.iter().zip(&got).zip(&kernel_brute).enumerate() {
+            assert!(!exhausted);
+            let expected = brute(&tris, o, d, f32::INFINITY);
+            // A tie between triangles at one distance may resolve either way: the distance counts.
+            let same = if tb < 0.0 { t < 0.0 } else { t == tb && index != u32::MAX };
+            let any_expected = tb > 0.0 && tb < any_max;
+            let twin = !cpu_arithmetic || expected.map_or(tb < 0.0, |te| te == tb);
+            if !same || any != any_expected || !twin {
+                mismatches.push(format!("ray {k}: traversal t {t} (triangle {index}) any {any}, the kernel's brute force t {tb}, the CPU's {expected:?}"));
+            }
         }
-        hits += (tb > 0.0) as usize;
+        assert!(mismatches.is_empty(), "{} of {} rays disagree ({}): {:?}", mismatches.len(), rays.len(), traversal, &mismatches[..mismatches.len().min(5)]);
     }
-    assert!(mismatches.is_empty(), "{} of {} rays disagree: {:?}", mismatches.len(), rays.len(), &mismatches[..mismatches.len().min(5)]);
     assert!(hits > 20_000, "only {hits} rays hit");
 
     // Closed mesh: rays from inside aimed at every vertex and edge all hit.
@@ -318,8 +322,11 @@ fn the_kernels_traversal_agrees_with_brute_force_and_is_watertight() {
             }
         }
     }
-    let escaped: Vec<_> = gpu_queries(&mesh, &aimed, u32::MAX).iter().zip(&aimed).filter(|((t, _, any, _), _)| *t < 0.0 || !any).map(|(_, r)| *r).collect();
-    assert!(escaped.is_empty(), "{} of {} rays through shared edges and vertices escaped: {:?}", escaped.len(), aimed.len(), &escaped[..escaped.len().min(3)]);
+    for stackless in [true, false] {
+        let got = gpu_queries_with(&mesh, &aimed, u32::MAX, stackless);
+        let escaped: Vec<_> = got.iter().zip(&aimed).filter(|((t, _, any, _), _)| *t < 0.0 || !any).map(|(_, r)| *r).collect();
+        assert!(escaped.is_empty(), "{} of {} rays through shared edges and vertices escaped (stackless {stackless}): {:?}", escaped.len(), aimed.len(), &escaped[..escaped.len().min(3)]);
+    }
 }
 
 /// The worst case of a traversal: a stack of triangles whose boxes all contain the ray but
@@ -344,19 +351,21 @@ fn a_worst_case_traversal_trips_the_guard_and_only_then() {
     // every triangle. A full traversal takes more than half of it.
     let bvh = Bvh::build(&tris);
     let steps = (4 * bvh.nodes.len() + 3 * bvh.nodes.iter().filter(|n| n.count > 0).count()) as u32 + 3000;
-    let (t, _, any, exhausted) = gpu_queries(&tris, &ray, 2 * steps + 10)[0];
-    assert!(t < 0.0 && !any && !exhausted, "with room for both traversals the guard must stay quiet");
-    let (_, _, _, exhausted) = gpu_queries(&tris, &ray, steps / 2)[0];
-    assert!(exhausted, "a traversal of {steps} steps ran within a budget of {}", steps / 2);
-    // The kernel's count stays at or above llvmpipe's own count of loop back-edges, which ends
-    // every loop of an invocation at 65535: a traversal far past that, guarded at 60000,
-    // trips the guard (were the count lower, llvmpipe would cut the traversal short first, and
-    // the ray would silently miss). On a hardware GPU the guard trips as well. (Measured with
-    // this scene, 2026-12-04: counting two per leaf and one per climb start, a guard of 55000
-    // was already too late; with three and two, a guard of 66000 still trips first.)
     let deep = slivers(100_000);
-    let (t, _, _, exhausted) = gpu_queries(&deep, &ray, 60_000)[0];
-    assert!(t < 0.0 && exhausted, "llvmpipe ended the traversal before the guard's count reached 60000");
+    for stackless in [true, false] {
+        let (t, _, any, exhausted) = gpu_queries_with(&tris, &ray, 2 * steps + 10, stackless)[0];
+        assert!(t < 0.0 && !any && !exhausted, "with room for both traversals the guard must stay quiet (stackless {stackless})");
+        let (_, _, _, exhausted) = gpu_queries_with(&tris, &ray, steps / 2, stackless)[0];
+        assert!(exhausted, "a traversal of {steps} steps ran within a budget of {}", steps / 2);
+        // The kernel's count stays at or above llvmpipe's own count of loop back-edges, which ends
+        // every loop of an invocation at 65535: a traversal far past that, guarded at 60000,
+        // trips the guard (were the count lower, llvmpipe would cut the traversal short first, and
+        // the ray would silently miss). On a hardware GPU the guard trips as well. (Measured with
+        // this scene, 2026-12-04: counting two per leaf and one per climb start, a guard of 55000
+        // was already too late; with three and two, a guard of 66000 still trips first.)
+        let (t, _, _, exhausted) = gpu_queries_with(&deep, &ray, 60_000, stackless)[0];
+        assert!(t < 0.0 && exhausted, "llvmpipe ended the traversal before the guard's count reached 60000 (stackless {stackless})");
+    }
 }
 
 /// The parents the kernel's stackless traversal climbs (`Bvh::pair_parents`): every node but the

@@ -274,25 +274,30 @@ fn cornell_box_shards_merge_to_the_single_run_and_light_options_must_agree() {
     assert!(!ok && e.contains("light_select"), "{e}");
 }
 
-/// A small scene renders the same image whether its triangles are tested each in turn (the
-/// unrolled tests CPU adapters get, `gpu::pipeline::brute_force_limit`) or found through the
-/// BVH (what GPUs get, and what this test is the only CI coverage of for small scenes): the
-/// Cornell box (36 triangles) under `mis` and `best`, bit for bit. Both find the nearest
-/// triangle with the same watertight test; only a tie at one distance could resolve to another
-/// triangle, and the box's ties (a quad's diagonal) lie between coplanar triangles of one
-/// material and one light.
+/// The two tunings of the kernel render the same images (`gpu::AdapterTuning`): a CPU
+/// adapter's (small scenes triangle by triangle, the stackless traversal) and a GPU's (every
+/// scene through the BVH, with a stack), both run here, bit for bit. The Cornell box (36
+/// triangles) is the only CI coverage of a small scene through the BVH, Veach's scene (52) of
+/// the traversal with a stack in a render. Both ways find the nearest triangle with the same
+/// watertight test and visit the nodes in the same order; only a tie at one distance could
+/// resolve to another triangle, and the Cornell box's ties (a quad's diagonal) lie between
+/// coplanar triangles of one material and one light.
 #[test]
-fn small_scenes_render_the_same_through_the_bvh_as_triangle_by_triangle() {
-    use pathlab::gpu::PathTracerPipelines;
+fn the_cpu_and_gpu_tunings_render_the_same_images() {
+    use pathlab::gpu::{AdapterTuning, PathTracerPipelines};
     use pathlab::render::Renderer;
-    let mut cornell = Scene::load(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes/cornell_box.toml")).unwrap();
-    (cornell.render.width, cornell.render.height) = (24, 24);
-    assert!(cornell.num_triangles() as u32 <= pathlab::accel::BRUTE_FORCE_TRIANGLES);
-    let through_bvh = PathTracerPipelines::with_brute_force_limit(&gpu().device, 0);
-    let each_in_turn = PathTracerPipelines::with_brute_force_limit(&gpu().device, pathlab::accel::BRUTE_FORCE_TRIANGLES);
-    for preset in [Preset::Mis, Preset::Best] {
-        let [a, b] = [&through_bvh, &each_in_turn].map(|p| finish(Renderer::new(gpu(), p, &cornell, preset.method(), 5).expect("renderer"), 16).film);
-        assert!(a.mean.iter().flatten().any(|&x| x > 0.0));
-        assert!(bits(&a) == bits(&b), "{}: the Cornell box through the BVH differs from its unrolled tests", preset.name());
+    let gpu_tuning = AdapterTuning::for_device(wgpu::DeviceType::DiscreteGpu);
+    let cpu_tuning = AdapterTuning::for_device(wgpu::DeviceType::Cpu);
+    assert!(gpu_tuning.brute_force_limit == 0 && !gpu_tuning.stackless_traversal && cpu_tuning.stackless_traversal);
+    let tuned = [gpu_tuning, cpu_tuning].map(|t| PathTracerPipelines::with_tuning(&gpu().device, t));
+    for file in ["cornell_box.toml", "veach_mis.xml"] {
+        let mut scene = Scene::load(format!("{}/assets/scenes/{file}", env!("CARGO_MANIFEST_DIR"))).unwrap();
+        (scene.render.width, scene.render.height) = (24, 24);
+        for preset in [Preset::Mis, Preset::Best] {
+            let [a, b] = [&tuned[0], &tuned[1]].map(|p| finish(Renderer::new(gpu(), p, &scene, preset.method(), 5).expect("renderer"), 16).film);
+            assert!(a.mean.iter().flatten().any(|&x| x > 0.0));
+            assert!(bits(&a) == bits(&b), "{file} {}: the GPU's tuning renders another image than the CPU's", preset.name());
+        }
     }
+    assert!(Scene::load(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes/cornell_box.toml")).unwrap().num_triangles() as u32 <= pathlab::accel::BRUTE_FORCE_TRIANGLES);
 }

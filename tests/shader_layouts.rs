@@ -101,7 +101,9 @@ fn overrides_set_by_the_host_are_those_the_module_declares() {
         light_interiors_reachable: true,
     };
     let key = PipelineKey::new(Preset::Best.method(), features, pathlab::method::LightSelect::Power);
-    let mut set: Vec<&str> = pipeline_constants(&key).into_iter().map(|(n, _)| n).collect();
+    // The method's and scene's, and the adapter's (`PathTracerPipelines::get` sets both).
+    let tuning = pathlab::gpu::AdapterTuning::for_device(wgpu::DeviceType::Cpu);
+    let mut set: Vec<&str> = pipeline_constants(&key).into_iter().chain(tuning.constants()).map(|(n, _)| n).collect();
     declared.sort_unstable();
     set.sort_unstable();
     assert_eq!(declared, set);

@@ -164,17 +164,38 @@ pub fn loop_iterations_per_sample(key: &PipelineKey, max_depth: u32, bvh_nodes: 
     LoopBound { fixed, rays, steps_per_ray }
 }
 
-/// The most triangles a scene may have for the kernel to test every one in turn (unrolled, from
-/// a uniform buffer) rather than traverse the BVH, on an adapter of `device_type`. On CPU
-/// adapters `accel::BRUTE_FORCE_TRIANGLES` (lavapipe, 2026-12-03: the Cornell box, 36
-/// triangles, 1.32 M samples/s unrolled against 0.56 through the BVH). On GPUs none: each
-/// invocation's copy of the triangles lives in local memory there (NVIDIA H200, 2026-12-04,
-/// `pathlab bench assets/scenes/cornell_box.toml --methods mis --size 1024x1024`: 74 M
-/// samples/s unrolled; see the README's GPU table for the BVH's).
-pub fn brute_force_limit(device_type: wgpu::DeviceType) -> u32 {
-    match device_type {
-        wgpu::DeviceType::Cpu => crate::accel::BRUTE_FORCE_TRIANGLES,
-        _ => 0,
+/// What the kernel is tuned to by the kind of adapter (measured on each), beside the method and
+/// the scene: both choices leave every hit, and so the image, the same.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct AdapterTuning {
+    /// The most triangles a scene may have for the kernel to test every one in turn (unrolled,
+    /// from a uniform buffer) rather than traverse the BVH; at most
+    /// `accel::BRUTE_FORCE_TRIANGLES`.
+    pub brute_force_limit: u32,
+    /// The BVH traversal keeps no stack (`BVH_STACKLESS`, bvh.wgsl).
+    pub stackless_traversal: bool,
+}
+
+impl AdapterTuning {
+    /// The tuning of an adapter of `device_type`.
+    ///
+    /// CPU adapters (lavapipe, 2026-12-03/04, `pathlab bench ... --methods mis`): small scenes
+    /// triangle by triangle (the Cornell box, 36 triangles, 1.32 M samples/s against 0.56
+    /// through the BVH) and the stackless traversal (80-triangle icosphere 6.27 -> 8.15 M
+    /// rays/s, Veach's scene 4.99 -> 7.37).
+    ///
+    /// GPUs (NVIDIA H200, 2026-12-04, 1024x1024): the BVH for every scene (the Cornell box 74 M
+    /// samples/s unrolled, each invocation's copy of the triangles in local memory, 560
+    /// through the BVH) and the stack (80-triangle icosphere 3748 M samples/s against 3250
+    /// stackless, 1.3 M triangles 642 against 446).
+    pub fn for_device(device_type: wgpu::DeviceType) -> AdapterTuning {
+        let cpu = device_type == wgpu::DeviceType::Cpu;
+        AdapterTuning { brute_force_limit: if cpu { crate::accel::BRUTE_FORCE_TRIANGLES } else { 0 }, stackless_traversal: cpu }
+    }
+
+    /// The `override` constants it sets.
+    pub fn constants(&self) -> Vec<(&'static str, f64)> {
+        vec![("BVH_STACKLESS", self.stackless_traversal as u32 as f64)]
     }
 }
 
@@ -193,8 +214,8 @@ pub struct PathTracerPipelines {
     /// (`shaders::unrolled_triangles`) and researchers' techniques (their SHA-256s), created
     /// on first use.
     modules: Mutex<HashMap<(u32, TechniqueKey), wgpu::ShaderModule>>,
-    /// Scenes of at most this many triangles test each in turn (`brute_force_limit`).
-    brute_force_limit: u32,
+    /// The tuning to the adapter's kind.
+    tuning: AdapterTuning,
     /// The Halton bases, bound at `bindings::HALTON_PRIMES`.
     pub halton_primes: wgpu::Buffer,
     pub bind_group_layout: wgpu::BindGroupLayout,
@@ -203,15 +224,13 @@ pub struct PathTracerPipelines {
 }
 
 impl PathTracerPipelines {
-    /// The pipelines of `gpu`, its small scenes tested triangle by triangle where its kind of
-    /// adapter gains by it (`brute_force_limit`).
+    /// The pipelines of `gpu`, tuned to its kind of adapter (`AdapterTuning::for_device`).
     pub fn new(gpu: &super::Gpu) -> PathTracerPipelines {
-        Self::with_brute_force_limit(&gpu.device, brute_force_limit(gpu.info.device_type))
+        Self::with_tuning(&gpu.device, AdapterTuning::for_device(gpu.info.device_type))
     }
 
-    /// The pipelines of `device`, scenes of at most `brute_force_limit` triangles (and at most
-    /// `accel::BRUTE_FORCE_TRIANGLES`) tested triangle by triangle, larger ones through the BVH.
-    pub fn with_brute_force_limit(device: &wgpu::Device, brute_force_limit: u32) -> PathTracerPipelines {
+    /// The pipelines of `device` with `tuning` (tests compare the tunings on one adapter).
+    pub fn with_tuning(device: &wgpu::Device, tuning: AdapterTuning) -> PathTracerPipelines {
         let bind_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("path tracer"),
             entries: &bindings::layout_entries(&bindings::PATH_TRACER),
@@ -226,7 +245,7 @@ impl PathTracerPipelines {
             contents: &shaders::halton_primes_bytes(),
             usage: wgpu::BufferUsages::UNIFORM,
         });
-        PathTracerPipelines { modules: Mutex::new(HashMap::new()), brute_force_limit, halton_primes, bind_group_layout, layout, cache: Mutex::new(HashMap::new()) }
+        PathTracerPipelines { modules: Mutex::new(HashMap::new()), tuning, halton_primes, bind_group_layout, layout, cache: Mutex::new(HashMap::new()) }
     }
 
     /// The pipeline for `key` with `techniques` (those its method names), compiled on first
@@ -237,9 +256,10 @@ impl PathTracerPipelines {
         if let Some((p, s)) = cache.get(&(key, technique_key.clone())) {
             return (p.clone(), *s);
         }
-        let constants = pipeline_constants(&key);
+        let mut constants = pipeline_constants(&key);
+        constants.extend(self.tuning.constants());
         let start = Instant::now();
-        let unrolled = shaders::unrolled_triangles(key.features.num_triangles, self.brute_force_limit);
+        let unrolled = shaders::unrolled_triangles(key.features.num_triangles, self.tuning.brute_force_limit);
         let mut modules = self.modules.lock().unwrap_or_else(|e| e.into_inner());
         let module = modules.entry((unrolled, technique_key.clone())).or_insert_with(|| {
             device.create_shader_module(wgpu::ShaderModuleDescriptor {

@@ -187,7 +187,7 @@ impl<'a> TechniqueFiles<'a> {
 
 /// The number of triangle tests the small scenes' code is unrolled to for a scene of
 /// `num_triangles` where scenes of at most `limit` triangles are tested triangle by triangle
-/// (`gpu::pipeline::brute_force_limit`, at most `BRUTE_FORCE_TRIANGLES`): its own count where
+/// (`gpu::AdapterTuning::brute_force_limit`, at most `BRUTE_FORCE_TRIANGLES`): its own count where
 /// it is, else none (a larger scene traverses the BVH, and an empty one tests nothing).
 pub fn unrolled_triangles(num_triangles: u32, limit: u32) -> u32 {
     if num_triangles <= limit.min(crate::accel::BRUTE_FORCE_TRIANGLES) { num_triangles } else { 0 }
