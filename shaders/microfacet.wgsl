@@ -106,7 +106,9 @@ fn sample_microfacet_ndf(u: vec2f, alpha: f32, distribution: u32) -> vec3f {
     let a2 = alpha * alpha;
     var tan2: f32;
     if (distribution == DISTRIBUTION_BECKMANN) {
-        tan2 = -a2 * log(1.0 - u.x);
+        // log(1 - u) accurate for small u: WGSL bounds log's error near 1 only absolutely
+        // (2^-21), a relative error of 2^-21 / u in tan^2 (5e-4 at u = 1e-3 on an NVIDIA H200).
+        tan2 = -a2 * log1m_stable(u.x);
     } else {
         tan2 = a2 * u.x / (1.0 - u.x);
     }

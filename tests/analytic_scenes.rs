@@ -47,7 +47,10 @@ fn exact_inside_sphere(max_depth: u32) -> f64 {
 /// error; with zero variance (max_depth 1) it must match to float precision.
 fn mean_matches(film: &Film, exact: f64, threshold: f64) -> Result<String, String> {
     let (mean, err) = image_mean_and_error(film, 0);
-    let ok = if err > 0.0 { (mean - exact).abs() <= threshold * err } else { (mean - exact).abs() <= 1e-6 * exact };
+    // Within the z-test's threshold, or within f32 rounding (1e-6 relative) where the variance
+    // is all but zero (an NVIDIA H200 rounds 1e-7 away from the exact value with a standard
+    // error far smaller: z = -56); the biases these tests catch are larger (2e-6 and up).
+    let ok = (mean - exact).abs() <= (threshold * err).max(1e-6 * exact);
     let text = if err > 0.0 {
         format!("mean {mean:.6} vs exact {exact:.6}: z = {:.2} (threshold {threshold:.2})", (mean - exact) / err)
     } else {

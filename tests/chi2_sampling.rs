@@ -224,8 +224,7 @@ fn microfacet(distribution: &str, strategy: &str, alpha: f64, theta_o: f64) -> R
         // and the two kernels round it differently: 1e-3.
         pdf_tolerance: (1e-6 / (alpha * t.cos().max(1e-3))).max(1e-3),
         pdf_floor: 1e-30,
-        // D at the sampled half vector and at the one recomputed from wi: see pdf_tolerance.
-        weight_tolerance: (1e-6 / (alpha * t.cos().max(1e-3))).max(1e-4),
+        weight_tolerance: 1e-4,
         bsdf_data: Vec::new(),
         environment_map: Vec::new(),
         integrand: false,
@@ -478,8 +477,7 @@ fn rough_plastic(distribution: Distribution, strategy: BsdfSampling, microfacets
         s_split: if around_mirror { -((alpha * t.cos()).powi(2) / 10.0).max(1e-12) } else { 2.0 },
         pdf_tolerance: (1e-6 / (alpha * t.cos().max(1e-3))).max(1e-3),
         pdf_floor: 1e-30,
-        // D at the sampled half vector and at the one recomputed from wi: see pdf_tolerance.
-        weight_tolerance: (1e-6 / (alpha * t.cos().max(1e-3))).max(1e-4),
+        weight_tolerance: 1e-4,
         bsdf_data: data.0,
         environment_map: Vec::new(),
         integrand: false,

@@ -89,11 +89,12 @@ fn quick_study_writes_every_output_and_judges_bias() {
 #[cfg(unix)]
 #[test]
 fn killed_study_resumes_its_reference_bit_for_bit() {
+    let reference_spp = (40000 * crate::common::work_scale()).to_string();
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("study");
     let args = |c: &mut Command| {
         c.arg("study").arg(study()).arg("--out").arg(&out).args([
-            "--size", "32x16", "--methods", "plain", "--spp", "1", "--time", "0.05", "--seeds", "1", "--reference-spp", "40000",
+            "--size", "32x16", "--methods", "plain", "--spp", "1", "--time", "0.05", "--seeds", "1", "--reference-spp", reference_spp.as_str(),
             "--checkpoint-every", "0.3", "--quiet",
         ]);
     };
@@ -111,7 +112,7 @@ fn killed_study_resumes_its_reference_bit_for_bit() {
     child.wait().unwrap();
     assert!(!out.join("report.md").exists(), "killed before the end");
     let saved = pathlab::render::Checkpoint::read(&checkpoint).expect("the checkpoint on disk is always readable");
-    assert!(saved.spp > 0 && saved.spp < 40000, "interrupted mid-way: {} spp", saved.spp);
+    assert!(saved.spp > 0 && saved.spp < 40000 * crate::common::work_scale(), "interrupted mid-way: {} spp", saved.spp);
 
     let mut cmd = pathlab();
     args(&mut cmd);
@@ -124,7 +125,7 @@ fn killed_study_resumes_its_reference_bit_for_bit() {
     let r = pathlab()
         .arg("render")
         .arg(study())
-        .args(["--width", "32", "--height", "16", "--method", "best", "--seed", "1000003", "--spp", "40000", "--variance", "--quiet", "-o"])
+        .args(["--width", "32", "--height", "16", "--method", "best", "--seed", "1000003", "--spp", reference_spp.as_str(), "--variance", "--quiet", "-o"])
         .arg(&single)
         .output()
         .unwrap();
@@ -132,7 +133,7 @@ fn killed_study_resumes_its_reference_bit_for_bit() {
     let (a, _) = read_exr(&out.join("reference.exr")).unwrap();
     let (b, _) = read_exr(&single).unwrap();
     let bits = |f: &pathlab::film::Film| f.mean.iter().chain(&f.variance).flatten().map(|x| x.to_bits()).collect::<Vec<_>>();
-    assert_eq!(a.spp, 40000);
+    assert_eq!(a.spp, 40000 * crate::common::work_scale());
     assert!(bits(&a) == bits(&b), "resumed reference differs from an uninterrupted render");
 }
 

@@ -64,7 +64,15 @@ fn wgsl_samplers_match_their_cpu_twin() {
             let g = gpu[i];
             assert!((0.0..1.0).contains(&g), "{sampler:?} index {index} dim {dim}: {g} outside [0, 1)");
             let ulps = (g.to_bits() as i64 - cpu.to_bits() as i64).abs();
-            let allowed = if matches!(sampler, Sampler::Halton | Sampler::HaltonScrambled) { 1 } else { 0 };
+            // Where the adapter's arithmetic is the CPU's (lavapipe): Halton's radical inverse
+            // within one ulp, the others exact. A GPU may round division by 2.5 ulps and fuse
+            // multiply-adds (WGSL allows both): 4 ulps on an NVIDIA H200.
+            let cpu_arithmetic = crate::common::gpu().info.device_type == wgpu::DeviceType::Cpu;
+            let allowed = match (matches!(sampler, Sampler::Halton | Sampler::HaltonScrambled), cpu_arithmetic) {
+                (true, true) => 1,
+                (false, true) => 0,
+                (_, false) => 8,
+            };
             assert!(ulps <= allowed, "{sampler:?} index {index} dim {dim}: gpu {g} cpu {cpu}");
         }
     }

@@ -82,7 +82,11 @@ fn every_override_permutation_validates() {
                                 };
                                 let key = PipelineKey { method, features, traversal_budget: budget };
                                 let source = if on { &with_techniques } else { &source };
-                                if let Err(e) = shaders::validate(source, &pipeline_constants(&key)) {
+                                // Both adapters' tunings (the traversal with and without a stack).
+                                let device = if (checked / 16) % 2 == 0 { wgpu::DeviceType::Cpu } else { wgpu::DeviceType::DiscreteGpu };
+                                let mut constants = pipeline_constants(&key);
+                                constants.extend(pathlab::gpu::AdapterTuning::for_device(device).constants());
+                                if let Err(e) = shaders::validate(source, &constants) {
                                     panic!("{key:?}:\n{e}");
                                 }
                                 checked += 1;

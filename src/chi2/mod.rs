@@ -94,10 +94,8 @@ pub struct Routine {
     /// own, the direction's round trip moves a density that vanishes at a boundary (the cosine
     /// lobe at the horizon) by ~1e-7 absolute, a large relative change. 1e-30: none.
     pub pdf_floor: f64,
-    /// Relative tolerance of a sample's weight against eval * cos / pdf: 1e-4, more for lobes
-    /// so narrow that evaluating D at the sampled half vector and at the one recomputed from
-    /// the sampled direction differ by the latter's rounding (alpha 1e-3: 5.2e-4 on an NVIDIA
-    /// H200, whose normalize and division round differently from lavapipe's).
+    /// Relative tolerance of a sample's weight against eval * cos / pdf (1e-4 for every
+    /// routine so far).
     pub weight_tolerance: f64,
     /// The BSDF data the routine's material reads (bound at `bindings::BSDF_DATA`; empty: none).
     pub bsdf_data: Vec<f32>,

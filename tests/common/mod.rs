@@ -15,6 +15,13 @@ pub fn gpu() -> &'static Gpu {
     GPU.get_or_init(|| Gpu::new(None).expect("a Vulkan adapter (lavapipe in CI)"))
 }
 
+/// How much more work a test that must be interrupted mid-way gives a GPU than lavapipe: its
+/// sample counts are sized for lavapipe, where they take seconds; an NVIDIA H200 finished them
+/// before the kill (2026-12-04).
+pub fn work_scale() -> u64 {
+    if gpu().info.device_type == wgpu::DeviceType::Cpu { 1 } else { 2000 }
+}
+
 pub fn pipelines() -> &'static PathTracerPipelines {
     static PIPELINES: OnceLock<PathTracerPipelines> = OnceLock::new();
     PIPELINES.get_or_init(|| PathTracerPipelines::new(&gpu()))
