@@ -168,11 +168,13 @@ fn print_table(r: &Report) {
         Target::Psnr(db) => format!("PSNR >= {db} dB ({})", r.display),
     };
     println!("{} at {}x{}, max_depth {}: time to {target} (pilots of {} s)", r.scene, r.width, r.height, r.max_depth, r.pilot_seconds);
-    println!("{:<8} {:>12} {:>12} {:>7} {:>12} {:>22} {:>12} {:>9}", "method", "M samples/s", "pilot error", "slope", "seconds", "range", "spp", "vs plain");
+    // The method column as wide as the longest name (`mis+power+solid-angle`).
+    let w = r.advice.iter().map(|a| a.method.name().len()).max().unwrap_or(0).max(8);
+    println!("{:<w$} {:>12} {:>12} {:>7} {:>12} {:>22} {:>12} {:>9}", "method", "M samples/s", "pilot error", "slope", "seconds", "range", "spp", "vs plain");
     let f = |x: Option<f64>, d: usize| x.map_or("-".to_string(), |v| format!("{v:.d$}"));
     for a in &r.advice {
         println!(
-            "{:<8} {:>12.2} {:>12.3e} {:>7} {:>12} {:>22} {:>12} {:>9}",
+            "{:<w$} {:>12.2} {:>12.3e} {:>7} {:>12} {:>22} {:>12} {:>9}",
             a.method.name(),
             a.pixel_samples_per_second / 1e6,
             a.pilot_error,
