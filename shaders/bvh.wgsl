@@ -9,6 +9,8 @@ override NUM_TRIANGLES: u32 = 0u;
 override HAS_SHADING_NORMALS: bool = false;
 // The BVH traversal without a stack (bvh_traverse_stackless), else with one.
 override BVH_STACKLESS: bool = true;
+// Edge functions in one order for both triangles of an edge (edge_function).
+override ORDERED_EDGES: bool = true;
 // Most traversal steps (nodes visited, leaves entered twice, triangles tested) one invocation
 // may take in all:
 // where the host cannot bound traversal within llvmpipe's loop limit, the kernel counts them
@@ -179,13 +181,19 @@ fn sheared_ray(o: vec3f, d: vec3f) -> ShearedRay {
     return ShearedRay(o, vec3u(kx, ky, kz), vec3f(d[kx] / d[kz], d[ky] / d[kz], 1.0 / d[kz]));
 }
 
-// The 2D edge function q.x p.y - q.y p.x of sheared vertices p and q, computed in one order
-// for both directions of the edge (its ends ordered lexicographically) and negated exactly
-// for the other: the two triangles sharing an edge then get exactly opposite values even
-// where the driver fuses a product into a multiply-add, which WGSL allows (an NVIDIA H200
-// does: rays through shared edges escaped there). The test's watertightness rests on that
-// antisymmetry. Without fusion (lavapipe) it is the plain difference, bit for bit.
+// The 2D edge function q.x p.y - q.y p.x of sheared vertices p and q. With ORDERED_EDGES it is
+// computed in one order for both directions of the edge (its ends ordered lexicographically)
+// and negated exactly for the other: the two triangles sharing an edge then get exactly
+// opposite values even where the driver fuses a product into a multiply-add, which WGSL allows
+// (an NVIDIA H200 does: rays through shared edges escaped there). The test's watertightness
+// rests on that antisymmetry. Without fusion (lavapipe, whose kernel matches the CPU twin bit
+// for bit) the plain difference already has it, and the ordering would cost the Cornell box
+// 14% more kernel instructions (callgrind, 183.5 M -> 209.8 M): the host sets ORDERED_EDGES on
+// GPUs only (`gpu::AdapterTuning`); both give the same value there, bit for bit.
 fn edge_function(p: vec2f, q: vec2f) -> f32 {
+    if (!ORDERED_EDGES) {
+        return q.x * p.y - q.y * p.x;
+    }
     let swap = p.x > q.x || (p.x == q.x && p.y > q.y);
     let a = select(p, q, swap);
     let b = select(q, p, swap);

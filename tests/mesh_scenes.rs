@@ -275,8 +275,9 @@ fn cornell_box_shards_merge_to_the_single_run_and_light_options_must_agree() {
 }
 
 /// The two tunings of the kernel render the same images (`gpu::AdapterTuning`): a CPU
-/// adapter's (small scenes triangle by triangle, the stackless traversal) and a GPU's (every
-/// scene through the BVH, with a stack), both run here, bit for bit. The Cornell box (36
+/// adapter's (small scenes triangle by triangle, the stackless traversal, plain edge
+/// functions) and a GPU's (every scene through the BVH, with a stack, ordered edge functions),
+/// both run here, bit for bit. The Cornell box (36
 /// triangles) is the only CI coverage of a small scene through the BVH, Veach's scene (52) of
 /// the traversal with a stack in a render. Both ways find the nearest triangle with the same
 /// watertight test and visit the nodes in the same order; only a tie at one distance could
@@ -288,7 +289,8 @@ fn the_cpu_and_gpu_tunings_render_the_same_images() {
     use pathlab::render::Renderer;
     let gpu_tuning = AdapterTuning::for_device(wgpu::DeviceType::DiscreteGpu);
     let cpu_tuning = AdapterTuning::for_device(wgpu::DeviceType::Cpu);
-    assert!(gpu_tuning.brute_force_limit == 0 && !gpu_tuning.stackless_traversal && cpu_tuning.stackless_traversal);
+    assert!(gpu_tuning.brute_force_limit == 0 && !gpu_tuning.stackless_traversal && gpu_tuning.ordered_edges);
+    assert!(cpu_tuning.stackless_traversal && !cpu_tuning.ordered_edges);
     let tuned = [gpu_tuning, cpu_tuning].map(|t| PathTracerPipelines::with_tuning(&gpu().device, t));
     for file in ["cornell_box.toml", "veach_mis.xml"] {
         let mut scene = Scene::load(format!("{}/assets/scenes/{file}", env!("CARGO_MANIFEST_DIR"))).unwrap();

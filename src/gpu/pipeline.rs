@@ -174,6 +174,9 @@ pub struct AdapterTuning {
     pub brute_force_limit: u32,
     /// The BVH traversal keeps no stack (`BVH_STACKLESS`, bvh.wgsl).
     pub stackless_traversal: bool,
+    /// The triangle test's edge functions are computed in one order for both triangles of an
+    /// edge (`ORDERED_EDGES`, bvh.wgsl): watertight where the driver fuses multiply-adds.
+    pub ordered_edges: bool,
 }
 
 impl AdapterTuning {
@@ -188,14 +191,22 @@ impl AdapterTuning {
     /// samples/s unrolled, each invocation's copy of the triangles in local memory, 560
     /// through the BVH) and the stack (80-triangle icosphere 3748 M samples/s against 3250
     /// stackless, 1.3 M triangles 642 against 446).
+    ///
+    /// Ordered edge functions on GPUs only: there the plain ones let rays through shared edges
+    /// (the H200 fuses multiply-adds); lavapipe does not fuse, and ordering would cost its
+    /// Cornell box 14% more kernel instructions.
     pub fn for_device(device_type: wgpu::DeviceType) -> AdapterTuning {
         let cpu = device_type == wgpu::DeviceType::Cpu;
-        AdapterTuning { brute_force_limit: if cpu { crate::accel::BRUTE_FORCE_TRIANGLES } else { 0 }, stackless_traversal: cpu }
+        AdapterTuning {
+            brute_force_limit: if cpu { crate::accel::BRUTE_FORCE_TRIANGLES } else { 0 },
+            stackless_traversal: cpu,
+            ordered_edges: !cpu,
+        }
     }
 
     /// The `override` constants it sets.
     pub fn constants(&self) -> Vec<(&'static str, f64)> {
-        vec![("BVH_STACKLESS", self.stackless_traversal as u32 as f64)]
+        vec![("BVH_STACKLESS", self.stackless_traversal as u32 as f64), ("ORDERED_EDGES", self.ordered_edges as u32 as f64)]
     }
 }
 
