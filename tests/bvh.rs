@@ -247,12 +247,14 @@ fn gpu_kernel(tris: &[Triangle], rays: &[(Vec3, Vec3, f32, f32)], budget: u32, e
         .collect();
     let ray_data: Vec<[f32; 8]> = rays.iter().map(|(o, d, tc, ta)| [o.x, o.y, o.z, *tc, d.x, d.y, d.z, *ta]).collect();
     let source = shaders::assemble(&[files::COMMON, files::BVH], BVH_KERNEL);
-    // Each traversal with its adapter's edge functions (`AdapterTuning`): ordered with the stack.
+    // Edge functions ordered with the stack (a GPU's tuning, `AdapterTuning`), and wherever the
+    // adapter is a GPU: plain ones are watertight only without fused multiply-adds.
+    let ordered = !stackless || common::gpu().info.device_type != wgpu::DeviceType::Cpu;
     let constants = [
         ("NUM_TRIANGLES", tris.len() as f64),
         ("TRAVERSAL_BUDGET", budget as f64),
         ("BVH_STACKLESS", stackless as u32 as f64),
-        ("ORDERED_EDGES", !stackless as u32 as f64),
+        ("ORDERED_EDGES", ordered as u32 as f64),
     ];
     let run = KernelRun {
         source: &source,
