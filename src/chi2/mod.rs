@@ -94,9 +94,6 @@ pub struct Routine {
     /// own, the direction's round trip moves a density that vanishes at a boundary (the cosine
     /// lobe at the horizon) by ~1e-7 absolute, a large relative change. 1e-30: none.
     pub pdf_floor: f64,
-    /// Relative tolerance of a sample's weight against eval * cos / pdf (1e-4 for every
-    /// routine so far).
-    pub weight_tolerance: f64,
     /// The BSDF data the routine's material reads (bound at `bindings::BSDF_DATA`; empty: none).
     pub bsdf_data: Vec<f32>,
     /// The environment map the routine reads (`EnvironmentMap::pack`, bound at
@@ -377,7 +374,7 @@ pub fn binned(gpu: &Gpu, routine: &Routine, techniques: shaders::TechniqueFiles,
                 failure = failure.or(Some(Chi2Failure::NonFinite { sample: d }));
                 continue;
             }
-            if check[0] as f64 > routine.weight_tolerance {
+            if check[0] > 1e-4 {
                 failure = failure.or(Some(Chi2Failure::Weight(check[0] as f64)));
             }
             continue;
@@ -410,7 +407,7 @@ pub fn binned(gpu: &Gpu, routine: &Routine, techniques: shaders::TechniqueFiles,
         if (reported - function).abs() > routine.pdf_tolerance * function.abs().max(routine.pdf_floor) {
             failure = failure.or(Some(Chi2Failure::ReportedPdf { reported, function, direction: [d[0], d[1], d[2]] }));
         }
-        if check[0] as f64 > routine.weight_tolerance {
+        if check[0] > 1e-4 {
             failure = failure.or(Some(Chi2Failure::Weight(check[0] as f64)));
         }
     }

@@ -352,7 +352,6 @@ fn phong_configuration(kd: [f64; 3], ks: [f64; 3], n: f64, p_spec: f64, theta: f
         // (Densities are of order 1 / pi: 1e-6 absolute, where the round trip moves the cosine
         // lobe by ~3e-8 at the horizon.)
         pdf_floor: 1e-2,
-        weight_tolerance: 1e-4,
         bsdf_data: Vec::new(),
         environment_map: Vec::new(),
         bins: chi2::DEFAULT_BINS,
@@ -448,7 +447,6 @@ fn sphere_configuration(radius: f64, ratio: f64, tilt: f64) -> Configuration {
         s_split: s_cap,
         pdf_tolerance: 1e-4,
         pdf_floor: 1e-30,
-        weight_tolerance: 1e-4,
         bsdf_data: Vec::new(),
         environment_map: Vec::new(),
         bins: chi2::DEFAULT_BINS,
@@ -523,7 +521,6 @@ fn environment_configuration(packed: &[f32], n: [f64; 3], what: &str) -> Configu
         s_split: 2.0,
         pdf_tolerance: 1e-4,
         pdf_floor: 1e-30,
-        weight_tolerance: 1e-4,
         bsdf_data: Vec::new(),
         environment_map: packed.to_vec(),
         // Two cells per texel each way: the map's distribution is constant over a cell.
