@@ -299,6 +299,33 @@ fn bvh_sibling(x: u32) -> u32 {
     return ((x - 1u) ^ 1u) + 1u;
 }
 
+// Tests the triangles of leaf n in turn, keeping the nearest hit in `best`; with `any`, stops
+// at the first. Each triangle is one step of the traversal guard.
+fn bvh_test_leaf(ray: ShearedRay, n: BvhNode, best: ptr<function, TriangleHit>, any: bool) {
+    for (var i = n.first; i < n.first + n.count; i++) {
+        if (!traversal_step()) {
+            break;
+        }
+        let tri = triangle_record(i);
+        var bary: vec2f;
+        let t = intersect_triangle(ray, tri.p0, tri.p1, tri.p2, (*best).t, &bary);
+        if (t > 0.0) {
+            *best = TriangleHit(t, i, bary);
+            if (any) {
+                break;
+            }
+        }
+    }
+}
+
+// The entry distances of the ray into interior node n's children, nodes n.first and
+// n.first + 1 (-1: missed, or entered beyond t_max).
+fn bvh_enter_children(n: BvhNode, o: vec3f, inv_d: vec3f, t_max: f32) -> vec2f {
+    let nl = bvh_node(n.first);
+    let nr = bvh_node(n.first + 1u);
+    return vec2f(intersect_node(nl.lo, nl.hi, o, inv_d, t_max), intersect_node(nr.lo, nr.hi, o, inv_d, t_max));
+}
+
 // The nearest triangle along (o, d) closer than t_max through the BVH; with `any`, the first
 // one found (shadow rays): stackless on CPU adapters, with a stack on GPUs (BVH_STACKLESS, set
 // by the host: `gpu::pipeline::AdapterTuning`). Both visit the nodes in the same order and find
@@ -335,20 +362,7 @@ fn bvh_traverse_stack(o: vec3f, d: vec3f, t_max: f32, any: bool) -> TriangleHit 
             // Entering a leaf's loop costs llvmpipe about two back-edges of its own (measured:
             // tests/bvh.rs), counted here so that the guard always trips first.
             traversal_steps += 2u;
-            for (var i = n.first; i < n.first + n.count; i++) {
-                if (!traversal_step()) {
-                    break;
-                }
-                let tri = triangle_record(i);
-                var bary: vec2f;
-                let t = intersect_triangle(ray, tri.p0, tri.p1, tri.p2, best.t, &bary);
-                if (t > 0.0) {
-                    best = TriangleHit(t, i, bary);
-                    if (any) {
-                        break;
-                    }
-                }
-            }
+            bvh_test_leaf(ray, n, &best, any);
             if (any && best.index != INVALID) {
                 break;
             }
@@ -356,10 +370,9 @@ fn bvh_traverse_stack(o: vec3f, d: vec3f, t_max: f32, any: bool) -> TriangleHit 
             // The nearer child next, the farther on the stack.
             let l = n.first;
             let r = n.first + 1u;
-            let nl = bvh_node(l);
-            let nr = bvh_node(r);
-            let tl = intersect_node(nl.lo, nl.hi, o, inv_d, best.t);
-            let tr = intersect_node(nr.lo, nr.hi, o, inv_d, best.t);
+            let entry = bvh_enter_children(n, o, inv_d, best.t);
+            let tl = entry.x;
+            let tr = entry.y;
             if (tl >= 0.0 && tr >= 0.0) {
                 next = select(r, l, tl <= tr);
                 stack[top] = select(l, r, tl <= tr);
@@ -415,20 +428,7 @@ fn bvh_traverse_stackless(o: vec3f, d: vec3f, t_max: f32, any: bool) -> Triangle
         var climbing = true;
         if (n.count > 0u) {
             traversal_steps += 3u;
-            for (var i = n.first; i < n.first + n.count; i++) {
-                if (!traversal_step()) {
-                    break;
-                }
-                let tri = triangle_record(i);
-                var bary: vec2f;
-                let t = intersect_triangle(ray, tri.p0, tri.p1, tri.p2, best.t, &bary);
-                if (t > 0.0) {
-                    best = TriangleHit(t, i, bary);
-                    if (any) {
-                        break;
-                    }
-                }
-            }
+            bvh_test_leaf(ray, n, &best, any);
             if (any && best.index != INVALID) {
                 break;
             }
@@ -436,10 +436,9 @@ fn bvh_traverse_stackless(o: vec3f, d: vec3f, t_max: f32, any: bool) -> Triangle
             // The nearer child next; the farther one's bit set where both are entered.
             let l = n.first;
             let r = n.first + 1u;
-            let nl = bvh_node(l);
-            let nr = bvh_node(r);
-            let tl = intersect_node(nl.lo, nl.hi, o, inv_d, best.t);
-            let tr = intersect_node(nr.lo, nr.hi, o, inv_d, best.t);
+            let entry = bvh_enter_children(n, o, inv_d, best.t);
+            let tl = entry.x;
+            let tr = entry.y;
             climbing = tl < 0.0 && tr < 0.0;
             if (!climbing) {
                 let both = tl >= 0.0 && tr >= 0.0;
