@@ -161,7 +161,7 @@ impl PackedTriangles {
             + std::mem::size_of_val(&self.normals[..])
             + std::mem::size_of_val(&self.uvs[..])
             + std::mem::size_of_val(&self.bvh.nodes[..])
-            + self.bvh.nodes.len() / 2 * 4
+            + std::mem::size_of_val(&self.bvh.pair_parents()[..])
             + std::mem::size_of_val(&self.lights[..])
     }
 
