@@ -102,6 +102,10 @@ named_enum! {
         Luminance = "env-luminance",
         /// Uniform over the sphere of directions.
         Uniform = "env-uniform",
+        /// MIS compensation (Karlík et al. 2019, pbrt-v4): in proportion to the luminance less
+        /// its mean over the sphere, clamped at zero, times sin(theta). Directions no brighter
+        /// than the mean are left to BSDF sampling: methods without MIS cannot use it.
+        Compensated = "env-compensated",
     }
 }
 
@@ -355,6 +359,16 @@ impl Method {
     /// True when a deliberately biased demonstration strategy is part of the method.
     pub fn is_biased(&self) -> bool {
         self.bsdf.is_biased() || self.lights.is_biased()
+    }
+
+    /// Whether next event estimation samples an environment map by a pdf that is zero where
+    /// the map is not black (compensated sampling) while BSDF-sampled rays escaping to it do
+    /// not make up for that under MIS: the estimate would be biased.
+    pub fn env_pdf_is_incomplete(&self) -> bool {
+        self.environment
+            && self.env_technique.is_none()
+            && self.env_sampling == EnvSampling::Compensated
+            && !matches!(self.lights, LightSampling::Mis | LightSampling::MisBalance)
     }
 
     /// The researcher's techniques the method uses, by kind.

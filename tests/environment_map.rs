@@ -9,7 +9,8 @@
 //!    directions.
 //! 3. Two spheres on a floor under the map (tests/fixtures/envmap/envmap.xml), rendered by `mis`
 //!    (escaped rays alone find the map), `mis+env` (next event estimation samples it by
-//!    luminance) and `mis+env+env-uniform` (uniformly), z-tested against
+//!    luminance), `mis+env+env-uniform` (uniformly) and `mis+env+env-compensated` (by the
+//!    MIS-compensated luminance, Karlík et al. 2019), z-tested against
 //!    Mitsuba rendering the same file (64x64, 65536 spp in 64 passes with the per-pixel
 //!    variance of its mean; scripts/envmap_reference.sh), on blocks as tests/cornell_box.rs does
 //!    (at least 99.75% of channels passing; `mis` scaled by 1.05 is rejected): fails falsely
@@ -19,8 +20,8 @@
 use crate::common;
 
 use common::*;
-use pathlab::method::{Method, Preset};
-use pathlab::scene::{EnvironmentMap, Scene, SceneError};
+use pathlab::method::{EnvSampling, Method, Preset};
+use pathlab::scene::{EnvDistribution, EnvironmentMap, Scene, SceneError};
 use pathlab::shaders;
 
 fn fixture(name: &str) -> std::path::PathBuf {
@@ -93,7 +94,7 @@ fn mis_agrees_with_mitsuba_under_an_environment_map() {
     let defines = [("resx".to_string(), reference.width.to_string()), ("resy".to_string(), reference.height.to_string())];
     let scene = Scene::load_with(fixture("envmap.xml"), &defines).unwrap();
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
-    let methods: Vec<Method> = ["mis", "mis+env", "mis+env+env-uniform"].iter().map(|m| Method::from_name(m).unwrap()).collect();
+    let methods: Vec<Method> = ["mis", "mis+env", "mis+env+env-uniform", "mis+env+env-compensated"].iter().map(|m| Method::from_name(m).unwrap()).collect();
     agrees_with_reference(&reference, &scene, &methods, |_| (1024, 2), 1700, Preset::Mis.method());
 }
 
@@ -189,13 +190,14 @@ fn test_map(file: Option<&str>, to_world: [[f64; 3]; 3]) -> EnvironmentMap {
     EnvironmentMap { file: file.unwrap_or("constant").into(), content_hash: image.content_hash(), image: std::sync::Arc::new(image), scale: 1.0, to_world }
 }
 
-/// Draws `n` directions by the map's luminance distribution in the kernel; returns the
+/// Draws `n` directions by the map's `distribution` in the kernel; returns the
 /// chi-square p-value of their counts in the map's own cells, each split in 2 x 2 (the
 /// distribution is constant over a cell of the uv square: expected counts exact), the
-/// fraction of samples whose reported density differs from the pdf function, and the
+/// fraction of samples whose reported density differs from the pdf function or that lie in a
+/// cell of zero probability, and the
 /// estimate 4 pi mean(pdf) of the pdf's integral over the sphere from uniform directions, with
 /// its standard error.
-fn sampling_check(map: &EnvironmentMap, n: usize, seed: u64) -> (f64, f64, (f64, f64)) {
+fn sampling_check(map: &EnvironmentMap, distribution: EnvDistribution, n: usize, seed: u64) -> (f64, f64, (f64, f64)) {
     let mut state = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
     let mut next = || {
         state ^= state << 13;
@@ -205,9 +207,24 @@ fn sampling_check(map: &EnvironmentMap, n: usize, seed: u64) -> (f64, f64, (f64,
     };
     let u: Vec<[f32; 4]> = (0..n).map(|_| [next(), next(), next(), next()]).collect();
     let inputs = vec![(0, bytemuck::cast_slice(&u).to_vec()), (shaders::bindings::ENVIRONMENT_MAP.number, bytemuck::cast_slice(&map.pack()).to_vec())];
-    let out = run_test_kernel(&shaders::PATH_TRACER, SAMPLING_KERNEL, "sampling_main", inputs, n, 2);
+    let strategy = match distribution {
+        EnvDistribution::Luminance => EnvSampling::Luminance,
+        EnvDistribution::Compensated => EnvSampling::Compensated,
+    };
+    let source = shaders::assemble(&shaders::PATH_TRACER, SAMPLING_KERNEL);
+    let run = pathlab::gpu::KernelRun {
+        source: &source,
+        entry: "sampling_main",
+        constants: &[("ENV_SAMPLING", strategy.constant() as f64)],
+        inputs,
+        uniforms: vec![],
+        texel_tables: vec![],
+        output: (1, (n * 2 * 16) as u64),
+        workgroups: (n as u32).div_ceil(64),
+    };
+    let out: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&run.run(gpu()).expect("sampling kernel"));
     let (w, h) = (map.image.width as usize, map.image.height as usize);
-    let (density, _, _) = map.sampling_tables();
+    let (density, _, _) = map.sampling_tables(distribution);
     let r = map.to_world;
     let mut observed = vec![0u64; 4 * w * h];
     let (mut mismatches, mut sum, mut sum2) = (0usize, 0.0f64, 0.0f64);
@@ -234,12 +251,19 @@ fn sampling_check(map: &EnvironmentMap, n: usize, seed: u64) -> (f64, f64, (f64,
     }
     // Expected: the cell's share of the uv square's density, a quarter per sub-cell; bins with
     // fewer than 5 expected pooled into one.
+    // Samples in cells of zero probability are counted apart (the pooled bins would hide
+    // them): only rounding at a cell's edge may put one there.
+    let mut in_zero = 0u64;
     let mut chi2 = 0.0;
     let mut bins = 0usize;
     let (mut pooled_e, mut pooled_o) = (0.0, 0u64);
     for (b, &o) in observed.iter().enumerate() {
         let (y, x) = (b / (2 * w) / 2, (b % (2 * w)) / 2);
         let e = n as f64 * density[y * w + x] / (w * h) as f64 / 4.0;
+        if e == 0.0 {
+            in_zero += o;
+            continue;
+        }
         if e < 5.0 {
             pooled_e += e;
             pooled_o += o;
@@ -254,28 +278,35 @@ fn sampling_check(map: &EnvironmentMap, n: usize, seed: u64) -> (f64, f64, (f64,
     }
     let mean = sum / n as f64;
     let error = ((sum2 / n as f64 - mean * mean) / n as f64).sqrt();
-    (pathlab::stats::chi2_sf(chi2, bins - 1), mismatches as f64 / n as f64, (mean, error))
+    (pathlab::stats::chi2_sf(chi2, bins - 1), (mismatches as u64 + in_zero) as f64 / n as f64, (mean, error))
 }
 
 #[test]
-fn luminance_sampling_fits_its_distribution_and_its_pdf_integrates_to_one() {
+fn luminance_and_compensated_sampling_fit_their_distributions_and_their_pdfs_integrate_to_one() {
     // A sky with a sun of 2 x 2 texels at 10^4 times its brightness (sun.exr), the same turned
-    // about x, a gentler sky (sky.exr) and a constant map. Chi-square at 0.01 per map,
-    // Šidák-corrected: a false failure has probability below 0.01 over all four. The pdf's
-    // integral: within 6 standard errors of 1 (false failure ~1e-9).
+    // about x, a gentler sky (sky.exr) and a constant map (whose compensated distribution is
+    // uniform over the sphere), each by both distributions. Chi-square at 0.01 per case,
+    // Šidák-corrected: a false failure has probability below 0.01 over all eight. The pdf's
+    // integral: within 6 standard errors of 1 (false failure ~1e-9 per case).
     let identity = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
     let (c, s) = (0.6f64.cos(), 0.6f64.sin());
     let turned = [[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]];
     let maps = [("sun", test_map(Some("sun.exr"), identity)), ("sun turned", test_map(Some("sun.exr"), turned)), ("sky", test_map(Some("sky.exr"), identity)), ("constant", test_map(None, turned))];
-    let level = pathlab::stats::sidak(0.01, maps.len());
+    let distributions = [EnvDistribution::Luminance, EnvDistribution::Compensated];
+    let level = pathlab::stats::sidak(0.01, maps.len() * distributions.len());
     let mut report = Vec::new();
     let mut failed = Vec::new();
     for (k, (name, map)) in maps.iter().enumerate() {
-        let (p, mismatches, (integral, error)) = sampling_check(map, 1 << 20, 17 + k as u64);
-        report.push(format!("{name}: chi-square p = {p:.4}, reported pdf off the pdf function in {:.1e} of samples, integral of the pdf {integral:.5} +- {error:.5}", mismatches));
-        // Samples within rounding of a cell's edge may be found in the neighbour cell.
-        if p < level || mismatches > 1e-4 || (integral - 1.0).abs() > 6.0 * error {
-            failed.push(*name);
+        for (j, distribution) in distributions.into_iter().enumerate() {
+            let (p, mismatches, (integral, error)) = sampling_check(map, distribution, 1 << 20, 17 + k as u64 + 100 * j as u64);
+            report.push(format!(
+                "{name}, {distribution:?}: chi-square p = {p:.4}, reported pdf off the pdf function in {:.1e} of samples, integral of the pdf {integral:.5} +- {error:.5}",
+                mismatches
+            ));
+            // Samples within rounding of a cell's edge may be found in the neighbour cell.
+            if p < level || mismatches > 1e-4 || (integral - 1.0).abs() > 6.0 * error {
+                failed.push(format!("{name}, {distribution:?}"));
+            }
         }
     }
     println!("{}", report.join("\n"));
@@ -283,10 +314,56 @@ fn luminance_sampling_fits_its_distribution_and_its_pdf_integrates_to_one() {
 }
 
 #[test]
+fn the_compensated_distribution_is_the_luminance_less_its_mean_where_positive() {
+    // The sun map: the compensated density is zero exactly where a cell's luminance bound is at
+    // most the bounds' mean over the sphere, and elsewhere proportional to the excess.
+    let map = test_map(Some("sun.exr"), [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]);
+    let (lum, _, _) = map.sampling_tables(EnvDistribution::Luminance);
+    let (comp, _, _) = map.sampling_tables(EnvDistribution::Compensated);
+    let (w, h) = (map.image.width as usize, map.image.height as usize);
+    let sin = |y: usize| (std::f64::consts::PI * (y as f64 + 0.5) / h as f64).sin();
+    // Luminance density ∝ L sin; recover L up to a factor, then its solid-angle mean.
+    let (mut sum, mut omega) = (0.0, 0.0);
+    for y in 0..h {
+        for x in 0..w {
+            sum += lum[y * w + x];
+            omega += sin(y);
+        }
+    }
+    let mean = sum / omega;
+    let excess: Vec<f64> = (0..h * w).map(|i| (lum[i] / sin(i / w) - mean).max(0.0) * sin(i / w)).collect();
+    let total: f64 = excess.iter().sum();
+    let zero = comp.iter().filter(|&&c| c == 0.0).count();
+    assert!(zero > 0 && zero < w * h, "{zero} of {} cells left to BSDF sampling", w * h);
+    for i in 0..w * h {
+        let expected = excess[i] / total * (w * h) as f64;
+        assert!((comp[i] - expected).abs() <= 1e-9 * (1.0 + expected), "cell {i}: {} against {expected}", comp[i]);
+    }
+}
+
+#[test]
+fn compensated_sampling_is_refused_without_mis() {
+    let scene = Scene::load(fixture("envmap.xml")).unwrap();
+    for name in ["nee+env+env-compensated", "independent/cosine/nee+env+env-compensated"] {
+        let method = Method::from_name(name).unwrap();
+        let err = pathlab::render::RenderError::check_sees_lights(&scene, &method).unwrap_err().to_string();
+        assert!(err.contains("compensated") && err.contains("mis"), "{err}");
+        assert!(scene.why_left_out(&method).is_some_and(|why| why.contains("compensated")));
+    }
+    for name in ["mis+env+env-compensated", "mis-balance+env+env-compensated", "nee+env", "mis+env-compensated"] {
+        let method = Method::from_name(name).unwrap();
+        assert!(pathlab::render::RenderError::check_sees_lights(&scene, &method).is_ok(), "{name}");
+        assert!(scene.why_left_out(&method).is_none(), "{name}");
+    }
+}
+
+#[test]
 fn a_black_map_is_not_a_light_and_is_never_importance_sampled() {
     let mut map = test_map(None, [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]);
     map.image = std::sync::Arc::new(pathlab::scene::image_file::Image { width: 4, height: 2, texels: pathlab::scene::image_file::Texels::Float(vec![[0.0; 3]; 8]), srgb: false });
     assert!(map.is_black());
-    assert!(map.sampling_tables().0.is_empty());
-    assert_eq!(map.pack()[12], 0.0, "the record says: not importance-sampled (uniform directions instead)");
+    assert!(map.sampling_tables(EnvDistribution::Luminance).0.is_empty());
+    assert!(map.sampling_tables(EnvDistribution::Compensated).0.is_empty());
+    let packed = map.pack();
+    assert_eq!((packed[12], packed[13]), (0.0, 0.0), "the record says: not importance-sampled (uniform directions instead)");
 }

@@ -40,8 +40,8 @@ fn every_override_permutation_validates() {
                                 // conductors and plastics on and off.
                                 let microfacet = if (checked / 2) % 2 == 0 { MicrofacetSampling::Vndf } else { MicrofacetSampling::Ndf };
                                 let lobes = if (checked / 4) % 2 == 0 { LobeSelection::Fresnel } else { LobeSelection::Fixed };
-                                // Both environment-map strategies, with the map on and off.
-                                let env_sampling = if (checked / 8) % 2 == 0 { EnvSampling::Luminance } else { EnvSampling::Uniform };
+                                // Every environment-map strategy, with the map on and off.
+                                let env_sampling = EnvSampling::ALL[(checked / 8) % EnvSampling::ALL.len()];
                                 let technique = |name: &str| on.then(|| TechniqueName::new(name).unwrap());
                                 let method = Method {
                                     sampler,

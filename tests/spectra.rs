@@ -111,12 +111,37 @@ fn spectra_in_xml_are_read_by_the_role_of_their_parameter() {
 }
 
 #[test]
+fn a_spectral_data_file_is_the_same_spectrum_as_its_pairs() {
+    // Mitsuba's .spd: a wavelength and a value per line, `#` comments, blank lines; found by the
+    // resolver in a <path> folder. It gives exactly the colour of the same pairs in `value`.
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir(dir.path().join("spectra")).unwrap();
+    std::fs::write(dir.path().join("spectra/paint.spd"), "# wavelength (nm)  reflectance\n400 0.10\n\n500 0.55   # green\n600 0.30\r\n700 0.80\n").unwrap();
+    let body = r#"<path value="spectra"/>
+        <bsdf type="diffuse" id="file"><spectrum name="reflectance" filename="paint.spd"/></bsdf>
+        <bsdf type="diffuse" id="pairs"><spectrum name="reflectance" value="400:0.10, 500:0.55, 600:0.30, 700:0.80"/></bsdf>
+        <shape type="cube"><ref id="file"/></shape>
+        <shape type="sphere"><point name="center" x="3" y="0" z="0"/><ref id="pairs"/></shape>"#;
+    let s = Scene::load(write(dir.path(), &scene(body))).unwrap();
+    let colour = |name: &str| match &s.materials.iter().find(|m| m.name == name).unwrap_or_else(|| panic!("{name}")).bsdf {
+        Bsdf::Phong(p) => p.diffuse.to_array(),
+        other => panic!("{other:?}"),
+    };
+    let expected = Spectrum::parse("400:0.10, 500:0.55, 600:0.30, 700:0.80").unwrap().to_srgb(SpectrumRole::Reflectance).rgb;
+    assert_eq!(colour("file"), expected);
+    assert_eq!(colour("pairs"), expected);
+}
+
+#[test]
 fn bad_spectra_are_refused_with_line_and_column() {
     let cases = [
         (r#"<bsdf type="diffuse" id="d"><spectrum name="reflectance" value="500:0.1, 400:0.2"/></bsdf>"#, "500:0.1", "wavelengths must increase"),
         (r#"<bsdf type="diffuse" id="d"><spectrum name="reflectance" value="400:0.1"/></bsdf>"#, "400:0.1", "at least two"),
         (r#"<bsdf type="diffuse" id="d"><spectrum name="reflectance" value="400:x, 500:1"/></bsdf>"#, "400:x", "is not a number or a wavelength:value pair"),
-        (r#"<bsdf type="diffuse" id="d"><spectrum name="reflectance" filename="a.spd"/></bsdf>"#, "<spectrum name", "spectral data file"),
+        (r#"<bsdf type="diffuse" id="d"><spectrum name="reflectance" filename="missing.spd"/></bsdf>"#, "<spectrum name", "spectral data file \"missing.spd\" not found (searched"),
+        (r#"<bsdf type="diffuse" id="d"><spectrum name="reflectance" filename="bad.spd"/></bsdf>"#, "<spectrum name", "bad.spd:3: expected a wavelength and a value, got `500 0.5 7`"),
+        (r#"<bsdf type="diffuse" id="d"><spectrum name="reflectance" filename="down.spd"/></bsdf>"#, "<spectrum name", "wavelengths must increase"),
+        (r#"<bsdf type="diffuse" id="d"><spectrum name="reflectance" filename="a.txt"/></bsdf>"#, "<spectrum name", "ending in .spd only"),
         (r#"<bsdf type="diffuse" id="d"><spectrum name="reflectance" type="d65"/></bsdf>"#, "<spectrum name", "<spectrum type=\"d65\"> is not supported"),
         (r#"<bsdf type="diffuse" id="d"><spectrum name="reflectance" type="blackbody"><float name="temperature" value="3000"/></spectrum></bsdf>"#, "<spectrum name", "a blackbody is an emission spectrum"),
         (r#"<shape type="cube"><emitter type="area"><spectrum name="radiance" type="blackbody"><float name="temperature" value="-3"/></spectrum></emitter></shape>"#, "-3", "finite number of kelvin > 0"),
@@ -124,6 +149,9 @@ fn bad_spectra_are_refused_with_line_and_column() {
     ];
     for (body, at, message) in cases {
         let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("bad.spd"), "# a comment\n400 0.1\n500 0.5 7\n").unwrap();
+        std::fs::write(dir.path().join("down.spd"), "500 0.1\n400 0.5\n").unwrap();
+        std::fs::write(dir.path().join("a.txt"), "400 0.1\n500 0.5\n").unwrap();
         let text = scene(body);
         let path = write(dir.path(), &text);
         let d = match Scene::load(&path) {

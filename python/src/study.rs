@@ -9,7 +9,7 @@ use pyo3::types::PyDict;
 
 use pathlab::display::Transfer;
 use pathlab::estimate::target::Target;
-use pathlab::method::{Method, Preset};
+use pathlab::method::Method;
 use pathlab::progress::Reporter as _;
 use pathlab::study::{StudyOptions, StudyOutcome};
 
@@ -110,8 +110,8 @@ pub(crate) fn advise_json(
         (None, Some(db)) => Target::Psnr(db),
         _ => return Err(PyValueError::new_err("advise(): give target_rel_error or target_psnr (one of them)")),
     };
-    // Default: every preset (the methods whose error falls to any target).
-    let methods = methods.unwrap_or_else(|| Preset::ALL.iter().map(|p| p.name().to_string()).collect());
+    // Default: as the CLI's (every preset; under an environment map its strategies too).
+    let methods = methods.unwrap_or_else(|| pathlab::study::default_methods(&scene.scene));
     let mut list = Vec::new();
     for name in &methods {
         let m = Method::from_name(name).map_err(|e| PyValueError::new_err(format!("methods: {e}")))?;

@@ -6,20 +6,29 @@
 // luminance distribution). Escaped rays always find it; next event estimation samples it only
 // where the method asks (NUM_ENVIRONMENT_LIGHTS = 1), drawing directions uniformly over the
 // sphere as Mitsuba's ConstantBackgroundEmitter does (density 1 / (4 pi)) or, for a map, by its
-// luminance (ENV_SAMPLING).
+// luminance or by its MIS-compensated luminance (ENV_SAMPLING).
 
 @group(0) @binding(BINDING_ENVIRONMENT_MAP) var<storage, read> environment_map: array<f32>;
 
 // How next event estimation draws directions towards a map (src/method.rs `EnvSampling`).
 override ENV_SAMPLING: u32 = ENV_SAMPLING_ENV_LUMINANCE;
 
-// Where the record's parts start: texels, the density per cell, the rows' and the cells'
-// cumulative distributions (EnvironmentMap::pack).
+// Where the record's parts start: texels, then per sampling distribution (luminance, then
+// compensated: EnvironmentMap::pack) the density per cell, the rows' and the cells' cumulative
+// distributions.
 fn environment_map_texels() -> u32 {
     return ENVIRONMENT_MAP_HEADER;
 }
+// The table of the distribution ENV_SAMPLING draws from: the luminance one's right after the
+// texels, the compensated one's after it (W H + H + 1 + H (W + 1) numbers each).
+fn environment_map_table() -> u32 {
+    let w = u32(environment_map[0]);
+    let h = u32(environment_map[1]);
+    let luminance = ENVIRONMENT_MAP_HEADER + 3u * w * h;
+    return select(luminance, luminance + w * h + h + 1u + h * (w + 1u), ENV_SAMPLING == ENV_SAMPLING_ENV_COMPENSATED);
+}
 fn environment_map_density() -> u32 {
-    return ENVIRONMENT_MAP_HEADER + 3u * u32(environment_map[0]) * u32(environment_map[1]);
+    return environment_map_table();
 }
 fn environment_map_row_cdf() -> u32 {
     return environment_map_density() + u32(environment_map[0]) * u32(environment_map[1]);
@@ -28,10 +37,12 @@ fn environment_map_cell_cdf(y: u32) -> u32 {
     return environment_map_row_cdf() + u32(environment_map[1]) + 1u + y * (u32(environment_map[0]) + 1u);
 }
 
-// Whether next event estimation draws from the map's luminance distribution: the method asks
-// for it and some texel is bright (else uniform directions).
+// Whether next event estimation draws from one of the map's distributions: the method asks
+// for luminance (some texel is bright) or compensated sampling (some texel is brighter than
+// the mean, else the table is uniform over the sphere); else uniform directions.
 fn environment_map_sampled() -> bool {
-    return HAS_ENVIRONMENT_MAP && ENV_SAMPLING == ENV_SAMPLING_ENV_LUMINANCE && environment_map[12] > 0.0;
+    return HAS_ENVIRONMENT_MAP && ((ENV_SAMPLING == ENV_SAMPLING_ENV_LUMINANCE && environment_map[12] > 0.0)
+        || (ENV_SAMPLING == ENV_SAMPLING_ENV_COMPENSATED && environment_map[13] > 0.0));
 }
 
 // The map's (u, t) of world direction d: v = R^T d, u = atan2(v.x, -v.z) / 2 pi in [0, 1),
@@ -83,7 +94,7 @@ fn environment_map_solid_angle_pdf(uv_pdf: f32, theta: f32) -> f32 {
     return uv_pdf / (2.0 * PI * PI * max(sin(theta), 1e-7));
 }
 
-// A direction by the map's luminance distribution, piecewise constant over its W x H cells
+// A direction by the map's distribution (ENV_SAMPLING's), piecewise constant over its W x H cells
 // of the uv square: a row by the rows' distribution, a cell by that row's, a point uniform in
 // the cell (the fractions of u left over); its solid-angle density in w.
 fn sample_environment_map(u: vec2f) -> vec4f {
@@ -114,7 +125,7 @@ fn pdf_environment_map(d: vec3f) -> f32 {
 
 // A direction from ctx towards the environment, at infinite distance: uniform on the sphere
 // (density 1 / (4 pi)), as Mitsuba's ConstantBackgroundEmitter, or for a map under
-// ENV_SAMPLING_ENV_LUMINANCE by its luminance distribution (sample_environment_map).
+// ENV_SAMPLING_ENV_LUMINANCE or _COMPENSATED by that distribution (sample_environment_map).
 fn sample_environment_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> EmitterSample {
     if (ENV_TECHNIQUE && HAS_ENVIRONMENT_MAP) {
         // A researcher's technique (technique.wgsl).

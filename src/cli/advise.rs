@@ -27,9 +27,10 @@ pub struct AdviseArgs {
     /// Target estimated PSNR of the display image (dB).
     #[arg(long)]
     target_psnr: Option<f64>,
-    /// Methods to pilot, comma-separated presets (default: every preset).
-    #[arg(long, default_value = "plain,halton,cosine,phong,nee,mis,best")]
-    methods: String,
+    /// Methods to pilot, comma-separated (default: every preset; under an environment map
+    /// also its sampling strategies without and with MIS, as `study`).
+    #[arg(long)]
+    methods: Option<String>,
     /// Seconds of each pilot.
     #[arg(long, default_value_t = 2.0)]
     pilot_seconds: f64,
@@ -89,7 +90,10 @@ pub fn run(args: AdviseArgs) -> anyhow::Result<i32> {
         bail!("--pilot-seconds must be positive");
     }
     let mut methods = Vec::new();
-    let names: Vec<String> = args.methods.split(',').map(str::trim).filter(|s| !s.is_empty()).map(String::from).collect();
+    let names: Vec<String> = match &args.methods {
+        Some(m) => m.split(',').map(str::trim).filter(|s| !s.is_empty()).map(String::from).collect(),
+        None => pathlab::study::default_methods(&scene),
+    };
     let names = if names.is_empty() { names } else { super::technique::with_technique_rows(Some(names), &scene)?.unwrap_or_default() };
     for name in &names {
         let m = Method::from_name(name)?;

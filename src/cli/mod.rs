@@ -238,7 +238,7 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
     if let Some(m) = &scene.environment_map {
         let name = m.file.file_name().map_or_else(|| m.file.display().to_string(), |n| n.to_string_lossy().into_owned());
         println!(
-            "environment map: {name} {}x{}, scale {}, mean radiance (luminance) {:.4}, GPU memory {:.2} MiB (texels and luminance distribution){}",
+            "environment map: {name} {}x{}, scale {}, mean radiance (luminance) {:.4}, GPU memory {:.2} MiB (texels and the luminance and compensated distributions){}",
             m.image.width,
             m.image.height,
             m.scale,

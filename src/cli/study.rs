@@ -40,9 +40,10 @@ pub struct StudyArgs {
     /// Samples per pixel of the rendered reference. Default 100000.
     #[arg(long)]
     reference_spp: Option<u64>,
-    /// Method of the rendered reference (any preset; the study's own choice was `plain`).
-    #[arg(long, default_value = "best")]
-    reference_method: String,
+    /// Method of the rendered reference (any unbiased method; the study's own choice was
+    /// `plain`). Default `best`, and `best+env` under an environment map.
+    #[arg(long)]
+    reference_method: Option<String>,
     // --size (default: the scene's, or the reference file's), --max-depth, --display.
     #[command(flatten)]
     overrides: SceneOverrides,
@@ -88,7 +89,7 @@ pub fn run(args: StudyArgs) -> anyhow::Result<i32> {
         seeds: args.seeds,
         reference: args.reference.clone(),
         reference_spp: args.reference_spp,
-        reference_method: Some(args.reference_method.clone()),
+        reference_method: args.reference_method.clone(),
         size: args.overrides.size,
         max_depth: args.overrides.max_depth,
         rr_depth: args.overrides.rr_depth.map(|RrDepth(rr)| rr),

@@ -107,7 +107,7 @@ pub fn with_technique_rows(names: Option<Vec<String>>, scene: &Scene) -> anyhow:
         return Ok(names);
     }
     use pathlab::method::{BsdfSampling, LightSampling, Preset, TechniqueKind};
-    let names = names.unwrap_or_else(|| Preset::ALL.iter().map(|p| p.name().to_string()).collect());
+    let names = names.unwrap_or_else(|| pathlab::study::default_methods(scene));
     let mut rows = names.clone();
     for t in &scene.techniques {
         let mut added = false;

@@ -41,6 +41,12 @@ pub enum RenderError {
          light sampling (nee, mis)"
     )]
     UnseenDeltaLight { method: String, light: String },
+    #[error(
+        "{method} samples the environment map by its compensated distribution, which leaves the \
+         directions no brighter than the map's mean to BSDF sampling under MIS: use it with mis \
+         or mis-balance (e.g. mis+env+env-compensated)"
+    )]
+    IncompleteEnvSampling { method: String },
     #[error("reading the image back from the GPU failed: {0}")]
     Readback(String),
     #[error("cannot resume from the saved accumulators: {0}")]
@@ -74,11 +80,16 @@ pub enum RenderError {
 impl RenderError {
     /// Refuses a method that cannot see one of the scene's lights (a delta light without next
     /// event estimation): no GPU needed, so commands call it before any GPU work.
+    /// Also refuses compensated environment sampling without MIS, whose estimate would miss
+    /// the directions its pdf leaves out.
     pub fn check_sees_lights(scene: &Scene, method: &Method) -> Result<(), RenderError> {
-        match scene.delta_light_unseen_by(method) {
-            Some(light) => Err(RenderError::UnseenDeltaLight { method: method.name(), light }),
-            None => Ok(()),
+        if let Some(light) = scene.delta_light_unseen_by(method) {
+            return Err(RenderError::UnseenDeltaLight { method: method.name(), light });
         }
+        if scene.environment_map.is_some() && method.env_pdf_is_incomplete() {
+            return Err(RenderError::IncompleteEnvSampling { method: method.name() });
+        }
+        Ok(())
     }
 }
 

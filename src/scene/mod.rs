@@ -36,7 +36,7 @@ pub use bsdfs::{
     ThinDielectric, NAMED_CONDUCTORS, ROUGH_PLASTIC_TABLE_RES,
 };
 pub use diagnostic::{Diagnostic, SceneError, Severity};
-pub use emitters::{AliasTable, DirectionalLight, EmitterKind, EnvironmentMap, Light, PointLight, SpotLight};
+pub use emitters::{AliasTable, DirectionalLight, EmitterKind, EnvDistribution, EnvironmentMap, Light, PointLight, SpotLight};
 pub use mesh::Mesh;
 pub use overrides::{OverrideError, Overrides, Reframing};
 pub use technique::{Technique, TechniqueError};

@@ -29,7 +29,7 @@ use crate::progress::{Reporter, Task};
 use crate::render::{warm_up, Budget, CheckpointError, RenderError, RenderJob};
 use crate::scene::Scene;
 
-pub use options::StudyOptions;
+pub use options::{default_methods, StudyOptions};
 pub use reference::{Reference, ReferenceSource};
 use runs::{RunRecord, RunSpec, Table};
 

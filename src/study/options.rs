@@ -25,7 +25,8 @@ pub struct StudyOptions {
     pub reference: Option<PathBuf>,
     /// Samples per pixel of a rendered reference (default 100000; quick 4096).
     pub reference_spp: Option<u64>,
-    /// Method of a rendered reference (default `best`).
+    /// Method of a rendered reference (default `default_reference_method`: `best`, or
+    /// `best+env` under an environment map).
     pub reference_method: Option<String>,
     /// Image size (default: the reference file's, else quick's (`quick_size`), else the scene's).
     pub size: Option<(u32, u32)>,
@@ -49,10 +50,9 @@ impl StudyOptions {
     /// for, for the report. Checks names and sizes; `Study::validate` checks the rest.
     pub fn study(&self, mut scene: Scene, scene_path: PathBuf, out: PathBuf, command: String) -> Result<Study, StudyError> {
         let q = self.quick;
-        // Default: every preset.
         let methods = match &self.methods {
             Some(names) => names.iter().map(|n| StudyMethod::by_name(n.trim())).collect::<Result<Vec<_>, _>>()?,
-            None => Preset::ALL.iter().map(|p| StudyMethod::by_name(p.name())).collect::<Result<Vec<_>, _>>()?,
+            None => default_methods(&scene).iter().map(|n| StudyMethod::by_name(n)).collect::<Result<Vec<_>, _>>()?,
         };
         // Methods that cannot see one of the scene's lights (a delta light without next event
         // estimation) are left out, each with its reason.
@@ -64,7 +64,7 @@ impl StudyOptions {
         let reference = match &self.reference {
             Some(path) => ReferenceSource::File(path.clone()),
             None => {
-                let m = StudyMethod::by_name(self.reference_method.as_deref().unwrap_or("best"))?;
+                let m = StudyMethod::by_name(self.reference_method.as_deref().unwrap_or(default_reference_method(&scene)))?;
                 if m.biased {
                     return Err(StudyError::Input(format!("reference method {} is a biased demonstration; a reference must be unbiased", m.name)));
                 }
@@ -114,6 +114,30 @@ impl StudyOptions {
     }
 }
 
+/// The methods `study` and `advise` compare when none are named: every preset; under an
+/// environment map that is a light, also its sampling strategies, each without MIS (`nee`)
+/// and with it (`mis`): uniform, luminance, and MIS-compensated, which needs MIS
+/// (`nee+env+env-uniform`, `nee+env`, `mis+env+env-uniform`, `mis+env`,
+/// `mis+env+env-compensated`).
+pub fn default_methods(scene: &Scene) -> Vec<String> {
+    let mut names: Vec<String> = Preset::ALL.iter().map(|p| p.name().to_string()).collect();
+    if scene.environment_map.as_ref().is_some_and(|m| !m.is_black()) {
+        names.extend(["nee+env+env-uniform", "nee+env", "mis+env+env-uniform", "mis+env", "mis+env+env-compensated"].map(String::from));
+    }
+    names
+}
+
+/// The method of a rendered reference when none is named: `best`, and under an environment
+/// map that is a light `best+env`, whose next event estimation samples the map by luminance
+/// (a small sun found only by BSDF-sampled rays would leave the reference noisy).
+pub fn default_reference_method(scene: &Scene) -> &'static str {
+    if scene.environment_map.as_ref().is_some_and(|m| !m.is_black()) {
+        "best+env"
+    } else {
+        "best"
+    }
+}
+
 /// A quick study's image size: the scene's aspect ratio, its longer side 128 pixels and the
 /// other rounded to a whole pixel (at least 1).
 pub fn quick_size(width: u32, height: u32) -> (u32, u32) {
@@ -154,5 +178,21 @@ mod tests {
         assert_eq!(quick_size(1920, 1080), (128, 72));
         assert_eq!(quick_size(600, 800), (96, 128));
         assert_eq!(quick_size(10_000, 1), (128, 1));
+    }
+
+    #[test]
+    fn an_environment_map_adds_its_strategies_and_a_reference_that_samples_it() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let study = Scene::load(root.join("assets/scenes/study.toml")).unwrap();
+        let presets: Vec<String> = Preset::ALL.iter().map(|p| p.name().to_string()).collect();
+        assert_eq!(default_methods(&study), presets);
+        assert_eq!(default_reference_method(&study), "best");
+        let sky = Scene::load(root.join("assets/scenes/sun_sky.xml")).unwrap();
+        let methods = default_methods(&sky);
+        assert_eq!(methods[..presets.len()], presets[..]);
+        assert_eq!(methods[presets.len()..], ["nee+env+env-uniform", "nee+env", "mis+env+env-uniform", "mis+env", "mis+env+env-compensated"]);
+        // Every one is a method the study keeps (compensated only with MIS).
+        assert!(methods.iter().all(|m| sky.why_left_out(&crate::method::Method::from_name(m).unwrap()).is_none()), "{methods:?}");
+        assert_eq!(default_reference_method(&sky), "best+env");
     }
 }

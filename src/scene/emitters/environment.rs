@@ -70,14 +70,28 @@ impl PartialEq for EnvironmentMap {
 }
 
 /// Numbers of the map's record before its texels (`ENVIRONMENT_MAP_HEADER` in WGSL).
-pub const ENVIRONMENT_MAP_HEADER: usize = 13;
+pub const ENVIRONMENT_MAP_HEADER: usize = 14;
+
+/// Which of the map's two sampling distributions (`EnvSampling`'s importance-sampled
+/// strategies), each packed as one table of the record.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EnvDistribution {
+    /// In proportion to the luminance times sin(theta).
+    Luminance,
+    /// MIS compensation (Karlík et al. 2019; pbrt-v4's `compensatedDistribution`): the
+    /// luminance less its mean over the sphere, clamped at zero, times sin(theta). Zero where the
+    /// map is at most its mean: complete only together with BSDF sampling under MIS.
+    Compensated,
+}
 
 impl EnvironmentMap {
     /// Its record for the kernel (`environment_map` in environment.wgsl): width W, height H,
     /// scale, the world-to-map rotation R^T (9, rows), whether it can be importance-sampled
-    /// (1: some texel is bright); then the texels' linear RGB (3 W H, rows from the top); the
-    /// luminance distribution's density over uv per cell (W H, `sampling_density`); the
-    /// cumulative distribution over rows (H + 1); each row's over its cells (H (W + 1)).
+    /// by luminance (1: some texel is bright) and by the compensated distribution (1: some
+    /// texel is brighter than the mean); then the texels' linear RGB (3 W H, rows from the top);
+    /// then one table per `EnvDistribution` (luminance, compensated), each the density over uv
+    /// per cell (W H, `sampling_tables`), the cumulative distribution over rows (H + 1) and
+    /// each row's over its cells (H (W + 1)); zeros where that distribution is empty.
     pub fn pack(&self) -> Vec<f32> {
         let m = self.to_world;
         let mut data = vec![self.image.width as f32, self.image.height as f32, self.scale as f32];
@@ -86,21 +100,23 @@ impl EnvironmentMap {
                 data.push(m[r][c] as f32);
             }
         }
-        let (density, rows, columns) = self.sampling_tables();
-        data.push(if density.is_empty() { 0.0 } else { 1.0 });
+        let tables = [EnvDistribution::Luminance, EnvDistribution::Compensated].map(|d| self.sampling_tables(d));
+        data.extend(tables.iter().map(|(density, _, _)| if density.is_empty() { 0.0 } else { 1.0 }));
         debug_assert_eq!(data.len(), ENVIRONMENT_MAP_HEADER);
         for y in 0..self.image.height {
             for x in 0..self.image.width {
                 data.extend(self.image.texel(x, y));
             }
         }
-        let cells = (self.image.width * self.image.height) as usize;
-        if density.is_empty() {
-            data.extend(std::iter::repeat_n(0.0, cells + self.image.height as usize + 1 + (self.image.height * (self.image.width + 1)) as usize));
-        } else {
-            data.extend(density.iter().map(|&d| d as f32));
-            data.extend(rows.iter().map(|&c| c as f32));
-            data.extend(columns.iter().map(|&c| c as f32));
+        let (w, h) = (self.image.width as usize, self.image.height as usize);
+        for (density, rows, columns) in &tables {
+            if density.is_empty() {
+                data.extend(std::iter::repeat_n(0.0, w * h + h + 1 + h * (w + 1)));
+            } else {
+                data.extend(density.iter().map(|&d| d as f32));
+                data.extend(rows.iter().map(|&c| c as f32));
+                data.extend(columns.iter().map(|&c| c as f32));
+            }
         }
         data
     }
@@ -122,12 +138,50 @@ impl EnvironmentMap {
         max * (PI * (y as f64 + 0.5) / h as f64).sin()
     }
 
-    /// The luminance distribution: the density over the uv square per cell (mean 1), the
+    /// The cell weights of `distribution`, rows from the top. Compensated: each cell's
+    /// luminance bound less their mean over the sphere (the bounds weighted by sin(theta), the
+    /// solid angle of their rows), clamped at zero, then times sin(theta); where no cell
+    /// exceeds the mean (a constant map) every cell keeps its sin(theta), uniform over the
+    /// sphere, as pbrt-v4 falls back to a uniform distribution.
+    fn cell_weights(&self, distribution: EnvDistribution) -> Vec<f64> {
+        let (w, h) = (self.image.width, self.image.height);
+        let sin_theta = |y: u32| (PI * (y as f64 + 0.5) / h as f64).sin();
+        let luminance: Vec<f64> = (0..h).flat_map(|y| (0..w).map(move |x| (x, y))).map(|(x, y)| self.cell_weight(x, y)).collect();
+        match distribution {
+            EnvDistribution::Luminance => luminance,
+            EnvDistribution::Compensated => {
+                // The bounds themselves: luminance / sin(theta), the mean by solid angle.
+                let (mut sum, mut solid_angle) = (0.0, 0.0);
+                for y in 0..h {
+                    let s = sin_theta(y);
+                    for x in 0..w {
+                        sum += luminance[(y * w + x) as usize];
+                        solid_angle += s;
+                    }
+                }
+                let mean = sum / solid_angle;
+                let compensated: Vec<f64> = (0..h)
+                    .flat_map(|y| (0..w).map(move |x| (x, y)))
+                    .map(|(x, y)| {
+                        let s = sin_theta(y);
+                        (luminance[(y * w + x) as usize] / s - mean).max(0.0) * s
+                    })
+                    .collect();
+                if compensated.iter().any(|&c| c > 0.0) || !(sum > 0.0) {
+                    compensated
+                } else {
+                    (0..h).flat_map(|y| (0..w).map(move |_| sin_theta(y))).collect()
+                }
+            }
+        }
+    }
+
+    /// A sampling distribution: the density over the uv square per cell (mean 1), the
     /// cumulative distribution over rows and each row's over its cells; empty when every
     /// weight is zero (a black map: uniform sampling then).
-    pub fn sampling_tables(&self) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    pub fn sampling_tables(&self, distribution: EnvDistribution) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
         let (w, h) = (self.image.width, self.image.height);
-        let weights: Vec<f64> = (0..h).flat_map(|y| (0..w).map(move |x| (x, y))).map(|(x, y)| self.cell_weight(x, y)).collect();
+        let weights = self.cell_weights(distribution);
         let total: f64 = weights.iter().sum();
         if !(total > 0.0) {
             return (Vec::new(), Vec::new(), Vec::new());

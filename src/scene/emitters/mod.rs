@@ -20,7 +20,7 @@ mod spot;
 mod triangle;
 
 pub use directional::DirectionalLight;
-pub use environment::{EnvironmentMap, ENVIRONMENT_MAP_HEADER};
+pub use environment::{EnvDistribution, EnvironmentMap, ENVIRONMENT_MAP_HEADER};
 pub use point::PointLight;
 pub use spot::{SpotLight, BEAM_WIDTH_OF_CUTOFF, DEFAULT_CUTOFF_ANGLE};
 pub use selection::{luminance, AliasTable};
@@ -136,10 +136,15 @@ impl Scene {
     }
 
     /// Why `study`, `advise` and `bench` leave `method` out on this scene, if they do: one of
-    /// its lights is a delta the method cannot see.
+    /// its lights is a delta the method cannot see, or it samples the environment map by the
+    /// compensated distribution without MIS (`Method::env_pdf_is_incomplete`).
     pub fn why_left_out(&self, method: &crate::method::Method) -> Option<String> {
-        self.delta_light_unseen_by(method)
-            .map(|light| format!("{} is left out: it cannot see {light} (a delta light is found only by next event estimation)", method.name()))
+        if let Some(light) = self.delta_light_unseen_by(method) {
+            return Some(format!("{} is left out: it cannot see {light} (a delta light is found only by next event estimation)", method.name()));
+        }
+        (self.environment_map.is_some() && method.env_pdf_is_incomplete()).then(|| {
+            format!("{} is left out: compensated environment sampling leaves directions to BSDF sampling, which only MIS combines with it", method.name())
+        })
     }
 
     /// The lights next event estimation samples, in kernel order (the light table): the area

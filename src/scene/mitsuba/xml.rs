@@ -168,6 +168,8 @@ struct Loader<'a> {
     version: Option<String>,
     /// The `<path>` folders so far, the latest first.
     paths: Vec<PathBuf>,
+    /// The main file's folder (the resolver's last).
+    main_dir: Option<PathBuf>,
 }
 
 /// Reads `path` and everything it includes. Errors are collected in `diagnostics` (reading
@@ -182,6 +184,7 @@ pub(crate) fn load(path: &Path, defines: &[(String, String)]) -> Result<Loaded, 
         used: Default::default(),
         version: None,
         paths: Vec::new(),
+        main_dir: Some(path.parent().map(Path::to_path_buf).unwrap_or_default()),
     };
     let text = std::fs::read_to_string(path)?;
     let mut objects = Vec::new();
@@ -408,7 +411,7 @@ impl Loader<'_> {
         for child in node.children().filter(|n| n.is_element()) {
             let child_tag = child.tag_name().name();
             if VALUE_TAGS.contains(&child_tag) || child_tag == "transform" {
-                if let Some(p) = self.property(child, base) {
+                if let Some(p) = self.property(child, base, dir) {
                     if object.props.iter().any(|q| q.name == p.name) {
                         self.error(p.at, &p.name, format!("`{}` is given twice in {}", p.name, describe(&object.tag, &object.plugin)));
                     } else {
@@ -431,7 +434,7 @@ impl Loader<'_> {
     }
 
     /// A typed property: `<float name value>`, `<rgb>`, `<point>`, `<transform>`, ...
-    fn property(&mut self, node: roxmltree::Node, base: usize) -> Option<Prop> {
+    fn property(&mut self, node: roxmltree::Node, base: usize, dir: &Path) -> Option<Prop> {
         let tag = node.tag_name().name();
         let at = base + node.range().start;
         let name = self.attr(node, "name", base)?;
@@ -439,8 +442,8 @@ impl Loader<'_> {
             if let Some(kind) = self.opt_attr(node, "type", base)? {
                 return self.spectrum_plugin(node, &kind, name, at, base);
             }
-            if node.attributes().any(|a| a.name() == "filename") {
-                return self.bad(at, &name, "<spectrum filename> (a spectral data file) is not supported: give the wavelength:value pairs in `value`");
+            if let Some(file) = self.opt_attr(node, "filename", base)? {
+                return self.spectrum_file(&file, name, at, dir);
             }
         }
         let value_attr = node.attributes().find(|a| a.name() == "value");
@@ -510,6 +513,48 @@ impl Loader<'_> {
         Some(Prop { name, value, at, value_at })
     }
 
+    /// `<spectrum name filename="…"/>`: Mitsuba's spectral data file (`spectrum_from_file`,
+    /// `.spd` only): per line a wavelength in nm and a value, separated by white space, `#`
+    /// starting a comment; then the same checks as wavelength:value pairs. The file is found as
+    /// Mitsuba's resolver finds it (the `<path>` folders so far, the main file's folder), else
+    /// beside the XML file; a missing one names every folder searched, a bad line its line.
+    fn spectrum_file(&mut self, file: &str, name: String, at: usize, dir: &Path) -> Option<Prop> {
+        let mut folders: Vec<PathBuf> = self.paths.clone();
+        folders.extend(self.main_dir.clone());
+        let resolver = Loaded { objects: Vec::new(), sources: SourceMap::default(), diagnostics: Vec::new(), version: None, search: folders };
+        let path = match resolver.resolve(file, dir) {
+            Ok(path) => path,
+            Err(message) => return self.bad(at, "filename", format!("spectral data file {message}")),
+        };
+        if !path.extension().is_some_and(|e| e.eq_ignore_ascii_case("spd")) {
+            return self.bad(at, "filename", format!("{}: Mitsuba reads spectral data files ending in .spd only", path.display()));
+        }
+        let text = match std::fs::read_to_string(&path) {
+            Ok(t) => t,
+            Err(e) => return self.bad(at, "filename", format!("cannot read spectral data file {}: {e}", path.display())),
+        };
+        let (mut wavelengths, mut values) = (Vec::new(), Vec::new());
+        for (k, line) in text.lines().enumerate() {
+            let data = line.split('#').next().unwrap_or("");
+            let tokens: Vec<&str> = data.split_whitespace().collect();
+            if tokens.is_empty() {
+                continue;
+            }
+            let numbers: Result<Vec<f64>, _> = tokens.iter().map(|t| t.parse::<f64>()).collect();
+            match numbers {
+                Ok(n) if n.len() == 2 && n.iter().all(|x| x.is_finite()) => {
+                    wavelengths.push(n[0]);
+                    values.push(n[1]);
+                }
+                _ => return self.bad(at, "filename", format!("{}:{}: expected a wavelength and a value, got `{}`", path.display(), k + 1, line.trim())),
+            }
+        }
+        match Spectrum::sampled(wavelengths, values) {
+            Ok(spectrum) => Some(Prop { name, value: Value::Spectrum(spectrum), at, value_at: at }),
+            Err(e) => self.bad(at, "filename", format!("{}: {e}", path.display())),
+        }
+    }
+
     /// `<spectrum type="blackbody" name="radiance">` with its `<float>`s `temperature`,
     /// `wavelength_min` and `wavelength_max` (default Mitsuba's CIE range); other spectrum
     /// plugins are refused.
@@ -521,7 +566,7 @@ impl Loader<'_> {
         let mut ok = true;
         for child in node.children().filter(|n| n.is_element()) {
             let child_at = base + child.range().start;
-            let Some(p) = self.property(child, base) else {
+            let Some(p) = self.property(child, base, Path::new("")) else {
                 ok = false;
                 continue;
             };
