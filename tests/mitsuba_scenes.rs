@@ -412,3 +412,63 @@ fn an_area_light_without_a_bsdf_reflects_nothing_as_in_mitsuba() {
     assert_eq!(diffuse(true), [0.0; 3], "the emitting rectangle");
     assert_eq!(diffuse(false), [0.5; 3], "the plain cube");
 }
+
+/// Mitsuba's `instance`s of a `shapegroup` are flattened into world-space shapes, each with
+/// the instance's transform after its own: the same meshes and spheres, to the last bit, as the
+/// file written without instancing with the composed transforms; `check` counts them. Groups
+/// with emitters, nested groups or instances, and instances without one group are refused, as
+/// Mitsuba refuses them.
+#[test]
+fn instances_of_shape_groups_are_flattened_as_mitsuba_places_them() {
+    let obj = |to_world: &str| format!(r#"<shape type="obj"><string name="filename" value="tri.obj"/><ref id="grey"/><transform name="to_world">{to_world}</transform></shape>"#);
+    let sphere = |to_world: &str| format!(r#"<shape type="sphere"><float name="radius" value="0.5"/><ref id="grey"/>{to_world}</shape>"#);
+    let (a, b) = (r#"<scale value="2"/><translate y="3"/>"#, r#"<rotate z="1" angle="90"/><translate x="-4"/>"#);
+    let grouped = small(&format!(
+        r#"<shape type="shapegroup" id="pair">{}{}</shape>
+        <shape type="instance"><ref id="pair"/><transform name="to_world">{a}</transform></shape>
+        <shape type="instance"><ref id="pair"/><transform name="to_world">{b}</transform></shape>"#,
+        obj(r#"<translate x="1"/>"#),
+        sphere("")
+    ));
+    let flat = small(&format!(
+        "{}{}{}{}",
+        obj(&format!(r#"<translate x="1"/>{a}"#)),
+        sphere(&format!(r#"<transform name="to_world">{a}</transform>"#)),
+        obj(&format!(r#"<translate x="1"/>{b}"#)),
+        sphere(&format!(r#"<transform name="to_world">{b}</transform>"#))
+    ));
+    let load = |text: &str| {
+        let dir = dir_with(&[("s.xml", text), ("tri.obj", TRIANGLE_OBJ)]);
+        Scene::load(dir.path().join("s.xml")).unwrap()
+    };
+    let (g, f) = (load(&grouped), load(&flat));
+    assert_eq!(g.meshes.len(), 3, "the light and two triangles");
+    assert_eq!(g.meshes.iter().map(|m| &m.positions).collect::<Vec<_>>(), f.meshes.iter().map(|m| &m.positions).collect::<Vec<_>>());
+    assert_eq!(g.spheres.iter().map(|s| (s.center, s.radius)).collect::<Vec<_>>(), f.spheres.iter().map(|s| (s.center, s.radius)).collect::<Vec<_>>());
+    assert_eq!(g.spheres[0].radius, 1.0, "scaled by its instance");
+    assert_eq!(g.content_hash(), f.content_hash());
+    assert_eq!(g.instancing, Some(pathlab::scene::Instancing { instances: 2, groups: 1, shapes: 4 }));
+    assert_eq!(f.instancing, None);
+    let out = pathlab().arg("check").arg({
+        let dir = dir_with(&[("s.xml", &grouped), ("tri.obj", TRIANGLE_OBJ)]);
+        let p = dir.path().join("s.xml");
+        std::mem::forget(dir);
+        p
+    }).output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success() && stdout.contains("instances: 2 of 1 shape group(s), flattened into 4 world-space shapes"), "{stdout}");
+
+    let group = |inner: &str| format!(r#"<shape type="shapegroup" id="g">{inner}</shape>"#);
+    let cases = [
+        (group(r#"<shape type="sphere"><emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>"#), "<emitter type=\"area\"><rgb name=\"radiance\" value=\"1\"/></emitter></shape></shape>", "an emitter inside a shape group"),
+        (group(r#"<shape type="shapegroup" id="h"/>"#), "<shape type=\"shapegroup\" id=\"h\"", "a shape group inside a shape group"),
+        (r#"<shape type="instance"><transform name="to_world"><translate x="1"/></transform></shape>"#.to_string(), "<shape type=\"instance\">", "needs a <ref id"),
+        (r#"<shape type="shapegroup"><shape type="sphere"/></shape>"#.to_string(), "<shape type=\"shapegroup\">", "needs an id"),
+    ];
+    for (body, at, message) in cases {
+        let text = small(&format!("{body}<shape type=\"instance\"><ref id=\"g\"/></shape>").replace("<shape type=\"instance\"><ref id=\"g\"/></shape>", if body.contains("id=\"g\"") { "<shape type=\"instance\"><ref id=\"g\"/></shape>" } else { "" }));
+        let (d, path) = refused(&text);
+        assert!(d.message.contains(message), "expected `{message}`: {d}");
+        assert_eq!((d.file.as_path(), d.line, d.column), (path.as_path(), position_of(&text, at).0, position_of(&text, at).1), "{d}");
+    }
+}

@@ -235,6 +235,12 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
     if scene.num_delta_lights() > 0 {
         println!("delta lights: {}; only methods with next event estimation see them (not lights=none)", scene.num_delta_lights());
     }
+    if let Some(i) = scene.instancing {
+        println!(
+            "instances: {} of {} shape group(s), flattened into {} world-space shapes (in the counts above)",
+            i.instances, i.groups, i.shapes
+        );
+    }
     if let Some(m) = &scene.environment_map {
         let name = m.file.file_name().map_or_else(|| m.file.display().to_string(), |n| n.to_string_lossy().into_owned());
         println!(

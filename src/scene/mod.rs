@@ -266,6 +266,18 @@ pub struct Scene {
     /// name; methods use them by name (`mis+bsdf=NAME`). Not part of `content_hash`: a
     /// technique changes the variance, never the image's expectation.
     pub techniques: Vec<Technique>,
+    /// Mitsuba's `instance`s of `shapegroup`s, flattened into the world-space shapes above
+    /// (`pathlab check` reports them); `None` where the file has none.
+    pub instancing: Option<Instancing>,
+}
+
+/// What a scene's instances were flattened into: how many instances, of how many shape groups,
+/// placed how many shapes (each a mesh, rectangle, cube or sphere of the scene).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Instancing {
+    pub instances: usize,
+    pub groups: usize,
+    pub shapes: usize,
 }
 
 /// Whether a scene file is Mitsuba XML (by its extension, `.xml`).

@@ -35,7 +35,7 @@ const MITSUBA_FAR_CLIP: f64 = 1e4;
 const DEFAULT_MAX_DEPTH: i64 = -1;
 const DEFAULT_RR_DEPTH: i64 = 5;
 
-const SHAPES: &str = "obj, ply, serialized, rectangle, cube, sphere";
+const SHAPES: &str = "obj, ply, serialized, rectangle, cube, sphere, shapegroup, instance";
 
 /// Reads and validates a Mitsuba 3 scene; `defines` override its `<default>`s (`--define`).
 pub(super) fn load(path: &Path, defines: &[(String, String)]) -> Result<Scene, SceneError> {
@@ -44,8 +44,9 @@ pub(super) fn load(path: &Path, defines: &[(String, String)]) -> Result<Scene, S
 
 /// The validated scene and the translation it was made from (translated once).
 fn load_with_raw(path: &Path, defines: &[(String, String)]) -> Result<(Scene, RawScene), SceneError> {
-    let (raw, sources, diagnostics) = translate(path, defines)?;
-    let scene = validate::validate(&raw, path, sources.clone(), diagnostics)?;
+    let (raw, sources, diagnostics, instancing) = translate(path, defines)?;
+    let mut scene = validate::validate(&raw, path, sources.clone(), diagnostics)?;
+    scene.instancing = instancing;
     // pathlab's sphere lights also emit inwards, Mitsuba's only outwards: the same image only
     // where no path vertex can be inside one.
     if scene.light_interiors_reachable() {
@@ -99,7 +100,7 @@ fn relative_to(file: &Path, dir: &Path) -> PathBuf {
     file_abs.strip_prefix(&dir_abs).map(Path::to_path_buf).unwrap_or(file_abs)
 }
 
-fn translate(path: &Path, defines: &[(String, String)]) -> Result<(RawScene, SourceMap, Vec<Diagnostic>), SceneError> {
+fn translate(path: &Path, defines: &[(String, String)]) -> Result<(RawScene, SourceMap, Vec<Diagnostic>, Option<crate::scene::Instancing>), SceneError> {
     let mut loaded = xml::load(path, defines).map_err(|cause| SceneError::Io { path: path.to_path_buf(), cause })?;
     let diagnostics = std::mem::take(&mut loaded.diagnostics);
     let mut t = Translator {
@@ -109,9 +110,15 @@ fn translate(path: &Path, defines: &[(String, String)]) -> Result<(RawScene, Sou
         material_keys: Vec::new(),
         bsdfs: BTreeMap::new(),
         shape_count: 0,
+        instanced: Vec::new(),
         loaded: &loaded,
     };
     let mut raw = t.scene(path, &loaded.objects);
+    let instancing = (!t.instanced.is_empty()).then(|| crate::scene::Instancing {
+        instances: t.instanced.len(),
+        groups: t.instanced.iter().map(|(g, _)| g).collect::<std::collections::BTreeSet<_>>().len(),
+        shapes: t.instanced.iter().map(|(_, n)| n).sum(),
+    });
     // Mesh files as the scene model names them: relative to the main file's folder (where the
     // validation looks), each found beside the XML file that names it.
     let main_dir = path.parent().unwrap_or(Path::new(""));
@@ -131,7 +138,7 @@ fn translate(path: &Path, defines: &[(String, String)]) -> Result<(RawScene, Sou
         });
     }
     match raw {
-        Some(raw) if !diagnostics.iter().any(|d| d.severity == Severity::Error) => Ok((raw, loaded.sources, diagnostics)),
+        Some(raw) if !diagnostics.iter().any(|d| d.severity == Severity::Error) => Ok((raw, loaded.sources, diagnostics, instancing)),
         _ => {
             diagnostics.sort_by_key(|d| (d.severity != Severity::Error, d.file.clone(), d.line, d.column));
             Err(SceneError::Invalid(diagnostics))
@@ -345,6 +352,8 @@ struct Translator<'a> {
     /// Named BSDFs already interpreted (a `<ref>` is a copy: interpreted once, reported once).
     bsdfs: BTreeMap<String, Option<Bsdf>>,
     shape_count: usize,
+    /// Per instance flattened: its shape group's id and how many shapes it placed.
+    instanced: Vec<(String, usize)>,
     /// The loaded files, for resolving relative file names (`xml::Loaded::resolve`).
     loaded: &'a xml::Loaded,
 }
@@ -1038,6 +1047,84 @@ impl Translator<'_> {
     }
 
     fn shape(&mut self, o: &Object, meshes: &mut Vec<Spanned<RawMesh>>, rectangles: &mut Vec<Spanned<RawShape>>, cubes: &mut Vec<Spanned<RawShape>>, spheres: &mut Vec<Spanned<RawSphere>>) {
+        match o.plugin.as_str() {
+            "shapegroup" => {
+                self.shapegroup(o, true);
+            }
+            "instance" => self.instance(o, meshes, rectangles, cubes, spheres),
+            _ => self.placed_shape(o, None, meshes, rectangles, cubes, spheres),
+        }
+    }
+
+    /// `<shape type="shapegroup" id>`: shapes placed only by the `instance`s that `<ref>` it,
+    /// checked as Mitsuba 3.9.1 checks a group (no emitters, groups or instances inside). At the
+    /// top level (`top`), a group without an id could never be placed, and is refused.
+    fn shapegroup(&mut self, o: &Object, top: bool) -> bool {
+        let errors = self.diagnostics.iter().filter(|d| d.severity == Severity::Error).count();
+        if top && o.id.is_none() {
+            self.error(o.at, "id", "a <shape type=\"shapegroup\"> needs an id, for the <shape type=\"instance\"> that place it");
+        }
+        if let Some(p) = o.props.first() {
+            self.error(p.at, &p.name, format!("`{}` of <shape type=\"shapegroup\"> is not supported (a group places its shapes where its instances' to_world put them)", p.name));
+        }
+        for c in &o.children {
+            match (c.tag.as_str(), c.plugin.as_str()) {
+                ("shape", "shapegroup") => self.error(c.at, "type", "a shape group inside a shape group is not permitted (as in Mitsuba)"),
+                ("shape", "instance") => self.error(c.at, "type", "an instance inside a shape group is not permitted (as in Mitsuba)"),
+                ("shape", _) => {
+                    if let Some(e) = c.children.iter().find(|e| e.tag == "emitter") {
+                        self.error(e.at, "type", "an emitter inside a shape group is not supported (Mitsuba does not instance emitters)");
+                    }
+                }
+                (tag, plugin) => self.error(c.at, "", format!("{} inside a shape group is not supported (a group holds shapes)", describe(tag, plugin))),
+            }
+        }
+        self.diagnostics.iter().filter(|d| d.severity == Severity::Error).count() == errors
+    }
+
+    /// `<shape type="instance">` with a `<ref>` to one shape group and a `to_world`: the group's
+    /// shapes flattened into the scene, each with the instance's transform after its own
+    /// (Mitsuba's instance to_world times the shape's), as world-space shapes.
+    fn instance(&mut self, o: &Object, meshes: &mut Vec<Spanned<RawMesh>>, rectangles: &mut Vec<Spanned<RawShape>>, cubes: &mut Vec<Spanned<RawShape>>, spheres: &mut Vec<Spanned<RawSphere>>) {
+        let mut p = Props::of(o);
+        let to_world = self.transform(&mut p, "to_world");
+        self.finish(p, "to_world");
+        let groups: Vec<&Object> = o.children.iter().filter(|c| c.tag == "shape" && c.plugin == "shapegroup").collect();
+        for c in o.children.iter().filter(|c| !(c.tag == "shape" && c.plugin == "shapegroup")) {
+            self.error(c.at, "", format!("{} inside an instance is not supported (only a <ref> to a shape group)", describe(&c.tag, &c.plugin)));
+        }
+        let group = match groups.as_slice() {
+            [group] => *group,
+            [] => {
+                self.error(o.at, "", "an instance needs a <ref id=\"…\"/> to a <shape type=\"shapegroup\">");
+                return;
+            }
+            [_, second, ..] => {
+                self.error(second.at, "", "an instance places one shape group (as in Mitsuba)");
+                return;
+            }
+        };
+        if !self.shapegroup(group, false) {
+            return;
+        }
+        let before = meshes.len() + rectangles.len() + cubes.len() + spheres.len();
+        for shape in group.children.iter().filter(|c| c.tag == "shape") {
+            self.placed_shape(shape, to_world.as_ref(), meshes, rectangles, cubes, spheres);
+        }
+        let placed = meshes.len() + rectangles.len() + cubes.len() + spheres.len() - before;
+        self.instanced.push((group.id.clone().unwrap_or_default(), placed));
+    }
+
+    /// A shape, placed by its own `to_world` and then, inside an instance, by the instance's.
+    fn placed_shape(
+        &mut self,
+        o: &Object,
+        instance: Option<&(Vec<TransformOp>, usize)>,
+        meshes: &mut Vec<Spanned<RawMesh>>,
+        rectangles: &mut Vec<Spanned<RawShape>>,
+        cubes: &mut Vec<Spanned<RawShape>>,
+        spheres: &mut Vec<Spanned<RawSphere>>,
+    ) {
         self.shape_count += 1;
         let shape_name = o.id.clone().unwrap_or_else(|| format!("shape{}", self.shape_count));
         let mut p = Props::of(o);
@@ -1068,7 +1155,12 @@ impl Translator<'_> {
         };
         let bsdf = Bsdf { name: bsdf.name.clone().or_else(|| Some(shape_name.clone())), ..bsdf };
         let material = self.material(&bsdf, emission, &shape_name, o.at);
-        let to_world = self.transform(&mut p, "to_world");
+        let to_world = match (self.transform(&mut p, "to_world"), instance) {
+            (own, None) => own,
+            (None, Some(outer)) => Some(outer.clone()),
+            // The instance's operations after the shape's own (each after the previous).
+            (Some((ops, at)), Some((outer, _))) => Some((ops.into_iter().chain(outer.iter().cloned()).collect(), at)),
+        };
         let flip = self.boolean(&mut p, "flip_normals");
         let transform = match &to_world {
             Some((ops, at)) => self.raw_transform(ops, *at),
