@@ -93,6 +93,32 @@ pub fn to_toml(path: &Path, defines: &[(String, String)], out_dir: &Path) -> Res
     Ok((text, scene.warnings))
 }
 
+/// What Mitsuba 3.9.1 refuses in a shape group (`src/render/shapegroup.cpp`: no emitters, groups
+/// or instances inside), and a group without an id, which no instance could place:
+/// (position, field, message) each.
+fn shapegroup_problems(o: &Object) -> Vec<(usize, String, String)> {
+    let mut problems = Vec::new();
+    if o.id.is_none() {
+        problems.push((o.at, "id".into(), "a <shape type=\"shapegroup\"> needs an id, for the <shape type=\"instance\"> that place it".to_string()));
+    }
+    if let Some(p) = o.props.first() {
+        problems.push((p.at, p.name.clone(), format!("`{}` of <shape type=\"shapegroup\"> is not supported (a group places its shapes where its instances' to_world put them)", p.name)));
+    }
+    for c in &o.children {
+        match (c.tag.as_str(), c.plugin.as_str()) {
+            ("shape", "shapegroup") => problems.push((c.at, "type".into(), "a shape group inside a shape group is not permitted (as in Mitsuba)".to_string())),
+            ("shape", "instance") => problems.push((c.at, "type".into(), "an instance inside a shape group is not permitted (as in Mitsuba)".to_string())),
+            ("shape", _) => {
+                if let Some(e) = c.children.iter().find(|e| e.tag == "emitter") {
+                    problems.push((e.at, "type".into(), "an emitter inside a shape group is not supported (Mitsuba does not instance emitters)".to_string()));
+                }
+            }
+            (tag, plugin) => problems.push((c.at, String::new(), format!("{} inside a shape group is not supported (a group holds shapes)", describe(tag, plugin)))),
+        }
+    }
+    problems
+}
+
 /// `file` relative to `dir` when it lies below it (both made absolute first), else as it is.
 fn relative_to(file: &Path, dir: &Path) -> PathBuf {
     let abs = |p: &Path| std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
@@ -1048,38 +1074,18 @@ impl Translator<'_> {
 
     fn shape(&mut self, o: &Object, meshes: &mut Vec<Spanned<RawMesh>>, rectangles: &mut Vec<Spanned<RawShape>>, cubes: &mut Vec<Spanned<RawShape>>, spheres: &mut Vec<Spanned<RawSphere>>) {
         match o.plugin.as_str() {
-            "shapegroup" => {
-                self.shapegroup(o, true);
-            }
+            "shapegroup" => self.shapegroup(o),
             "instance" => self.instance(o, meshes, rectangles, cubes, spheres),
             _ => self.placed_shape(o, None, meshes, rectangles, cubes, spheres),
         }
     }
 
-    /// `<shape type="shapegroup" id>`: shapes placed only by the `instance`s that `<ref>` it,
-    /// checked as Mitsuba 3.9.1 checks a group (no emitters, groups or instances inside). At the
-    /// top level (`top`), a group without an id could never be placed, and is refused.
-    fn shapegroup(&mut self, o: &Object, top: bool) -> bool {
-        let errors = self.diagnostics.iter().filter(|d| d.severity == Severity::Error).count();
-        if top && o.id.is_none() {
-            self.error(o.at, "id", "a <shape type=\"shapegroup\"> needs an id, for the <shape type=\"instance\"> that place it");
+    /// `<shape type="shapegroup" id>`: shapes placed only by the `instance`s that `<ref>` it.
+    /// Its problems are reported here, once, where it is defined.
+    fn shapegroup(&mut self, o: &Object) {
+        for (at, field, message) in shapegroup_problems(o) {
+            self.error(at, &field, message);
         }
-        if let Some(p) = o.props.first() {
-            self.error(p.at, &p.name, format!("`{}` of <shape type=\"shapegroup\"> is not supported (a group places its shapes where its instances' to_world put them)", p.name));
-        }
-        for c in &o.children {
-            match (c.tag.as_str(), c.plugin.as_str()) {
-                ("shape", "shapegroup") => self.error(c.at, "type", "a shape group inside a shape group is not permitted (as in Mitsuba)"),
-                ("shape", "instance") => self.error(c.at, "type", "an instance inside a shape group is not permitted (as in Mitsuba)"),
-                ("shape", _) => {
-                    if let Some(e) = c.children.iter().find(|e| e.tag == "emitter") {
-                        self.error(e.at, "type", "an emitter inside a shape group is not supported (Mitsuba does not instance emitters)");
-                    }
-                }
-                (tag, plugin) => self.error(c.at, "", format!("{} inside a shape group is not supported (a group holds shapes)", describe(tag, plugin))),
-            }
-        }
-        self.diagnostics.iter().filter(|d| d.severity == Severity::Error).count() == errors
     }
 
     /// `<shape type="instance">` with a `<ref>` to one shape group and a `to_world`: the group's
@@ -1104,7 +1110,8 @@ impl Translator<'_> {
                 return;
             }
         };
-        if !self.shapegroup(group, false) {
+        // A group with problems (reported where it is defined) places nothing.
+        if !shapegroup_problems(&Object { id: Some(String::new()), ..group.clone() }).is_empty() {
             return;
         }
         let before = meshes.len() + rectangles.len() + cubes.len() + spheres.len();
