@@ -250,7 +250,7 @@ impl Study {
             let films = (1..=self.seeds)
                 .map(|s| read_exr(&runs::image_path(dir, &m.name, self.top_spp(), s)).map(|(f, _)| f))
                 .collect::<Result<Vec<_>, _>>()?;
-            verdicts.push(verdict::verdict(m, &films, &reference.film, self.methods.len()));
+            verdicts.push(verdict::verdict(&self.scene, m, &films, &reference.film, self.methods.len()));
         }
 
         reporter.stage("[4/4] report");
