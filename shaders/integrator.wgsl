@@ -27,6 +27,10 @@
 override LIGHT_SAMPLING: u32 = LIGHTS_MIS;
 // Russian roulette from this scattering vertex on (the first is 1; Mitsuba's rr_depth); 0: none.
 override RR_DEPTH: u32 = 0u;
+// Mitsuba's hide_emitters (src/scene: RenderSettings::hide_emitters), and how many area emitters
+// a camera ray may pass through at most (SceneFeatures::emitter_skips).
+override HIDE_EMITTERS: bool = false;
+override EMITTER_SKIPS: u32 = 0u;
 
 // ---- Multiple importance sampling: the one place its weights are computed ----
 //
@@ -266,6 +270,21 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
     var ray_o = camera.o;
     var ray_d = camera.d;
     var hit = intersect_scene(ray_o, ray_d);
+    if (HIDE_EMITTERS) {
+        // Mitsuba's hide_emitters (path.cpp, skip_area_emitters): the camera ray passes through
+        // every area emitter it meets, from its far side on, and sees no environment; a ray
+        // that would cross more than EMITTER_SKIPS of them sees black.
+        var skips = 0u;
+        while (skips < EMITTER_SKIPS && hit.object != INVALID && light_of(hit.object) != INVALID) {
+            let x = ray_o + ray_d * hit.t;
+            ray_o = offset_ray_origin(x, select(-hit.normal, hit.normal, dot(hit.normal, ray_d) > 0.0));
+            hit = intersect_scene(ray_o, ray_d);
+            skips++;
+        }
+        if (hit.object == INVALID || light_of(hit.object) != INVALID) {
+            return vec3f(0.0);
+        }
+    }
     var radiance = radiance_along(hit, ray_d);
     if (frame.max_depth <= 1u || hit.object == INVALID) {
         return radiance;

@@ -73,6 +73,7 @@ fn every_override_permutation_validates() {
                                     has_uvs: on,
                                     rr_depth: if on { 2 } else { 0 },
                                     thin_lens: on,
+                                    hide_emitters: on,
                                     num_occluding_planes: if on { num_planes } else { 0 },
                                     has_specular: on,
                                     bsdf_kinds: if on { u32::MAX } else { pathlab::scene::BsdfKind::Phong.bit() },

@@ -22,6 +22,7 @@ mod delta_lights;
 mod dielectrics;
 mod environment_light;
 mod environment_map;
+mod hide_emitters;
 #[cfg(feature = "viewer")]
 mod display_pass;
 mod error_estimate;

@@ -194,6 +194,12 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
         scene.default_light_select(),
         scene.content_hash(),
     );
+    if scene.render.hide_emitters {
+        println!(
+            "hide_emitters: camera rays pass through up to {} area emitter surfaces and see no environment (Mitsuba's hide_emitters)",
+            f.emitter_skips()
+        );
+    }
     // A scene's [techniques]: valid WGSL fitting the contract (naga, no GPU); their check
     // needs one (`pathlab check-technique`).
     for t in &scene.techniques {

@@ -30,6 +30,8 @@ pub struct SceneFeatures {
     pub rr_depth: u32,
     /// The camera has a thin lens (`Camera::aperture_radius` > 0).
     pub thin_lens: bool,
+    /// Mitsuba's `hide_emitters` (`RenderSettings::hide_emitters`).
+    pub hide_emitters: bool,
     /// Planes that shadow rays must test (the first ones in kernel order).
     pub num_occluding_planes: u32,
     pub has_specular: bool,
@@ -43,10 +45,24 @@ pub struct SceneFeatures {
     pub light_interiors_reachable: bool,
 }
 
+/// The most area emitters a camera ray passes through under `hide_emitters` (Mitsuba's loop is
+/// unbounded; a ray that would cross more sees black, as if the rest were hidden too).
+pub const MAX_EMITTER_SKIPS: u32 = 16;
+
 impl SceneFeatures {
     /// Lights of every kind: the light table's length.
     pub fn num_lights(&self) -> u32 {
         EmitterKind::ALL.iter().map(|&k| self.lights_of(k)).sum()
+    }
+
+    /// Area emitters a camera ray may have to pass through under `hide_emitters` before it
+    /// meets something else, at most: each light sphere twice (in and out), each emissive
+    /// triangle once, never more than `MAX_EMITTER_SKIPS`; 0 without `hide_emitters`.
+    pub fn emitter_skips(&self) -> u32 {
+        if !self.hide_emitters {
+            return 0;
+        }
+        (2 * self.num_sphere_lights + self.num_triangle_lights).min(MAX_EMITTER_SKIPS)
     }
 
     /// Lights of `kind`.
@@ -77,6 +93,7 @@ impl SceneFeatures {
             has_uvs: scene.materials.iter().any(|m| m.bsdf.reads_uv()),
             rr_depth: scene.render.rr_depth.unwrap_or(0),
             thin_lens: scene.camera.aperture_radius > 0.0,
+            hide_emitters: scene.render.hide_emitters,
             has_specular: scene.materials.iter().any(|m| m.bsdf.as_phong().is_some_and(|p| p.specular.max_element() > 0.0)),
             bsdf_kinds: scene.materials.iter().fold(0, |kinds, m| kinds | m.bsdf_kind().bit()),
             has_environment: scene.has_environment(),

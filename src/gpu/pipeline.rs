@@ -70,6 +70,8 @@ pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
         ("HAS_SHADING_NORMALS", f.has_shading_normals as u32 as f64),
         ("HAS_UVS", f.has_uvs as u32 as f64),
         ("THIN_LENS", f.thin_lens as u32 as f64),
+        ("HIDE_EMITTERS", f.hide_emitters as u32 as f64),
+        ("EMITTER_SKIPS", f.emitter_skips() as f64),
         ("RR_DEPTH", f.rr_depth as f64),
         ("TRAVERSAL_BUDGET", key.traversal_budget as f64),
         ("NUM_OCCLUDING_PLANES", f.num_occluding_planes as f64),
@@ -158,8 +160,11 @@ pub fn loop_iterations_per_sample(key: &PipelineKey, max_depth: u32, bvh_nodes: 
     // Drawing from an environment map's distribution: two bisections, at most 32 steps each.
     let env_search = if f.has_environment_map && key.method.environment { 64 } else { 0 };
     let per_vertex = 1 + s + p + shadow_rays * (1 + s + p) + (3 + light_dims) * per_dim + env_search;
-    let fixed = 1 + 2 * per_dim + max_depth as u64 * per_vertex;
-    let rays = 1 + max_depth as u64 * (1 + shadow_rays);
+    // Under hide_emitters, camera rays passing through area emitters: one loop iteration and
+    // one more ray each.
+    let skips = f.emitter_skips() as u64;
+    let fixed = 1 + 2 * per_dim + max_depth as u64 * per_vertex + skips * (1 + s + p);
+    let rays = 1 + max_depth as u64 * (1 + shadow_rays) + skips;
     let steps_per_ray = if f.num_triangles > 0 { 4 * bvh_nodes + 3 * bvh_leaves + f.num_triangles as u64 } else { 0 };
     LoopBound { fixed, rays, steps_per_ray }
 }

@@ -20,6 +20,7 @@
 //! meshes=N, then mesh.i.material=INDEX .two_sided=0|1 (its emission) .triangles=T .data=SHA256
 //! ```
 //!
+//! `render.hide_emitters=true` after `render.environment` only where the scene hides emitters;
 //! and, only where the camera has a thin lens (aperture_radius > 0),
 //! `camera.thin_lens=APERTURE_RADIUS FOCUS_DISTANCE`; and, only where the scene has delta
 //! lights, for each kind that has any:
@@ -84,6 +85,10 @@ pub fn canonical_encoding(scene: &Scene) -> String {
         line("render.rr_depth", rr.to_string());
     }
     line("render.environment", vec3(r.environment));
+    // Only scenes that hide emitters add a line, so that scenes written before keep their hash.
+    if r.hide_emitters {
+        line("render.hide_emitters", "true".to_string());
+    }
     // Only scenes with a map add a line, so that scenes written before keep their hash.
     if let Some(m) = &scene.environment_map {
         let rows = m.to_world.iter().map(|r| vec3(glam::DVec3::from(*r))).collect::<Vec<_>>().join(" ");

@@ -161,6 +161,9 @@ pub struct RenderSettings {
     pub environment: DVec3,
     /// Default samples per pixel, if the scene gives one.
     pub spp: Option<u64>,
+    /// Mitsuba's `hide_emitters`: camera rays pass through every area emitter they meet (to
+    /// what lies behind) and see no environment; emitters reached after a bounce are unchanged.
+    pub hide_emitters: bool,
 }
 
 /// A material: a BSDF of one of the kinds of `bsdfs` (Phong by default), which may emit.

@@ -196,6 +196,9 @@ pub(crate) struct RawRender {
     pub rr_depth: Option<Spanned<i64>>,
     pub environment: Option<Spanned<RawColor>>,
     pub spp: Option<Spanned<i64>>,
+    /// Mitsuba's `hide_emitters`: camera rays see through area emitters and see no environment.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hide_emitters: Option<Spanned<bool>>,
 }
 
 /// `[materials.<name>]`: what every material has (`emission`, `two_sided`, the `bsdf` kind) and

@@ -595,6 +595,7 @@ fn check_render(ck: &mut Checker, raw: &RawScene) -> RenderSettings {
         rr_depth,
         environment: ck.color(r.environment.as_ref(), "render.environment"),
         spp: r.spp.as_ref().map(|spp| ck.integer(spp, "render.spp", 1, u32::MAX as i64)),
+        hide_emitters: r.hide_emitters.as_ref().is_some_and(|h| *h.get_ref()),
     }
 }
 

@@ -598,7 +598,7 @@ impl Translator<'_> {
         let mut camera = None;
         let mut film = (DEFAULT_FILM_SIZE.0, DEFAULT_FILM_SIZE.1, 0usize);
         let mut spp = None;
-        let mut depth = (DEFAULT_MAX_DEPTH, DEFAULT_RR_DEPTH, 0usize);
+        let mut depth = (DEFAULT_MAX_DEPTH, DEFAULT_RR_DEPTH, 0usize, None);
         let mut environment: Option<([f64; 3], usize)> = None;
         let mut environment_map = None;
         let mut meshes = Vec::new();
@@ -672,7 +672,7 @@ impl Translator<'_> {
             }
             return None;
         };
-        let (max_depth, rr, depth_at) = depth;
+        let (max_depth, rr, depth_at, hide_emitters) = depth;
         // Roulette that never acts (from a vertex at or beyond the last) is none.
         let rr_depth = (max_depth == -1 || rr < max_depth).then_some(rr);
         Some(RawScene {
@@ -687,6 +687,7 @@ impl Translator<'_> {
                     rr_depth: rr_depth.map(|r| spanned(depth_at, r)),
                     environment: environment.map(|(c, at)| spanned(at, RawColor(c))),
                     spp: spp.map(|(s, at)| spanned(at, s)),
+                    hide_emitters: hide_emitters.filter(|(hide, _)| *hide).map(|(hide, at)| spanned(at, hide)),
                 },
             ),
             materials: std::mem::take(&mut self.materials),
@@ -944,7 +945,7 @@ impl Translator<'_> {
     }
 
     /// `<integrator type="path">`: (max_depth, rr_depth, offset).
-    fn integrator(&mut self, o: &Object) -> (i64, i64, usize) {
+    fn integrator(&mut self, o: &Object) -> (i64, i64, usize, Option<(bool, usize)>) {
         match o.plugin.as_str() {
             // Mitsuba's `moment` renders the integrator it wraps, with its moments as extra
             // channels: the image is that integrator's.
@@ -976,10 +977,8 @@ impl Translator<'_> {
         let mut p = Props::of(o);
         let max_depth = self.integer(&mut p, "max_depth");
         let rr_depth = self.integer(&mut p, "rr_depth");
-        if let Some(true) = self.boolean(&mut p, "hide_emitters") {
-            self.error(o.at, "hide_emitters", "`hide_emitters` is not supported");
-        }
-        self.finish(p, "max_depth, rr_depth, hide_emitters = false");
+        let hide_emitters = self.get::<bool>(&mut p, "hide_emitters").map(|(v, prop)| (v, prop.value_at));
+        self.finish(p, "max_depth, rr_depth, hide_emitters");
         if let Some((d, at)) = max_depth {
             if d == 0 || d < -1 {
                 self.error(at, "max_depth", format!("max_depth must be -1 (unbounded) or at least 1 (got {d})"));
@@ -990,7 +989,7 @@ impl Translator<'_> {
                 self.error(at, "rr_depth", format!("rr_depth must be at least 1 (got {r})"));
             }
         }
-        (max_depth.map_or(DEFAULT_MAX_DEPTH, |d| d.0), rr_depth.map_or(DEFAULT_RR_DEPTH, |d| d.0), o.at)
+        (max_depth.map_or(DEFAULT_MAX_DEPTH, |d| d.0), rr_depth.map_or(DEFAULT_RR_DEPTH, |d| d.0), o.at, hide_emitters)
     }
 
     /// A BSDF object, interpreted once per id.
