@@ -369,7 +369,16 @@ fn paths_focal_lengths_and_published_camera_matrices_are_read_as_mitsuba_reads_t
     };
     let six_digits = "-0.999914 0.000835626 0.013058 -0.587317 -5.82126e-011 0.997959 -0.063863 2.7623 -0.0130847 -0.0638576 -0.997873 9.71429 0 0 0 1";
     let dir = dir_with(&[("s.xml", &matrix(six_digits))]);
-    Scene::load(dir.path().join("s.xml")).unwrap();
+    let s = Scene::load(dir.path().join("s.xml")).unwrap();
+    // Not quite orthogonal: the camera's frame moves its axes (by 3.1e-8 rad, measured), which
+    // `check` reports; a look-at is exact.
+    let moved = s.translation.sensor_correction.expect("a correction");
+    assert!(moved > 1e-9 && moved < 1e-4, "{moved}");
+    let out = pathlab().arg("check").arg(dir.path().join("s.xml")).output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("sensor to_world: orthonormalised, its axes moved by at most"), "{stdout}");
+    let dir = dir_with(&[("s.xml", &small(""))]);
+    assert_eq!(Scene::load(dir.path().join("s.xml")).unwrap().translation.sensor_correction, None);
     let (d, _) = refused(&matrix("1 0.01 0 0 0 1 0 0 0 0 1 5 0 0 0 1"));
     assert!(d.message.contains("must be a rotation and translation"), "{d}");
 
@@ -447,8 +456,8 @@ fn instances_of_shape_groups_are_flattened_as_mitsuba_places_them() {
     assert_eq!(g.spheres.iter().map(|s| (s.center, s.radius)).collect::<Vec<_>>(), f.spheres.iter().map(|s| (s.center, s.radius)).collect::<Vec<_>>());
     assert_eq!(g.spheres[0].radius, 1.0, "scaled by its instance");
     assert_eq!(g.content_hash(), f.content_hash());
-    assert_eq!(g.instancing, Some(pathlab::scene::Instancing { instances: 2, groups: 1, shapes: 4 }));
-    assert_eq!(f.instancing, None);
+    assert_eq!(g.translation.instancing, Some(pathlab::scene::Instancing { instances: 2, groups: 1, shapes: 4 }));
+    assert_eq!(f.translation.instancing, None);
     let out = pathlab().arg("check").arg({
         let dir = dir_with(&[("s.xml", &grouped), ("tri.obj", TRIANGLE_OBJ)]);
         let p = dir.path().join("s.xml");

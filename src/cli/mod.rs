@@ -241,7 +241,10 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
     if scene.num_delta_lights() > 0 {
         println!("delta lights: {}; only methods with next event estimation see them (not lights=none)", scene.num_delta_lights());
     }
-    if let Some(i) = scene.instancing {
+    if let Some(c) = scene.translation.sensor_correction {
+        println!("sensor to_world: orthonormalised, its axes moved by at most {c:.2e} rad ({:.2e} degrees)", c.to_degrees());
+    }
+    if let Some(i) = scene.translation.instancing {
         println!(
             "instances: {} of {} shape group(s), flattened into {} world-space shapes (in the counts above)",
             i.instances, i.groups, i.shapes

@@ -269,9 +269,22 @@ pub struct Scene {
     /// name; methods use them by name (`mis+bsdf=NAME`). Not part of `content_hash`: a
     /// technique changes the variance, never the image's expectation.
     pub techniques: Vec<Technique>,
-    /// Mitsuba's `instance`s of `shapegroup`s, flattened into the world-space shapes above
-    /// (`pathlab check` reports them); `None` where the file has none.
+    /// What reading a Mitsuba file did that the scene itself does not show (`pathlab check`
+    /// reports it); empty for TOML.
+    pub translation: Translation,
+}
+
+/// What translating a Mitsuba file did beyond the scene it made.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Translation {
+    /// `instance`s of `shapegroup`s, flattened into world-space shapes; `None` where the file
+    /// has none.
     pub instancing: Option<Instancing>,
+    /// A sensor `to_world` given as a matrix whose axes are orthogonal only to within 1e-4
+    /// (matrices printed to 6 digits), made orthonormal by the camera (its view direction kept,
+    /// its up made perpendicular to it, its left their cross product): the largest angle, in
+    /// radians, by which an axis moved. `None` for a look-at or an exact matrix.
+    pub sensor_correction: Option<f64>,
 }
 
 /// What a scene's instances were flattened into: how many instances, of how many shape groups,

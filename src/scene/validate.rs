@@ -228,7 +228,7 @@ pub(super) fn validate(raw: &RawScene, file: &Path, sources: SourceMap, diagnost
         display,
         warnings: ck.diagnostics,
         techniques,
-        instancing: None,
+        translation: Default::default(),
     })
 }
 

@@ -44,9 +44,9 @@ pub(super) fn load(path: &Path, defines: &[(String, String)]) -> Result<Scene, S
 
 /// The validated scene and the translation it was made from (translated once).
 fn load_with_raw(path: &Path, defines: &[(String, String)]) -> Result<(Scene, RawScene), SceneError> {
-    let (raw, sources, diagnostics, instancing) = translate(path, defines)?;
+    let (raw, sources, diagnostics, translation) = translate(path, defines)?;
     let mut scene = validate::validate(&raw, path, sources.clone(), diagnostics)?;
-    scene.instancing = instancing;
+    scene.translation = translation;
     // pathlab's sphere lights also emit inwards, Mitsuba's only outwards: the same image only
     // where no path vertex can be inside one.
     if scene.light_interiors_reachable() {
@@ -126,7 +126,7 @@ fn relative_to(file: &Path, dir: &Path) -> PathBuf {
     file_abs.strip_prefix(&dir_abs).map(Path::to_path_buf).unwrap_or(file_abs)
 }
 
-fn translate(path: &Path, defines: &[(String, String)]) -> Result<(RawScene, SourceMap, Vec<Diagnostic>, Option<crate::scene::Instancing>), SceneError> {
+fn translate(path: &Path, defines: &[(String, String)]) -> Result<(RawScene, SourceMap, Vec<Diagnostic>, crate::scene::Translation), SceneError> {
     let mut loaded = xml::load(path, defines).map_err(|cause| SceneError::Io { path: path.to_path_buf(), cause })?;
     let diagnostics = std::mem::take(&mut loaded.diagnostics);
     let mut t = Translator {
@@ -137,14 +137,18 @@ fn translate(path: &Path, defines: &[(String, String)]) -> Result<(RawScene, Sou
         bsdfs: BTreeMap::new(),
         shape_count: 0,
         instanced: Vec::new(),
+        sensor_correction: None,
         loaded: &loaded,
     };
     let mut raw = t.scene(path, &loaded.objects);
-    let instancing = (!t.instanced.is_empty()).then(|| crate::scene::Instancing {
-        instances: t.instanced.len(),
-        groups: t.instanced.iter().map(|(g, _)| g).collect::<std::collections::BTreeSet<_>>().len(),
-        shapes: t.instanced.iter().map(|(_, n)| n).sum(),
-    });
+    let translation = crate::scene::Translation {
+        instancing: (!t.instanced.is_empty()).then(|| crate::scene::Instancing {
+            instances: t.instanced.len(),
+            groups: t.instanced.iter().map(|(g, _)| g).collect::<std::collections::BTreeSet<_>>().len(),
+            shapes: t.instanced.iter().map(|(_, n)| n).sum(),
+        }),
+        sensor_correction: t.sensor_correction,
+    };
     // Mesh files as the scene model names them: relative to the main file's folder (where the
     // validation looks), each found beside the XML file that names it.
     let main_dir = path.parent().unwrap_or(Path::new(""));
@@ -164,7 +168,7 @@ fn translate(path: &Path, defines: &[(String, String)]) -> Result<(RawScene, Sou
         });
     }
     match raw {
-        Some(raw) if !diagnostics.iter().any(|d| d.severity == Severity::Error) => Ok((raw, loaded.sources, diagnostics, instancing)),
+        Some(raw) if !diagnostics.iter().any(|d| d.severity == Severity::Error) => Ok((raw, loaded.sources, diagnostics, translation)),
         _ => {
             diagnostics.sort_by_key(|d| (d.severity != Severity::Error, d.file.clone(), d.line, d.column));
             Err(SceneError::Invalid(diagnostics))
@@ -380,6 +384,8 @@ struct Translator<'a> {
     shape_count: usize,
     /// Per instance flattened: its shape group's id and how many shapes it placed.
     instanced: Vec<(String, usize)>,
+    /// The sensor matrix's orthonormalisation (`Translation::sensor_correction`).
+    sensor_correction: Option<f64>,
     /// The loaded files, for resolving relative file names (`xml::Loaded::resolve`).
     loaded: &'a xml::Loaded,
 }
@@ -851,6 +857,21 @@ impl Translator<'_> {
                     self.error(at, "to_world", "the sensor's to_world must be a rotation and translation (with at most a uniform scale)");
                 } else if left.dot(up.cross(dir)) <= 0.0 {
                     self.error(at, "to_world", "the sensor's to_world mirrors the image, which pathlab's camera cannot");
+                } else {
+                    // The camera's frame: the view direction kept, up made perpendicular to it,
+                    // left their cross product; how far each matrix axis moved (the angle
+                    // between unit vectors, by atan2 for accuracy near zero).
+                    let d = dir.normalize();
+                    let u = (up - d * d.dot(up)).normalize();
+                    let l = u.cross(d);
+                    let angle = |a: DVec3, b: DVec3| {
+                        let a = a.normalize();
+                        a.cross(b).length().atan2(a.dot(b))
+                    };
+                    let moved = angle(up, u).max(angle(left, l));
+                    if moved > 0.0 {
+                        self.sensor_correction = Some(moved);
+                    }
                 }
                 (position, position + dir.normalize(), up.normalize())
             }
