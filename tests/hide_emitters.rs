@@ -4,7 +4,7 @@
 //! hide_emitters.xml (a sphere light in front of a red sphere, a rectangle light in front of a
 //! cube, a constant sky) rendered by `mis` and `mis+env` is z-tested against Mitsuba 3.9.1
 //! rendering the same file (48x48, 65536 spp in 64 passes with the per-pixel variance of its
-//! mean; scripts/hide_emitters_reference.sh), on 2x2 blocks as tests/cornell_box.rs does (at
+//! mean; scripts/xml_fixture_reference.sh tests/fixtures/hide_emitters/hide_emitters.xml), on 2x2 blocks as tests/cornell_box.rs does (at
 //! least 99.75% of channels passing, Šidák-corrected: fails falsely with probability below
 //! 0.01; `mis` scaled by 1.05 is rejected). The same file without `hide_emitters` must be
 //! rejected: the lights and the sky in view change the image.
