@@ -195,6 +195,19 @@ fn the_command_line_refuses_a_technique_naming_why_and_records_a_proven_one() {
     assert_eq!(out.status.code(), Some(2), "{stdout}");
     assert!(stdout.contains("verdict: REFUSED") && stdout.contains("not 1 (a wrongly normalised pdf)"), "{stdout}");
     assert!(dir.path().join("phong_n_plus_2-check.png").exists());
+    // The same as JSON: the verdict, the failing configuration and why, the histogram.
+    std::fs::remove_file(dir.path().join("phong_n_plus_2-check.png")).unwrap();
+    let out = pathlab().args(["check-technique", "--json", &spec("bsdf", example("phong_n_plus_2.wgsl"))]).output().unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap_or_else(|e| panic!("{e}: {}", String::from_utf8_lossy(&out.stdout)));
+    assert_eq!(json["technique"], "bsdf:phong_n_plus_2");
+    assert_eq!(json["verdict"], "refused");
+    let worst = json["worst"].as_str().unwrap();
+    let failing = json["configurations"].as_array().unwrap().iter().find(|c| c["name"] == worst).unwrap();
+    assert_eq!(failing["passed"], false);
+    assert!(failing["failure"].as_str().unwrap().contains("not 1 (a wrongly normalised pdf)"), "{failing}");
+    assert_eq!(json["histogram"], "phong_n_plus_2-check.png");
+    assert!(dir.path().join("phong_n_plus_2-check.png").exists());
     // render refuses it before rendering, and says how to render it anyway.
     let out = pathlab().args(["render", study.to_str().unwrap(), "--width", "16", "--height", "8", "--spp", "4"]).arg("--technique").arg(spec("bsdf", example("phong_n_plus_2.wgsl"))).output().unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);

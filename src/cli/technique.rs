@@ -160,6 +160,71 @@ pub struct CheckTechniqueArgs {
     /// Use the first adapter whose name contains this (also: PATHLAB_ADAPTER).
     #[arg(long)]
     adapter: Option<String>,
+    /// Print the verdict as JSON (`VerdictJson`) instead of the report; the exit status is the
+    /// same.
+    #[arg(long)]
+    json: bool,
+}
+
+/// `check-technique --json`: the verdict and every configuration's tests, as the report gives
+/// them.
+#[derive(serde::Serialize)]
+struct VerdictJson {
+    technique: String,
+    sha256: String,
+    /// "proven" or "refused".
+    verdict: &'static str,
+    samples: u32,
+    /// The per-test level (Šidák-corrected over the check).
+    level: f64,
+    source: String,
+    /// The worst configuration's name (a failing one first).
+    worst: Option<String>,
+    configurations: Vec<ConfigurationJson>,
+    /// The worst configuration's histogram, where one was written.
+    histogram: Option<PathBuf>,
+}
+
+#[derive(serde::Serialize)]
+struct ConfigurationJson {
+    name: String,
+    chi_square_p: Option<f64>,
+    coverage_p: Option<f64>,
+    /// Σ f/p over the samples: the technique's estimate and the built-in's, (mean, standard
+    /// error) each.
+    coverage_technique: Option<(f64, f64)>,
+    coverage_builtin: Option<(f64, f64)>,
+    /// A hard failure (bad pdf, wrong normalisation, samples outside the support, ...).
+    failure: Option<String>,
+    passed: bool,
+}
+
+impl VerdictJson {
+    fn of(v: &Verdict, histogram: Option<PathBuf>) -> VerdictJson {
+        VerdictJson {
+            technique: v.label.clone(),
+            sha256: v.sha256.clone(),
+            verdict: if v.passed() { "proven" } else { "refused" },
+            samples: v.samples,
+            level: v.level,
+            source: v.source.clone(),
+            worst: v.worst().map(|w| w.name.clone()),
+            configurations: v
+                .results
+                .iter()
+                .map(|r| ConfigurationJson {
+                    name: r.name.clone(),
+                    chi_square_p: r.p_value,
+                    coverage_p: r.coverage.map(|c| c.0),
+                    coverage_technique: r.coverage.map(|c| c.1),
+                    coverage_builtin: r.coverage.map(|c| c.2),
+                    failure: r.failure.as_ref().map(|f| f.to_string()),
+                    passed: r.failure.is_none() && r.worst_p() >= v.level,
+                })
+                .collect(),
+            histogram,
+        }
+    }
 }
 
 /// Prints the verdict; exit status 0 when proven, 2 when refused.
@@ -177,9 +242,14 @@ pub fn run_check(args: CheckTechniqueArgs) -> anyhow::Result<i32> {
     let gpu = Gpu::new(args.adapter.as_deref())?;
     let options = CheckOptions { samples: args.samples, seed: args.seed, stop_at_failure: !args.all };
     let verdict: Verdict = technique::check(&gpu, &t, &scene, options, |k, n, name| eprintln!("[{}/{n}] {name}", k + 1))?;
-    print!("{}", verdict.report());
+    if !args.json {
+        print!("{}", verdict.report());
+    }
     let histogram = args.histogram.clone().unwrap_or_else(|| histogram_path(&t));
-    if (args.histogram.is_some() || !verdict.passed()) && technique::write_worst_histogram(&verdict, &histogram)? {
+    let written = (args.histogram.is_some() || !verdict.passed()) && technique::write_worst_histogram(&verdict, &histogram)?;
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&VerdictJson::of(&verdict, written.then_some(histogram)))?);
+    } else if written {
         println!("histogram of the worst configuration: {}", histogram.display());
     }
     Ok(if verdict.passed() { 0 } else { 2 })
