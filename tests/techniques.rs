@@ -332,3 +332,23 @@ fn a_technique_the_scene_cannot_test_is_not_proven_by_nothing() {
     assert!(!v.passed() && v.results.is_empty());
     assert!(v.report().contains("verdict: REFUSED (env:env_cosine_mix: no configuration: an env technique samples an environment map, and the scene has none)"), "{}", v.report());
 }
+
+/// `advise` with a technique allowed unproven marks every row and the winner that use it, in the
+/// table and in the JSON.
+#[test]
+fn advise_marks_the_rows_of_an_unproven_technique() {
+    let study = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/study.toml");
+    let technique = format!("bsdf:{}", example("phong_n_plus_2.wgsl").display());
+    let args = ["advise", study.to_str().unwrap(), "--size", "64x32", "--target-rel-error", "1e-2", "--methods", "mis", "--pilot-seconds", "0.3", "--allow-unproven", "--technique", &technique];
+    let out = Command::new(env!("CARGO_BIN_EXE_pathlab")).args(args).output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let rows: Vec<&str> = stdout.lines().filter(|l| l.starts_with("mis")).collect();
+    assert_eq!(rows.len(), 2, "{stdout}");
+    for row in rows {
+        assert_eq!(row.starts_with("mis+bsdf=phong_n_plus_2 (UNPROVEN) "), row.contains("phong_n_plus_2"), "{row}");
+    }
+    let out = Command::new(env!("CARGO_BIN_EXE_pathlab")).args(args).arg("--json").output().unwrap();
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(json["unproven"], serde_json::json!(["phong_n_plus_2"]));
+}

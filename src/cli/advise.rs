@@ -74,6 +74,20 @@ struct Report {
     pilot_seconds: f64,
     advice: Vec<Advice>,
     verify: Option<Verification>,
+    /// Techniques allowed unproven (`--allow-unproven`): rows whose method uses one are marked.
+    unproven: Vec<String>,
+}
+
+impl Report {
+    /// A method's name, marked `(UNPROVEN)` where it uses a technique allowed unproven.
+    fn row_name(&self, method: &Method) -> String {
+        let name = method.name();
+        if method.techniques().any(|(_, t)| self.unproven.contains(&t.to_string())) {
+            format!("{name} (UNPROVEN)")
+        } else {
+            name
+        }
+    }
 }
 
 pub fn run(args: AdviseArgs) -> anyhow::Result<i32> {
@@ -157,6 +171,7 @@ pub fn run(args: AdviseArgs) -> anyhow::Result<i32> {
         pilot_seconds: args.pilot_seconds,
         advice,
         verify,
+        unproven: unproven.iter().map(|n| n.to_string()).collect(),
     };
     if args.json {
         println!("{}", serde_json::to_string_pretty(&report)?);
@@ -173,13 +188,13 @@ fn print_table(r: &Report) {
     };
     println!("{} at {}x{}, max_depth {}: time to {target} (pilots of {} s)", r.scene, r.width, r.height, r.max_depth, r.pilot_seconds);
     // The method column as wide as the longest name (`mis+power+solid-angle`).
-    let w = r.advice.iter().map(|a| a.method.name().len()).max().unwrap_or(0).max(8);
+    let w = r.advice.iter().map(|a| r.row_name(&a.method).len()).max().unwrap_or(0).max(8);
     println!("{:<w$} {:>12} {:>12} {:>7} {:>12} {:>22} {:>12} {:>9}", "method", "M samples/s", "pilot error", "slope", "seconds", "range", "spp", "vs plain");
     let f = |x: Option<f64>, d: usize| x.map_or("-".to_string(), |v| format!("{v:.d$}"));
     for a in &r.advice {
         println!(
             "{:<w$} {:>12.2} {:>12.3e} {:>7} {:>12} {:>22} {:>12} {:>9}",
-            a.method.name(),
+            r.row_name(&a.method),
             a.pixel_samples_per_second / 1e6,
             a.pilot_error,
             f(a.slope, 2),
@@ -190,7 +205,7 @@ fn print_table(r: &Report) {
         );
     }
     if let Some(w) = r.advice.first().filter(|a| a.predicted_seconds.is_some()) {
-        println!("winner: {} ({})", w.method.name(), w.speedup_vs_plain.map_or("plain not piloted".into(), |s| format!("{s:.1}x faster than plain")));
+        println!("winner: {} ({})", r.row_name(&w.method), w.speedup_vs_plain.map_or("plain not piloted".into(), |s| format!("{s:.1}x faster than plain")));
     }
     if let Some(v) = &r.verify {
         println!(
