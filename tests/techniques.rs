@@ -340,7 +340,14 @@ fn advise_marks_the_rows_of_an_unproven_technique() {
     let study = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/study.toml");
     let technique = format!("bsdf:{}", example("phong_n_plus_2.wgsl").display());
     let args = ["advise", study.to_str().unwrap(), "--size", "64x32", "--target-rel-error", "1e-2", "--methods", "mis", "--pilot-seconds", "0.3", "--allow-unproven", "--technique", &technique];
-    let out = Command::new(env!("CARGO_BIN_EXE_pathlab")).args(args).output().unwrap();
+    // In a folder of its own: the refused check writes its histogram into the current one.
+    let dir = tempfile::tempdir().unwrap();
+    let pathlab = || {
+        let mut c = Command::new(env!("CARGO_BIN_EXE_pathlab"));
+        c.current_dir(dir.path());
+        c
+    };
+    let out = pathlab().args(args).output().unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let rows: Vec<&str> = stdout.lines().filter(|l| l.starts_with("mis")).collect();
@@ -348,7 +355,8 @@ fn advise_marks_the_rows_of_an_unproven_technique() {
     for row in rows {
         assert_eq!(row.starts_with("mis+bsdf=phong_n_plus_2 (UNPROVEN) "), row.contains("phong_n_plus_2"), "{row}");
     }
-    let out = Command::new(env!("CARGO_BIN_EXE_pathlab")).args(args).arg("--json").output().unwrap();
+    let out = pathlab().args(args).arg("--json").output().unwrap();
     let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(json["unproven"], serde_json::json!(["phong_n_plus_2"]));
+    assert!(dir.path().join("phong_n_plus_2-check.png").exists(), "the refused check's histogram");
 }
