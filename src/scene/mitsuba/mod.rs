@@ -94,11 +94,11 @@ pub fn to_toml(path: &Path, defines: &[(String, String)], out_dir: &Path) -> Res
 }
 
 /// What Mitsuba 3.9.1 refuses in a shape group (`src/render/shapegroup.cpp`: no emitters, groups
-/// or instances inside), and a group without an id, which no instance could place:
-/// (position, field, message) each.
-fn shapegroup_problems(o: &Object) -> Vec<(usize, String, String)> {
+/// or instances inside), and, where it stands at the top level (`top`), a group without an id,
+/// which no instance could place: (position, field, message) each.
+fn shapegroup_problems(o: &Object, top: bool) -> Vec<(usize, String, String)> {
     let mut problems = Vec::new();
-    if o.id.is_none() {
+    if top && o.id.is_none() {
         problems.push((o.at, "id".into(), "a <shape type=\"shapegroup\"> needs an id, for the <shape type=\"instance\"> that place it".to_string()));
     }
     if let Some(p) = o.props.first() {
@@ -1103,7 +1103,7 @@ impl Translator<'_> {
     /// `<shape type="shapegroup" id>`: shapes placed only by the `instance`s that `<ref>` it.
     /// Its problems are reported here, once, where it is defined.
     fn shapegroup(&mut self, o: &Object) {
-        for (at, field, message) in shapegroup_problems(o) {
+        for (at, field, message) in shapegroup_problems(o, true) {
             self.error(at, &field, message);
         }
     }
@@ -1131,7 +1131,7 @@ impl Translator<'_> {
             }
         };
         // A group with problems (reported where it is defined) places nothing.
-        if !shapegroup_problems(&Object { id: Some(String::new()), ..group.clone() }).is_empty() {
+        if !shapegroup_problems(group, false).is_empty() {
             return;
         }
         let before = meshes.len() + rectangles.len() + cubes.len() + spheres.len();

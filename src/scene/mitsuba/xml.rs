@@ -138,20 +138,26 @@ impl Loaded {
     /// `search` that has it, then beside `dir` (the XML file that names it, pathlab's rule
     /// before `<path>`). `Err`: every folder searched, for the message.
     pub fn resolve(&self, name: &str, dir: &Path) -> Result<PathBuf, String> {
-        let file = Path::new(name);
-        if file.is_absolute() {
-            return Ok(file.to_path_buf());
-        }
-        let mut folders: Vec<&Path> = self.search.iter().map(PathBuf::as_path).collect();
-        if !folders.contains(&dir) {
-            folders.push(dir);
-        }
-        if let Some(found) = folders.iter().map(|f| f.join(file)).find(|c| c.exists()) {
-            return Ok(found);
-        }
-        let shown: Vec<String> = folders.iter().map(|f| if f.as_os_str().is_empty() { "./".to_string() } else { format!("{}/", f.display()) }).collect();
-        Err(format!("\"{name}\" not found (searched {})", shown.join(", ")))
+        resolve(&self.search, name, dir)
     }
+}
+
+/// `name` found in the first of `search`'s folders that has it, then beside `dir`
+/// (`Loaded::resolve`; also used while reading, with the `<path>` folders read so far).
+fn resolve(search: &[PathBuf], name: &str, dir: &Path) -> Result<PathBuf, String> {
+    let file = Path::new(name);
+    if file.is_absolute() {
+        return Ok(file.to_path_buf());
+    }
+    let mut folders: Vec<&Path> = search.iter().map(PathBuf::as_path).collect();
+    if !folders.contains(&dir) {
+        folders.push(dir);
+    }
+    if let Some(found) = folders.iter().map(|f| f.join(file)).find(|c| c.exists()) {
+        return Ok(found);
+    }
+    let shown: Vec<String> = folders.iter().map(|f| if f.as_os_str().is_empty() { "./".to_string() } else { format!("{}/", f.display()) }).collect();
+    Err(format!("\"{name}\" not found (searched {})", shown.join(", ")))
 }
 
 struct Loader<'a> {
@@ -169,7 +175,7 @@ struct Loader<'a> {
     /// The `<path>` folders so far, the latest first.
     paths: Vec<PathBuf>,
     /// The main file's folder (the resolver's last).
-    main_dir: Option<PathBuf>,
+    main_dir: PathBuf,
 }
 
 /// Reads `path` and everything it includes. Errors are collected in `diagnostics` (reading
@@ -184,7 +190,7 @@ pub(crate) fn load(path: &Path, defines: &[(String, String)]) -> Result<Loaded, 
         used: Default::default(),
         version: None,
         paths: Vec::new(),
-        main_dir: Some(path.parent().map(Path::to_path_buf).unwrap_or_default()),
+        main_dir: path.parent().map(Path::to_path_buf).unwrap_or_default(),
     };
     let text = std::fs::read_to_string(path)?;
     let mut objects = Vec::new();
@@ -519,10 +525,9 @@ impl Loader<'_> {
     /// Mitsuba's resolver finds it (the `<path>` folders so far, the main file's folder), else
     /// beside the XML file; a missing one names every folder searched, a bad line its line.
     fn spectrum_file(&mut self, file: &str, name: String, at: usize, dir: &Path) -> Option<Prop> {
-        let mut folders: Vec<PathBuf> = self.paths.clone();
-        folders.extend(self.main_dir.clone());
-        let resolver = Loaded { objects: Vec::new(), sources: SourceMap::default(), diagnostics: Vec::new(), version: None, search: folders };
-        let path = match resolver.resolve(file, dir) {
+        let mut folders = self.paths.clone();
+        folders.push(self.main_dir.clone());
+        let path = match resolve(&folders, file, dir) {
             Ok(path) => path,
             Err(message) => return self.bad(at, "filename", format!("spectral data file {message}")),
         };
