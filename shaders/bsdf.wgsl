@@ -7,7 +7,8 @@
 // strategy only; the dispatcher by kind (`eval_pdf_bsdf_of_kind`, `sample_bsdf_of_kind`),
 // `bsdf_is_delta`, the kinds' numbers `BSDF_KIND_*` and one `HAS_<KIND>` override per kind are
 // generated from the registry (src/scene/bsdfs/mod.rs). The generic strategies are applied
-// once, over every kind, by `eval_pdf_bsdf` and `sample_bsdf` below. n_s is the
+// once, over every kind, by `eval_pdf_bsdf_opaque` and `sample_bsdf_opaque` below, and a
+// material's mask (bsdfs/mask.wgsl) over those by `eval_pdf_bsdf` and `sample_bsdf`. n_s is the
 // shading normal turned towards wo (which side a one-sided material shows is decided by the
 // integrator); a kind that only reflects gives directions on the other side f = 0, one that
 // transmits (`bsdf_may_transmit`) scatters into them too.
@@ -105,11 +106,11 @@ fn generic_covers_both_sides(b: Bsdf) -> bool {
     return bsdf_transmits_smoothly(b) && (BSDF_SAMPLING == BSDF_UNIFORM_HEMISPHERE || BSDF_SAMPLING == BSDF_COSINE);
 }
 
-// f(wi, wo) and the density at wi of the pipeline's strategy: a researcher's technique's for a
-// Phong material where one is loaded; a generic one's, for every kind that is not a delta (a delta lobe is found by its own sampling alone, whatever the strategy;
+// f(wi, wo) and the density at wi of the pipeline's strategy, before the material's mask: a
+// researcher's technique's for a Phong material where one is loaded; a generic one's, for every kind that is not a delta (a delta lobe is found by its own sampling alone, whatever the strategy;
 // where a kind has one beside smooth lobes, the generic density is scaled by the probability
 // of not drawing it), else the kind's own.
-fn eval_pdf_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, wi: vec3f) -> BsdfEval {
+fn eval_pdf_bsdf_opaque(b: Bsdf, n_s: vec3f, wo: vec3f, wi: vec3f) -> BsdfEval {
     var e = eval_pdf_bsdf_of_kind(b, n_s, wo, wi);
     var generic = pdf_generic_strategy(dot(wi, n_s));
     if (generic >= 0.0 && generic_covers_both_sides(b)) {
@@ -126,11 +127,11 @@ fn eval_pdf_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, wi: vec3f) -> BsdfEval {
     return e;
 }
 
-// wi drawn by the pipeline's strategy: a researcher's technique's for a Phong material where
+// wi drawn by the pipeline's strategy, before the material's mask: a researcher's technique's for a Phong material where
 // one is loaded; a generic one's direction, weighted by path_weight with the kind's f, for
 // every kind that is not a delta (or its delta lobe, drawn with the kind's own probability);
 // else the kind's own sampling.
-fn sample_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> BsdfSample {
+fn sample_bsdf_opaque(b: Bsdf, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> BsdfSample {
     if (BSDF_TECHNIQUE && b.kind == BSDF_KIND_PHONG) {
         return sample_phong_technique(phong_of(b), n_s, wo, u_dir, u_lobe);
     }
@@ -144,21 +145,49 @@ fn sample_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> Bsd
         if (generic_covers_both_sides(b) && u_lobe < 0.5) {
             wi = wi - 2.0 * dot(wi, n_s) * n_s;
         }
-        let e = eval_pdf_bsdf(b, n_s, wo, wi);
+        let e = eval_pdf_bsdf_opaque(b, n_s, wo, wi);
         return BsdfSample(wi, e.pdf, path_weight(e.f, dot(wi, n_s), e.pdf), false, 1.0);
     }
     return sample_bsdf_of_kind(b, n_s, wo, u_dir, u_lobe);
+}
+
+// f(wi, wo) and the pipeline's density at wi of a material's BSDF, its mask applied: the
+// nested BSDF's, both times the opacity (Mitsuba's mask.cpp eval_pdf).
+fn eval_pdf_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, wi: vec3f) -> BsdfEval {
+    var e = eval_pdf_bsdf_opaque(b, n_s, wo, wi);
+    if (HAS_MASKS) {
+        e.f *= b.opacity;
+        e.pdf *= b.opacity;
+    }
+    return e;
+}
+
+// wi drawn for a material's BSDF by the pipeline's strategy, its mask applied (Mitsuba's
+// mask.cpp sample): the null interaction when u_lobe is at least the opacity
+// (`bsdf_passes_through`), else the nested BSDF's sample drawn with u_lobe / opacity, its weight
+// unchanged and its density times the opacity.
+fn sample_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> BsdfSample {
+    if (!HAS_MASKS) {
+        return sample_bsdf_opaque(b, n_s, wo, u_dir, u_lobe);
+    }
+    if (bsdf_passes_through(b, u_lobe)) {
+        return sample_null_bsdf(b, wo);
+    }
+    var s = sample_bsdf_opaque(b, n_s, wo, u_dir, u_lobe / b.opacity);
+    s.pdf *= b.opacity;
+    return s;
 }
 
 // A material's BSDF at a surface point: its kind (a BSDF_KIND_*), its parameter block, three
 // slots whose meaning is the kind's (each kind's file unpacks them, `<stem>_of`), and the side
 // the viewer is on: `inside` when wo is against the surface's (shading) normal, where a
 // transmitting BSDF's relative index is the inverse (n_s, given turned towards wo, no longer
-// tells).
+// tells). `opacity`: Mitsuba's mask around it (bsdfs/mask.wgsl), 1 where opaque.
 struct Bsdf {
     kind: u32,
     p0: vec4f,
     p1: vec4f,
     p2: vec4f,
     inside: bool,
+    opacity: f32,
 }

@@ -337,6 +337,12 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
         if (HAS_SHADING_NORMALS) {
             scattered = scattered && same_side_of_both(bs.wi, n_s, n_g);
         }
+        // A masked surface's null interaction (bsdfs/mask.wgsl): the ray goes on unchanged,
+        // from either side of a one-sided material.
+        let passes = bsdf_passes_through(m, u_lobe);
+        if (passes) {
+            scattered = true;
+        }
         throughput *= bs.weight;
         // The product of the relative indices crossed (Mitsuba's eta): radiance carried into a
         // denser medium is scaled by 1 / eta^2, which roulette undoes.
@@ -361,6 +367,9 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
         ray_o = offset_ray_origin(x, n_g);
         if (bsdf_may_transmit()) {
             ray_o = offset_ray_origin(x, transmission_side(n_g, bs.wi));
+        }
+        if (passes) {
+            ray_o = offset_ray_origin(x, -n_g);
         }
         ray_d = bs.wi;
         // A sample that cannot scatter (below the surface) ends the path untraced.

@@ -60,7 +60,9 @@ struct Material {
     p2: vec4f,
     // A BSDF_KIND_*.
     kind: u32,
-    _pad0: u32,
+    // Mitsuba's mask (shaders/bsdfs/mask.wgsl): the opacity, or, where negative, the reference
+    // -(start + 1) of its texture's record in bsdf_data; 1 where opaque.
+    opacity: f32,
     _pad1: u32,
     _pad2: u32,
 }
@@ -113,7 +115,7 @@ struct FrameParams {
 // byte on SIMD CPU drivers (reading the whole 80-byte Material cost the study scene a quarter of
 // its speed).
 fn material_bsdf(i: u32, uv: vec2f) -> Bsdf {
-    var b = Bsdf(BSDF_KIND_PHONG, materials[i].p0, materials[i].p1, vec4f(0.0), false);
+    var b = Bsdf(BSDF_KIND_PHONG, materials[i].p0, materials[i].p1, vec4f(0.0), false, 1.0);
     if (bsdf_kinds_vary()) {
         b.kind = materials[i].kind;
         b.p2 = materials[i].p2;
@@ -121,5 +123,17 @@ fn material_bsdf(i: u32, uv: vec2f) -> Bsdf {
     if (HAS_UVS) {
         b = bsdf_apply_textures(b, uv);
     }
+    if (HAS_MASKS) {
+        b.opacity = material_opacity(i, uv);
+    }
     return b;
+}
+
+// The opacity of material i at uv (Mitsuba's mask): its constant, or its texture's value there.
+fn material_opacity(i: u32, uv: vec2f) -> f32 {
+    let o = materials[i].opacity;
+    if (!HAS_UVS || o >= 0.0) {
+        return o;
+    }
+    return mask_opacity_of_texel(eval_texture(u32(-o - 1.0), uv));
 }

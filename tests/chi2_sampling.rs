@@ -272,7 +272,7 @@ fn plastic(diffuse: f64, specular: f64, int_ior: f64, nonlinear: bool, strategy:
     Routine {
         name: format!("plastic diffuse={diffuse} specular={specular} ior={int_ior} nonlinear={nonlinear} {} {} theta_o={theta_o}", strategy.name(), lobes.name()),
         wgsl: format!(
-            "fn routine_bsdf() -> Bsdf {{ return Bsdf(BSDF_KIND_PLASTIC, {}, {}, {}, false); }}\n\
+            "fn routine_bsdf() -> Bsdf {{ return Bsdf(BSDF_KIND_PLASTIC, {}, {}, {}, false, 1.0); }}\n\
              fn routine_wo() -> vec3f {{ return vec3f({:.9}, 0.0, {:.9}); }}\n\
              fn routine_sample(u: vec2f, u_lobe: f32) -> Drawn {{\n\
                  let b = routine_bsdf(); let n_s = vec3f(0.0, 0.0, 1.0); let wo = routine_wo();\n\
@@ -303,6 +303,52 @@ fn plastic(diffuse: f64, specular: f64, int_ior: f64, nonlinear: bool, strategy:
         integrand: false,
         bins: chi2::DEFAULT_BINS,
     }
+}
+
+/// Mitsuba's mask (shaders/bsdfs/mask.wgsl) around its smooth plastic at opacity `opacity`, as
+/// the path tracer samples it (`sample_bsdf`, `eval_pdf_bsdf`, HAS_MASKS on) under strategy
+/// `strategy`: the null interaction with probability 1 - opacity, else the plastic's own choice
+/// drawn with u_lobe / opacity. Both delta lobes are "lost" into the extra cell, so the choice
+/// among null, coating and base is tested as a discrete distribution with the directions (the
+/// pdf of the smooth samples must be opacity times the plastic's). A null sample must be -wo
+/// with weight 1 and pdf 1 - opacity, a coating sample the mirror direction with weight
+/// F / p_spec (check.x: the error).
+fn masked_plastic(opacity: f64, strategy: BsdfSampling, theta_o: f64) -> Routine {
+    let mut r = plastic(0.5, 1.0, 1.49, false, strategy, LobeSelection::Fresnel, theta_o);
+    let p = Plastic { diffuse: glam::DVec3::splat(0.5), diffuse_texture: None, specular: glam::DVec3::splat(1.0), int_ior: 1.49, ext_ior: 1.0, nonlinear: false };
+    let [p0, p1, p2] = Bsdf::Plastic(p.clone()).pack(&mut BsdfData::default());
+    let v = |a: [f32; 4]| format!("vec4f({:?}, {:?}, {:?}, {:?})", a[0], a[1], a[2], a[3]);
+    let plain = format!("return Bsdf(BSDF_KIND_PLASTIC, {}, {}, {}, false, 1.0); }}", v(p0), v(p1), v(p2));
+    assert!(r.wgsl.contains(&plain));
+    r.wgsl = r.wgsl.replace(&plain, &format!("return Bsdf(BSDF_KIND_PLASTIC, {}, {}, {}, false, {opacity:?}); }}", v(p0), v(p1), v(p2)));
+    // A null sample: checked before the mirror's test.
+    let delta = "if (bs.delta) {\n";
+    assert!(r.wgsl.contains(delta));
+    r.wgsl = r.wgsl.replacen(
+        delta,
+        &format!(
+            "if (bs.delta && dot(bs.wi, wo) < -0.9999) {{\n\
+                     let err = length(bs.wi + wo) + abs(bs.pdf - {:?}) + max3(abs(bs.weight - vec3f(1.0)));\n\
+                     return Drawn(vec4f(bs.wi, 0.0), vec4f(err, 1.0, 0.0, 0.0));\n\
+                 }}\n{delta}",
+            (1.0 - opacity) as f32
+        ),
+        1,
+    );
+    r.name = format!("mask opacity={opacity} around {}", r.name);
+    r.constants.push(("HAS_MASKS", 1.0));
+    r
+}
+
+/// Masked plastics: a mostly transparent and a mostly opaque one under the plastic's own
+/// strategy, and one under the cosine strategy.
+fn mask_routines() -> Vec<Routine> {
+    vec![
+        masked_plastic(0.35, BsdfSampling::Phong, 30.0),
+        masked_plastic(0.9, BsdfSampling::Phong, 80.0),
+        masked_plastic(0.05, BsdfSampling::Phong, 0.0),
+        masked_plastic(0.6, BsdfSampling::Cosine, 60.0),
+    ]
 }
 
 /// Mitsuba's defaults (diffuse 0.5 under polypropylene) from normal to grazing incidence under
@@ -347,7 +393,7 @@ fn rough_dielectric(distribution: Distribution, strategy: BsdfSampling, microfac
     Routine {
         name: format!("roughdielectric {} {} {microfacets} alpha={alpha} eta={eta}{} theta_o={theta_o}", distribution.name(), strategy.name(), if inside { " inside" } else { "" }),
         wgsl: format!(
-            "fn routine_bsdf() -> Bsdf {{ return Bsdf(BSDF_KIND_ROUGH_DIELECTRIC, {}, {}, {}, {inside}); }}\n\
+            "fn routine_bsdf() -> Bsdf {{ return Bsdf(BSDF_KIND_ROUGH_DIELECTRIC, {}, {}, {}, {inside}, 1.0); }}\n\
              fn routine_wo() -> vec3f {{ return vec3f({:.9}, 0.0, {:.9}); }}\n\
              fn routine_sample(u: vec2f, u_lobe: f32) -> Drawn {{\n\
                  let b = routine_bsdf(); let n_s = vec3f(0.0, 0.0, 1.0); let wo = routine_wo();\n\
@@ -434,7 +480,7 @@ fn rough_plastic(distribution: Distribution, strategy: BsdfSampling, microfacets
     Routine {
         name: format!("roughplastic {} {} {microfacets} {} alpha={alpha} theta_o={theta_o}", distribution.name(), strategy.name(), lobes.name()),
         wgsl: format!(
-            "fn routine_bsdf() -> Bsdf {{ return Bsdf(BSDF_KIND_ROUGH_PLASTIC, {}, {}, {}, false); }}\n\
+            "fn routine_bsdf() -> Bsdf {{ return Bsdf(BSDF_KIND_ROUGH_PLASTIC, {}, {}, {}, false, 1.0); }}\n\
              fn routine_wo() -> vec3f {{ return vec3f({:.9}, 0.0, {:.9}); }}\n\
              fn routine_axis() -> vec3f {{ return vec3f({:.9}, {:.9}, {:.9}); }}\n\
              fn routine_sample(u: vec2f, u_lobe: f32) -> Drawn {{\n\
@@ -519,6 +565,7 @@ fn all_routines() -> Vec<Routine> {
     r.extend(plastic_routines());
     r.extend(rough_dielectric_routines());
     r.extend(rough_plastic_routines());
+    r.extend(mask_routines());
     r
 }
 

@@ -71,6 +71,8 @@ fn every_override_permutation_validates() {
                                     num_triangles,
                                     has_shading_normals,
                                     has_uvs: on,
+                                    // Masks on and off, with uvs on and off.
+                                    has_masks: (checked / 3) % 2 == 0,
                                     rr_depth: if on { 2 } else { 0 },
                                     thin_lens: on,
                                     hide_emitters: on,

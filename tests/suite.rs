@@ -30,6 +30,7 @@ mod exact_cases;
 mod extremes;
 mod file_mutations;
 mod lamps;
+mod masks;
 mod mesh_scenes;
 mod metrics_fixtures;
 mod mitsuba_scenes;

@@ -207,13 +207,26 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
         println!("technique {}: {} ({} loops guarded), sha256 {}; use it as +{}={}", t.label(), t.path.display(), t.loops, t.sha256, t.kind, t.name);
     }
     let textures: Vec<(&str, &pathlab::scene::Texture)> =
-        scene.materials.iter().flat_map(|m| m.bsdf.textures().into_iter().map(move |t| (m.name.as_str(), t))).collect();
+        scene.materials.iter().flat_map(|m| m.textures().into_iter().map(move |t| (m.name.as_str(), t))).collect();
     if !textures.is_empty() {
         let bytes: u64 = textures.iter().map(|(_, t)| t.gpu_bytes()).sum();
         println!("textures: {}, GPU memory {:.2} MiB (BSDF data)", textures.len(), bytes as f64 / (1 << 20) as f64);
         for (material, t) in &textures {
             println!("  {material}: {} ({:.1} KiB)", t.describe(), t.gpu_bytes() as f64 / 1024.0);
         }
+    }
+    let masked: Vec<String> = scene
+        .materials
+        .iter()
+        .filter_map(|m| {
+            m.opacity.as_ref().map(|o| match o {
+                pathlab::scene::Opacity::Constant(c) => format!("{} (opacity {})", m.name, *c as f32),
+                pathlab::scene::Opacity::Texture(t) => format!("{} (opacity a {}, mean {:.3})", m.name, t.name(), o.mean()),
+            })
+        })
+        .collect();
+    if !masked.is_empty() {
+        println!("masks: {} material(s) let rays through (Mitsuba's mask; shadow rays do not see through): {}", masked.len(), masked.join(", "));
     }
     if scene.camera.aperture_radius > 0.0 {
         println!(

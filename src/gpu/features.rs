@@ -26,6 +26,9 @@ pub struct SceneFeatures {
     /// Some material reads the hit's uv parametrisation (`BsdfPlugin::reads_uv`): only then
     /// does the kernel compute it.
     pub has_uvs: bool,
+    /// Some material is masked (`Material::opacity`, Mitsuba's `mask`): rays may pass
+    /// straight through surfaces.
+    pub has_masks: bool,
     /// Russian roulette from this vertex on; 0: none.
     pub rr_depth: u32,
     /// The camera has a thin lens (`Camera::aperture_radius` > 0).
@@ -90,7 +93,8 @@ impl SceneFeatures {
             num_directional_lights: scene.directional_lights.len() as u32,
             num_triangles: scene.num_triangles() as u32,
             has_shading_normals: scene.meshes.iter().any(|m| !m.normals.is_empty()),
-            has_uvs: scene.materials.iter().any(|m| m.bsdf.reads_uv()),
+            has_uvs: scene.materials.iter().any(|m| m.reads_uv()),
+            has_masks: scene.materials.iter().any(|m| m.opacity.is_some()),
             rr_depth: scene.render.rr_depth.unwrap_or(0),
             thin_lens: scene.camera.aperture_radius > 0.0,
             hide_emitters: scene.render.hide_emitters,

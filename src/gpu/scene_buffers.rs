@@ -46,7 +46,10 @@ pub struct GpuMaterial {
     pub p2: [f32; 4],
     /// The `BsdfKind` (its `constant()`, generated into the WGSL as `BSDF_KIND_*`).
     pub kind: u32,
-    pub _pad: [u32; 3],
+    /// Mitsuba's `mask` (`Opacity::pack`): the opacity, or -(start + 1) of its texture's record
+    /// in the BSDF data; 1 where the material is opaque.
+    pub opacity: f32,
+    pub _pad: [u32; 2],
 }
 
 /// A triangle as the kernel reads it (`Triangle`, bvh.wgsl): vertices, material, the light it
@@ -350,7 +353,8 @@ impl SceneBuffers {
                     p1,
                     p2,
                     kind: m.bsdf_kind().constant(),
-                    _pad: [0; 3],
+                    opacity: m.opacity.as_ref().map_or(1.0, |o| o.pack(&mut data)),
+                    _pad: [0; 2],
                 }
             })
             .collect();

@@ -185,7 +185,7 @@ impl Renderer {
         if count > limit {
             return Err(RenderError::TooManyTriangles { count, limit, binding, texture_rows });
         }
-        let textures: Vec<&crate::scene::Texture> = scene.materials.iter().flat_map(|m| m.bsdf.textures()).collect();
+        let textures: Vec<&crate::scene::Texture> = scene.materials.iter().flat_map(|m| m.textures()).collect();
         let texture_bytes: u64 = textures.iter().map(|t| t.gpu_bytes()).sum();
         if texture_bytes > binding {
             let largest = textures.iter().max_by_key(|t| t.gpu_bytes()).map_or(String::new(), |t| t.describe());

@@ -9,6 +9,7 @@
 //! camera.position=X,Y,Z        camera.look_at=…   camera.up=…   camera.fov_x=F (or camera.fov_y=F)
 //! render.width=W  render.height=H  render.max_depth=D  render.environment=R,G,B
 //! materials=N, then per material i: material.i.diffuse=… .specular=… .glossiness=… .emission=…
+//!   (then .two_sided=0 where one-sided, its kind's own lines, .opacity=… where masked)
 //! spheres=N, then sphere.i.center=… .radius=… .material=INDEX
 //! planes=N, then plane.i.point=… .normal=… .material=INDEX
 //! ```
@@ -111,6 +112,10 @@ pub fn canonical_encoding(scene: &Scene) -> String {
         }
         if m.bsdf.kind() != BsdfKind::Phong {
             m.bsdf.hash_lines(&mut |key, value| line(&format!("material.{i}.{key}"), value));
+        }
+        // Only masked materials add a line.
+        if let Some(o) = &m.opacity {
+            line(&format!("material.{i}.opacity"), o.hash_value());
         }
     }
     line("spheres", scene.spheres.len().to_string());

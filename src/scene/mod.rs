@@ -33,7 +33,7 @@ pub mod textures;
 pub use textures::Texture;
 pub use bsdfs::{
     Bsdf, BsdfData, BsdfKind, CoatingTables, Conductor, Dielectric, Distribution, Phong, Plastic, RoughConductor, RoughDielectric, RoughPlastic,
-    ThinDielectric, NAMED_CONDUCTORS, ROUGH_PLASTIC_TABLE_RES,
+    ThinDielectric, NAMED_CONDUCTORS, ROUGH_PLASTIC_TABLE_RES, Opacity,
 };
 pub use diagnostic::{Diagnostic, SceneError, Severity};
 pub use emitters::{AliasTable, DirectionalLight, EmitterKind, EnvDistribution, EnvironmentMap, Light, PointLight, SpotLight};
@@ -176,11 +176,26 @@ pub struct Material {
     /// by its winding). Emission is not affected (see `Mesh::two_sided_emission`).
     pub two_sided: bool,
     pub bsdf: Bsdf,
+    /// Mitsuba's `mask` around the BSDF (`bsdfs::Opacity`): the probability that a ray meeting
+    /// the surface scatters off it rather than passing straight through; `None`: opaque.
+    pub opacity: Option<Opacity>,
 }
 
 impl Material {
     pub fn is_emissive(&self) -> bool {
         self.emission.max_element() > 0.0
+    }
+
+    /// Its textures: its BSDF's parameters', then its opacity's.
+    pub fn textures(&self) -> Vec<&Texture> {
+        let mut t = self.bsdf.textures();
+        t.extend(self.opacity.as_ref().and_then(Opacity::texture));
+        t
+    }
+
+    /// Whether it reads the hit's uv parametrisation (a texture).
+    pub fn reads_uv(&self) -> bool {
+        self.bsdf.reads_uv() || self.opacity.as_ref().is_some_and(|o| o.texture().is_some())
     }
 
     /// The kind of its BSDF (`BsdfKind`, the registry of kinds).

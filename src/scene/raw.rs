@@ -201,7 +201,7 @@ pub(crate) struct RawRender {
     pub hide_emitters: Option<Spanned<bool>>,
 }
 
-/// `[materials.<name>]`: what every material has (`emission`, `two_sided`, the `bsdf` kind) and
+/// `[materials.<name>]`: what every material has (`emission`, `two_sided`, `opacity`, the `bsdf` kind) and
 /// the fields of its BSDF kind, kept as written with their spans: the kind's file reads them
 /// (`scene::bsdfs`), so that a new kind adds its fields without touching this file.
 #[derive(Debug, Default)]
@@ -212,6 +212,8 @@ pub(crate) struct RawMaterial {
     pub two_sided: Option<Spanned<bool>>,
     /// The kind's `TOML_NAME` (`phong`, the default, `conductor`, `roughconductor`, ...).
     pub bsdf: Option<Spanned<String>>,
+    /// Mitsuba's `mask`: a number in [0, 1] or a texture table (`bsdfs::Opacity`).
+    pub opacity: Option<Spanned<toml::Value>>,
     /// The BSDF's fields, in the order written.
     pub params: Vec<(String, Spanned<toml::Value>)>,
 }
@@ -231,6 +233,7 @@ impl<'de> Deserialize<'de> for RawMaterial {
                         "emission" => m.emission = Some(map.next_value()?),
                         "two_sided" => m.two_sided = Some(map.next_value()?),
                         "bsdf" => m.bsdf = Some(map.next_value()?),
+                        "opacity" => m.opacity = Some(map.next_value()?),
                         _ => {
                             let value = map.next_value()?;
                             m.params.push((key, value));
@@ -260,6 +263,9 @@ impl Serialize for RawMaterial {
         }
         if let Some(t) = &self.two_sided {
             map.serialize_entry("two_sided", t.get_ref())?;
+        }
+        if let Some(o) = &self.opacity {
+            map.serialize_entry("opacity", o.get_ref())?;
         }
         map.end()
     }

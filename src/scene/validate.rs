@@ -17,7 +17,7 @@ use super::emitters::{DirectionalLight, PointLight, SpotLight, BEAM_WIDTH_OF_CUT
 use super::raw::{RawEnvironmentMap, RawMaterial, RawRotations, RawScale, RawScene, RawTransform};
 use super::transform::Transform;
 use super::{
-    Camera, Diagnostic, Fov, Material, Plane, RenderSettings, Scene, SceneError, Severity, Sphere, MAX_DELTA_LIGHTS,
+    Camera, Diagnostic, Fov, Material, Opacity, Plane, RenderSettings, Scene, SceneError, Severity, Sphere, MAX_DELTA_LIGHTS,
     MAX_MATERIALS, MAX_PLANES, MAX_SPHERES,
 };
 
@@ -615,8 +615,20 @@ fn check_materials(ck: &mut Checker, raw: &RawScene) -> (Vec<Material>, BTreeMap
             }
             two_sided = true;
         }
+        let opacity = m.opacity.as_ref().and_then(|o| {
+            let base = ck.file.parent().map(std::path::Path::to_path_buf).unwrap_or_default();
+            match Opacity::from_toml(o.get_ref(), o.span(), &base) {
+                Ok(opacity) => opacity,
+                Err(errors) => {
+                    for (span, message) in errors {
+                        ck.error(span, format!("materials.{name}.opacity"), message);
+                    }
+                    None
+                }
+            }
+        });
         names.insert(name.clone(), materials.len());
-        materials.push(Material { name: name.clone(), emission, two_sided, bsdf });
+        materials.push(Material { name: name.clone(), emission, two_sided, bsdf, opacity });
     }
     (materials, names)
 }

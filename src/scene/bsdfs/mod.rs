@@ -11,12 +11,16 @@
 //! numbers, `BSDF_KIND_*` in WGSL), `Bsdf` (a material's validated BSDF), one `HAS_<KIND>`
 //! override per kind (a pipeline compiles only the kinds its scene uses) and the kernel's
 //! dispatch (`shaders::bsdf_dispatch`). See the README's "Adding a BSDF".
+//!
+//! Mitsuba's `mask` (`mask.rs`, `shaders/bsdfs/mask.wgsl`) wraps any kind: it is a material's
+//! opacity, not a kind.
 
 mod conductor;
 mod dielectric;
 mod distribution;
 mod fresnel;
 mod ior;
+mod mask;
 mod named_conductors;
 mod phong;
 mod plastic;
@@ -37,6 +41,7 @@ pub use conductor::Conductor;
 pub use dielectric::Dielectric;
 pub use distribution::Distribution;
 pub use ior::NAMED_IORS;
+pub use mask::{opacity_of_texel, Opacity, DEFAULT_MITSUBA_OPACITY};
 pub use named_conductors::NAMED_CONDUCTORS;
 pub use phong::Phong;
 pub use plastic::{fresnel_diffuse_reflectance, Plastic};

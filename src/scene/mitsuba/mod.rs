@@ -185,6 +185,9 @@ struct Bsdf {
     two_sided: bool,
     /// Its name for the material table: the id, or made up from the shape.
     name: Option<String>,
+    /// A `mask`'s opacity as the TOML field's value (`scene::Opacity`): a number, or a texture
+    /// table.
+    opacity: Option<toml::Value>,
 }
 
 impl Bsdf {
@@ -193,7 +196,7 @@ impl Bsdf {
     /// unless given a BSDF).
     fn default_diffuse(emits: bool) -> Bsdf {
         let (reflectance, name) = if emits { (0.0, "default-emitter") } else { (DEFAULT_REFLECTANCE, "default-diffuse") };
-        Bsdf { kind: BsdfKind::Phong, fields: vec![("diffuse", color_value([reflectance; 3]))], two_sided: false, name: Some(name.into()) }
+        Bsdf { kind: BsdfKind::Phong, fields: vec![("diffuse", color_value([reflectance; 3]))], two_sided: false, name: Some(name.into()), opacity: None }
     }
 }
 
@@ -1045,16 +1048,17 @@ impl Translator<'_> {
                     }
                 }
             }
+            "mask" => self.mask(o),
             plugin => match BsdfKind::from_mitsuba_plugin(plugin) {
                 Some(kind) => {
                     let mut reader = PluginReader { t: self, p: Some(Props::of(o)), o, taken: Vec::new() };
                     let fields = kind.read_mitsuba(&mut reader);
                     reader.finish("");
-                    fields.map(|fields| Bsdf { kind, fields, two_sided: false, name })
+                    fields.map(|fields| Bsdf { kind, fields, two_sided: false, name, opacity: None })
                 }
                 None => {
                     let known = BsdfKind::all_mitsuba_plugins().join(", ");
-                    self.error(o.at, "type", format!("<bsdf type=\"{plugin}\"> is not supported (pathlab has {known}, twosided)"));
+                    self.error(o.at, "type", format!("<bsdf type=\"{plugin}\"> is not supported (pathlab has {known}, twosided, mask)"));
                     None
                 }
             },
@@ -1063,6 +1067,45 @@ impl Translator<'_> {
             self.error(c.at, "", format!("{} inside a <bsdf> is not supported", describe(&c.tag, &c.plugin)));
         }
         b
+    }
+
+    /// `<bsdf type="mask">` (Mitsuba's mask.cpp): its one nested BSDF with the opacity, a float,
+    /// a colour (its channels' mean: Mitsuba's `eval_1` of a constant) or a texture; 0.5 when not
+    /// given, as Mitsuba's.
+    fn mask(&mut self, o: &Object) -> Option<Bsdf> {
+        let mut reader = PluginReader { t: self, p: Some(Props::of(o)), o, taken: Vec::new() };
+        let opacity = reader.color_or_texture("opacity");
+        let stray = reader.texture();
+        reader.finish("opacity, one nested <bsdf>");
+        if let Some(at) = stray {
+            self.error(at, "", "a <texture> inside a <bsdf type=\"mask\"> other than its `opacity` is not supported");
+        }
+        let opacity = match opacity {
+            Some(toml::Value::Table(t)) => toml::Value::Table(t),
+            Some(c) => {
+                let c = <crate::scene::raw::RawColor as serde::Deserialize>::deserialize(c).map(|c| c.0).unwrap_or([0.0; 3]);
+                toml::Value::Float(c.iter().sum::<f64>() / 3.0)
+            }
+            None => toml::Value::Float(crate::scene::bsdfs::DEFAULT_MITSUBA_OPACITY),
+        };
+        let inner: Vec<&Object> = o.children.iter().filter(|c| c.tag == "bsdf").collect();
+        match inner.as_slice() {
+            [one] => match self.bsdf(one) {
+                Some(b) if b.opacity.is_some() => {
+                    self.error(one.at, "", "a mask inside a <bsdf type=\"mask\"> is not supported (give one mask, the opacities' product)");
+                    None
+                }
+                b => b.map(|b| Bsdf { opacity: Some(opacity), name: o.id.clone().or(b.name.clone()), ..b }),
+            },
+            [] => {
+                self.error(o.at, "", "<bsdf type=\"mask\"> needs the <bsdf> it masks");
+                None
+            }
+            [_, second, ..] => {
+                self.error(second.at, "", "<bsdf type=\"mask\"> takes one nested <bsdf> (Mitsuba: \"Cannot specify more than one child BSDF\")");
+                None
+            }
+        }
     }
 
     /// The material of a BSDF with an emission: shared by every shape with the same pair.
@@ -1086,6 +1129,7 @@ impl Translator<'_> {
             two_sided: if bsdf.two_sided || bsdf.kind.both_sides() { None } else { Some(spanned(at, false)) },
             bsdf: (bsdf.kind != BsdfKind::ALL[0]).then(|| spanned(at, bsdf.kind.toml_name().to_string())),
             params: bsdf.fields.iter().map(|(k, v)| (k.to_string(), spanned(at, v.clone()))).collect(),
+            opacity: bsdf.opacity.clone().map(|o| spanned(at, o)),
         };
         self.materials.insert(name.clone(), spanned(at, m));
         self.material_keys.push((name.clone(), bsdf.clone(), emission));
