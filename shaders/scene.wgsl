@@ -63,7 +63,9 @@ struct Material {
     // Mitsuba's mask (shaders/bsdfs/mask.wgsl): the opacity, or, where negative, the reference
     // -(start + 1) of its texture's record in bsdf_data; 1 where opaque.
     opacity: f32,
-    _pad1: u32,
+    // Mitsuba's twosided with two BSDFs: the material whose BSDF scatters on the back, NO_BACK
+    // where none.
+    back: u32,
     _pad2: u32,
 }
 
@@ -109,12 +111,16 @@ struct FrameParams {
 // Read only for uvs, at the hit sphere: a storage buffer.
 @group(0) @binding(BINDING_SPHERE_AXES) var<storage, read> sphere_axes: array<SphereAxes>;
 
-// The BSDF of material i at a point of uv parametrisation `uv` (where a parameter slot holds a
-// texture, it is looked up there: texture.wgsl, where some material reads uvs). Its kind and third slot are read only where the pipeline has other
+// The BSDF of material i met from the side given (`from_inside`: its back) at a point of uv
+// parametrisation `uv`: its own, or on its back its back material's where it has one
+// (`material_on_side`), the opacity of its mask always its own (a mask wraps both sides).
+// Where a parameter slot holds a texture, it is looked up there (texture.wgsl, where some
+// material reads uvs). Its kind and third slot are read only where the pipeline has other
 // kinds than Phong (whose two slots are the rest): a dynamically indexed uniform read costs per
 // byte on SIMD CPU drivers (reading the whole 80-byte Material cost the study scene a quarter of
 // its speed).
-fn material_bsdf(i: u32, uv: vec2f) -> Bsdf {
+fn material_bsdf(material: u32, from_inside: bool, uv: vec2f) -> Bsdf {
+    let i = material_on_side(material, from_inside);
     var b = Bsdf(BSDF_KIND_PHONG, materials[i].p0, materials[i].p1, vec4f(0.0), false, 1.0);
     if (bsdf_kinds_vary()) {
         b.kind = materials[i].kind;
@@ -124,9 +130,22 @@ fn material_bsdf(i: u32, uv: vec2f) -> Bsdf {
         b = bsdf_apply_textures(b, uv);
     }
     if (HAS_MASKS) {
-        b.opacity = material_opacity(i, uv);
+        b.opacity = material_opacity(material, uv);
     }
     return b;
+}
+
+// Some material has another BSDF on its back (SceneFeatures::has_back_bsdfs).
+override HAS_BACK_BSDFS: bool = false;
+
+// The material whose BSDF scatters where a ray meets material i from the side given: its own,
+// or on the back, where it has one, its back's (Mitsuba's twosided with two BSDFs: the back's
+// BSDF in the frame turned to the back, as the integrator turns n_s towards the viewer).
+fn material_on_side(i: u32, from_inside: bool) -> u32 {
+    if (HAS_BACK_BSDFS && from_inside && materials[i].back != NO_BACK) {
+        return materials[i].back;
+    }
+    return i;
 }
 
 // The opacity of material i at uv (Mitsuba's mask): its constant, or its texture's value there.

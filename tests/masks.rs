@@ -118,6 +118,9 @@ fn bad_masks_are_refused_where_they_are() {
         "m.xml",
     );
     assert!(e.contains("a mask inside"), "{e}");
+    // A mask inside a twosided: Mitsuba refuses it (a null lobe is a transmission component).
+    let e = refused(&xml_with_bsdf("<bsdf type=\"twosided\" id=\"m\"><bsdf type=\"mask\"><bsdf type=\"diffuse\"/></bsdf></bsdf>", "m"), "m.xml");
+    assert!(e.contains("a mask inside a <bsdf type=\"twosided\">"), "{e}");
     let e = refused(&xml_with_bsdf("<bsdf type=\"mask\" id=\"m\"><float name=\"opacity\" value=\"2\"/><bsdf type=\"diffuse\"/></bsdf>", "m"), "m.xml");
     assert!(e.contains("opacity") && e.contains("in [0, 1]"), "{e}");
     let e = refused(&xml_with_bsdf("<bsdf type=\"mask\" id=\"m\"><float name=\"alpha\" value=\"2\"/><bsdf type=\"diffuse\"/></bsdf>", "m"), "m.xml");

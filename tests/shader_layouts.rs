@@ -53,7 +53,7 @@ fn shared_structs_match_the_wgsl() {
     check_struct(&pt, "AccumPixel", size_of::<AccumPixel>(), fields!(AccumPixel: sum, count, sum_err, rays_lo, sum_sq, rays_hi, sum_sq_err, faults));
     check_struct(&pt, "Sphere", size_of::<GpuSphere>(), fields!(GpuSphere: center, radius, material));
     check_struct(&pt, "Plane", size_of::<GpuPlane>(), fields!(GpuPlane: normal, offset, material));
-    check_struct(&pt, "Material", size_of::<GpuMaterial>(), fields!(GpuMaterial: emission, flags, p0, p1, p2, kind, opacity));
+    check_struct(&pt, "Material", size_of::<GpuMaterial>(), fields!(GpuMaterial: emission, flags, p0, p1, p2, kind, opacity, back));
     check_struct(&pt, "Triangle", size_of::<GpuTriangle>(), fields!(GpuTriangle: p0, material, p1, light, p2, flags));
     check_struct(&pt, "TriangleNormals", size_of::<GpuTriangleNormals>(), fields!(GpuTriangleNormals: n0, n1, n2));
     check_struct(&pt, "TriangleUvs", size_of::<GpuTriangleUvs>(), fields!(GpuTriangleUvs: uv0, uv1, uv2));
@@ -92,6 +92,7 @@ fn overrides_set_by_the_host_are_those_the_module_declares() {
         has_shading_normals: true,
         has_uvs: true,
         has_masks: true,
+        has_back_bsdfs: true,
         rr_depth: 3,
         thin_lens: true,
         num_occluding_planes: 1,

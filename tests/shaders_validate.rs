@@ -73,6 +73,8 @@ fn every_override_permutation_validates() {
                                     has_uvs: on,
                                     // Masks on and off, with uvs on and off.
                                     has_masks: (checked / 3) % 2 == 0,
+                                    // Back BSDFs on and off, with several kinds and with Phong alone.
+                                    has_back_bsdfs: (checked / 5) % 2 == 0,
                                     rr_depth: if on { 2 } else { 0 },
                                     thin_lens: on,
                                     hide_emitters: on,

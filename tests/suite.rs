@@ -50,6 +50,7 @@ mod study_reproduction;
 mod techniques;
 mod textures;
 mod thin_lens;
+mod twosided;
 mod unbiased_study;
 mod uv_parametrisation;
 mod veach_mis;

@@ -29,6 +29,9 @@ pub struct SceneFeatures {
     /// Some material is masked (`Material::opacity`, Mitsuba's `mask`): rays may pass
     /// straight through surfaces.
     pub has_masks: bool,
+    /// Some material has another BSDF on its back (`Material::back`, Mitsuba's `twosided` with
+    /// two BSDFs).
+    pub has_back_bsdfs: bool,
     /// Russian roulette from this vertex on; 0: none.
     pub rr_depth: u32,
     /// The camera has a thin lens (`Camera::aperture_radius` > 0).
@@ -95,6 +98,7 @@ impl SceneFeatures {
             has_shading_normals: scene.meshes.iter().any(|m| !m.normals.is_empty()),
             has_uvs: scene.materials.iter().any(|m| m.reads_uv()),
             has_masks: scene.materials.iter().any(|m| m.opacity.is_some()),
+            has_back_bsdfs: scene.materials.iter().any(|m| m.back.is_some()),
             rr_depth: scene.render.rr_depth.unwrap_or(0),
             thin_lens: scene.camera.aperture_radius > 0.0,
             hide_emitters: scene.render.hide_emitters,

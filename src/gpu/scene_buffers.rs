@@ -14,7 +14,7 @@ use wgpu::util::DeviceExt;
 use crate::accel::{Bvh, BvhNode};
 use crate::scene::{AliasTable, BsdfData, Light, Scene, MAX_DELTA_LIGHTS, MAX_MATERIALS, MAX_PLANES, MAX_SPHERES};
 use crate::shaders::bindings::{self, Binding};
-use crate::shaders::flags::{MATERIAL_EMISSIVE, MATERIAL_ONE_SIDED, TRIANGLE_HAS_NORMALS, TRIANGLE_HAS_UVS, TRIANGLE_TWO_SIDED};
+use crate::shaders::flags::{MATERIAL_EMISSIVE, MATERIAL_ONE_SIDED, NO_BACK, TRIANGLE_HAS_NORMALS, TRIANGLE_HAS_UVS, TRIANGLE_TWO_SIDED};
 
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
@@ -49,8 +49,12 @@ pub struct GpuMaterial {
     /// Mitsuba's `mask` (`Opacity::pack`): the opacity, or -(start + 1) of its texture's record
     /// in the BSDF data; 1 where the material is opaque.
     pub opacity: f32,
-    pub _pad: [u32; 2],
+    /// Mitsuba's `twosided` with two BSDFs: the material whose BSDF scatters on the back
+    /// (`Material::back`), `NO_BACK` where none.
+    pub back: u32,
+    pub _pad: u32,
 }
+
 
 /// A triangle as the kernel reads it (`Triangle`, bvh.wgsl): vertices, material, the light it
 /// is (`u32::MAX`: none) and flags.
@@ -354,7 +358,8 @@ impl SceneBuffers {
                     p2,
                     kind: m.bsdf_kind().constant(),
                     opacity: m.opacity.as_ref().map_or(1.0, |o| o.pack(&mut data)),
-                    _pad: [0; 2],
+                    back: m.back.map_or(NO_BACK, |b| b as u32),
+                    _pad: 0,
                 }
             })
             .collect();

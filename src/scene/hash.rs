@@ -9,7 +9,8 @@
 //! camera.position=X,Y,Z        camera.look_at=…   camera.up=…   camera.fov_x=F (or camera.fov_y=F)
 //! render.width=W  render.height=H  render.max_depth=D  render.environment=R,G,B
 //! materials=N, then per material i: material.i.diffuse=… .specular=… .glossiness=… .emission=…
-//!   (then .two_sided=0 where one-sided, its kind's own lines, .opacity=… where masked)
+//!   (then .two_sided=0 where one-sided, its kind's own lines, .opacity=… where masked, .back=INDEX
+//!   where its back has another BSDF)
 //! spheres=N, then sphere.i.center=… .radius=… .material=INDEX
 //! planes=N, then plane.i.point=… .normal=… .material=INDEX
 //! ```
@@ -116,6 +117,10 @@ pub fn canonical_encoding(scene: &Scene) -> String {
         // Only masked materials add a line.
         if let Some(o) = &m.opacity {
             line(&format!("material.{i}.opacity"), o.hash_value());
+        }
+        // Only materials with a back BSDF add a line: the back material's index.
+        if let Some(b) = m.back {
+            line(&format!("material.{i}.back"), b.to_string());
         }
     }
     line("spheres", scene.spheres.len().to_string());

@@ -179,6 +179,11 @@ pub struct Material {
     /// Mitsuba's `mask` around the BSDF (`bsdfs::Opacity`): the probability that a ray meeting
     /// the surface scatters off it rather than passing straight through; `None`: opaque.
     pub opacity: Option<Opacity>,
+    /// Mitsuba's `twosided` with two BSDFs: the material (an index into `Scene::materials`)
+    /// whose BSDF scatters on this surface's back, in the frame turned to that side; this
+    /// material's own BSDF scatters on its front. `None`: one BSDF for both sides (or for the
+    /// front alone, where `two_sided` is false).
+    pub back: Option<usize>,
 }
 
 impl Material {
@@ -186,7 +191,8 @@ impl Material {
         self.emission.max_element() > 0.0
     }
 
-    /// Its textures: its BSDF's parameters', then its opacity's.
+    /// Its textures: its BSDF's parameters', then its opacity's (a back material's are its
+    /// own).
     pub fn textures(&self) -> Vec<&Texture> {
         let mut t = self.bsdf.textures();
         t.extend(self.opacity.as_ref().and_then(Opacity::texture));

@@ -201,7 +201,7 @@ pub(crate) struct RawRender {
     pub hide_emitters: Option<Spanned<bool>>,
 }
 
-/// `[materials.<name>]`: what every material has (`emission`, `two_sided`, `opacity`, the `bsdf` kind) and
+/// `[materials.<name>]`: what every material has (`emission`, `two_sided`, `opacity`, `back`, the `bsdf` kind) and
 /// the fields of its BSDF kind, kept as written with their spans: the kind's file reads them
 /// (`scene::bsdfs`), so that a new kind adds its fields without touching this file.
 #[derive(Debug, Default)]
@@ -214,6 +214,9 @@ pub(crate) struct RawMaterial {
     pub bsdf: Option<Spanned<String>>,
     /// Mitsuba's `mask`: a number in [0, 1] or a texture table (`bsdfs::Opacity`).
     pub opacity: Option<Spanned<toml::Value>>,
+    /// Mitsuba's `twosided` with two BSDFs: the name of the material whose BSDF scatters on the
+    /// back.
+    pub back: Option<Spanned<String>>,
     /// The BSDF's fields, in the order written.
     pub params: Vec<(String, Spanned<toml::Value>)>,
 }
@@ -234,6 +237,7 @@ impl<'de> Deserialize<'de> for RawMaterial {
                         "two_sided" => m.two_sided = Some(map.next_value()?),
                         "bsdf" => m.bsdf = Some(map.next_value()?),
                         "opacity" => m.opacity = Some(map.next_value()?),
+                        "back" => m.back = Some(map.next_value()?),
                         _ => {
                             let value = map.next_value()?;
                             m.params.push((key, value));
@@ -266,6 +270,9 @@ impl Serialize for RawMaterial {
         }
         if let Some(o) = &self.opacity {
             map.serialize_entry("opacity", o.get_ref())?;
+        }
+        if let Some(b) = &self.back {
+            map.serialize_entry("back", b.get_ref())?;
         }
         map.end()
     }

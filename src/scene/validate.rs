@@ -188,8 +188,10 @@ pub(super) fn validate(raw: &RawScene, file: &Path, sources: SourceMap, diagnost
         ck.error(extra.span(), format!("materials.{name}"), too_many(raw.materials.len(), MAX_MATERIALS, "materials"));
     }
 
+    // A material used on the back of a used one is used.
+    let backs: Vec<usize> = materials.iter().enumerate().filter(|(i, _)| used.contains(i)).filter_map(|(_, m)| m.back).collect();
     for (name, &i) in &names {
-        if !used.contains(&i) {
+        if !used.contains(&i) && !backs.contains(&i) {
             ck.warn(raw.materials[name].span(), format!("materials.{name}"), "material is defined but never used");
         }
     }
@@ -628,7 +630,38 @@ fn check_materials(ck: &mut Checker, raw: &RawScene) -> (Vec<Material>, BTreeMap
             }
         });
         names.insert(name.clone(), materials.len());
-        materials.push(Material { name: name.clone(), emission, two_sided, bsdf, opacity });
+        materials.push(Material { name: name.clone(), emission, two_sided, bsdf, opacity, back: None });
+    }
+    // Backs, once every material has its index: a back's own BSDF is what scatters, so it must
+    // be a plain one-BSDF material that only reflects (Mitsuba's twosided nests no
+    // transmission), and the front two-sided.
+    for (name, m) in &raw.materials {
+        let Some(back) = m.get_ref().back.as_ref() else { continue };
+        let field = format!("materials.{name}.back");
+        let Some(&b) = names.get(back.get_ref()) else {
+            let known: Vec<&str> = names.keys().map(String::as_str).collect();
+            ck.error(back.span(), field, format!("no material \"{}\" (materials: {})", back.get_ref(), known.join(", ")));
+            continue;
+        };
+        let i = names[name];
+        let bm = &materials[b];
+        let problem = if b == i {
+            Some("a material cannot be its own back".to_string())
+        } else if bm.bsdf_kind().transmits() {
+            Some(format!("the back \"{}\" is a {}, which transmits: Mitsuba's twosided nests only BSDFs that reflect", bm.name, bm.bsdf_kind().toml_name()))
+        } else if raw.materials.get(back.get_ref()).is_some_and(|r| r.get_ref().back.is_some()) || bm.opacity.is_some() || bm.is_emissive() {
+            Some(format!("the back \"{}\" must be a plain material: no back, opacity or emission of its own", bm.name))
+        } else if !materials[i].two_sided {
+            Some("a material with a back is two-sided: two_sided = false does not apply".to_string())
+        } else if materials[i].bsdf_kind().transmits() {
+            Some(format!("a {} transmits: Mitsuba's twosided nests only BSDFs that reflect", materials[i].bsdf_kind().toml_name()))
+        } else {
+            None
+        };
+        match problem {
+            Some(p) => ck.error(back.span(), field, p),
+            None => materials[i].back = Some(b),
+        }
     }
     (materials, names)
 }

@@ -6,6 +6,9 @@ pub const MATERIAL_EMISSIVE: u32 = 1;
 /// Material flag: the BSDF is one-sided (black seen from behind).
 pub const MATERIAL_ONE_SIDED: u32 = 2;
 
+/// `Material.back` of a material without a back BSDF (Mitsuba's `twosided` with one BSDF).
+pub const NO_BACK: u32 = u32::MAX;
+
 /// Triangle flag: emits on both sides.
 pub const TRIANGLE_TWO_SIDED: u32 = 1;
 /// Triangle flag: has vertex normals (`GpuTriangleNormals` at the same index).
@@ -25,6 +28,7 @@ pub fn wgsl() -> String {
     [
         ("MATERIAL_EMISSIVE", MATERIAL_EMISSIVE),
         ("MATERIAL_ONE_SIDED", MATERIAL_ONE_SIDED),
+        ("NO_BACK", NO_BACK),
         ("TRIANGLE_TWO_SIDED", TRIANGLE_TWO_SIDED),
         ("TRIANGLE_HAS_NORMALS", TRIANGLE_HAS_NORMALS),
         ("TRIANGLE_HAS_UVS", TRIANGLE_HAS_UVS),

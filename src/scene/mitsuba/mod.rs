@@ -188,6 +188,8 @@ struct Bsdf {
     /// A `mask`'s opacity as the TOML field's value (`scene::Opacity`): a number, or a texture
     /// table.
     opacity: Option<toml::Value>,
+    /// A `twosided`'s second BSDF, which scatters on the back (`Material::back`).
+    back: Option<Box<Bsdf>>,
 }
 
 impl Bsdf {
@@ -196,7 +198,7 @@ impl Bsdf {
     /// unless given a BSDF).
     fn default_diffuse(emits: bool) -> Bsdf {
         let (reflectance, name) = if emits { (0.0, "default-emitter") } else { (DEFAULT_REFLECTANCE, "default-diffuse") };
-        Bsdf { kind: BsdfKind::Phong, fields: vec![("diffuse", color_value([reflectance; 3]))], two_sided: false, name: Some(name.into()), opacity: None }
+        Bsdf { kind: BsdfKind::Phong, fields: vec![("diffuse", color_value([reflectance; 3]))], two_sided: false, name: Some(name.into()), opacity: None, back: None }
     }
 }
 
@@ -1037,13 +1039,38 @@ impl Translator<'_> {
                 self.finish(Props::of(o), "one nested <bsdf>");
                 let inner: Vec<&Object> = o.children.iter().filter(|c| c.tag == "bsdf").collect();
                 match inner.as_slice() {
-                    [one] => self.bsdf(one).map(|b| Bsdf { two_sided: true, name: name.or(b.name.clone()), ..b }),
+                    [one] => match self.bsdf(one) {
+                        // Mitsuba: "Only materials without a transmission component can be
+                        // nested!": a mask's null lobe counts as one.
+                        Some(b) if b.opacity.is_some() => {
+                            self.error(one.at, "type", "a mask inside a <bsdf type=\"twosided\"> (Mitsuba refuses it: only materials without a transmission component can be nested; wrap the twosided in the mask)");
+                            None
+                        }
+                        b => b.map(|b| Bsdf { two_sided: true, name: name.or(b.name.clone()), ..b }),
+                    },
                     [] => {
                         self.error(o.at, "", "<bsdf type=\"twosided\"> needs the <bsdf> it makes two-sided");
                         None
                     }
-                    [_, second, ..] => {
-                        self.error(second.at, "", "<bsdf type=\"twosided\"> with a different BSDF on the back is not supported");
+                    [front, back] => {
+                        let (f, b) = (self.bsdf(front), self.bsdf(back));
+                        let (f, b) = (f?, b?);
+                        // Mitsuba: "Only materials without a transmission component can be
+                        // nested!"; a mask or a twosided inside one side pathlab does not model.
+                        for (side, o, bsdf) in [("front", front, &f), ("back", back, &b)] {
+                            if bsdf.kind.transmits() || bsdf.kind.both_sides() {
+                                self.error(o.at, "type", format!("the {side} of a <bsdf type=\"twosided\"> with two BSDFs is a {}, which transmits: only BSDFs that reflect can be nested (Mitsuba refuses it too)", o.plugin));
+                                return None;
+                            }
+                            if bsdf.opacity.is_some() || bsdf.two_sided {
+                                self.error(o.at, "type", format!("the {side} of a <bsdf type=\"twosided\"> with two BSDFs must be one plain BSDF (a mask or a twosided inside one side is not supported; a mask may wrap the twosided)"));
+                                return None;
+                            }
+                        }
+                        Some(Bsdf { two_sided: true, name: name.or(f.name.clone()), back: Some(Box::new(b)), ..f })
+                    }
+                    [_, _, third, ..] => {
+                        self.error(third.at, "", "<bsdf type=\"twosided\"> takes at most two nested BSDFs (Mitsuba: \"At most two nested BSDFs can be specified!\")");
                         None
                     }
                 }
@@ -1054,7 +1081,7 @@ impl Translator<'_> {
                     let mut reader = PluginReader { t: self, p: Some(Props::of(o)), o, taken: Vec::new() };
                     let fields = kind.read_mitsuba(&mut reader);
                     reader.finish("");
-                    fields.map(|fields| Bsdf { kind, fields, two_sided: false, name, opacity: None })
+                    fields.map(|fields| Bsdf { kind, fields, two_sided: false, name, opacity: None, back: None })
                 }
                 None => {
                     let known = BsdfKind::all_mitsuba_plugins().join(", ");
@@ -1123,7 +1150,14 @@ impl Translator<'_> {
             name = format!("{base}-{k}");
             k += 1;
         }
+        // A second BSDF on the back: a material of its own, which this one names.
+        let back = bsdf.back.as_ref().map(|b| {
+            let back_name = format!("{}-back", bsdf.name.clone().unwrap_or_else(|| shape_name.to_string()));
+            let back = Bsdf { name: Some(back_name), ..(**b).clone() };
+            self.material(&back, None, shape_name, at)
+        });
         let m = RawMaterial {
+            back,
             emission: emission.map(|c| spanned(at, RawColor(c))),
             // A kind that scatters on both sides by its nature is two-sided unwrapped.
             two_sided: if bsdf.two_sided || bsdf.kind.both_sides() { None } else { Some(spanned(at, false)) },
