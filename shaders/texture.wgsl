@@ -82,6 +82,22 @@ fn eval_texture(at: u32, uv: vec2f) -> vec3f {
     return eval_checkerboard_texture(at, uv);
 }
 
+// A texture's value as Mitsuba's eval_1 reads it (a scalar parameter): its luminance. The host
+// packs a checkerboard read so grey (`Texture::scalar`), whose luminance is itself. Host twin:
+// `Texture::eval_1`.
+fn texture_value_1(c: vec3f) -> f32 {
+    return 0.212671 * c.x + 0.715160 * c.y + 0.072169 * c.z;
+}
+
+// A scalar slot's value at uv (a roughness): itself, or, where negative, the value of the
+// texture whose record it references, -(start + 1).
+fn scalar_texture_slot(v: f32, uv: vec2f) -> f32 {
+    if (v >= 0.0) {
+        return v;
+    }
+    return texture_value_1(eval_texture(u32(-v - 1.0), uv));
+}
+
 // A colour slot's value at uv: itself, or its texture's value.
 fn texture_slot(slot: vec3f, uv: vec2f) -> vec3f {
     if (slot.x >= 0.0) {

@@ -126,7 +126,7 @@ fn bad_conductor_parameters_are_refused_naming_the_field() {
     // Mitsuba clamps alpha to 1e-4; so does pathlab, saying so.
     let text = format!("{base}[materials.m]\nbsdf = \"roughconductor\"\nalpha = 1e-6\n[[spheres]]\ncenter = [0, 0, -3]\nradius = 1\nmaterial = \"m\"\n");
     let s = Scene::parse(&text, "c.toml").unwrap();
-    assert!(matches!(&s.materials[0].bsdf, pathlab::scene::Bsdf::RoughConductor(r) if r.alpha == 1e-4));
+    assert!(matches!(&s.materials[0].bsdf, pathlab::scene::Bsdf::RoughConductor(r) if r.roughness.alpha == 1e-4));
     assert!(s.warnings.iter().any(|w| w.message.contains("clamped")));
 }
 
@@ -200,6 +200,6 @@ fn named_conductors_are_mitsubas() {
     std::fs::remove_dir_all(&dir).ok();
     let al = Conductor::named("Al").unwrap();
     let cu = Conductor::named("Cu").unwrap();
-    assert!(s.materials.iter().any(|m| matches!(&m.bsdf, Bsdf::RoughConductor(r) if (r.fresnel.eta, r.fresnel.k) == al && r.alpha == 0.05)));
+    assert!(s.materials.iter().any(|m| matches!(&m.bsdf, Bsdf::RoughConductor(r) if (r.fresnel.eta, r.fresnel.k) == al && r.roughness.alpha == 0.05)));
     assert!(s.materials.iter().any(|m| matches!(&m.bsdf, Bsdf::Conductor(c) if (c.eta, c.k) == cu)));
 }

@@ -88,7 +88,7 @@ fn structured_scene() -> tempfile::TempDir {
 fn the_veach_scene_loads_as_written() {
     let s = Scene::load(asset("veach_mis.xml")).unwrap();
     assert!(s.warnings.is_empty(), "{:?}", s.warnings);
-    let rough: Vec<f64> = s.materials.iter().filter_map(|m| match &m.bsdf { Bsdf::RoughConductor(r) => Some(r.alpha), _ => None }).collect();
+    let rough: Vec<f64> = s.materials.iter().filter_map(|m| match &m.bsdf { Bsdf::RoughConductor(r) => Some(r.roughness.alpha), _ => None }).collect();
     assert_eq!(rough.len(), 4);
     for alpha in [0.01, 0.05, 0.1, 0.25] {
         assert!(rough.contains(&alpha), "{rough:?}");

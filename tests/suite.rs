@@ -41,6 +41,7 @@ mod render_presets;
 mod rough_plastics;
 mod serialized_meshes;
 mod roulette;
+mod rough_textures;
 mod sampler_twin;
 mod shader_layouts;
 mod shaders_validate;

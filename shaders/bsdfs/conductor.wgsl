@@ -24,7 +24,8 @@ fn sample_conductor(c: Conductor, n_s: vec3f, wo: vec3f) -> BsdfSample {
 // p1 = (k, the distribution's number), p2 = (reflectance, 0); the smooth conductor has
 // alpha 0 (its distribution is unused).
 fn conductor_of(b: Bsdf) -> Conductor {
-    return Conductor(b.p0.xyz, b.p1.xyz, b.p2.xyz, b.p0.w, u32(b.p1.w));
+    // The roughness at least 1e-4 (Mitsuba's MicrofacetDistribution), for a textured one.
+    return Conductor(b.p0.xyz, b.p1.xyz, b.p2.xyz, max(b.p0.w, 1e-4), u32(b.p1.w));
 }
 
 // The dispatcher's entry points (generated from src/scene/bsdfs/mod.rs): no direction but the

@@ -22,9 +22,8 @@ fn sample_null_bsdf(b: Bsdf, wo: vec3f) -> BsdfSample {
     return BsdfSample(-wo, 1.0 - b.opacity, vec3f(1.0), true, 1.0);
 }
 
-// A texture's value as an opacity (Mitsuba's eval_1): its luminance, clipped to [0, 1]. The
-// host packs a checkerboard's colours grey (their channel means), whose luminance is
-// themselves. Host twin: `bsdfs::opacity_of_texel`.
+// A texture's value as an opacity (Mitsuba's eval_1, texture.wgsl's texture_value_1), clipped
+// to [0, 1]. Host twin: `Opacity::eval`.
 fn mask_opacity_of_texel(c: vec3f) -> f32 {
-    return clamp(0.212671 * c.x + 0.715160 * c.y + 0.072169 * c.z, 0.0, 1.0);
+    return clamp(texture_value_1(c), 0.0, 1.0);
 }

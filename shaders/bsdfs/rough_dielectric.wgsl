@@ -25,7 +25,8 @@ struct RoughDielectric {
 // The parameter block as src/scene/bsdfs/rough_dielectric.rs packs it: p0 = (reflectance, eta),
 // p1 = (transmittance, alpha), p2 = (distribution, 0, 0, 0).
 fn rough_dielectric_of(b: Bsdf) -> RoughDielectric {
-    return RoughDielectric(b.p0.w, b.p0.xyz, b.p1.xyz, b.p1.w, u32(b.p2.x));
+    // The roughness at least 1e-4 (Mitsuba's MicrofacetDistribution), for a textured one.
+    return RoughDielectric(b.p0.w, b.p0.xyz, b.p1.xyz, max(b.p1.w, 1e-4), u32(b.p2.x));
 }
 
 // The roughness normals are sampled with: Walter's widening for the ndf strategy.

@@ -140,14 +140,19 @@ pub fn bsdf_dispatch() -> String {
         "bsdf_transmits_smoothly(b: Bsdf)",
         kinds(|k| k.transmits() && !k.is_delta()),
     );
-    // Textures: each kind's colour slots that may hold one (`BsdfPlugin::TEXTURE_SLOTS`).
+    // Textures: each kind's colour slots that may hold one (`BsdfPlugin::TEXTURE_SLOTS`), then
+    // its scalar ones (`SCALAR_TEXTURE_SLOTS`).
     let mut f = "\n// The material's BSDF with every textured colour slot of its kind looked up at uv (texture.wgsl).\n\
                  fn bsdf_apply_textures(b: Bsdf, uv: vec2f) -> Bsdf {\n    var t = b;\n"
         .to_string();
-    for k in BsdfKind::ALL.iter().filter(|k| !k.texture_slots().is_empty()) {
+    for k in BsdfKind::ALL.iter().filter(|k| !k.texture_slots().is_empty() || !k.scalar_texture_slots().is_empty()) {
         f += &format!("    if ({}) {{\n", is(k));
         for slot in k.texture_slots() {
             f += &format!("        t.p{slot} = vec4f(texture_slot(t.p{slot}.xyz, uv), t.p{slot}.w);\n");
+        }
+        for (slot, c) in k.scalar_texture_slots() {
+            let c = ["x", "y", "z", "w"][*c];
+            f += &format!("        t.p{slot}.{c} = scalar_texture_slot(t.p{slot}.{c}, uv);\n");
         }
         f += "    }\n";
     }

@@ -64,7 +64,7 @@ impl Conductor {
     pub(crate) fn mitsuba_fresnel(p: &mut dyn PluginProps) -> Vec<(&'static str, toml::Value)> {
         let reflectance = p.color_or_texture("specular_reflectance");
         if let Some(at) = p.texture() {
-            p.error(at, "", "a textured parameter other than specular_reflectance is not supported (give <rgb> or <float> values)".into());
+            p.error(at, "", "a textured parameter other than specular_reflectance (and a roughconductor's alpha) is not supported (give <rgb> or <float> values)".into());
         }
         let eta = p.unbounded_color("eta");
         let k = p.unbounded_color("k");
@@ -104,14 +104,14 @@ impl Conductor {
     /// `p0 = (eta, alpha)`, `p1 = (k, distribution)` (its number), `p2 = (reflectance, 0)`:
     /// the layout of WGSL's `conductor_of`, with alpha 0 and Beckmann for the smooth one.
     /// A texture stands in p2 as the reference -(start + 1) of its record (texture.wgsl).
-    pub(crate) fn pack_with(&self, alpha: f64, distribution: super::distribution::Distribution, data: &mut BsdfData) -> BsdfParams {
+    pub(crate) fn pack_with(&self, alpha: f32, distribution: super::distribution::Distribution, data: &mut BsdfData) -> BsdfParams {
         let r = match &self.reflectance_texture {
             Some(t) => glam::Vec3::new(-(t.pack(data) as f32) - 1.0, 0.0, 0.0),
             None => self.reflectance.as_vec3(),
         };
         let (e, k) = (self.eta.as_vec3(), self.k.as_vec3());
         [
-            [e.x, e.y, e.z, alpha as f32],
+            [e.x, e.y, e.z, alpha],
             [k.x, k.y, k.z, distribution.constant() as f32],
             [r.x, r.y, r.z, 0.0],
         ]

@@ -3,7 +3,9 @@
 
 use glam::DVec3;
 
-use super::plugin::{Fields, PluginProps};
+use super::plugin::{BsdfData, Fields, PluginProps};
+use crate::scene::hash::real;
+use crate::scene::textures::Texture;
 use crate::names::Named;
 
 /// Mitsuba's floor on a microfacet roughness (`MicrofacetDistribution` clamps to it).
@@ -21,10 +23,39 @@ crate::names::named_enum! {
     }
 }
 
+/// A rough kind's roughness: `alpha`, or a texture of it (Mitsuba's `eval_1` of it at the hit,
+/// `Texture::scalar`; `alpha` is then its mean, for what the host computes).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Roughness {
+    /// >= 1e-4.
+    pub alpha: f64,
+    pub texture: Option<Texture>,
+}
+
+impl Roughness {
+    /// Its number in the parameter block: alpha, or -(start + 1) of its texture's record (a
+    /// scalar texture slot, resolved in the kernel and clamped there to 1e-4 as Mitsuba's
+    /// `MicrofacetDistribution::configure`).
+    pub fn pack(&self, data: &mut BsdfData) -> f32 {
+        match &self.texture {
+            Some(t) => -(t.pack(data) as f32) - 1.0,
+            None => self.alpha as f32,
+        }
+    }
+
+    /// Its value in the scene hash: alpha, and a texture's line after it.
+    pub fn hash_value(&self) -> String {
+        match &self.texture {
+            None => real(self.alpha),
+            Some(t) => format!("{} {}", real(self.alpha), t.hash_value(crate::scene::hash::vec3)),
+        }
+    }
+}
+
 /// A rough kind's `distribution` and `alpha` from its TOML fields: Beckmann and 0.1 by default,
 /// alpha > 0 required (`smooth` names the smooth kind to use instead), and below 1e-4 clamped
-/// to it with a warning, as Mitsuba does.
-pub(crate) fn read_fields(f: &mut Fields, smooth: &str) -> (Distribution, f64) {
+/// to it with a warning, as Mitsuba does. Where `textured`, alpha may be a texture table.
+pub(crate) fn read_fields(f: &mut Fields, smooth: &str, textured: bool) -> (Distribution, Roughness) {
     let distribution = match f.string("distribution") {
         None => Distribution::Beckmann,
         Some(d) => Distribution::from_name(d.get_ref()).unwrap_or_else(|| {
@@ -32,6 +63,17 @@ pub(crate) fn read_fields(f: &mut Fields, smooth: &str) -> (Distribution, f64) {
             Distribution::Beckmann
         }),
     };
+    if f.is_table("alpha") {
+        if !textured {
+            let span = f.span_of("alpha");
+            f.error(span, "alpha", "alpha of this kind must be a number: Mitsuba's roughplastic precomputes its coating for one roughness".to_string());
+            return (distribution, Roughness { alpha: DEFAULT_ALPHA, texture: None });
+        }
+        let (_, texture) = f.color_or_texture("alpha", glam::DVec3::splat(DEFAULT_ALPHA));
+        let texture = texture.map(Texture::scalar);
+        let alpha = texture.as_ref().map_or(DEFAULT_ALPHA, |t| crate::scene::emitters::luminance(t.mean())).max(MIN_ALPHA);
+        return (distribution, Roughness { alpha, texture });
+    }
     let alpha = match f.number("alpha") {
         None => DEFAULT_ALPHA,
         Some(a) => {
@@ -44,13 +86,13 @@ pub(crate) fn read_fields(f: &mut Fields, smooth: &str) -> (Distribution, f64) {
             v.max(MIN_ALPHA)
         }
     };
-    (distribution, alpha)
+    (distribution, Roughness { alpha, texture: None })
 }
 
 /// A rough Mitsuba plugin's `distribution` and `alpha` as TOML fields (anisotropic roughness
 /// refused, `sample_visible` taken with a warning: the strategy is `--microfacet-sampling`);
 /// `None` when an error was reported.
-pub(crate) fn read_mitsuba(p: &mut dyn PluginProps) -> Option<[(&'static str, toml::Value); 2]> {
+pub(crate) fn read_mitsuba(p: &mut dyn PluginProps, textured: bool) -> Option<[(&'static str, toml::Value); 2]> {
     let plugin = p.plugin().to_string();
     let distribution = match p.string("distribution") {
         None => "beckmann".to_string(),
@@ -67,12 +109,21 @@ pub(crate) fn read_mitsuba(p: &mut dyn PluginProps) -> Option<[(&'static str, to
             p.error(at, name, format!("`{name}`: anisotropic roughness is not supported (give one `alpha`)"));
         }
     }
-    let alpha = match p.float("alpha") {
-        None => Some(DEFAULT_ALPHA),
-        Some((a, _)) if a.is_finite() && a > 0.0 => Some(a),
-        Some((a, at)) => {
-            p.error(at, "alpha", format!("`alpha` of <bsdf type=\"{plugin}\"> must be a finite number > 0 (got {a})"));
+    let alpha = if p.has_texture("alpha") {
+        if textured {
+            p.color_or_texture("alpha")
+        } else {
+            p.error(p.at(), "alpha", format!("a textured `alpha` of <bsdf type=\"{plugin}\"> is not supported (Mitsuba's roughplastic takes a number)"));
             None
+        }
+    } else {
+        match p.float("alpha") {
+            None => Some(toml::Value::Float(DEFAULT_ALPHA)),
+            Some((a, _)) if a.is_finite() && a > 0.0 => Some(toml::Value::Float(a)),
+            Some((a, at)) => {
+                p.error(at, "alpha", format!("`alpha` of <bsdf type=\"{plugin}\"> must be a finite number > 0 (got {a})"));
+                None
+            }
         }
     };
     if let Some(at) = p.take("sample_visible") {
@@ -82,7 +133,7 @@ pub(crate) fn read_mitsuba(p: &mut dyn PluginProps) -> Option<[(&'static str, to
             "`sample_visible` is ignored: pathlab's microfacet sampling is --microfacet-sampling (vndf by default); the expected image is the same".into(),
         );
     }
-    Some([("distribution", toml::Value::String(distribution)), ("alpha", toml::Value::Float(alpha?))])
+    Some([("distribution", toml::Value::String(distribution)), ("alpha", alpha?)])
 }
 
 // ----- the host's microfacet maths, for precomputed tables (the kernel's: shaders/microfacet.wgsl)

@@ -115,7 +115,7 @@ impl Interface {
     /// <float> or a <string> naming a material of the table). The caller finishes the plugin.
     pub(crate) fn mitsuba_fields(p: &mut dyn PluginProps) -> Vec<(&'static str, toml::Value)> {
         if let Some(at) = p.texture() {
-            p.error(at, "", "a textured parameter is not supported (give <rgb> or <float> values)".into());
+            p.error(at, "", "a textured parameter (other than a roughdielectric's alpha) is not supported (give <rgb> or <float> values)".into());
         }
         let mut fields = Vec::new();
         for (name, default) in [("int_ior", DEFAULT_INT_IOR), ("ext_ior", DEFAULT_EXT_IOR)] {

@@ -18,12 +18,10 @@
 //! type="mask">` with `opacity` (a float, an `<rgb>`, a texture; default 0.5) and one nested
 //! BSDF. A texture's value is Mitsuba's `eval_1`: the luminance of a bitmap's linear RGB, the
 //! mean of a constant's or a checkerboard colour's channels, with the checkerboard's colours in
-//! each other's places (Mitsuba 3.9.1's quirk, kept: see `of_texture`); clipped to [0, 1].
+//! each other's places (Mitsuba 3.9.1's quirk, kept: see `Texture::scalar`); clipped to [0, 1].
 
 use std::ops::Range;
 use std::path::Path;
-
-use glam::DVec3;
 
 use crate::scene::bsdf_data::BsdfData;
 use crate::scene::emitters::luminance;
@@ -44,27 +42,16 @@ pub enum Opacity {
 }
 
 impl Opacity {
-    /// A texture as Mitsuba's `eval_1` reads it: a checkerboard's colours replaced by their
-    /// channel means, so that the kernel takes the luminance of every texture (of grey, itself),
-    /// and swapped: Mitsuba 3.9.1's `Checkerboard::eval_1` gives `color0` where its `eval` gives
-    /// `color1` (its test is `mask.x() != mask.y()` where `eval`'s is `==`), which the z-test
-    /// against Mitsuba's own render of a masked checkerboard confirms.
+    /// A texture as Mitsuba's `eval_1` reads it (`Texture::scalar`).
     pub fn of_texture(t: Texture) -> Opacity {
-        match t {
-            Texture::Checkerboard { color0, color1, to_uv_scale } => Opacity::Texture(Texture::Checkerboard {
-                color0: DVec3::splat(color1.element_sum() / 3.0),
-                color1: DVec3::splat(color0.element_sum() / 3.0),
-                to_uv_scale,
-            }),
-            t => Opacity::Texture(t),
-        }
+        Opacity::Texture(t.scalar())
     }
 
     /// Its value at `uv`, in f32 as the kernel computes it (`material_opacity`): the host twin.
     pub fn eval(&self, uv: [f32; 2]) -> f32 {
         match self {
             Opacity::Constant(o) => *o as f32,
-            Opacity::Texture(t) => opacity_of_texel(t.eval(uv)),
+            Opacity::Texture(t) => t.eval_1(uv).clamp(0.0, 1.0),
         }
     }
 
@@ -128,8 +115,3 @@ impl Opacity {
     }
 }
 
-/// A texture's value as an opacity: its luminance (of grey, the grey itself), clipped to [0, 1],
-/// in f32 as `mask_opacity_of_texel` in mask.wgsl.
-pub fn opacity_of_texel(c: [f32; 3]) -> f32 {
-    (0.212671f32 * c[0] + 0.715160f32 * c[1] + 0.072169f32 * c[2]).clamp(0.0, 1.0)
-}

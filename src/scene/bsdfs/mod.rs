@@ -39,9 +39,9 @@ use super::checker::Checker;
 
 pub use conductor::Conductor;
 pub use dielectric::Dielectric;
-pub use distribution::Distribution;
+pub use distribution::{Distribution, Roughness};
 pub use ior::NAMED_IORS;
-pub use mask::{opacity_of_texel, Opacity, DEFAULT_MITSUBA_OPACITY};
+pub use mask::{Opacity, DEFAULT_MITSUBA_OPACITY};
 pub use named_conductors::NAMED_CONDUCTORS;
 pub use phong::Phong;
 pub use plastic::{fresnel_diffuse_reflectance, Plastic};
@@ -110,6 +110,11 @@ macro_rules! bsdf_registry {
             /// The slots of its parameter block whose colour may be a texture.
             pub fn texture_slots(self) -> &'static [usize] {
                 match self { $( BsdfKind::$variant => <$ty as BsdfPlugin>::TEXTURE_SLOTS ),+ }
+            }
+
+            /// The scalar parameters (slot, component) that may be a texture.
+            pub fn scalar_texture_slots(self) -> &'static [(usize, usize)] {
+                match self { $( BsdfKind::$variant => <$ty as BsdfPlugin>::SCALAR_TEXTURE_SLOTS ),+ }
             }
 
             /// Whether it may transmit (refract into the surface).

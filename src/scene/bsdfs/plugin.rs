@@ -50,6 +50,10 @@ pub(crate) trait BsdfPlugin: Sized {
     /// texture reference (`textures::Texture`, packed by `pack`): the kernel looks them up at
     /// the hit before the kind's code runs.
     const TEXTURE_SLOTS: &'static [usize] = &[];
+    /// The scalar parameters (slot, component: 0..3 for x..w) that may be a texture reference
+    /// (a roughness), read as Mitsuba's `eval_1` (`Texture::scalar`); resolved with the colour
+    /// slots.
+    const SCALAR_TEXTURE_SLOTS: &'static [(usize, usize)] = &[];
 
     /// Its parameters from a TOML material's fields, each checked (errors go to `f`).
     fn from_fields(f: &mut Fields) -> Self;
@@ -111,6 +115,16 @@ impl<'c, 'a> Fields<'c, 'a> {
                 None
             }
         }
+    }
+
+    /// Whether field `name` is a table (a texture).
+    pub fn is_table(&self, name: &str) -> bool {
+        self.raw(name).is_some_and(|v| v.get_ref().is_table())
+    }
+
+    /// Where field `name` is written (the material's span where it is not).
+    pub fn span_of(&self, name: &str) -> Range<usize> {
+        self.raw(name).map_or_else(|| self.span(), |v| v.span())
     }
 
     /// Whether the material gives field `name`.
@@ -199,6 +213,8 @@ pub(crate) trait PluginProps {
     fn at(&self) -> usize;
     /// Where the first nested texture not taken by `color_or_texture` is, if any.
     fn texture(&self) -> Option<usize>;
+    /// Whether a nested texture gives property `name`.
+    fn has_texture(&self, name: &str) -> bool;
     fn color(&mut self, name: &str) -> Option<[f64; 3]>;
     /// A colour without the [0, 1] bound of a reflectance (a conductor's `eta`, `k`): Mitsuba's
     /// `get_unbounded_texture`, which converts a spectrum differently.

@@ -1,10 +1,11 @@
 //! Mitsuba's `roughconductor` (WGSL: `shaders/bsdfs/rough_conductor.wgsl`): Torrance-Sparrow
 //! microfacet reflection with the conductor's Fresnel term and separable Smith shadowing. TOML
 //! the conductor's `eta`, `k` or `material`, `specular_reflectance`, and `distribution` (`beckmann`, Mitsuba's
-//! default, or `ggx`) and `alpha` (default 0.1; below 1e-4 clamped to it, as Mitsuba does).
+//! default, or `ggx`) and `alpha` (default 0.1; below 1e-4 clamped to it, as Mitsuba does; or a
+//! texture, Mitsuba's `eval_1` of it at the hit: `distribution::Roughness`).
 
 use super::conductor::Conductor;
-use super::distribution::{self, Distribution};
+use super::distribution::{self, Distribution, Roughness};
 use super::plugin::{BsdfData, BsdfParams, BsdfPlugin, Fields, PluginProps};
 
 #[derive(Debug, Clone, PartialEq)]
@@ -12,8 +13,8 @@ pub struct RoughConductor {
     /// The Fresnel term.
     pub fresnel: Conductor,
     pub distribution: Distribution,
-    /// The roughness, >= 1e-4.
-    pub alpha: f64,
+    /// The roughness, >= 1e-4, or a texture of it.
+    pub roughness: Roughness,
 }
 
 impl BsdfPlugin for RoughConductor {
@@ -23,20 +24,23 @@ impl BsdfPlugin for RoughConductor {
     const IS_DELTA: bool = false;
     const MICROFACETS: bool = true;
     const TEXTURE_SLOTS: &'static [usize] = &[2];
+    const SCALAR_TEXTURE_SLOTS: &'static [(usize, usize)] = &[(0, 3)];
 
     fn textures(&self) -> Vec<&crate::scene::Texture> {
-        self.fresnel.reflectance_texture.iter().collect()
+        self.fresnel.reflectance_texture.iter().chain(self.roughness.texture.iter()).collect()
     }
 
     fn from_fields(f: &mut Fields) -> RoughConductor {
         let fresnel = Conductor::read_fresnel(f);
-        let (distribution, alpha) = distribution::read_fields(f, "conductor");
-        RoughConductor { fresnel, distribution, alpha }
+        let (distribution, roughness) = distribution::read_fields(f, "conductor", true);
+        RoughConductor { fresnel, distribution, roughness }
     }
 
     fn from_mitsuba(p: &mut dyn PluginProps) -> Option<Vec<(&'static str, toml::Value)>> {
+        // The roughness first: a textured alpha is taken before the Fresnel reader refuses
+        // other textures.
+        let microfacets = distribution::read_mitsuba(p, true);
         let mut fields = Conductor::mitsuba_fresnel(p);
-        let microfacets = distribution::read_mitsuba(p);
         p.finish("distribution, alpha, eta, k, material, specular_reflectance (and, with a warning, sample_visible)");
         fields.extend(microfacets?);
         Some(fields)
@@ -44,10 +48,11 @@ impl BsdfPlugin for RoughConductor {
 
     fn hash_lines(&self, line: &mut dyn FnMut(&str, String)) {
         self.fresnel.fresnel_hash_lines(line);
-        line("conductor.rough", format!("{} {}", self.distribution, crate::scene::hash::real(self.alpha)));
+        line("conductor.rough", format!("{} {}", self.distribution, self.roughness.hash_value()));
     }
 
     fn pack(&self, data: &mut BsdfData) -> BsdfParams {
-        self.fresnel.pack_with(self.alpha, self.distribution, data)
+        let alpha = self.roughness.pack(data);
+        self.fresnel.pack_with(alpha, self.distribution, data)
     }
 }

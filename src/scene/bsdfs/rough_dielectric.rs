@@ -11,11 +11,12 @@
 //! Walter's roughness scaled by 1.2 - 0.2 sqrt|cos_o|, as Mitsuba does without
 //! `sample_visible`), then reflects with probability F or refracts. Both sides scatter. TOML and
 //! Mitsuba: `int_ior`, `ext_ior` (defaults bk7 and air; numbers or names of `ior.rs`; they must
-//! differ), `specular_reflectance`, `specular_transmittance`, `distribution`, `alpha`.
+//! differ), `specular_reflectance`, `specular_transmittance`, `distribution`, `alpha` (a number or
+//! a texture: `distribution::Roughness`).
 
 use glam::DVec3;
 
-use super::distribution::{self, Distribution};
+use super::distribution::{self, Distribution, Roughness};
 use super::ior::Interface;
 use super::plugin::{BsdfData, BsdfParams, BsdfPlugin, Fields, PluginProps};
 use crate::scene::hash::{real, vec3};
@@ -28,8 +29,8 @@ pub struct RoughDielectric {
     pub reflectance: DVec3,
     pub transmittance: DVec3,
     pub distribution: Distribution,
-    /// The roughness, >= 1e-4.
-    pub alpha: f64,
+    /// The roughness, >= 1e-4, or a texture of it.
+    pub roughness: Roughness,
 }
 
 impl RoughDielectric {
@@ -47,19 +48,26 @@ impl BsdfPlugin for RoughDielectric {
     const TRANSMITS: bool = true;
     const BOTH_SIDES: bool = true;
     const MICROFACETS: bool = true;
+    const SCALAR_TEXTURE_SLOTS: &'static [(usize, usize)] = &[(1, 3)];
+
+    fn textures(&self) -> Vec<&crate::scene::Texture> {
+        self.roughness.texture.iter().collect()
+    }
 
     fn from_fields(f: &mut Fields) -> RoughDielectric {
         let Interface { int_ior, ext_ior, reflectance, transmittance } = Interface::from_fields(f);
         if int_ior == ext_ior {
             f.error(f.span(), "int_ior", format!("int_ior and ext_ior must differ (both {int_ior}), as Mitsuba requires: an index-matched interface scatters nothing"));
         }
-        let (distribution, alpha) = distribution::read_fields(f, "dielectric");
-        RoughDielectric { int_ior, ext_ior, reflectance, transmittance, distribution, alpha }
+        let (distribution, roughness) = distribution::read_fields(f, "dielectric", true);
+        RoughDielectric { int_ior, ext_ior, reflectance, transmittance, distribution, roughness }
     }
 
     fn from_mitsuba(p: &mut dyn PluginProps) -> Option<Vec<(&'static str, toml::Value)>> {
+        // The roughness first: a textured alpha is taken before the interface's reader refuses
+        // other textures.
+        let microfacets = distribution::read_mitsuba(p, true);
         let mut fields = Interface::mitsuba_fields(p);
-        let microfacets = distribution::read_mitsuba(p);
         p.finish("int_ior, ext_ior, specular_reflectance, specular_transmittance, distribution, alpha (and, with a warning, sample_visible)");
         fields.extend(microfacets?);
         Some(fields)
@@ -70,13 +78,13 @@ impl BsdfPlugin for RoughDielectric {
         line("roughdielectric.ext_ior", real(self.ext_ior));
         line("roughdielectric.reflectance", vec3(self.reflectance));
         line("roughdielectric.transmittance", vec3(self.transmittance));
-        line("roughdielectric.microfacets", format!("{} {}", self.distribution.name(), real(self.alpha)));
+        line("roughdielectric.microfacets", format!("{} {}", self.distribution.name(), self.roughness.hash_value()));
     }
 
     /// `p0 = (reflectance, eta)`, `p1 = (transmittance, alpha)`, `p2 = (distribution, 0, 0, 0)`:
     /// the layout of WGSL's `rough_dielectric_of`.
-    fn pack(&self, _data: &mut BsdfData) -> BsdfParams {
+    fn pack(&self, data: &mut BsdfData) -> BsdfParams {
         let (r, t) = (self.reflectance.as_vec3(), self.transmittance.as_vec3());
-        [[r.x, r.y, r.z, self.eta() as f32], [t.x, t.y, t.z, self.alpha as f32], [self.distribution.constant() as f32, 0.0, 0.0, 0.0]]
+        [[r.x, r.y, r.z, self.eta() as f32], [t.x, t.y, t.z, self.roughness.pack(data)], [self.distribution.constant() as f32, 0.0, 0.0, 0.0]]
     }
 }

@@ -288,6 +288,9 @@ impl PluginProps for PluginReader<'_, '_, '_> {
     fn texture(&self) -> Option<usize> {
         self.o.children.iter().enumerate().find(|(i, c)| c.tag == "texture" && !self.taken.contains(i)).map(|(_, t)| t.at)
     }
+    fn has_texture(&self, name: &str) -> bool {
+        self.o.children.iter().any(|c| c.tag == "texture" && c.name.as_deref() == Some(name))
+    }
     fn color_or_texture(&mut self, name: &str) -> Option<toml::Value> {
         let nested = self.o.children.iter().position(|c| c.tag == "texture" && c.name.as_deref() == Some(name));
         let Some(i) = nested else { return self.color(name).map(color_value) };

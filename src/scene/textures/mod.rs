@@ -70,6 +70,31 @@ impl Texture {
         }
     }
 
+    /// The texture as Mitsuba's `eval_1` reads it (a scalar parameter: an opacity, a roughness),
+    /// for a kernel that takes the luminance of every texture's value (`texture_value_1` in
+    /// texture.wgsl): a bitmap unchanged (its luminance is Mitsuba's), a checkerboard with its
+    /// colours replaced by their channel means (grey) and swapped, as Mitsuba 3.9.1's
+    /// `Checkerboard::eval_1` gives `color0` where its `eval` gives `color1` (its test is
+    /// `mask.x() != mask.y()` where `eval`'s is `==`), which the z-test against Mitsuba's own
+    /// render of a masked checkerboard confirms (tests/masks.rs).
+    pub fn scalar(self) -> Texture {
+        match self {
+            Texture::Checkerboard { color0, color1, to_uv_scale } => Texture::Checkerboard {
+                color0: DVec3::splat(color1.element_sum() / 3.0),
+                color1: DVec3::splat(color0.element_sum() / 3.0),
+                to_uv_scale,
+            },
+            t => t,
+        }
+    }
+
+    /// Its scalar value at `uv` (a texture made by `scalar`): the luminance of its value, in
+    /// f32 as the kernel's `texture_value_1`.
+    pub fn eval_1(&self, uv: [f32; 2]) -> f32 {
+        let c = self.eval(uv);
+        0.212671f32 * c[0] + 0.715160f32 * c[1] + 0.072169f32 * c[2]
+    }
+
     /// Its value at `uv`, in f32 as the kernel computes it: the host's twin of `eval_texture`.
     pub fn eval(&self, uv: [f32; 2]) -> [f32; 3] {
         match self {
