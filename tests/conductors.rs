@@ -203,3 +203,22 @@ fn named_conductors_are_mitsubas() {
     assert!(s.materials.iter().any(|m| matches!(&m.bsdf, Bsdf::RoughConductor(r) if (r.fresnel.eta, r.fresnel.k) == al && r.roughness.alpha == 0.05)));
     assert!(s.materials.iter().any(|m| matches!(&m.bsdf, Bsdf::Conductor(c) if (c.eta, c.k) == cu)));
 }
+
+#[test]
+fn negative_eta_and_k_of_a_mitsuba_conductor_read_as_their_magnitudes() {
+    // Bitterli's living room (ReSTIR_GI_DR's living-room-2) gives a roughconductor's eta and k
+    // negative channels, which Mitsuba accepts; its Fresnel term, as pathlab's, reads them only
+    // squared. Read as their magnitudes, with a warning naming the line: the same scene as the
+    // magnitudes written out.
+    let bsdf = |eta: &str, k: &str| {
+        xml_with_bsdf(&format!("<bsdf type=\"roughconductor\" id=\"c\"><rgb name=\"eta\" value=\"{eta}\"/><rgb name=\"k\" value=\"{k}\"/></bsdf>"), "c")
+    };
+    let negative = load_xml(&bsdf("-0.0485226, 4.14275, 4.66977", "-0.0363742, 0.0937665, 1.30074"), "c.xml").unwrap();
+    let positive = load_xml(&bsdf("0.0485226, 4.14275, 4.66977", "0.0363742, 0.0937665, 1.30074"), "c.xml").unwrap();
+    assert_eq!(negative.content_hash(), positive.content_hash());
+    let warnings: Vec<String> = negative.warnings.iter().map(|w| w.to_string()).collect();
+    assert_eq!(warnings.iter().filter(|w| w.contains("c.xml:3:") && w.contains("below 0")).count(), 2, "{warnings:?}");
+    // Not finite: refused.
+    let e = load_xml(&bsdf("nan, 1, 1", "1, 1, 1"), "c.xml").unwrap_err().to_string();
+    assert!(e.contains("`eta`"), "{e}");
+}

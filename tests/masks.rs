@@ -16,14 +16,6 @@ use common::*;
 use pathlab::method::{Method, Preset};
 use pathlab::scene::{Opacity, Scene};
 
-/// A Mitsuba XML scene from its text, as a file m.xml.
-fn load_xml(text: &str) -> Result<Scene, pathlab::scene::SceneError> {
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("m.xml");
-    std::fs::write(&path, text).unwrap();
-    Scene::load(&path)
-}
-
 fn fixture() -> std::path::PathBuf {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/mask/mask.xml")
 }
@@ -68,7 +60,7 @@ fn opacities_are_read_as_mitsuba_reads_them() {
     // A mask without opacity takes Mitsuba's 0.5; an opacity of 1 is no mask (the same hash as
     // none).
     let xml = xml_with_bsdf("<bsdf type=\"mask\" id=\"m\"><bsdf type=\"diffuse\"/></bsdf>", "m");
-    let s = load_xml(&xml).unwrap();
+    let s = load_xml(&xml, "m.xml").unwrap();
     assert_eq!(s.materials[0].opacity, Some(Opacity::Constant(0.5)));
     let opaque = Scene::parse(&toml_with_material("diffuse = 0.5\nopacity = 1"), "a.toml").unwrap();
     let none = Scene::parse(&toml_with_material("diffuse = 0.5"), "a.toml").unwrap();
@@ -96,7 +88,7 @@ fn convert_writes_the_masks_and_their_textures() {
 #[test]
 fn bad_masks_are_refused_where_they_are() {
     let refused = |text: &str, file: &str| -> String {
-        let loaded = if file.ends_with(".xml") { load_xml(text) } else { Scene::parse(text, file) };
+        let loaded = if file.ends_with(".xml") { load_xml(text, file) } else { Scene::parse(text, file) };
         match loaded {
             Ok(_) => panic!("accepted:\n{text}"),
             Err(e) => e.to_string(),

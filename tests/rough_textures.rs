@@ -66,8 +66,6 @@ fn textured_roughness_is_read_and_refused_where_mitsuba_refuses_it() {
     let e = Scene::parse(&toml_with_material("bsdf = \"roughplastic\"\nalpha = { texture = \"checkerboard\" }"), "a.toml").unwrap_err().to_string();
     assert!(e.contains("materials.m.alpha") && e.contains("must be a number"), "{e}");
     let xml = xml_with_bsdf("<bsdf type=\"roughplastic\" id=\"t\"><texture type=\"checkerboard\" name=\"alpha\"/></bsdf>", "t");
-    let p = dir.path().join("t.xml");
-    std::fs::write(&p, xml).unwrap();
-    let e = Scene::load(&p).unwrap_err().to_string();
+    let e = load_xml(&xml, "t.xml").unwrap_err().to_string();
     assert!(e.contains("t.xml:3:") && e.contains("textured `alpha`"), "{e}");
 }

@@ -19,14 +19,6 @@ fn fixture() -> std::path::PathBuf {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/twosided/twosided.xml")
 }
 
-/// A Mitsuba XML scene from its text, as a file t.xml.
-fn load_xml(text: &str) -> Result<Scene, pathlab::scene::SceneError> {
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("t.xml");
-    std::fs::write(&path, text).unwrap();
-    Scene::load(&path)
-}
-
 #[test]
 fn two_bsdfs_agree_with_mitsuba() {
     let reference = mitsuba_fixture("twosided");
@@ -93,10 +85,10 @@ fn toml_backs_convert_and_refusals() {
 
     // XML: at most two nested BSDFs, none that transmits (as Mitsuba refuses them).
     let xml = |inner: &str| xml_with_bsdf(&format!("<bsdf type=\"twosided\" id=\"t\">{inner}</bsdf>"), "t");
-    let e = load_xml(&xml("<bsdf type=\"diffuse\"/><bsdf type=\"diffuse\"/><bsdf type=\"diffuse\"/>")).unwrap_err().to_string();
+    let e = load_xml(&xml("<bsdf type=\"diffuse\"/><bsdf type=\"diffuse\"/><bsdf type=\"diffuse\"/>"), "t.xml").unwrap_err().to_string();
     assert!(e.contains("t.xml:3:") && e.contains("at most two"), "{e}");
-    let e = load_xml(&xml("<bsdf type=\"diffuse\"/><bsdf type=\"dielectric\"/>")).unwrap_err().to_string();
+    let e = load_xml(&xml("<bsdf type=\"diffuse\"/><bsdf type=\"dielectric\"/>"), "t.xml").unwrap_err().to_string();
     assert!(e.contains("t.xml:3:") && e.contains("transmits"), "{e}");
-    let s = load_xml(&xml("<bsdf type=\"diffuse\"/><bsdf type=\"plastic\"/>")).unwrap();
+    let s = load_xml(&xml("<bsdf type=\"diffuse\"/><bsdf type=\"plastic\"/>"), "t.xml").unwrap();
     assert_eq!(s.materials.iter().filter(|m| m.back.is_some()).count(), 1);
 }

@@ -54,6 +54,16 @@ pub fn xml_with_bsdf(bsdf: &str, id: &str) -> String {
     )
 }
 
+/// A Mitsuba XML scene from its text, written as file `name` in a folder of its own (diagnostics
+/// name it).
+#[allow(dead_code)]
+pub fn load_xml(text: &str, name: &str) -> Result<Scene, pathlab::scene::SceneError> {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join(name);
+    std::fs::write(&path, text).unwrap();
+    Scene::load(&path)
+}
+
 /// f(wi, wo) with the pdf of the own strategy, and f(wo, wi), of `bsdf` (shading normal +z,
 /// seen from outside) at each pair (wo, wi) of `pairs` (even entries wo, odd wi), computed by
 /// the kernel's `eval_pdf_bsdf` with the BSDF's data bound: per pair, `[f, pdf]` then `[f

@@ -560,6 +560,15 @@ impl Translator<'_> {
                 converted.rgb
             }
         };
+        if role == SpectrumRole::Unbounded && rgb.iter().all(|v| v.is_finite()) && rgb.iter().any(|v| *v < 0.0) {
+            // A conductor's eta or k below 0 (Bitterli's RGB fits have some): Mitsuba accepts
+            // them, and its Fresnel term (as pathlab's, fresnel.wgsl) reads eta and k only
+            // squared, so their magnitudes give the same term.
+            let what = p.what();
+            let magnitude = rgb.map(f64::abs);
+            self.warn(prop.value_at, name, format!("`{name}` of {what} has channels below 0 ({rgb:?}): the conductor's Fresnel term depends on eta and k squared only, so it is read as {magnitude:?}, the same term Mitsuba computes"));
+            return Some((magnitude, prop.value_at));
+        }
         if !rgb.iter().all(|v| v.is_finite() && *v >= 0.0) {
             let what = p.what();
             self.error(prop.value_at, name, format!("`{name}` of {what} must be finite and >= 0 in every channel (got {rgb:?})"));
