@@ -148,10 +148,13 @@ fn material_on_side(i: u32, from_inside: bool) -> u32 {
     return i;
 }
 
+// Some material's opacity is a texture (SceneFeatures::textured_opacity).
+override TEXTURED_OPACITY: bool = true;
+
 // The opacity of material i at uv (Mitsuba's mask): its constant, or its texture's value there.
 fn material_opacity(i: u32, uv: vec2f) -> f32 {
     let o = materials[i].opacity;
-    if (!HAS_UVS || o >= 0.0) {
+    if (!HAS_UVS || !TEXTURED_OPACITY || o >= 0.0) {
         return o;
     }
     return mask_opacity_of_texel(eval_texture(u32(-o - 1.0), uv));

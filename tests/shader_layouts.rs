@@ -92,6 +92,8 @@ fn overrides_set_by_the_host_are_those_the_module_declares() {
         has_shading_normals: true,
         has_uvs: true,
         has_masks: true,
+        textured_opacity: true,
+        textured_slots: u64::MAX,
         has_back_bsdfs: true,
         rr_depth: 3,
         thin_lens: true,

@@ -73,6 +73,9 @@ fn every_override_permutation_validates() {
                                     has_uvs: on,
                                     // Masks on and off, with uvs on and off.
                                     has_masks: (checked / 3) % 2 == 0,
+                                    textured_opacity: on,
+                                    // Every slot of every kind looked up, or none.
+                                    textured_slots: if (checked / 7) % 2 == 0 { u64::MAX } else { 0 },
                                     // Back BSDFs on and off, with several kinds and with Phong alone.
                                     has_back_bsdfs: (checked / 5) % 2 == 0,
                                     rr_depth: if on { 2 } else { 0 },

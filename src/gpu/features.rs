@@ -29,6 +29,13 @@ pub struct SceneFeatures {
     /// Some material is masked (`Material::opacity`, Mitsuba's `mask`): rays may pass
     /// straight through surfaces.
     pub has_masks: bool,
+    /// Some material's opacity is a texture.
+    pub textured_opacity: bool,
+    /// Per BSDF kind (8 bits from bit 8 k, k its number), the texture slots some material of the
+    /// kind gives a texture (`Bsdf::textured_slots`): each kind's `TEXTURED_<KIND>` override.
+    /// On SIMD CPU drivers, which run both sides of every branch, a slot looked up for nothing
+    /// costs a whole texture lookup.
+    pub textured_slots: u64,
     /// Some material has another BSDF on its back (`Material::back`, Mitsuba's `twosided` with
     /// two BSDFs).
     pub has_back_bsdfs: bool,
@@ -98,6 +105,8 @@ impl SceneFeatures {
             has_shading_normals: scene.meshes.iter().any(|m| !m.normals.is_empty()),
             has_uvs: scene.materials.iter().any(|m| m.reads_uv()),
             has_masks: scene.materials.iter().any(|m| m.opacity.is_some()),
+            textured_opacity: scene.materials.iter().any(|m| m.opacity.as_ref().is_some_and(|o| o.texture().is_some())),
+            textured_slots: scene.materials.iter().fold(0, |bits, m| bits | (m.bsdf.textured_slots() as u64) << (8 * m.bsdf_kind().constant())),
             has_back_bsdfs: scene.materials.iter().any(|m| m.back.is_some()),
             rr_depth: scene.render.rr_depth.unwrap_or(0),
             thin_lens: scene.camera.aperture_radius > 0.0,

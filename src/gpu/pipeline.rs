@@ -70,6 +70,7 @@ pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
         ("HAS_SHADING_NORMALS", f.has_shading_normals as u32 as f64),
         ("HAS_UVS", f.has_uvs as u32 as f64),
         ("HAS_MASKS", f.has_masks as u32 as f64),
+        ("TEXTURED_OPACITY", f.textured_opacity as u32 as f64),
         ("HAS_BACK_BSDFS", f.has_back_bsdfs as u32 as f64),
         ("THIN_LENS", f.thin_lens as u32 as f64),
         ("HIDE_EMITTERS", f.hide_emitters as u32 as f64),
@@ -86,6 +87,10 @@ pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
         ("ENV_TECHNIQUE", key.method.env_technique.is_some() as u32 as f64),
     ];
     constants.extend(kinds);
+    // One TEXTURED_<KIND> per kind with texture slots.
+    for k in BsdfKind::ALL.into_iter().filter(|k| !k.texture_slots().is_empty() || !k.scalar_texture_slots().is_empty()) {
+        constants.push((k.textured_override(), ((f.textured_slots >> (8 * k.constant())) & 0xff) as f64));
+    }
     // One NUM_<KIND>_LIGHTS per emitter kind (NUM_LIGHTS is their sum, in the WGSL).
     constants.extend(EmitterKind::ALL.map(|k| (k.count_override(), f.lights_of(k) as f64)));
     constants

@@ -145,14 +145,21 @@ pub fn bsdf_dispatch() -> String {
     let mut f = "\n// The material's BSDF with every textured colour slot of its kind looked up at uv (texture.wgsl).\n\
                  fn bsdf_apply_textures(b: Bsdf, uv: vec2f) -> Bsdf {\n    var t = b;\n"
         .to_string();
-    for k in BsdfKind::ALL.iter().filter(|k| !k.texture_slots().is_empty() || !k.scalar_texture_slots().is_empty()) {
+    let textured: Vec<&BsdfKind> = BsdfKind::ALL.iter().filter(|k| !k.texture_slots().is_empty() || !k.scalar_texture_slots().is_empty()).collect();
+    for k in &textured {
+        f = format!("// Which of the kind {}'s texture slots some material gives a texture (bit i: the i-th).\noverride {}: u32 = 255u;\n", k.name(), k.textured_override()) + &f;
+    }
+    for k in textured {
         f += &format!("    if ({}) {{\n", is(k));
+        let mut i = 0;
         for slot in k.texture_slots() {
-            f += &format!("        t.p{slot} = vec4f(texture_slot(t.p{slot}.xyz, uv), t.p{slot}.w);\n");
+            f += &format!("        if (({} & {}u) != 0u) {{\n            t.p{slot} = vec4f(texture_slot(t.p{slot}.xyz, uv), t.p{slot}.w);\n        }}\n", k.textured_override(), 1 << i);
+            i += 1;
         }
         for (slot, c) in k.scalar_texture_slots() {
             let c = ["x", "y", "z", "w"][*c];
-            f += &format!("        t.p{slot}.{c} = scalar_texture_slot(t.p{slot}.{c}, uv);\n");
+            f += &format!("        if (({} & {}u) != 0u) {{\n            t.p{slot}.{c} = scalar_texture_slot(t.p{slot}.{c}, uv);\n        }}\n", k.textured_override(), 1 << i);
+            i += 1;
         }
         f += "    }\n";
     }

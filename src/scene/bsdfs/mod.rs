@@ -197,6 +197,14 @@ impl BsdfKind {
         &NAMES.get_or_init(|| BsdfKind::ALL.iter().map(|k| format!("HAS_{}", k.stem().to_uppercase())).collect())[self as usize]
     }
 
+    /// The pipeline constant saying which of the kind's texture slots (its `texture_slots`, then
+    /// its `scalar_texture_slots`, bit i the i-th) some material of the scene gives a texture
+    /// (`TEXTURED_ROUGH_CONDUCTOR`): the others are not looked up.
+    pub fn textured_override(self) -> &'static str {
+        static NAMES: OnceLock<Vec<String>> = OnceLock::new();
+        &NAMES.get_or_init(|| BsdfKind::ALL.iter().map(|k| format!("TEXTURED_{}", k.stem().to_uppercase())).collect())[self as usize]
+    }
+
     /// The bit of this kind in a set of kinds (`SceneFeatures::bsdf_kinds`).
     pub fn bit(self) -> u32 {
         1 << self.constant()
@@ -219,6 +227,20 @@ impl BsdfKind {
 }
 
 impl Bsdf {
+    /// Which of its kind's texture slots hold a texture (bit i: the i-th of the kind's
+    /// `texture_slots` then `scalar_texture_slots`): read off its packed block, where a texture
+    /// is a negative reference.
+    pub fn textured_slots(&self) -> u8 {
+        if !self.reads_uv() {
+            return 0;
+        }
+        let block = self.pack(&mut BsdfData::default());
+        let kind = self.kind();
+        let colour = kind.texture_slots().iter().map(|&s| block[s][0] < 0.0);
+        let scalar = kind.scalar_texture_slots().iter().map(|&(s, c)| block[s][c] < 0.0);
+        colour.chain(scalar).enumerate().fold(0, |bits, (i, textured)| bits | ((textured as u8) << i))
+    }
+
     /// The Phong parameters, for the kind that has them.
     pub fn as_phong(&self) -> Option<&Phong> {
         match self {
