@@ -92,3 +92,12 @@ fn toml_backs_convert_and_refusals() {
     let s = load_xml(&xml("<bsdf type=\"diffuse\"/><bsdf type=\"plastic\"/>"), "t.xml").unwrap();
     assert_eq!(s.materials.iter().filter(|m| m.back.is_some()).count(), 1);
 }
+
+#[test]
+fn check_lists_the_masks_and_the_backs() {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_pathlab")).arg("check").arg(fixture()).output().unwrap();
+    assert!(out.status.success());
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("two BSDFs: 2 material(s)") && stdout.contains("paper (back: paper-back)"), "{stdout}");
+    assert!(stdout.contains("masks: 1 material(s)") && stdout.contains("(opacity 0.5)"), "{stdout}");
+}

@@ -228,6 +228,10 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
     if !masked.is_empty() {
         println!("masks: {} material(s) let rays through (Mitsuba's mask; shadow rays do not see through): {}", masked.len(), masked.join(", "));
     }
+    let backs: Vec<String> = scene.materials.iter().filter_map(|m| m.back.map(|b| format!("{} (back: {})", m.name, scene.materials[b].name))).collect();
+    if !backs.is_empty() {
+        println!("two BSDFs: {} material(s) scatter by another BSDF on their back (Mitsuba's twosided with two): {}", backs.len(), backs.join(", "));
+    }
     if scene.camera.aperture_radius > 0.0 {
         println!(
             "camera: thin lens, aperture radius {}, in focus at distance {} (depth of field; the lens takes sample dimensions 2 and 3)",
