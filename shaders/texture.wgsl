@@ -86,7 +86,7 @@ fn eval_texture(at: u32, uv: vec2f) -> vec3f {
 // packs a checkerboard read so grey (`Texture::scalar`), whose luminance is itself. Host twin:
 // `Texture::eval_1`.
 fn texture_value_1(c: vec3f) -> f32 {
-    return 0.212671 * c.x + 0.715160 * c.y + 0.072169 * c.z;
+    return dot(LUMINANCE, c);
 }
 
 // A scalar slot's value at uv (a roughness): itself, or, where negative, the value of the

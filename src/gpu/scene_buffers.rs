@@ -55,7 +55,6 @@ pub struct GpuMaterial {
     pub _pad: u32,
 }
 
-
 /// A triangle as the kernel reads it (`Triangle`, bvh.wgsl): vertices, material, the light it
 /// is (`u32::MAX`: none) and flags.
 #[repr(C)]

@@ -49,6 +49,8 @@ pub fn generated_constants() -> String {
          const BITMAP_HEADER: u32 = {}u;\n\
          // Numbers of the environment map's record before its texels (src/scene/emitters/environment.rs).\n\
          const ENVIRONMENT_MAP_HEADER: u32 = {}u;\n\
+         // Rec. 709 luminance weights of linear sRGB (src/scene/emitters/selection.rs).\n\
+         const LUMINANCE: vec3f = vec3f({:?}, {:?}, {:?});\n\
          // Binding numbers of group 0 (src/shaders/bindings.rs).\n\
          {}{}",
         crate::accel::bvh::MAX_DEPTH,
@@ -76,6 +78,9 @@ pub fn generated_constants() -> String {
         crate::scene::textures::bitmap::TEXTURE_BITMAP,
         crate::scene::textures::bitmap::BITMAP_HEADER,
         crate::scene::emitters::ENVIRONMENT_MAP_HEADER,
+        crate::scene::emitters::LUMINANCE_WEIGHTS[0] as f32,
+        crate::scene::emitters::LUMINANCE_WEIGHTS[1] as f32,
+        crate::scene::emitters::LUMINANCE_WEIGHTS[2] as f32,
         bindings::wgsl(&bindings::PATH_TRACER),
         bindings::wgsl(&bindings::DISPLAY),
     )

@@ -23,7 +23,7 @@ pub use directional::DirectionalLight;
 pub use environment::{EnvDistribution, EnvironmentMap, ENVIRONMENT_MAP_HEADER};
 pub use point::PointLight;
 pub use spot::{SpotLight, BEAM_WIDTH_OF_CUTOFF, DEFAULT_CUTOFF_ANGLE};
-pub use selection::{luminance, AliasTable};
+pub use selection::{luminance, AliasTable, LUMINANCE_WEIGHTS};
 
 use super::Scene;
 use crate::names::named_enum;

@@ -7,9 +7,13 @@ use glam::DVec3;
 use crate::scene::Scene;
 use crate::method::LightSelect;
 
+/// The Rec. 709 luminance weights of linear sRGB (Mitsuba's `luminance`): the one definition,
+/// generated into the WGSL as `LUMINANCE` (src/shaders/generated.rs).
+pub const LUMINANCE_WEIGHTS: [f64; 3] = [0.212671, 0.715160, 0.072169];
+
 /// Rec. 709 luminance, the weight of a colour in power selection.
 pub fn luminance(c: DVec3) -> f64 {
-    c.dot(DVec3::new(0.212671, 0.715160, 0.072169))
+    c.dot(DVec3::from(LUMINANCE_WEIGHTS))
 }
 
 impl Scene {

@@ -91,8 +91,8 @@ impl Texture {
     /// Its scalar value at `uv` (a texture made by `scalar`): the luminance of its value, in
     /// f32 as the kernel's `texture_value_1`.
     pub fn eval_1(&self, uv: [f32; 2]) -> f32 {
-        let c = self.eval(uv);
-        0.212671f32 * c[0] + 0.715160f32 * c[1] + 0.072169f32 * c[2]
+        let (c, w) = (self.eval(uv), crate::scene::emitters::LUMINANCE_WEIGHTS.map(|w| w as f32));
+        w[0] * c[0] + w[1] * c[1] + w[2] * c[2]
     }
 
     /// Its value at `uv`, in f32 as the kernel computes it: the host's twin of `eval_texture`.
