@@ -288,9 +288,16 @@ fn the_cpu_and_gpu_tunings_render_the_same_images() {
     use pathlab::gpu::{AdapterTuning, PathTracerPipelines};
     use pathlab::render::Renderer;
     let gpu_tuning = AdapterTuning::for_device(wgpu::DeviceType::DiscreteGpu);
-    let cpu_tuning = AdapterTuning::for_device(wgpu::DeviceType::Cpu);
+    let mut cpu_tuning = AdapterTuning::for_device(wgpu::DeviceType::Cpu);
     assert!(gpu_tuning.brute_force_limit == 0 && !gpu_tuning.stackless_traversal && gpu_tuning.ordered_edges);
     assert!(cpu_tuning.stackless_traversal && !cpu_tuning.ordered_edges);
+    // Where the adapter fuses multiply-adds (a GPU), the CPU tuning's plain edge functions let
+    // rays through shared edges (what ORDERED_EDGES is for): there both tunings run with the
+    // edge functions this adapter needs, so that what differs is the traversal alone (the small
+    // scenes' triangle-by-triangle tests, the stackless traversal).
+    if gpu().info.device_type != wgpu::DeviceType::Cpu {
+        cpu_tuning.ordered_edges = true;
+    }
     let tuned = [gpu_tuning, cpu_tuning].map(|t| PathTracerPipelines::with_tuning(&gpu().device, t));
     for file in ["cornell_box.toml", "veach_mis.xml"] {
         let mut scene = Scene::load(format!("{}/assets/scenes/{file}", env!("CARGO_MANIFEST_DIR"))).unwrap();
@@ -298,7 +305,8 @@ fn the_cpu_and_gpu_tunings_render_the_same_images() {
         for preset in [Preset::Mis, Preset::Best] {
             let [a, b] = [&tuned[0], &tuned[1]].map(|p| finish(Renderer::new(gpu(), p, &scene, preset.method(), 5).expect("renderer"), 16).film);
             assert!(a.mean.iter().flatten().any(|&x| x > 0.0));
-            assert!(bits(&a) == bits(&b), "{file} {}: the GPU's tuning renders another image than the CPU's", preset.name());
+            let differing = bits(&a).iter().zip(bits(&b).iter()).filter(|(x, y)| x != y).count();
+            assert!(differing == 0, "{file} {}: the GPU's tuning renders another image than the CPU's ({differing} of {} values differ)", preset.name(), bits(&a).len());
         }
     }
     assert!(Scene::load(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes/cornell_box.toml")).unwrap().num_triangles() as u32 <= pathlab::accel::BRUTE_FORCE_TRIANGLES);

@@ -66,14 +66,21 @@ fn wgsl_samplers_match_their_cpu_twin() {
             let ulps = (g.to_bits() as i64 - cpu.to_bits() as i64).abs();
             // Where the adapter's arithmetic is the CPU's (lavapipe): Halton's radical inverse
             // within one ulp, the others exact. A GPU may round division by 2.5 ulps and fuse
-            // multiply-adds (WGSL allows both): 4 ulps on an NVIDIA H200.
+            // multiply-adds (WGSL allows both): 8 ulps. Halton's rotation x + shift - 1 is
+            // rounded at the sum's scale: an ulp of x there is an ulp of [1, 2), 2^-23, after the
+            // wrap however small the result (an NVIDIA H200: 0.0009738207 against 0.0009737015),
+            // so the rotated samples are compared by their distance on the circle [0, 1).
             let cpu_arithmetic = crate::common::gpu().info.device_type == wgpu::DeviceType::Cpu;
-            let allowed = match (matches!(sampler, Sampler::Halton | Sampler::HaltonScrambled), cpu_arithmetic) {
+            let halton = matches!(sampler, Sampler::Halton | Sampler::HaltonScrambled);
+            let allowed = match (halton, cpu_arithmetic) {
                 (true, true) => 1,
                 (false, true) => 0,
                 (_, false) => 8,
             };
-            assert!(ulps <= allowed, "{sampler:?} index {index} dim {dim}: gpu {g} cpu {cpu}");
+            let d = (g as f64 - cpu as f64).abs();
+            let circle = d.min(1.0 - d);
+            let rotated_close = sampler == Sampler::Halton && !cpu_arithmetic && circle <= 2.0 * f32::EPSILON as f64;
+            assert!(ulps <= allowed || rotated_close, "{sampler:?} index {index} dim {dim}: gpu {g} cpu {cpu}");
         }
     }
 }
