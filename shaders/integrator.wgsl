@@ -319,7 +319,7 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
             from_inside = dot(hit.shading_normal, wo) < 0.0;
             n_s = select(hit.shading_normal, -hit.shading_normal, from_inside);
         }
-        var m = material_bsdf(hit.material, from_inside, hit.uv);
+        var m = material_bsdf(hit.material, from_inside, hit.uv, x);
         m.inside = from_inside;
         let dim_base = first_vertex_dim() + (depth - 1u) * dims_per_vertex();
         // A one-sided BSDF seen from behind (the side its surface normal points away from)

@@ -119,7 +119,7 @@ struct FrameParams {
 // kinds than Phong (whose two slots are the rest): a dynamically indexed uniform read costs per
 // byte on SIMD CPU drivers (reading the whole 80-byte Material cost the study scene a quarter of
 // its speed).
-fn material_bsdf(material: u32, from_inside: bool, uv: vec2f) -> Bsdf {
+fn material_bsdf(material: u32, from_inside: bool, uv: vec2f, p: vec3f) -> Bsdf {
     let i = material_on_side(material, from_inside);
     var b = Bsdf(BSDF_KIND_PHONG, materials[i].p0, materials[i].p1, vec4f(0.0), false, 1.0);
     if (bsdf_kinds_vary()) {
@@ -127,10 +127,10 @@ fn material_bsdf(material: u32, from_inside: bool, uv: vec2f) -> Bsdf {
         b.p2 = materials[i].p2;
     }
     if (HAS_UVS) {
-        b = bsdf_apply_textures(b, uv);
+        b = bsdf_apply_textures(b, uv, p);
     }
     if (HAS_MASKS) {
-        b.opacity = material_opacity(material, uv);
+        b.opacity = material_opacity(material, uv, p);
     }
     return b;
 }
@@ -151,11 +151,12 @@ fn material_on_side(i: u32, from_inside: bool) -> u32 {
 // Some material's opacity is a texture (SceneFeatures::textured_opacity).
 override TEXTURED_OPACITY: bool = true;
 
-// The opacity of material i at uv (Mitsuba's mask): its constant, or its texture's value there.
-fn material_opacity(i: u32, uv: vec2f) -> f32 {
+// The opacity of material i at uv and world position p (Mitsuba's mask): its constant, or its
+// texture's value there.
+fn material_opacity(i: u32, uv: vec2f, p: vec3f) -> f32 {
     let o = materials[i].opacity;
     if (!HAS_UVS || !TEXTURED_OPACITY || o >= 0.0) {
         return o;
     }
-    return mask_opacity_of_texel(eval_texture(u32(-o - 1.0), uv));
+    return mask_opacity_of_texel(eval_texture(u32(-o - 1.0), uv, p));
 }

@@ -1,5 +1,6 @@
 // texture.wgsl — textures: BSDF parameters that vary over a surface, looked up at the hit's uv
-// parametrisation (src/scene/textures.rs; Mitsuba's src/textures/). A colour slot of a BSDF's
+// parametrisation or, for a grid volume, its world position p (src/scene/textures/; Mitsuba's
+// src/textures/). A colour slot of a BSDF's
 // parameter block holds its value, or, where its first number is negative, the reference
 // -(start + 1) of a texture's record in bsdf_data (bsdf.wgsl); the slots a kind lets be textures
 // are resolved by the generated `bsdf_apply_textures` before the BSDF is evaluated, which the
@@ -14,6 +15,10 @@
 //   bytes a 256-entry decode table (sRGB or code/255) and one number per texel holding its
 //   codes r + 256 g + 65536 b, for floats three numbers per texel; rows from the top
 //   (src/scene/textures/bitmap.rs, whose `Bitmap::eval` is this lookup's host twin).
+//   volume (2): nx, ny, nz, channels (1 or 3), filter (0 nearest, 1 trilinear), wrap, the
+//   world-to-grid map (12: three rows of an affine map), then the cells, x fastest, `channels`
+//   numbers each (src/scene/textures/volume.rs, `GridVolume::eval` its host twin): looked up at
+//   the hit's world position p, not its uvs (Mitsuba's `volume` texture around a `gridvolume`).
 
 fn eval_checkerboard_texture(at: u32, uv: vec2f) -> vec3f {
     let scaled = uv * vec2f(bsdf_data[at + 7u], bsdf_data[at + 8u]);
@@ -74,10 +79,59 @@ fn eval_bitmap_texture(at: u32, uv_in: vec2f) -> vec3f {
     return top + f.y * (bottom - top);
 }
 
-// The texture whose record starts at `at`, at uv.
-fn eval_texture(at: u32, uv: vec2f) -> vec3f {
-    if (bsdf_data[at] == TEXTURE_BITMAP) {
+// Cell (x, y, z) (wrapped) of the grid volume at `at`, as RGB (one channel: grey).
+fn volume_cell(at: u32, x: i32, y: i32, z: i32) -> vec3f {
+    let n = vec3i(i32(bsdf_data[at + 1u]), i32(bsdf_data[at + 2u]), i32(bsdf_data[at + 3u]));
+    let mode = u32(bsdf_data[at + 6u]);
+    let c = vec3i(bitmap_wrap(x, n.x, mode), bitmap_wrap(y, n.y, mode), bitmap_wrap(z, n.z, mode));
+    let channels = u32(bsdf_data[at + 4u]);
+    let t = at + VOLUME_HEADER + u32((c.z * n.y + c.y) * n.x + c.x) * channels;
+    if (channels == 1u) {
+        return vec3f(bsdf_data[t]);
+    }
+    return vec3f(bsdf_data[t], bsdf_data[t + 1u], bsdf_data[t + 2u]);
+}
+
+// A grid volume at world position p: p into the grid's unit cube, then Dr.Jit's texture lookup
+// in 3D (cell centres at integers after subtracting 1/2; trilinear along x, then y, then z).
+fn eval_volume_texture(at: u32, p: vec3f) -> vec3f {
+    let m = at + 7u;
+    let q = vec3f(bsdf_data[m] * p.x + bsdf_data[m + 1u] * p.y + bsdf_data[m + 2u] * p.z + bsdf_data[m + 3u],
+                  bsdf_data[m + 4u] * p.x + bsdf_data[m + 5u] * p.y + bsdf_data[m + 6u] * p.z + bsdf_data[m + 7u],
+                  bsdf_data[m + 8u] * p.x + bsdf_data[m + 9u] * p.y + bsdf_data[m + 10u] * p.z + bsdf_data[m + 11u]);
+    let size = vec3f(bsdf_data[at + 1u], bsdf_data[at + 2u], bsdf_data[at + 3u]);
+    if (bsdf_data[at + 5u] == 0.0) {
+        let c = floor(q * size);
+        return volume_cell(at, i32(c.x), i32(c.y), i32(c.z));
+    }
+    let pos = q * size - vec3f(0.5);
+    let base = floor(pos);
+    let f = pos - base;
+    let x0 = i32(base.x);
+    let y0 = i32(base.y);
+    let z0 = i32(base.z);
+    var planes: array<vec3f, 2>;
+    for (var k = 0; k < 2; k++) {
+        let bottom = mix_exact(volume_cell(at, x0, y0, z0 + k), volume_cell(at, x0 + 1, y0, z0 + k), f.x);
+        let top = mix_exact(volume_cell(at, x0, y0 + 1, z0 + k), volume_cell(at, x0 + 1, y0 + 1, z0 + k), f.x);
+        planes[k] = mix_exact(bottom, top, f.y);
+    }
+    return mix_exact(planes[0], planes[1], f.z);
+}
+
+// a + t (b - a), written out (the host twin's order; WGSL's mix may round otherwise).
+fn mix_exact(a: vec3f, b: vec3f, t: f32) -> vec3f {
+    return a + t * (b - a);
+}
+
+// The texture whose record starts at `at`, at uv and world position p.
+fn eval_texture(at: u32, uv: vec2f, p: vec3f) -> vec3f {
+    let kind = bsdf_data[at];
+    if (kind == TEXTURE_BITMAP) {
         return eval_bitmap_texture(at, uv);
+    }
+    if (kind == TEXTURE_VOLUME) {
+        return eval_volume_texture(at, p);
     }
     return eval_checkerboard_texture(at, uv);
 }
@@ -89,19 +143,19 @@ fn texture_value_1(c: vec3f) -> f32 {
     return dot(LUMINANCE, c);
 }
 
-// A scalar slot's value at uv (a roughness): itself, or, where negative, the value of the
-// texture whose record it references, -(start + 1).
-fn scalar_texture_slot(v: f32, uv: vec2f) -> f32 {
+// A scalar slot's value at uv and p (a roughness): itself, or, where negative, the value of
+// the texture whose record it references, -(start + 1).
+fn scalar_texture_slot(v: f32, uv: vec2f, p: vec3f) -> f32 {
     if (v >= 0.0) {
         return v;
     }
-    return texture_value_1(eval_texture(u32(-v - 1.0), uv));
+    return texture_value_1(eval_texture(u32(-v - 1.0), uv, p));
 }
 
-// A colour slot's value at uv: itself, or its texture's value.
-fn texture_slot(slot: vec3f, uv: vec2f) -> vec3f {
+// A colour slot's value at uv and p: itself, or its texture's value.
+fn texture_slot(slot: vec3f, uv: vec2f, p: vec3f) -> vec3f {
     if (slot.x >= 0.0) {
         return slot;
     }
-    return eval_texture(u32(-slot.x - 1.0), uv);
+    return eval_texture(u32(-slot.x - 1.0), uv, p);
 }

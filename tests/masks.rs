@@ -49,14 +49,14 @@ fn opacities_are_read_as_mitsuba_reads_them() {
     // colours in each other's places as Mitsuba 3.9.1's eval_1 has them (color0 where the
     // fractional parts of u and v are on different sides of 1/2).
     let checker = by_kind(&|o| matches!(o, Opacity::Texture(pathlab::scene::Texture::Checkerboard { .. })));
-    assert!((checker.eval([0.05, 0.05]) - 0.15).abs() < 1e-6, "{}", checker.eval([0.05, 0.05]));
-    assert!((checker.eval([0.25, 0.05]) - 0.9).abs() < 1e-6, "{}", checker.eval([0.25, 0.05]));
+    assert!((checker.eval([0.05, 0.05], [0.0; 3]) - 0.15).abs() < 1e-6, "{}", checker.eval([0.05, 0.05], [0.0; 3]));
+    assert!((checker.eval([0.25, 0.05], [0.0; 3]) - 0.9).abs() < 1e-6, "{}", checker.eval([0.25, 0.05], [0.0; 3]));
     // A bitmap: the luminance of its linear RGB.
     let bitmap = by_kind(&|o| matches!(o, Opacity::Texture(pathlab::scene::Texture::Bitmap(_))));
     let Opacity::Texture(t) = &bitmap else { unreachable!() };
-    let rgb = t.eval([0.3, 0.5]);
+    let rgb = t.eval([0.3, 0.5], [0.0; 3]);
     let y = 0.212671 * rgb[0] + 0.715160 * rgb[1] + 0.072169 * rgb[2];
-    assert!((bitmap.eval([0.3, 0.5]) - y).abs() < 1e-6);
+    assert!((bitmap.eval([0.3, 0.5], [0.0; 3]) - y).abs() < 1e-6);
     // A mask without opacity takes Mitsuba's 0.5; an opacity of 1 is no mask (the same hash as
     // none).
     let xml = xml_with_bsdf("<bsdf type=\"mask\" id=\"m\"><bsdf type=\"diffuse\"/></bsdf>", "m");

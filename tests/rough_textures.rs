@@ -54,8 +54,8 @@ fn textured_roughness_is_read_and_refused_where_mitsuba_refuses_it() {
     let t = conductor.unwrap().roughness.texture.unwrap();
     // Mitsuba's eval_1 of the checkerboard: channel means, color0 (0.03) where eval gives color1.
     assert!(matches!(t, Texture::Checkerboard { .. }));
-    assert!((t.eval_1([0.05, 0.05]) - 0.4).abs() < 1e-6, "{}", t.eval_1([0.05, 0.05]));
-    assert!((t.eval_1([0.2, 0.05]) - 0.03).abs() < 1e-6, "{}", t.eval_1([0.2, 0.05]));
+    assert!((t.eval_1([0.05, 0.05], [0.0; 3]) - 0.4).abs() < 1e-6, "{}", t.eval_1([0.05, 0.05], [0.0; 3]));
+    assert!((t.eval_1([0.2, 0.05], [0.0; 3]) - 0.03).abs() < 1e-6, "{}", t.eval_1([0.2, 0.05], [0.0; 3]));
     // The pipeline looks up only the slots some material textures (`TEXTURED_<KIND>`): the
     // conductor's alpha (its second slot, after specular_reflectance) and the dielectric's
     // alpha (its only one); the diffuse wall's reflectance.

@@ -54,6 +54,7 @@ mod thin_lens;
 mod twosided;
 mod unbiased_study;
 mod uv_parametrisation;
+mod volume_textures;
 mod veach_mis;
 #[cfg(feature = "viewer")]
 mod viewer;

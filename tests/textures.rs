@@ -43,7 +43,7 @@ fn lookup_main(@builtin(global_invocation_id) gid: vec3u) {
         return;
     }
     // The slot as a material packs it: x = -(start + 1).
-    test_out[i] = vec4f(texture_slot(vec3f(test_uvs[i].z, 0.0, 0.0), test_uvs[i].xy), 0.0);
+    test_out[i] = vec4f(texture_slot(vec3f(test_uvs[i].z, 0.0, 0.0), test_uvs[i].xy, vec3f(0.0)), 0.0);
 }
 "#;
 
@@ -84,7 +84,7 @@ fn the_kernels_checkerboard_is_the_hosts() {
     }
     let out = lookups(&queries, &data);
     for (q, got) in queries.iter().zip(&out) {
-        let expected = textures[q[3] as usize].eval([q[0], q[1]]);
+        let expected = textures[q[3] as usize].eval([q[0], q[1]], [0.0; 3]);
         assert_eq!(&got[..3], &expected[..], "texture {} at uv ({}, {})", q[3], q[0], q[1]);
     }
 }
@@ -200,8 +200,8 @@ fn textures_are_read_from_toml_and_xml_and_bad_ones_refused() {
     assert_eq!(p.diffuse_texture.as_ref(), Some(&expected));
     assert_eq!(p.diffuse, expected.mean(), "the mean stands for the texture on the host");
     let cases = [
-        ("diffuse = { texture = \"bricks\" }", "unknown texture \"bricks\" (pathlab has checkerboard, bitmap)"),
-        ("diffuse = { color0 = 0.5 }", "needs `texture = \"checkerboard\"`"),
+        ("diffuse = { texture = \"bricks\" }", "unknown texture \"bricks\" (pathlab has checkerboard, bitmap, volume)"),
+        ("diffuse = { color0 = 0.5 }", "needs `texture = \"checkerboard\"`, `\"bitmap\"` or `\"volume\"`"),
         ("diffuse = { texture = \"checkerboard\", color0 = -1 }", "`color0` of a checkerboard must be a colour >= 0"),
         ("diffuse = { texture = \"checkerboard\", to_uv_scale = [0, 1] }", "two finite non-zero numbers"),
         ("diffuse = { texture = \"checkerboard\", colour0 = 1 }", "unknown key `colour0`"),
@@ -221,7 +221,7 @@ fn textures_are_read_from_toml_and_xml_and_bad_ones_refused() {
     let expected = Texture::Checkerboard { color0: DVec3::splat(0.4), color1: DVec3::new(0.1, 0.2, 0.3), to_uv_scale: DVec2::new(10.0, 5.0) };
     assert!(matches!(&s.materials[0].bsdf, Bsdf::Phong(p) if p.diffuse_texture.as_ref() == Some(&expected)), "{:?}", s.materials[0].bsdf);
     for (bsdf, message) in [
-        ("<bsdf type=\"diffuse\" id=\"t\"><texture type=\"bricks\" name=\"reflectance\"/></bsdf>", "<texture type=\"bricks\"> is not supported (pathlab has checkerboard, bitmap)"),
+        ("<bsdf type=\"diffuse\" id=\"t\"><texture type=\"bricks\" name=\"reflectance\"/></bsdf>", "<texture type=\"bricks\"> is not supported (pathlab has checkerboard, bitmap, volume)"),
         ("<bsdf type=\"diffuse\" id=\"t\"><texture type=\"checkerboard\" name=\"reflectance\"><transform name=\"to_uv\"><rotate z=\"1\" angle=\"30\"/></transform></texture></bsdf>", "only a scale of u and v is supported"),
         ("<bsdf type=\"roughplastic\" id=\"t\"><texture type=\"checkerboard\" name=\"specular_reflectance\"/></bsdf>", "a textured parameter other than diffuse_reflectance is not supported"),
         ("<bsdf type=\"conductor\" id=\"t\"><texture type=\"checkerboard\" name=\"eta\"/></bsdf>", "a textured parameter other than specular_reflectance (and a roughconductor's alpha) is not supported"),

@@ -47,11 +47,12 @@ impl Opacity {
         Opacity::Texture(t.scalar())
     }
 
-    /// Its value at `uv`, in f32 as the kernel computes it (`material_opacity`): the host twin.
-    pub fn eval(&self, uv: [f32; 2]) -> f32 {
+    /// Its value at `uv` and world position `p`, in f32 as the kernel computes it
+    /// (`material_opacity`): the host twin.
+    pub fn eval(&self, uv: [f32; 2], p: [f32; 3]) -> f32 {
         match self {
             Opacity::Constant(o) => *o as f32,
-            Opacity::Texture(t) => t.eval_1(uv).clamp(0.0, 1.0),
+            Opacity::Texture(t) => t.eval_1(uv, p).clamp(0.0, 1.0),
         }
     }
 

@@ -278,6 +278,78 @@ impl PluginReader<'_, '_, '_> {
     }
 }
 
+impl PluginReader<'_, '_, '_> {
+    /// A nested `<texture type="volume">` around a `<volume type="gridvolume">` as its TOML
+    /// inline table, the `.vol` file found by Mitsuba's resolver.
+    fn volume(&mut self, t: &Object) -> Option<toml::Value> {
+        let mut p = Props::of(t);
+        if let Some(prop) = p.take("volume") {
+            self.t.error(prop.at, "volume", "a constant volume (a value named `volume`) is not supported: give the value itself instead of a volume texture".to_string());
+            return None;
+        }
+        self.t.finish(p, "a <volume type=\"gridvolume\" name=\"volume\">");
+        let is_grid = |c: &Object| c.tag == "volume" && c.name.as_deref().is_none_or(|n| n == "volume");
+        let grids: Vec<&Object> = t.children.iter().filter(|c| is_grid(c)).collect();
+        for c in t.children.iter().filter(|c| !is_grid(c)) {
+            self.t.error(c.at, c.name.as_deref().unwrap_or(""), format!("{} inside a volume <texture> is not supported", describe(&c.tag, &c.plugin)));
+        }
+        let [g] = grids[..] else {
+            self.t.error(t.at, "volume", "<texture type=\"volume\"> needs one <volume type=\"gridvolume\" name=\"volume\">".to_string());
+            return None;
+        };
+        if g.plugin != "gridvolume" && g.plugin != "grid" {
+            self.t.error(g.at, "type", format!("<volume type=\"{}\"> is not supported (pathlab has gridvolume)", g.plugin));
+            return None;
+        }
+        let mut p = Props::of(g);
+        let mut table = toml::Table::new();
+        table.insert("texture".into(), toml::Value::String("volume".into()));
+        let file = self.t.string(&mut p, "filename");
+        for (key, names) in [("filter_type", &["trilinear", "nearest"][..]), ("wrap_mode", &["repeat", "mirror", "clamp"][..])] {
+            if let Some((v, at)) = self.t.string(&mut p, key) {
+                if names.contains(&v.as_str()) {
+                    table.insert(key.into(), toml::Value::String(v));
+                } else {
+                    self.t.error(at, key, format!("`{key}` of a gridvolume must be one of {} (got \"{v}\")", names.join(", ")));
+                }
+            }
+        }
+        for key in ["raw", "use_grid_bbox"] {
+            if let Some((v, _)) = self.t.get::<bool>(&mut p, key).map(|(v, prop)| (v, prop.value_at)) {
+                table.insert(key.into(), toml::Value::Boolean(v));
+            }
+        }
+        if let Some((ops, _)) = self.t.transform(&mut p, "to_world") {
+            let m = compose(&ops).transpose().to_cols_array_2d();
+            let row = |r: usize| toml::Value::Array((0..4).map(|c| toml::Value::Float(m[r][c])).collect());
+            table.insert("to_world".into(), toml::Value::Array(vec![row(0), row(1), row(2)]));
+        }
+        // `accel`: CUDA's hardware interpolation, a storage choice (pathlab interpolates in f32).
+        if self.t.get::<bool>(&mut p, "accel").is_some() {
+            self.t.warn(g.at, "accel", "`accel` of a gridvolume is a storage choice: pathlab interpolates in 32-bit floats".to_string());
+        }
+        self.t.finish(p, "filename, filter_type, wrap_mode, raw, use_grid_bbox, to_world, accel");
+        for c in &g.children {
+            self.t.error(c.at, "", format!("{} inside a gridvolume is not supported", describe(&c.tag, &c.plugin)));
+        }
+        let Some((name, _)) = file else {
+            self.t.error(g.at, "filename", "<volume type=\"gridvolume\"> needs <string name=\"filename\">".to_string());
+            return None;
+        };
+        match self.t.loaded.resolve(&name, &g.dir) {
+            Ok(path) => {
+                let path = std::path::absolute(&path).unwrap_or(path);
+                table.insert("filename".into(), toml::Value::String(path.display().to_string()));
+                Some(toml::Value::Table(table))
+            }
+            Err(message) => {
+                self.t.error(g.at, "filename", format!("volume file {message}"));
+                None
+            }
+        }
+    }
+}
+
 impl PluginProps for PluginReader<'_, '_, '_> {
     fn plugin(&self) -> &str {
         &self.o.plugin
@@ -299,8 +371,11 @@ impl PluginProps for PluginReader<'_, '_, '_> {
         if t.plugin == "bitmap" {
             return self.bitmap(t);
         }
+        if t.plugin == "volume" {
+            return self.volume(t);
+        }
         if t.plugin != "checkerboard" {
-            self.t.error(t.at, "type", format!("<texture type=\"{}\"> is not supported (pathlab has checkerboard, bitmap)", t.plugin));
+            self.t.error(t.at, "type", format!("<texture type=\"{}\"> is not supported (pathlab has checkerboard, bitmap, volume)", t.plugin));
             return None;
         }
         let mut p = Props::of(t);

@@ -711,6 +711,6 @@ impl Loader<'_> {
 }
 
 /// Elements that are plugin objects.
-const PLUGIN_TAGS: [&str; 11] = ["bsdf", "shape", "emitter", "sensor", "film", "sampler", "rfilter", "integrator", "texture", "medium", "phase"];
+const PLUGIN_TAGS: [&str; 12] = ["bsdf", "shape", "emitter", "sensor", "film", "sampler", "rfilter", "integrator", "texture", "volume", "medium", "phase"];
 /// Elements that are property values.
 const VALUE_TAGS: [&str; 8] = ["float", "integer", "boolean", "string", "rgb", "spectrum", "point", "vector"];

@@ -7,18 +7,22 @@
 //! compile all texture code out (the pipeline constant `HAS_TEXTURES`).
 //!
 //! Kinds: Mitsuba's `checkerboard` (`color0`, default 0.4; `color1`, default 0.2; `to_uv`, a
-//! scale) and `bitmap` (an image file; `bitmap.rs`). TOML: a colour field given as an inline
-//! table,
+//! scale), `bitmap` (an image file; `bitmap.rs`) and `volume` (a `.vol` grid looked up at the
+//! hit's world position rather than its uvs; `volume.rs`). TOML: a colour field given as an
+//! inline table,
 //! `diffuse = { texture = "checkerboard", color0 = [0.8, 0.8, 0.8], color1 = 0.2, to_uv_scale = [20, 80] }`,
-//! `diffuse = { texture = "bitmap", filename = "wood.png", filter_type = "bilinear", wrap_mode = "repeat", raw = false, to_uv = [[2, 0, 0], [0, 2, 0]] }`
+//! `diffuse = { texture = "bitmap", filename = "wood.png", filter_type = "bilinear", wrap_mode = "repeat", raw = false, to_uv = [[2, 0, 0], [0, 2, 0]] }`,
+//! `diffuse = { texture = "volume", filename = "marble.vol", filter_type = "trilinear", wrap_mode = "clamp", to_world = [[2, 0, 0, -1], [0, 2, 0, 0], [0, 0, 2, -1]] }`
 //! (the file relative to the scene's folder; the defaults as shown but `to_uv`, the identity).
 
 pub mod bitmap;
+pub mod volume;
 
 use std::ops::Range;
 use std::path::Path;
 
 pub use bitmap::{Bitmap, Filter, Wrap};
+pub use volume::GridVolume;
 
 use glam::{DVec2, DVec3};
 
@@ -40,6 +44,9 @@ pub enum Texture {
     Checkerboard { color0: DVec3, color1: DVec3, to_uv_scale: DVec2 },
     /// Mitsuba's `bitmap`: an image file.
     Bitmap(Bitmap),
+    /// Mitsuba's `volume` around a `gridvolume`: a 3D grid looked up at the hit's world
+    /// position (`volume.rs`).
+    Volume(GridVolume),
 }
 
 impl Texture {
@@ -48,6 +55,7 @@ impl Texture {
         match self {
             Texture::Checkerboard { .. } => "checkerboard",
             Texture::Bitmap(_) => "bitmap",
+            Texture::Volume(_) => "volume",
         }
     }
 
@@ -57,6 +65,7 @@ impl Texture {
         match self {
             Texture::Checkerboard { color0, color1, .. } => 0.5 * (*color0 + *color1),
             Texture::Bitmap(b) => DVec3::from(b.image.mean()),
+            Texture::Volume(v) => DVec3::from(v.mean()),
         }
     }
 
@@ -67,6 +76,7 @@ impl Texture {
         match self {
             Texture::Checkerboard { color0, color1, .. } => 0.5 * (color0.element_sum() + color1.element_sum()) / 3.0,
             Texture::Bitmap(b) => crate::scene::emitters::luminance(DVec3::from(b.image.mean())),
+            Texture::Volume(v) => crate::scene::emitters::luminance(DVec3::from(v.mean())),
         }
     }
 
@@ -88,15 +98,16 @@ impl Texture {
         }
     }
 
-    /// Its scalar value at `uv` (a texture made by `scalar`): the luminance of its value, in
-    /// f32 as the kernel's `texture_value_1`.
-    pub fn eval_1(&self, uv: [f32; 2]) -> f32 {
-        let (c, w) = (self.eval(uv), crate::scene::emitters::LUMINANCE_WEIGHTS.map(|w| w as f32));
+    /// Its scalar value at `uv` and world position `p` (a texture made by `scalar`): the
+    /// luminance of its value, in f32 as the kernel's `texture_value_1`.
+    pub fn eval_1(&self, uv: [f32; 2], p: [f32; 3]) -> f32 {
+        let (c, w) = (self.eval(uv, p), crate::scene::emitters::LUMINANCE_WEIGHTS.map(|w| w as f32));
         w[0] * c[0] + w[1] * c[1] + w[2] * c[2]
     }
 
-    /// Its value at `uv`, in f32 as the kernel computes it: the host's twin of `eval_texture`.
-    pub fn eval(&self, uv: [f32; 2]) -> [f32; 3] {
+    /// Its value at `uv` (surface textures) or world position `p` (a volume), in f32 as the
+    /// kernel computes it: the host's twin of `eval_texture`.
+    pub fn eval(&self, uv: [f32; 2], p: [f32; 3]) -> [f32; 3] {
         match self {
             Texture::Checkerboard { color0, color1, to_uv_scale } => {
                 let s = to_uv_scale.as_vec2();
@@ -105,6 +116,7 @@ impl Texture {
                 if mu == mv { color0.as_vec3().to_array() } else { color1.as_vec3().to_array() }
             }
             Texture::Bitmap(b) => b.eval(uv),
+            Texture::Volume(v) => v.eval(p),
         }
     }
 
@@ -116,6 +128,7 @@ impl Texture {
                 data.push(&[TEXTURE_CHECKERBOARD as f32, c0.x, c0.y, c0.z, c1.x, c1.y, c1.z, s.x, s.y])
             }
             Texture::Bitmap(b) => b.pack(data),
+            Texture::Volume(v) => v.pack(data),
         }
     }
 
@@ -132,6 +145,11 @@ impl Texture {
                 let name = b.file.file_name().map_or_else(|| b.file.display().to_string(), |n| n.to_string_lossy().into_owned());
                 format!("bitmap {name} {}x{} {storage}, {}, {}", b.image.width, b.image.height, b.filter.name(), b.wrap.name())
             }
+            Texture::Volume(v) => {
+                let name = v.file.file_name().map_or_else(|| v.file.display().to_string(), |n| n.to_string_lossy().into_owned());
+                let colour = if v.channels == 1 { "grey" } else { "RGB" };
+                format!("volume {name} {}x{}x{} {colour}, {}, {}", v.res[0], v.res[1], v.res[2], if v.trilinear { "trilinear" } else { "nearest" }, v.wrap.name())
+            }
         }
     }
 
@@ -140,6 +158,7 @@ impl Texture {
         4 * match self {
             Texture::Checkerboard { .. } => 9,
             Texture::Bitmap(b) => b.record_len(),
+            Texture::Volume(v) => v.record_len(),
         }
     }
 
@@ -162,6 +181,11 @@ impl Texture {
                     b.image.srgb
                 )
             }
+            Texture::Volume(v) => {
+                let m = v.to_local;
+                let row = |r: [f64; 4]| format!("{} {}", vec3(DVec3::new(r[0], r[1], r[2])), r[3]);
+                format!("volume {} {} {} {} {} {} {}", v.content_hash, v.trilinear, v.wrap.name(), v.raw, row(m[0]), row(m[1]), row(m[2]))
+            }
         }
     }
 
@@ -172,15 +196,16 @@ impl Texture {
         let kind = match table.get("texture") {
             Some(toml::Value::String(k)) => k.clone(),
             _ => {
-                errors.push((span, "a textured colour needs `texture = \"checkerboard\"` or `texture = \"bitmap\"`".into()));
+                errors.push((span, "a textured colour needs `texture = \"checkerboard\"`, `\"bitmap\"` or `\"volume\"`".into()));
                 return None;
             }
         };
         match kind.as_str() {
             "checkerboard" => Texture::checkerboard_from_toml(table, span, errors),
             "bitmap" => Texture::bitmap_from_toml(table, span, base, errors),
+            "volume" => Texture::volume_from_toml(table, span, base, errors),
             _ => {
-                errors.push((span, format!("unknown texture \"{kind}\" (pathlab has checkerboard, bitmap)")));
+                errors.push((span, format!("unknown texture \"{kind}\" (pathlab has checkerboard, bitmap, volume)")));
                 None
             }
         }
@@ -292,6 +317,81 @@ impl Texture {
         ok.then(|| Texture::Bitmap(Bitmap::new(file, image, filter, wrap, raw, to_uv)))
     }
 
+    fn volume_from_toml(table: &toml::Table, span: Range<usize>, base: &Path, errors: &mut Vec<(Range<usize>, String)>) -> Option<Texture> {
+        let keys = ["texture", "filename", "filter_type", "wrap_mode", "raw", "to_world", "use_grid_bbox"];
+        let mut ok = true;
+        for key in table.keys() {
+            if !keys.contains(&key.as_str()) {
+                errors.push((span.clone(), format!("unknown key `{key}` of a volume (its keys: filename, filter_type, wrap_mode, raw, to_world, use_grid_bbox)")));
+                ok = false;
+            }
+        }
+        let mut choice = |key: &str, default: &str, names: &[&str]| -> String {
+            match table.get(key) {
+                None => default.to_string(),
+                Some(toml::Value::String(s)) if names.contains(&s.as_str()) => s.clone(),
+                Some(v) => {
+                    errors.push((span.clone(), format!("`{key}` of a volume must be one of {} (got {v})", names.join(", "))));
+                    ok = false;
+                    default.to_string()
+                }
+            }
+        };
+        let trilinear = choice("filter_type", "trilinear", &["trilinear", "nearest"]) == "trilinear";
+        let wrap = Wrap::parse(&choice("wrap_mode", "clamp", &["repeat", "mirror", "clamp"])).expect("a listed wrap mode");
+        let mut flag = |key: &str| match table.get(key) {
+            None => false,
+            Some(toml::Value::Boolean(b)) => *b,
+            Some(_) => {
+                errors.push((span.clone(), format!("`{key}` of a volume must be true or false")));
+                ok = false;
+                false
+            }
+        };
+        let (raw, use_grid_bbox) = (flag("raw"), flag("use_grid_bbox"));
+        // `to_world`: three rows of four numbers (an affine map), the grid's unit cube to the world.
+        let to_world = match table.get("to_world") {
+            None => glam::DMat4::IDENTITY,
+            Some(v) => match affine_rows(v) {
+                Some(m) if m.determinant().abs() > 1e-12 => m,
+                _ => {
+                    errors.push((span.clone(), "`to_world` of a volume must be three rows of four finite numbers, an invertible affine map".into()));
+                    ok = false;
+                    glam::DMat4::IDENTITY
+                }
+            },
+        };
+        let Some(toml::Value::String(name)) = table.get("filename") else {
+            errors.push((span, "a volume needs `filename = \"…\"` (a Mitsuba .vol grid)".into()));
+            return None;
+        };
+        let file = base.join(name);
+        if !file.exists() {
+            errors.push((span, format!("volume file \"{name}\" not found (searched {}/)", base.display())));
+            return None;
+        }
+        let (res, channels, data, bbox) = match volume::read_vol(&file) {
+            Ok(v) => v,
+            Err(e) => {
+                errors.push((span, format!("volume file {}: {e}", file.display())));
+                return None;
+            }
+        };
+        let mut to_local = to_world.inverse();
+        if use_grid_bbox {
+            // Mitsuba's bbox_transform: the file's box onto the unit cube, after to_world's inverse.
+            let (lo, hi) = (glam::DVec3::new(bbox[0] as f64, bbox[1] as f64, bbox[2] as f64), glam::DVec3::new(bbox[3] as f64, bbox[4] as f64, bbox[5] as f64));
+            if (hi - lo).min_element() <= 0.0 {
+                errors.push((span, format!("volume file {}: its bounding box is empty, which `use_grid_bbox` cannot map", file.display())));
+                return None;
+            }
+            to_local = glam::DMat4::from_scale((hi - lo).recip()) * glam::DMat4::from_translation(-lo) * to_local;
+        }
+        let rows = to_local.transpose().to_cols_array_2d();
+        let to_local = [rows[0], rows[1], rows[2]];
+        ok.then(|| Texture::Volume(GridVolume::new(file, res, channels, data, trilinear, wrap, raw, to_local)))
+    }
+
     /// Its TOML inline table.
     pub fn to_toml(&self) -> toml::Value {
         match self {
@@ -317,8 +417,37 @@ impl Texture {
                 }
                 toml::Value::Table(t)
             }
+            Texture::Volume(v) => {
+                let mut t = toml::Table::new();
+                t.insert("texture".into(), toml::Value::String("volume".into()));
+                t.insert("filename".into(), toml::Value::String(v.file.display().to_string()));
+                t.insert("filter_type".into(), toml::Value::String(if v.trilinear { "trilinear" } else { "nearest" }.into()));
+                t.insert("wrap_mode".into(), toml::Value::String(v.wrap.name().into()));
+                t.insert("raw".into(), toml::Value::Boolean(v.raw));
+                // The grid's placement as a to_world (use_grid_bbox folded into it).
+                let m = v.to_local;
+                let local = glam::DMat4::from_cols_array_2d(&[m[0], m[1], m[2], [0.0, 0.0, 0.0, 1.0]]).transpose();
+                let w = local.inverse().transpose().to_cols_array_2d();
+                let row = |r: [f64; 4]| toml::Value::Array(r.iter().map(|x| toml::Value::Float(*x)).collect());
+                t.insert("to_world".into(), toml::Value::Array(vec![row(w[0]), row(w[1]), row(w[2])]));
+                toml::Value::Table(t)
+            }
         }
     }
+}
+
+/// `[[m00, m01, m02, m03], [..], [..]]` of finite numbers: the rows of an affine map.
+fn affine_rows(v: &toml::Value) -> Option<glam::DMat4> {
+    let rows = v.as_array().filter(|r| r.len() == 3)?;
+    let mut m = [[0.0; 4]; 4];
+    m[3][3] = 1.0;
+    for (r, row) in rows.iter().enumerate() {
+        let row = row.as_array().filter(|x| x.len() == 4)?;
+        for (c, x) in row.iter().enumerate() {
+            m[r][c] = x.as_float().or_else(|| x.as_integer().map(|i| i as f64)).filter(|x| x.is_finite())?;
+        }
+    }
+    Some(glam::DMat4::from_cols_array_2d(&m).transpose())
 }
 
 /// `[[m00, m01, m02], [m10, m11, m12]]` of finite numbers.
@@ -342,12 +471,12 @@ mod tests {
     fn the_checkerboard_is_mitsubas() {
         let t = Texture::Checkerboard { color0: DVec3::splat(0.8), color1: DVec3::splat(0.2), to_uv_scale: DVec2::new(2.0, 1.0) };
         // (0.3, 0.2) -> (0.6, 0.2): u above 1/2, v not: color1.
-        assert_eq!(t.eval([0.3, 0.2]), [0.2; 3]);
+        assert_eq!(t.eval([0.3, 0.2], [0.0; 3]), [0.2; 3]);
         // (0.1, 0.2) -> both below: color0; (0.3, 0.7): both above: color0.
-        assert_eq!(t.eval([0.1, 0.2]), [0.8; 3]);
-        assert_eq!(t.eval([0.3, 0.7]), [0.8; 3]);
+        assert_eq!(t.eval([0.1, 0.2], [0.0; 3]), [0.8; 3]);
+        assert_eq!(t.eval([0.3, 0.7], [0.0; 3]), [0.8; 3]);
         // Negative coordinates repeat: -0.1 -> fraction 0.9.
-        assert_eq!(t.eval([-0.05, 0.7]), [0.8; 3]);
+        assert_eq!(t.eval([-0.05, 0.7], [0.0; 3]), [0.8; 3]);
         assert_eq!(t.mean(), DVec3::splat(0.5));
     }
 }
