@@ -124,16 +124,28 @@ fn mix_exact(a: vec3f, b: vec3f, t: f32) -> vec3f {
     return a + t * (b - a);
 }
 
+// The kinds of texture some material uses (bit k: kind k; SceneFeatures::texture_kinds): the
+// others' lookups are compiled out (lavapipe runs both sides of every branch: a grid lookup
+// compiled into every textured scene cost those a quarter of their speed).
+override TEXTURE_KINDS: u32 = 7u;
+
+fn uses_texture_kind(kind: f32) -> bool {
+    return (TEXTURE_KINDS & (1u << u32(kind))) != 0u;
+}
+
 // The texture whose record starts at `at`, at uv and world position p.
 fn eval_texture(at: u32, uv: vec2f, p: vec3f) -> vec3f {
     let kind = bsdf_data[at];
-    if (kind == TEXTURE_BITMAP) {
+    if (uses_texture_kind(TEXTURE_BITMAP) && kind == TEXTURE_BITMAP) {
         return eval_bitmap_texture(at, uv);
     }
-    if (kind == TEXTURE_VOLUME) {
+    if (uses_texture_kind(TEXTURE_VOLUME) && kind == TEXTURE_VOLUME) {
         return eval_volume_texture(at, p);
     }
-    return eval_checkerboard_texture(at, uv);
+    if (uses_texture_kind(TEXTURE_CHECKERBOARD)) {
+        return eval_checkerboard_texture(at, uv);
+    }
+    return vec3f(0.0);
 }
 
 // A texture's value as Mitsuba's eval_1 reads it (a scalar parameter): its luminance. The host

@@ -93,6 +93,7 @@ fn overrides_set_by_the_host_are_those_the_module_declares() {
         has_uvs: true,
         has_masks: true,
         textured_opacity: true,
+        texture_kinds: 7,
         textured_slots: u64::MAX,
         has_back_bsdfs: true,
         rr_depth: 3,

@@ -74,6 +74,8 @@ fn every_override_permutation_validates() {
                                     // Masks on and off, with uvs on and off.
                                     has_masks: (checked / 3) % 2 == 0,
                                     textured_opacity: on,
+                                    // Every kind of texture, or none.
+                                    texture_kinds: if on { 7 } else { 0 },
                                     // Every slot of every kind looked up, or none.
                                     textured_slots: if (checked / 7) % 2 == 0 { u64::MAX } else { 0 },
                                     // Back BSDFs on and off, with several kinds and with Phong alone.

@@ -36,6 +36,9 @@ pub struct SceneFeatures {
     /// On SIMD CPU drivers, which run both sides of every branch, a slot looked up for nothing
     /// costs a whole texture lookup.
     pub textured_slots: u64,
+    /// The kinds of texture some material uses (bit k: `Texture::kind_number` k): the kernel's
+    /// `TEXTURE_KINDS`, so that a scene without grid volumes, say, compiles no grid lookup.
+    pub texture_kinds: u32,
     /// Some material has another BSDF on its back (`Material::back`, Mitsuba's `twosided` with
     /// two BSDFs).
     pub has_back_bsdfs: bool,
@@ -107,6 +110,11 @@ impl SceneFeatures {
             has_masks: scene.materials.iter().any(|m| m.opacity.is_some()),
             textured_opacity: scene.materials.iter().any(|m| m.opacity.as_ref().is_some_and(|o| o.texture().is_some())),
             textured_slots: scene.materials.iter().fold(0, |bits, m| bits | (m.bsdf.textured_slots() as u64) << (8 * m.bsdf_kind().constant())),
+            texture_kinds: scene
+                .materials
+                .iter()
+                .flat_map(|m| m.bsdf.textures().into_iter().chain(m.opacity.as_ref().and_then(|o| o.texture())))
+                .fold(0, |kinds, t| kinds | 1 << t.kind_number()),
             has_back_bsdfs: scene.materials.iter().any(|m| m.back.is_some()),
             rr_depth: scene.render.rr_depth.unwrap_or(0),
             thin_lens: scene.camera.aperture_radius > 0.0,

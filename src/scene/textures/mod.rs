@@ -59,6 +59,16 @@ impl Texture {
         }
     }
 
+    /// Its kind's number in the BSDF data (`TEXTURE_CHECKERBOARD`, `TEXTURE_BITMAP`,
+    /// `TEXTURE_VOLUME`): the bit it sets in the kernel's `TEXTURE_KINDS`.
+    pub fn kind_number(&self) -> u32 {
+        match self {
+            Texture::Checkerboard { .. } => TEXTURE_CHECKERBOARD,
+            Texture::Bitmap(_) => bitmap::TEXTURE_BITMAP,
+            Texture::Volume(_) => volume::TEXTURE_VOLUME,
+        }
+    }
+
     /// Its mean over the uv square (Mitsuba's `mean()`): what a host computation that needs one
     /// value (a lobe's sampling weight) takes.
     pub fn mean(&self) -> DVec3 {
