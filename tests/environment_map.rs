@@ -367,3 +367,21 @@ fn a_black_map_is_not_a_light_and_is_never_importance_sampled() {
     let packed = map.pack();
     assert_eq!((packed[12], packed[13]), (0.0, 0.0), "the record says: not importance-sampled (uniform directions instead)");
 }
+
+/// `render` without `--method` under an environment map samples the map (`best+env`, as
+/// Mitsuba's `path` samples its `envmap`), and without one renders `best`.
+#[test]
+fn the_default_method_samples_an_environment_map() {
+    let dir = tempfile::tempdir().unwrap();
+    for (scene, expected) in [(fixture("envmap.xml"), "method best+env "), (std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/study.toml"), "method best ")] {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_pathlab"))
+            .arg("render")
+            .arg(&scene)
+            .args(["--width", "8", "--height", "4", "--spp", "4", "-o"])
+            .arg(dir.path().join("out.exr"))
+            .output()
+            .unwrap();
+        let text = String::from_utf8_lossy(&out.stdout).into_owned() + &String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success() && text.contains(expected), "{}: {text}", scene.display());
+    }
+}

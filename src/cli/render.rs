@@ -29,9 +29,9 @@ pub struct RenderArgs {
     /// Sampling method: a preset (plain, halton, cosine, phong, nee, mis, best), mis-balance, a
     /// biased demonstration (phong-lobe-only, nee-double-count), or its parts
     /// SAMPLER/BSDF/LIGHTS; each may add +SELECT, +solid-angle, +ndf, +env (e.g. mis+power). The
-    /// flags below replace its parts.
-    #[arg(long, value_parser = parse_method, default_value = "best")]
-    method: Method,
+    /// flags below replace its parts. Default: `best`, and `best+env` under an environment map.
+    #[arg(long, value_parser = parse_method)]
+    method: Option<Method>,
     /// Override the preset's sampler.
     #[arg(long, value_parser = named::<Sampler>())]
     sampler: Option<Sampler>,
@@ -226,7 +226,8 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
         light_technique: None,
         env_technique: None,
     };
-    let method = args.techniques.apply(parts.apply(args.method), &scene);
+    let named = args.method.unwrap_or_else(|| Method::from_name(pathlab::method::default_method_name(&scene)).expect("the default method is a method"));
+    let method = args.techniques.apply(parts.apply(named), &scene);
     // A technique the method names must be loaded: said before any GPU work.
     pathlab::shaders::TechniqueFiles::of(&method, &scene.techniques)?;
     for note in inapplicable_flags(&args, &scene, &method) {

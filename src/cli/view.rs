@@ -17,9 +17,10 @@ pub struct ViewArgs {
     /// Scene file (TOML); edits to it are picked up while the window is open.
     scene: PathBuf,
     /// Method (a preset or a biased demonstration: plain, halton, cosine, phong, nee, mis, best,
-    /// phong-lobe-only, nee-double-count).
-    #[arg(long, default_value = "best", value_parser = parse_method)]
-    method: Method,
+    /// phong-lobe-only, nee-double-count). Default: `best`, and `best+env` under an environment
+    /// map.
+    #[arg(long, value_parser = parse_method)]
+    method: Option<Method>,
     /// Start in the split view with this method in the right half (equal time for both).
     #[arg(long, value_parser = parse_method)]
     compare: Option<Method>,
@@ -111,7 +112,8 @@ pub fn run(args: ViewArgs) -> anyhow::Result<i32> {
         let gpu = pathlab::gpu::Gpu::new(args.adapter.as_deref())?;
         args.techniques.prove_all(&gpu, &scene)?;
     }
-    let (method, compare) = (args.techniques.apply(args.method, &scene), args.compare.map(|c| args.techniques.apply(c, &scene)));
+    let named = args.method.unwrap_or_else(|| Method::from_name(pathlab::method::default_method_name(&scene)).expect("the default method is a method"));
+    let (method, compare) = (args.techniques.apply(named, &scene), args.compare.map(|c| args.techniques.apply(c, &scene)));
     let options = ViewerOptions {
         scene,
         size: args.overrides.size,

@@ -127,15 +127,10 @@ pub fn default_methods(scene: &Scene) -> Vec<String> {
     names
 }
 
-/// The method of a rendered reference when none is named: `best`, and under an environment
-/// map that is a light `best+env`, whose next event estimation samples the map by luminance
-/// (a small sun found only by BSDF-sampled rays would leave the reference noisy).
+/// The method of a rendered reference when none is named: every command's default
+/// (`method::default_method_name`: `best`, and `best+env` under an environment map).
 pub fn default_reference_method(scene: &Scene) -> &'static str {
-    if scene.environment_map.as_ref().is_some_and(|m| !m.is_black()) {
-        "best+env"
-    } else {
-        "best"
-    }
+    crate::method::default_method_name(scene)
 }
 
 /// A quick study's image size: the scene's aspect ratio, its longer side 128 pixels and the
