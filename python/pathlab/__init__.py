@@ -316,7 +316,7 @@ def _render_of(parts: Tuple[Any, ...], variance: bool) -> Render:
 
 def render(
     scene: Union[Scene, PathLike],
-    method: str = "best",
+    method: Optional[str] = None,
     spp: Optional[int] = None,
     seed: int = 0,
     *,
@@ -330,7 +330,8 @@ def render(
 ) -> Render:
     """Renders ``scene`` with ``method`` (a preset such as ``"plain"``, ``"mis"``, ``"best"``),
     exactly as ``pathlab render`` does: the same scene, method, seed and spp give the same
-    image, bit for bit.
+    image, bit for bit. Without a method, ``"best"``, and ``"best+env"`` under an environment
+    map (as ``pathlab render``).
 
     ``spp`` defaults to the scene's ``render.spp``, else 64; ``time`` renders for that many
     seconds instead. ``target_rel_error`` renders until the estimated relative MSE (no
@@ -339,7 +340,8 @@ def render(
     also returns the per-pixel variance of the mean. ``progress=True`` shows a tqdm bar.
     """
     s = _scene(scene)
-    method = _name("method", method)  # type: ignore[assignment]
+    named = _name("method", method)
+    method_name: str = named if named is not None else _pathlab.default_method(s)
     if spp is not None:
         spp = _whole("spp", spp, 1, MAX_SPP)
     seed = _whole("seed", seed, 0, 2**32 - 1)
@@ -351,11 +353,11 @@ def render(
         target_rel_error = _positive("target_rel_error", target_rel_error)
     if not isinstance(variance, bool):
         raise TypeError(f"variance must be a bool, not {type(variance).__name__}")
-    bar = _Progress(progress, f"render {method}")
+    bar = _Progress(progress, f"render {method_name}")
     try:
         parts = _pathlab.render(
             s,
-            method,
+            method_name,
             seed,
             spp,
             time,

@@ -77,6 +77,7 @@ fn _pathlab(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<render::NativeRenderer>()?;
     m.add_function(wrap_pyfunction!(scene::load_scene, m)?)?;
     m.add_function(wrap_pyfunction!(render::render, m)?)?;
+    m.add_function(wrap_pyfunction!(render::default_method, m)?)?;
     m.add_function(wrap_pyfunction!(files::write_exr, m)?)?;
     m.add_function(wrap_pyfunction!(files::read_exr, m)?)?;
     m.add_function(wrap_pyfunction!(image_metrics::metric, m)?)?;

@@ -63,6 +63,13 @@ pub(crate) fn outcome_tuple<'py>(py: Python<'py>, job: &RenderJob, outcome: &Ren
     Ok((image, variance, outcome.stats.spp, outcome.stats.seconds, outcome.rays, job.metadata(outcome, adapter), outcome.stats.interrupted, error))
 }
 
+/// The method a render of `scene` uses when none is named, as every command's
+/// (`pathlab::method::default_method_name`: `best`, and `best+env` under an environment map).
+#[pyfunction]
+pub(crate) fn default_method(scene: &PyScene) -> &'static str {
+    pathlab::method::default_method_name(&scene.scene)
+}
+
 /// One render of `scene`, as `pathlab render` does it (one `RenderJob`).
 #[pyfunction]
 #[pyo3(signature = (scene, method, seed, spp, time, target_rel_error, sampler, bsdf, lights, progress))]

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import pathlab
-from conftest import CORNELL_XML, STUDY
+from conftest import CORNELL_XML, FIXTURES, STUDY
 
 
 @pytest.mark.parametrize(
@@ -124,3 +124,15 @@ def test_delta_lights_are_listed_and_methods_blind_to_them_refused():
         pathlab.render(scene, "plain", spp=1)
     image = pathlab.render(scene, "mis", spp=2, seed=1).image
     assert np.isfinite(image).all() and image.mean() > 0
+
+
+def test_the_default_method_is_the_clis(cli, tmp_path):
+    """Without a method, `render` uses the CLI's default: `best+env` under an environment map
+    (as Mitsuba samples its envmap), `best` otherwise, and gives the CLI's image bit for bit."""
+    for scene, expected, (w, h) in [(FIXTURES / "envmap" / "envmap.xml", "best+env", (8, 8)), (STUDY, "best", (8, 4))]:
+        exr = tmp_path / "cli.exr"
+        cli("render", scene, "--spp", 4, "--width", w, "--height", h, "-q", "-o", exr)
+        theirs = pathlab.read_exr(exr)
+        ours = pathlab.render(pathlab.load_scene(scene, width=w, height=h), spp=4)
+        assert ours.metadata["method"] == theirs.metadata["method"] == expected
+        assert np.array_equal(ours.image, theirs.image)
