@@ -355,18 +355,6 @@ impl MethodParts {
     }
 }
 
-/// The method a command uses when none is named: `best`, and under an environment map that is a
-/// light `best+env`, whose next event estimation samples the map by luminance (as Mitsuba's
-/// `path` samples its `envmap`: a bright sky or sun found only by BSDF-sampled rays leaves an
-/// image of fireflies).
-pub fn default_method_name(scene: &crate::scene::Scene) -> &'static str {
-    if scene.environment_map.as_ref().is_some_and(|m| !m.is_black()) {
-        "best+env"
-    } else {
-        "best"
-    }
-}
-
 impl Method {
     /// True when a deliberately biased demonstration strategy is part of the method.
     pub fn is_biased(&self) -> bool {

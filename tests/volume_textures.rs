@@ -194,6 +194,16 @@ fn bad_grids_and_volume_elements_are_refused() {
         let err = Scene::load(&path).unwrap_err().to_string();
         assert!(err.contains("refused.xml:3:") && err.contains(message), "{inner}: {err}");
     }
+    // The TOML form's keys.
+    for (table, message) in [
+        ("{ texture = \"volume\", filename = \"rgb.vol\", colour = 1 }", "unknown key `colour` of a volume"),
+        ("{ texture = \"volume\", filename = \"rgb.vol\", wrap_mode = \"tile\" }", "`wrap_mode` of a volume must be one of repeat, mirror, clamp"),
+        ("{ texture = \"volume\", filename = \"rgb.vol\", to_world = [[0, 0, 0, 1], [0, 0, 0, 1], [0, 0, 0, 1]] }", "an invertible affine map"),
+        ("{ texture = \"volume\" }", "a volume needs `filename"),
+    ] {
+        let err = Scene::parse(&toml_with_material(&format!("diffuse = {table}")), dir().join("t.toml")).unwrap_err().to_string();
+        assert!(err.contains("materials.m.diffuse") && err.contains(message), "{table}: {err}");
+    }
     // A grid is a GridVolume whatever its placement: the same file read twice is equal.
     let a = GridVolume::new("a.vol".into(), [1, 1, 1], 1, vec![0.5], true, Wrap::Clamp, false, [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]]);
     assert_eq!(a.eval([3.0, -2.0, 0.1]), [0.5; 3]);

@@ -64,10 +64,10 @@ pub(crate) fn outcome_tuple<'py>(py: Python<'py>, job: &RenderJob, outcome: &Ren
 }
 
 /// The method a render of `scene` uses when none is named, as every command's
-/// (`pathlab::method::default_method_name`: `best`, and `best+env` under an environment map).
+/// (`Scene::default_method_name`: `best`, and `best+env` under an environment map).
 #[pyfunction]
 pub(crate) fn default_method(scene: &PyScene) -> &'static str {
-    pathlab::method::default_method_name(&scene.scene)
+    scene.scene.default_method_name()
 }
 
 /// One render of `scene`, as `pathlab render` does it (one `RenderJob`).

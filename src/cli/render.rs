@@ -226,7 +226,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
         light_technique: None,
         env_technique: None,
     };
-    let named = args.method.unwrap_or_else(|| Method::from_name(pathlab::method::default_method_name(&scene)).expect("the default method is a method"));
+    let named = args.method.unwrap_or_else(|| Method::from_name(scene.default_method_name()).expect("the default method is a method"));
     let method = args.techniques.apply(parts.apply(named), &scene);
     // A technique the method names must be loaded: said before any GPU work.
     pathlab::shaders::TechniqueFiles::of(&method, &scene.techniques)?;

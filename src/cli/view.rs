@@ -112,7 +112,7 @@ pub fn run(args: ViewArgs) -> anyhow::Result<i32> {
         let gpu = pathlab::gpu::Gpu::new(args.adapter.as_deref())?;
         args.techniques.prove_all(&gpu, &scene)?;
     }
-    let named = args.method.unwrap_or_else(|| Method::from_name(pathlab::method::default_method_name(&scene)).expect("the default method is a method"));
+    let named = args.method.unwrap_or_else(|| Method::from_name(scene.default_method_name()).expect("the default method is a method"));
     let (method, compare) = (args.techniques.apply(named, &scene), args.compare.map(|c| args.techniques.apply(c, &scene)));
     let options = ViewerOptions {
         scene,

@@ -365,6 +365,18 @@ impl Scene {
         hash::content_hash(self)
     }
 
+    /// The method a command uses when none is named: `best`, and under an environment map that
+    /// is a light `best+env`, whose next event estimation samples the map by luminance (as
+    /// Mitsuba's `path` samples its `envmap`: a bright sky or sun found only by BSDF-sampled rays
+    /// leaves an image of fireflies).
+    pub fn default_method_name(&self) -> &'static str {
+        if self.environment_map.as_ref().is_some_and(|m| !m.is_black()) {
+            "best+env"
+        } else {
+            "best"
+        }
+    }
+
     /// Triangles of all meshes.
     pub fn num_triangles(&self) -> usize {
         self.meshes.iter().map(|m| m.triangles.len()).sum()

@@ -128,9 +128,9 @@ pub fn default_methods(scene: &Scene) -> Vec<String> {
 }
 
 /// The method of a rendered reference when none is named: every command's default
-/// (`method::default_method_name`: `best`, and `best+env` under an environment map).
+/// (`Scene::default_method_name`: `best`, and `best+env` under an environment map).
 pub fn default_reference_method(scene: &Scene) -> &'static str {
-    crate::method::default_method_name(scene)
+    scene.default_method_name()
 }
 
 /// A quick study's image size: the scene's aspect ratio, its longer side 128 pixels and the

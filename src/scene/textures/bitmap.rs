@@ -57,6 +57,16 @@ impl Wrap {
         [Wrap::Repeat, Wrap::Mirror, Wrap::Clamp].into_iter().find(|w| w.name() == s)
     }
 
+    /// Its number in a texture record (`bitmap_wrap` in texture.wgsl): 0 repeat, 1 mirror,
+    /// 2 clamp.
+    pub fn code(self) -> f32 {
+        match self {
+            Wrap::Repeat => 0.0,
+            Wrap::Mirror => 1.0,
+            Wrap::Clamp => 2.0,
+        }
+    }
+
     /// Texel index `i` of `n` wrapped into [0, n).
     pub fn apply(self, i: i32, n: i32) -> i32 {
         match self {
@@ -157,11 +167,7 @@ impl Bitmap {
             self.image.width as f32,
             self.image.height as f32,
             (self.filter == Filter::Bilinear) as u32 as f32,
-            match self.wrap {
-                Wrap::Repeat => 0.0,
-                Wrap::Mirror => 1.0,
-                Wrap::Clamp => 2.0,
-            },
+            self.wrap.code(),
             bytes as u32 as f32,
         ];
         header.extend(self.to_uv_f32());

@@ -4,7 +4,8 @@
 //! (`texture_slot` in shaders/texture.wgsl), and the slots that may be textures are the kind's
 //! `BsdfPlugin::TEXTURE_SLOTS`, resolved before the BSDF is evaluated (the generated
 //! `bsdf_apply_textures`), so that no BSDF's code knows of textures. Scenes without textures
-//! compile all texture code out (the pipeline constant `HAS_TEXTURES`).
+//! compile all texture code out (the pipeline constant `HAS_UVS`), and a scene compiles the
+//! lookups of the kinds it uses alone (`TEXTURE_KINDS`).
 //!
 //! Kinds: Mitsuba's `checkerboard` (`color0`, default 0.4; `color1`, default 0.2; `to_uv`, a
 //! scale), `bitmap` (an image file; `bitmap.rs`) and `volume` (a `.vol` grid looked up at the
@@ -267,36 +268,11 @@ impl Texture {
     }
 
     fn bitmap_from_toml(table: &toml::Table, span: Range<usize>, base: &Path, errors: &mut Vec<(Range<usize>, String)>) -> Option<Texture> {
-        let keys = ["texture", "filename", "filter_type", "wrap_mode", "raw", "to_uv"];
-        let mut ok = true;
-        for key in table.keys() {
-            if !keys.contains(&key.as_str()) {
-                errors.push((span.clone(), format!("unknown key `{key}` of a bitmap (its keys: filename, filter_type, wrap_mode, raw, to_uv)")));
-                ok = false;
-            }
-        }
-        let mut choice = |key: &str, default: &str, names: &[&str]| -> String {
-            match table.get(key) {
-                None => default.to_string(),
-                Some(toml::Value::String(s)) if names.contains(&s.as_str()) => s.clone(),
-                Some(v) => {
-                    errors.push((span.clone(), format!("`{key}` of a bitmap must be one of {} (got {v})", names.join(", "))));
-                    ok = false;
-                    default.to_string()
-                }
-            }
-        };
-        let filter = Filter::parse(&choice("filter_type", "bilinear", &["bilinear", "nearest"])).expect("a listed filter");
-        let wrap = Wrap::parse(&choice("wrap_mode", "repeat", &["repeat", "mirror", "clamp"])).expect("a listed wrap mode");
-        let raw = match table.get("raw") {
-            None => false,
-            Some(toml::Value::Boolean(b)) => *b,
-            Some(_) => {
-                errors.push((span.clone(), "`raw` of a bitmap must be true or false".into()));
-                ok = false;
-                false
-            }
-        };
+        let mut r = TableReader::new(table, span.clone(), "bitmap", &["filename", "filter_type", "wrap_mode", "raw", "to_uv"], errors);
+        let filter = Filter::parse(&r.choice("filter_type", "bilinear", &["bilinear", "nearest"])).expect("a listed filter");
+        let wrap = Wrap::parse(&r.choice("wrap_mode", "repeat", &["repeat", "mirror", "clamp"])).expect("a listed wrap mode");
+        let raw = r.flag("raw");
+        let mut ok = r.ok;
         let to_uv = match table.get("to_uv") {
             None => bitmap::IDENTITY_UV,
             Some(v) => match uv_matrix(v) {
@@ -328,37 +304,11 @@ impl Texture {
     }
 
     fn volume_from_toml(table: &toml::Table, span: Range<usize>, base: &Path, errors: &mut Vec<(Range<usize>, String)>) -> Option<Texture> {
-        let keys = ["texture", "filename", "filter_type", "wrap_mode", "raw", "to_world", "use_grid_bbox"];
-        let mut ok = true;
-        for key in table.keys() {
-            if !keys.contains(&key.as_str()) {
-                errors.push((span.clone(), format!("unknown key `{key}` of a volume (its keys: filename, filter_type, wrap_mode, raw, to_world, use_grid_bbox)")));
-                ok = false;
-            }
-        }
-        let mut choice = |key: &str, default: &str, names: &[&str]| -> String {
-            match table.get(key) {
-                None => default.to_string(),
-                Some(toml::Value::String(s)) if names.contains(&s.as_str()) => s.clone(),
-                Some(v) => {
-                    errors.push((span.clone(), format!("`{key}` of a volume must be one of {} (got {v})", names.join(", "))));
-                    ok = false;
-                    default.to_string()
-                }
-            }
-        };
-        let trilinear = choice("filter_type", "trilinear", &["trilinear", "nearest"]) == "trilinear";
-        let wrap = Wrap::parse(&choice("wrap_mode", "clamp", &["repeat", "mirror", "clamp"])).expect("a listed wrap mode");
-        let mut flag = |key: &str| match table.get(key) {
-            None => false,
-            Some(toml::Value::Boolean(b)) => *b,
-            Some(_) => {
-                errors.push((span.clone(), format!("`{key}` of a volume must be true or false")));
-                ok = false;
-                false
-            }
-        };
-        let (raw, use_grid_bbox) = (flag("raw"), flag("use_grid_bbox"));
+        let mut r = TableReader::new(table, span.clone(), "volume", &["filename", "filter_type", "wrap_mode", "raw", "to_world", "use_grid_bbox"], errors);
+        let trilinear = r.choice("filter_type", "trilinear", &["trilinear", "nearest"]) == "trilinear";
+        let wrap = Wrap::parse(&r.choice("wrap_mode", "clamp", &["repeat", "mirror", "clamp"])).expect("a listed wrap mode");
+        let (raw, use_grid_bbox) = (r.flag("raw"), r.flag("use_grid_bbox"));
+        let mut ok = r.ok;
         // `to_world`: three rows of four numbers (an affine map), the grid's unit cube to the world.
         let to_world = match table.get("to_world") {
             None => glam::DMat4::IDENTITY,
@@ -458,6 +408,56 @@ fn affine_rows(v: &toml::Value) -> Option<glam::DMat4> {
         }
     }
     Some(glam::DMat4::from_cols_array_2d(&m).transpose())
+}
+
+/// The keys of a file-backed texture's TOML table, read with errors that name its kind: unknown
+/// keys, a choice among names, a flag. `ok` is false once any was wrong.
+struct TableReader<'a> {
+    table: &'a toml::Table,
+    span: Range<usize>,
+    kind: &'static str,
+    errors: &'a mut Vec<(Range<usize>, String)>,
+    ok: bool,
+}
+
+impl<'a> TableReader<'a> {
+    /// Checks that every key but `texture` is one of `keys`.
+    fn new(table: &'a toml::Table, span: Range<usize>, kind: &'static str, keys: &[&str], errors: &'a mut Vec<(Range<usize>, String)>) -> TableReader<'a> {
+        let mut ok = true;
+        for key in table.keys().filter(|k| *k != "texture") {
+            if !keys.contains(&key.as_str()) {
+                errors.push((span.clone(), format!("unknown key `{key}` of a {kind} (its keys: {})", keys.join(", "))));
+                ok = false;
+            }
+        }
+        TableReader { table, span, kind, errors, ok }
+    }
+
+    /// `key`, one of `names`, else `default`.
+    fn choice(&mut self, key: &str, default: &str, names: &[&str]) -> String {
+        match self.table.get(key) {
+            None => default.to_string(),
+            Some(toml::Value::String(s)) if names.contains(&s.as_str()) => s.clone(),
+            Some(v) => {
+                self.errors.push((self.span.clone(), format!("`{key}` of a {} must be one of {} (got {v})", self.kind, names.join(", "))));
+                self.ok = false;
+                default.to_string()
+            }
+        }
+    }
+
+    /// `key`, true or false, else false.
+    fn flag(&mut self, key: &str) -> bool {
+        match self.table.get(key) {
+            None => false,
+            Some(toml::Value::Boolean(b)) => *b,
+            Some(_) => {
+                self.errors.push((self.span.clone(), format!("`{key}` of a {} must be true or false", self.kind)));
+                self.ok = false;
+                false
+            }
+        }
+    }
 }
 
 /// `[[m00, m01, m02], [m10, m11, m12]]` of finite numbers.

@@ -171,11 +171,7 @@ impl GridVolume {
             self.res[2] as f32,
             self.channels as f32,
             self.trilinear as u32 as f32,
-            match self.wrap {
-                Wrap::Repeat => 0.0,
-                Wrap::Mirror => 1.0,
-                Wrap::Clamp => 2.0,
-            },
+            self.wrap.code(),
         ];
         header.extend(self.to_local_f32());
         debug_assert_eq!(header.len(), VOLUME_HEADER);
