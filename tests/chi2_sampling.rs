@@ -386,7 +386,7 @@ fn plastic_routines() -> Vec<Routine> {
 /// makes 0; a normal the strategy cannot draw) come with density 0: they are "lost" (check.y =
 /// 1), the extra cell whose probability is the mass the pdf lacks.
 fn rough_dielectric(distribution: Distribution, strategy: BsdfSampling, microfacets: &str, alpha: f64, eta: f64, inside: bool, theta_o: f64) -> Routine {
-    let d = RoughDielectric { int_ior: eta, ext_ior: 1.0, reflectance: glam::DVec3::ONE, transmittance: glam::DVec3::ONE, distribution, roughness: pathlab::scene::Roughness { alpha, texture: None } };
+    let d = RoughDielectric { int_ior: eta, ext_ior: 1.0, reflectance: glam::DVec3::ONE, transmittance: glam::DVec3::ONE, textures: Default::default(), distribution, roughness: pathlab::scene::Roughness { alpha, texture: None } };
     let [p0, p1, p2] = Bsdf::RoughDielectric(d).pack(&mut BsdfData::default());
     let t = theta_o.to_radians();
     let v = |a: [f32; 4]| format!("vec4f({:?}, {:?}, {:?}, {:?})", a[0], a[1], a[2], a[3]);

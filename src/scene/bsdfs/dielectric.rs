@@ -8,7 +8,7 @@
 
 use glam::DVec3;
 
-use super::ior::{Interface, INTERFACE_FIELDS};
+use super::ior::{Interface, InterfaceTextures, INTERFACE_FIELDS};
 use super::plugin::{BsdfData, BsdfParams, BsdfPlugin, Fields, PluginProps};
 use crate::scene::hash::{real, vec3};
 
@@ -20,6 +20,8 @@ pub struct Dielectric {
     /// Factors on the reflected and the refracted lobe (1: lossless).
     pub reflectance: DVec3,
     pub transmittance: DVec3,
+    /// Textures of the two factors, where given.
+    pub textures: InterfaceTextures,
 }
 
 impl Dielectric {
@@ -36,10 +38,15 @@ impl BsdfPlugin for Dielectric {
     const IS_DELTA: bool = true;
     const TRANSMITS: bool = true;
     const BOTH_SIDES: bool = true;
+    const TEXTURE_SLOTS: &'static [usize] = &InterfaceTextures::SLOTS;
+
+    fn textures(&self) -> Vec<&crate::scene::Texture> {
+        self.textures.all()
+    }
 
     fn from_fields(f: &mut Fields) -> Dielectric {
-        let Interface { int_ior, ext_ior, reflectance, transmittance } = Interface::from_fields(f);
-        Dielectric { int_ior, ext_ior, reflectance, transmittance }
+        let Interface { int_ior, ext_ior, reflectance, transmittance, textures } = Interface::from_fields(f);
+        Dielectric { int_ior, ext_ior, reflectance, transmittance, textures }
     }
 
     fn from_mitsuba(p: &mut dyn PluginProps) -> Option<Vec<(&'static str, toml::Value)>> {
@@ -53,12 +60,13 @@ impl BsdfPlugin for Dielectric {
         line("dielectric.ext_ior", real(self.ext_ior));
         line("dielectric.reflectance", vec3(self.reflectance));
         line("dielectric.transmittance", vec3(self.transmittance));
+        self.textures.hash_lines("dielectric", line);
     }
 
     /// `p0 = (reflectance, eta)`, `p1 = (transmittance, 0)`: the layout of WGSL's
     /// `dielectric_of`.
-    fn pack(&self, _data: &mut BsdfData) -> BsdfParams {
-        let (r, t) = (self.reflectance.as_vec3(), self.transmittance.as_vec3());
+    fn pack(&self, data: &mut BsdfData) -> BsdfParams {
+        let [r, t] = self.textures.pack(self.reflectance, self.transmittance, data);
         [[r.x, r.y, r.z, self.eta() as f32], [t.x, t.y, t.z, 0.0], [0.0; 4]]
     }
 }

@@ -6,7 +6,8 @@
 
 use glam::DVec3;
 
-use super::plugin::{color_value, Fields, PluginProps};
+use super::plugin::{Fields, PluginProps};
+use crate::scene::Texture;
 
 /// Mitsuba's default interior index of its dielectrics (`bk7`, borosilicate glass).
 pub(crate) const DEFAULT_INT_IOR: f64 = 1.5046;
@@ -93,8 +94,47 @@ pub(crate) fn from_mitsuba(p: &mut dyn PluginProps, name: &str, default: f64) ->
 pub(crate) struct Interface {
     pub int_ior: f64,
     pub ext_ior: f64,
+    /// The factors, or their textures' means where `textures` gives them.
     pub reflectance: DVec3,
     pub transmittance: DVec3,
+    /// Textures of the reflectance and the transmittance (Mitsuba's are textures).
+    pub textures: InterfaceTextures,
+}
+
+/// The textures of an interface's two factors, where given: the kinds' colour slots 0 and 1
+/// (p0.xyz the reflectance, p1.xyz the transmittance).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct InterfaceTextures {
+    pub reflectance: Option<Texture>,
+    pub transmittance: Option<Texture>,
+}
+
+impl InterfaceTextures {
+    /// The colour slots of both factors.
+    pub(crate) const SLOTS: [usize; 2] = [0, 1];
+
+    pub(crate) fn all(&self) -> Vec<&Texture> {
+        self.reflectance.iter().chain(&self.transmittance).collect()
+    }
+
+    /// The factors as packed: each its value, or the reference -(start + 1) of its texture's
+    /// record (texture.wgsl).
+    pub(crate) fn pack(&self, reflectance: DVec3, transmittance: DVec3, data: &mut super::plugin::BsdfData) -> [glam::Vec3; 2] {
+        let mut slot = |t: &Option<Texture>, v: DVec3| match t {
+            Some(t) => glam::Vec3::new(-(t.pack(data) as f32) - 1.0, 0.0, 0.0),
+            None => v.as_vec3(),
+        };
+        [slot(&self.reflectance, reflectance), slot(&self.transmittance, transmittance)]
+    }
+
+    /// Lines of the scene hash, only where textured (untextured scenes keep their hash).
+    pub(crate) fn hash_lines(&self, kind: &str, line: &mut dyn FnMut(&str, String)) {
+        for (name, t) in [("reflectance", &self.reflectance), ("transmittance", &self.transmittance)] {
+            if let Some(t) = t {
+                line(&format!("{kind}.{name}.texture"), t.hash_value(crate::scene::hash::vec3));
+            }
+        }
+    }
 }
 
 /// The fields of `Interface` in TOML and as Mitsuba's properties.
@@ -103,28 +143,32 @@ pub(crate) const INTERFACE_FIELDS: [&str; 4] = ["int_ior", "ext_ior", "specular_
 impl Interface {
     /// From a TOML material's fields.
     pub(crate) fn from_fields(f: &mut Fields) -> Interface {
+        let (reflectance, r) = f.color_or_texture("specular_reflectance", DVec3::ONE);
+        let (transmittance, t) = f.color_or_texture("specular_transmittance", DVec3::ONE);
         Interface {
             int_ior: from_field(f, "int_ior", DEFAULT_INT_IOR),
             ext_ior: from_field(f, "ext_ior", DEFAULT_EXT_IOR),
-            reflectance: f.color("specular_reflectance", DVec3::ONE),
-            transmittance: f.color("specular_transmittance", DVec3::ONE),
+            reflectance,
+            transmittance,
+            textures: InterfaceTextures { reflectance: r, transmittance: t },
         }
     }
 
-    /// A Mitsuba plugin's properties as the TOML fields (textures refused; the indices a
-    /// <float> or a <string> naming a material of the table). The caller finishes the plugin.
+    /// A Mitsuba plugin's properties as the TOML fields (the factors colours or textures, other
+    /// textures refused; the indices a <float> or a <string> naming a material of the table).
+    /// The caller finishes the plugin.
     pub(crate) fn mitsuba_fields(p: &mut dyn PluginProps) -> Vec<(&'static str, toml::Value)> {
-        if let Some(at) = p.texture() {
-            p.error(at, "", "a textured parameter (other than a roughdielectric's alpha) is not supported (give <rgb> or <float> values)".into());
-        }
         let mut fields = Vec::new();
+        for name in ["specular_reflectance", "specular_transmittance"] {
+            if let Some(c) = p.color_or_texture(name) {
+                fields.push((name, c));
+            }
+        }
+        if let Some(at) = p.texture() {
+            p.error(at, "", "a textured parameter other than specular_reflectance and specular_transmittance (and a roughdielectric's alpha) is not supported (give <rgb> or <float> values)".into());
+        }
         for (name, default) in [("int_ior", DEFAULT_INT_IOR), ("ext_ior", DEFAULT_EXT_IOR)] {
             fields.push((name, toml::Value::Float(from_mitsuba(p, name, default))));
-        }
-        for name in ["specular_reflectance", "specular_transmittance"] {
-            if let Some(c) = p.color(name) {
-                fields.push((name, color_value(c)));
-            }
         }
         fields
     }

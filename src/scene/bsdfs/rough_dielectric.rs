@@ -17,7 +17,7 @@
 use glam::DVec3;
 
 use super::distribution::{self, Distribution, Roughness};
-use super::ior::Interface;
+use super::ior::{Interface, InterfaceTextures};
 use super::plugin::{BsdfData, BsdfParams, BsdfPlugin, Fields, PluginProps};
 use crate::scene::hash::{real, vec3};
 
@@ -28,6 +28,8 @@ pub struct RoughDielectric {
     /// Factors on the reflected and the refracted lobe (1: Mitsuba's default).
     pub reflectance: DVec3,
     pub transmittance: DVec3,
+    /// Textures of the two factors, where given.
+    pub textures: InterfaceTextures,
     pub distribution: Distribution,
     /// The roughness, >= 1e-4, or a texture of it.
     pub roughness: Roughness,
@@ -49,18 +51,21 @@ impl BsdfPlugin for RoughDielectric {
     const BOTH_SIDES: bool = true;
     const MICROFACETS: bool = true;
     const SCALAR_TEXTURE_SLOTS: &'static [(usize, usize)] = &[(1, 3)];
+    const TEXTURE_SLOTS: &'static [usize] = &InterfaceTextures::SLOTS;
 
     fn textures(&self) -> Vec<&crate::scene::Texture> {
-        self.roughness.texture.iter().collect()
+        let mut all = self.textures.all();
+        all.extend(&self.roughness.texture);
+        all
     }
 
     fn from_fields(f: &mut Fields) -> RoughDielectric {
-        let Interface { int_ior, ext_ior, reflectance, transmittance } = Interface::from_fields(f);
+        let Interface { int_ior, ext_ior, reflectance, transmittance, textures } = Interface::from_fields(f);
         if int_ior == ext_ior {
             f.error(f.span(), "int_ior", format!("int_ior and ext_ior must differ (both {int_ior}), as Mitsuba requires: an index-matched interface scatters nothing"));
         }
         let (distribution, roughness) = distribution::read_fields(f, "dielectric", true);
-        RoughDielectric { int_ior, ext_ior, reflectance, transmittance, distribution, roughness }
+        RoughDielectric { int_ior, ext_ior, reflectance, transmittance, textures, distribution, roughness }
     }
 
     fn from_mitsuba(p: &mut dyn PluginProps) -> Option<Vec<(&'static str, toml::Value)>> {
@@ -78,13 +83,14 @@ impl BsdfPlugin for RoughDielectric {
         line("roughdielectric.ext_ior", real(self.ext_ior));
         line("roughdielectric.reflectance", vec3(self.reflectance));
         line("roughdielectric.transmittance", vec3(self.transmittance));
+        self.textures.hash_lines("roughdielectric", line);
         line("roughdielectric.microfacets", format!("{} {}", self.distribution.name(), self.roughness.hash_value()));
     }
 
     /// `p0 = (reflectance, eta)`, `p1 = (transmittance, alpha)`, `p2 = (distribution, 0, 0, 0)`:
     /// the layout of WGSL's `rough_dielectric_of`.
     fn pack(&self, data: &mut BsdfData) -> BsdfParams {
-        let (r, t) = (self.reflectance.as_vec3(), self.transmittance.as_vec3());
+        let [r, t] = self.textures.pack(self.reflectance, self.transmittance, data);
         [[r.x, r.y, r.z, self.eta() as f32], [t.x, t.y, t.z, self.roughness.pack(data)], [self.distribution.constant() as f32, 0.0, 0.0, 0.0]]
     }
 }
