@@ -3,7 +3,8 @@
 //! the Fresnel term of unpolarised light and refracting the rest (two delta lobes, sampled with the Fresnel term as their probabilities,
 //! whatever the pipeline's BSDF strategy). TOML and Mitsuba `int_ior` (default 1.5046, Mitsuba's
 //! `bk7`), `ext_ior` (default 1.000277, `air`), `specular_reflectance` and
-//! `specular_transmittance` (factors on the two lobes, default 1). Both sides scatter: the
+//! `specular_transmittance` (factors on the two lobes, default 1; colours or textures,
+//! `ior::InterfaceTextures`). Both sides scatter: the
 //! inside of a closed surface is the denser medium.
 
 use glam::DVec3;
