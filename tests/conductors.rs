@@ -34,7 +34,7 @@ fn fresnel_conductor(cos_i: f64, eta: f64, k: f64) -> f64 {
 
 const FRESNEL_KERNEL: &str = r#"
 @group(0) @binding(0) var<storage, read> queries: array<vec4f>;
-@group(0) @binding(1) var<storage, read_write> results: array<f32>;
+@group(0) @binding(1) var<storage, read_write> results: array<vec4f>;
 
 @compute @workgroup_size(64)
 fn fresnel_kernel(@builtin(global_invocation_id) gid: vec3u) {
@@ -43,7 +43,7 @@ fn fresnel_kernel(@builtin(global_invocation_id) gid: vec3u) {
         return;
     }
     let q = queries[i];
-    results[i] = fresnel_conductor(q.x, vec3f(q.y), vec3f(q.z)).x;
+    results[i] = vec4f(fresnel_conductor(q.x, vec3f(q.y), vec3f(q.z)), 0.0);
 }
 "#;
 
@@ -64,19 +64,8 @@ fn the_conductor_fresnel_term_holds_where_the_real_index_vanishes() {
     }
     // No material at all (eta = k = 0) is 0 / 0 at normal incidence, in the formula as in f64.
     queries.retain(|q| !(q[1] == 0.0 && q[2] == 0.0));
-    let source = pathlab::shaders::assemble(&pathlab::shaders::LIBRARY, FRESNEL_KERNEL);
-    let run = pathlab::gpu::KernelRun {
-        source: &source,
-        entry: "fresnel_kernel",
-        constants: &[],
-        inputs: vec![(0, bytemuck::cast_slice(&queries).to_vec())],
-        uniforms: vec![],
-        texel_tables: vec![],
-        output: (1, (queries.len() * 4) as u64),
-        workgroups: (queries.len() as u32).div_ceil(64),
-    };
-    let got: Vec<f32> = bytemuck::pod_collect_to_vec(&run.run(gpu()).expect("fresnel kernel"));
-    for (q, &g) in queries.iter().zip(&got) {
+    let got = run_test_kernel(&pathlab::shaders::LIBRARY, FRESNEL_KERNEL, "fresnel_kernel", vec![(0, bytemuck::cast_slice(&queries).to_vec())], queries.len(), 1);
+    for (q, g) in queries.iter().zip(got.iter().map(|v| v[0])) {
         let expected = fresnel_conductor(q[0] as f64, q[1] as f64, q[2] as f64);
         let err = (g as f64 - expected).abs() / expected;
         assert!(err <= 2e-6, "cos {} eta {} k {}: F = {g}, Mitsuba's formula in f64 gives {expected} ({err:.1e} relative)", q[0], q[1], q[2]);
