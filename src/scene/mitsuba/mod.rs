@@ -226,18 +226,7 @@ impl PluginReader<'_, '_, '_> {
         let mut table = toml::Table::new();
         table.insert("texture".into(), toml::Value::String("bitmap".into()));
         let file = self.t.string(&mut p, "filename");
-        for (key, names) in [("filter_type", &["bilinear", "nearest"][..]), ("wrap_mode", &["repeat", "mirror", "clamp"][..])] {
-            if let Some((v, at)) = self.t.string(&mut p, key) {
-                if names.contains(&v.as_str()) {
-                    table.insert(key.into(), toml::Value::String(v));
-                } else {
-                    self.t.error(at, key, format!("`{key}` of a bitmap must be one of {} (got \"{v}\")", names.join(", ")));
-                }
-            }
-        }
-        if let Some((raw, _)) = self.t.get::<bool>(&mut p, "raw").map(|(v, prop)| (v, prop.value_at)) {
-            table.insert("raw".into(), toml::Value::Boolean(raw));
-        }
+        self.filter_wrap_flags(&mut p, "bitmap", &["bilinear", "nearest"], &["raw"], &mut table);
         // `to_uv`: Mitsuba keeps the upper-left 3x3 of the 4x4 transform (`extract()`), an
         // affine map of uv whose translation is the matrix's third column.
         if let Some((ops, _)) = self.t.transform(&mut p, "to_uv") {
@@ -259,19 +248,44 @@ impl PluginReader<'_, '_, '_> {
         for c in &t.children {
             self.t.error(c.at, "", format!("{} inside a bitmap <texture> is not supported", describe(&c.tag, &c.plugin)));
         }
+        self.with_file(t, file, "<texture type=\"bitmap\">", "image file", table)
+    }
+
+    /// A file-backed texture's `filter_type` (one of `filters`), `wrap_mode` (repeat, mirror,
+    /// clamp) and boolean `flags` into `table`, a wrong choice refused naming the `plugin`.
+    fn filter_wrap_flags(&mut self, p: &mut Props, plugin: &str, filters: &[&str], flags: &[&str], table: &mut toml::Table) {
+        for (key, names) in [("filter_type", filters), ("wrap_mode", &["repeat", "mirror", "clamp"][..])] {
+            if let Some((v, at)) = self.t.string(p, key) {
+                if names.contains(&v.as_str()) {
+                    table.insert(key.into(), toml::Value::String(v));
+                } else {
+                    self.t.error(at, key, format!("`{key}` of a {plugin} must be one of {} (got \"{v}\")", names.join(", ")));
+                }
+            }
+        }
+        for &key in flags {
+            if let Some((v, _)) = self.t.get::<bool>(p, key) {
+                table.insert(key.into(), toml::Value::Boolean(v));
+            }
+        }
+    }
+
+    /// `table` with the `filename` of `o` (an element such as `<texture type="bitmap">`) found by
+    /// Mitsuba's resolver (an error names every folder searched), made absolute: the material's
+    /// fields resolve a relative name against the main file's folder.
+    fn with_file(&mut self, o: &Object, file: Option<(String, usize)>, element: &str, what: &str, mut table: toml::Table) -> Option<toml::Value> {
         let Some((name, _)) = file else {
-            self.t.error(t.at, "filename", "<texture type=\"bitmap\"> needs <string name=\"filename\">".to_string());
+            self.t.error(o.at, "filename", format!("{element} needs <string name=\"filename\">"));
             return None;
         };
-        match self.t.loaded.resolve(&name, &t.dir) {
+        match self.t.loaded.resolve(&name, &o.dir) {
             Ok(path) => {
-                // Absolute: the material's fields resolve a relative name against the main file's folder.
                 let path = std::path::absolute(&path).unwrap_or(path);
                 table.insert("filename".into(), toml::Value::String(path.display().to_string()));
                 Some(toml::Value::Table(table))
             }
             Err(message) => {
-                self.t.error(t.at, "filename", format!("image file {message}"));
+                self.t.error(o.at, "filename", format!("{what} {message}"));
                 None
             }
         }
@@ -305,20 +319,7 @@ impl PluginReader<'_, '_, '_> {
         let mut table = toml::Table::new();
         table.insert("texture".into(), toml::Value::String("volume".into()));
         let file = self.t.string(&mut p, "filename");
-        for (key, names) in [("filter_type", &["trilinear", "nearest"][..]), ("wrap_mode", &["repeat", "mirror", "clamp"][..])] {
-            if let Some((v, at)) = self.t.string(&mut p, key) {
-                if names.contains(&v.as_str()) {
-                    table.insert(key.into(), toml::Value::String(v));
-                } else {
-                    self.t.error(at, key, format!("`{key}` of a gridvolume must be one of {} (got \"{v}\")", names.join(", ")));
-                }
-            }
-        }
-        for key in ["raw", "use_grid_bbox"] {
-            if let Some((v, _)) = self.t.get::<bool>(&mut p, key).map(|(v, prop)| (v, prop.value_at)) {
-                table.insert(key.into(), toml::Value::Boolean(v));
-            }
-        }
+        self.filter_wrap_flags(&mut p, "gridvolume", &["trilinear", "nearest"], &["raw", "use_grid_bbox"], &mut table);
         if let Some((ops, _)) = self.t.transform(&mut p, "to_world") {
             let m = compose(&ops).transpose().to_cols_array_2d();
             let row = |r: usize| toml::Value::Array((0..4).map(|c| toml::Value::Float(m[r][c])).collect());
@@ -332,21 +333,7 @@ impl PluginReader<'_, '_, '_> {
         for c in &g.children {
             self.t.error(c.at, "", format!("{} inside a gridvolume is not supported", describe(&c.tag, &c.plugin)));
         }
-        let Some((name, _)) = file else {
-            self.t.error(g.at, "filename", "<volume type=\"gridvolume\"> needs <string name=\"filename\">".to_string());
-            return None;
-        };
-        match self.t.loaded.resolve(&name, &g.dir) {
-            Ok(path) => {
-                let path = std::path::absolute(&path).unwrap_or(path);
-                table.insert("filename".into(), toml::Value::String(path.display().to_string()));
-                Some(toml::Value::Table(table))
-            }
-            Err(message) => {
-                self.t.error(g.at, "filename", format!("volume file {message}"));
-                None
-            }
-        }
+        self.with_file(g, file, "<volume type=\"gridvolume\">", "volume file", table)
     }
 }
 
