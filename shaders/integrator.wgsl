@@ -218,6 +218,9 @@ fn light_of(object: u32) -> u32 {
     if (NUM_TRIANGLES > 0u && object != INVALID && object >= first_triangle_object()) {
         return triangle_at(object - first_triangle_object()).light;
     }
+    if (is_quadric(object)) {
+        return quadrics[object - first_quadric_object()].light;
+    }
     return INVALID;
 }
 
@@ -251,6 +254,9 @@ fn radiance_along(hit: Hit, ray_d: vec3f) -> vec3f {
     }
     if (NUM_TRIANGLES > 0u && hit.object >= first_triangle_object()) {
         return eval_triangle_emitter(hit, ray_d);
+    }
+    if (is_quadric(hit.object)) {
+        return eval_disk_emitter(hit, ray_d);
     }
     // A sphere, or a plane (planes never emit: zero).
     return eval_sphere_emitter(hit);

@@ -1,14 +1,14 @@
-// intersect.wgsl — ray/sphere and ray/plane intersection, the triangles through the BVH
-// (bvh.wgsl), closest hit and shadow queries.
+// intersect.wgsl — ray/sphere and ray/plane intersection, the quadrics' (quadrics/), the
+// triangles through the BVH (bvh.wgsl), closest hit and shadow queries.
 
 struct Hit {
     t: f32,
-    // Geometric normal: outward for spheres, the plane's normal for planes, the winding normal
-    // cross(p1 - p0, p2 - p0) for triangles.
+    // Geometric normal: outward for spheres, the plane's normal for planes, the quadric's
+    // (flip_normals applied), the winding normal cross(p1 - p0, p2 - p0) for triangles.
     normal: vec3f,
     material: u32,
-    // Sphere index, NUM_SPHERES + plane index, or NUM_SPHERES + NUM_PLANES + triangle index;
-    // INVALID on a miss.
+    // Sphere index, NUM_SPHERES + plane index, first_quadric_object() + quadric index, or
+    // first_triangle_object() + triangle index; INVALID on a miss.
     object: u32,
     // The interpolated vertex normal of a triangle with normals, else the geometric normal.
     shading_normal: vec3f,
@@ -17,9 +17,35 @@ struct Hit {
     uv: vec2f,
 }
 
+// The first object index of the quadrics (disks, then cylinders).
+fn first_quadric_object() -> u32 {
+    return NUM_SPHERES + NUM_PLANES;
+}
+
 // The first object index of the triangles.
 fn first_triangle_object() -> u32 {
-    return NUM_SPHERES + NUM_PLANES;
+    return NUM_SPHERES + NUM_PLANES + NUM_DISKS + NUM_CYLINDERS;
+}
+
+// Whether an object index (not INVALID) names a quadric.
+fn is_quadric(object: u32) -> bool {
+    return NUM_DISKS + NUM_CYLINDERS > 0u && object >= first_quadric_object() && object < first_triangle_object();
+}
+
+// The unit normal of quadric k at world point p of it.
+fn quadric_normal(k: u32, q: Quadric, p: vec3f) -> vec3f {
+    if (k < NUM_DISKS) {
+        return q.normal;
+    }
+    return cylinder_normal(q, p);
+}
+
+// The uv parametrisation of quadric k at world point p of it.
+fn quadric_uv(k: u32, q: Quadric, p: vec3f) -> vec2f {
+    if (k < NUM_DISKS) {
+        return disk_uv(q, p);
+    }
+    return cylinder_uv(q, p);
 }
 
 // Smallest root t of |o + t d - c|^2 = r^2 in (t_min, t_max), or -1.
@@ -106,8 +132,34 @@ fn intersect_scene(o: vec3f, d: vec3f) -> Hit {
         uv = select(plane_uv(plane_normal, o + d * t_hit), sphere_uv(object, sphere_normal), object < NUM_SPHERES);
     }
     var hit = Hit(t_hit, normal, material, object, normal, uv);
+    if (NUM_DISKS + NUM_CYLINDERS > 0u) {
+        // Quadrics in loops of their own, as spheres: a lane-uniform index, read as broadcasts.
+        var quadric = INVALID;
+        for (var k = 0u; k < NUM_DISKS; k++) {
+            let t = intersect_disk(quadrics[k], o, d, 0.0, hit.t);
+            let closer = t > 0.0;
+            hit.t = select(hit.t, t, closer);
+            quadric = select(quadric, k, closer);
+        }
+        for (var k = NUM_DISKS; k < NUM_DISKS + NUM_CYLINDERS; k++) {
+            let t = intersect_cylinder(quadrics[k], o, d, 0.0, hit.t);
+            let closer = t > 0.0;
+            hit.t = select(hit.t, t, closer);
+            quadric = select(quadric, k, closer);
+        }
+        if (quadric != INVALID) {
+            let q = quadrics[quadric];
+            let x = o + d * hit.t;
+            let n = quadric_normal(quadric, q, x);
+            var q_uv = vec2f(0.0);
+            if (HAS_UVS) {
+                q_uv = quadric_uv(quadric, q, x);
+            }
+            hit = Hit(hit.t, n, q.material, first_quadric_object() + quadric, n, q_uv);
+        }
+    }
     if (NUM_TRIANGLES > 0u) {
-        let th = triangles_closest(o, d, t_hit, false);
+        let th = triangles_closest(o, d, hit.t, false);
         if (th.index != INVALID) {
             let tri = triangle_at(th.index);
             let n = normalize(cross(tri.p1 - tri.p0, tri.p2 - tri.p0));
@@ -136,6 +188,12 @@ fn occluded(o: vec3f, d: vec3f, t_max: f32, skip: u32) -> bool {
     for (var j = 0u; j < NUM_OCCLUDING_PLANES; j++) {
         let p = planes[j];
         blocked = blocked | (intersect_plane(o, d, p.normal, p.offset, 0.0, t_max) > 0.0);
+    }
+    for (var k = 0u; k < NUM_DISKS; k++) {
+        blocked = blocked | (intersect_disk(quadrics[k], o, d, 0.0, t_max) > 0.0);
+    }
+    for (var k = NUM_DISKS; k < NUM_DISKS + NUM_CYLINDERS; k++) {
+        blocked = blocked | (intersect_cylinder(quadrics[k], o, d, 0.0, t_max) > 0.0);
     }
     if (NUM_TRIANGLES > 0u && !blocked) {
         blocked = triangles_closest(o, d, t_max, true).index != INVALID;

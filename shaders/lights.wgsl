@@ -113,11 +113,17 @@ fn distance_to_plane(p0: vec3f, n: vec3f, x: vec3f, wi: vec3f) -> f32 {
     return select(-1.0, t, t > 0.0 && t < INFINITY);
 }
 
-// Solid-angle density of the area strategy: dist^2 / (area |cos(theta_light)|).
-fn pdf_triangle_area(area: f32, n: vec3f, dist: f32, wi: vec3f) -> f32 {
+// Solid-angle density at x of a point drawn uniformly on a surface of `area`, seen at distance
+// dist along wi where the surface's unit normal is n: dist^2 / (area |cos(theta_light)|).
+fn pdf_area_point(area: f32, n: vec3f, dist: f32, wi: vec3f) -> f32 {
     let cos_light = abs(dot(n, wi));
     let pdf = dist * dist / (area * cos_light);
     return select(0.0, pdf, cos_light > 0.0 && dist > 0.0 && pdf < INFINITY);
+}
+
+// Solid-angle density of the triangles' area strategy.
+fn pdf_triangle_area(area: f32, n: vec3f, dist: f32, wi: vec3f) -> f32 {
+    return pdf_area_point(area, n, dist, wi);
 }
 
 // Uniform point on the triangle: barycentrics (1 - sqrt(u0), sqrt(u0) (1 - u1), sqrt(u0) u1).

@@ -118,19 +118,6 @@ fn sample_microfacet_ndf(u: vec2f, alpha: f32, distribution: u32) -> vec3f {
     return vec3f(cos(phi) * sin_theta, sin(phi) * sin_theta, cos_theta);
 }
 
-// Shirley and Chiu's concentric map of the unit square onto the unit disk.
-fn square_to_uniform_disk_concentric(u: vec2f) -> vec2f {
-    let x = 2.0 * u.x - 1.0;
-    let y = 2.0 * u.y - 1.0;
-    let q13 = abs(x) < abs(y);
-    let r = select(x, y, q13);
-    let rp = select(y, x, q13);
-    var phi = 0.25 * PI * rp / r;
-    phi = select(phi, 0.5 * PI - phi, q13);
-    phi = select(phi, 0.0, x == 0.0 && y == 0.0);
-    return vec2f(r * cos(phi), r * sin(phi));
-}
-
 // erf(x): Dr.Jit's single-precision polynomials (a fit on [0, 1), an exp2 form beyond).
 fn erf_approx(x: f32) -> f32 {
     let xa = abs(x);

@@ -4,6 +4,10 @@
 // Scene features, fixed per pipeline (set through pipeline constants).
 override NUM_SPHERES: u32 = 0u;
 override NUM_PLANES: u32 = 0u;
+// Mitsuba's analytic disks and cylinders (quadrics/): quadrics[0 .. NUM_DISKS) are disks, the
+// light disks first (disk light l is quadric l), then NUM_CYLINDERS cylinders.
+override NUM_DISKS: u32 = 0u;
+override NUM_CYLINDERS: u32 = 0u;
 // The lights' counts (NUM_LIGHTS, NUM_<KIND>_LIGHTS) are generated after light_table.wgsl:
 // the emissive spheres are the first NUM_SPHERE_LIGHTS spheres (the host orders them so), and
 // sphere light l is sphere l.
@@ -48,6 +52,34 @@ struct Plane {
     _pad0: u32,
     _pad1: u32,
     _pad2: u32,
+}
+
+// A disk or cylinder: the unit shape of its object space (src/scene/quadrics/) placed by an
+// affine map. Each map is three rows r: a point p maps to dot(r.xyz, p) + r.w, a vector v to
+// dot(r.xyz, v).
+struct Quadric {
+    to_object: array<vec4f, 3>,
+    to_world: array<vec4f, 3>,
+    // A disk's unit normal in world space, flip_normals applied.
+    normal: vec3f,
+    material: u32,
+    // Surface area in world space.
+    area: f32,
+    // -1 where flip_normals, else 1.
+    normal_sign: f32,
+    // The light it is, INVALID for none.
+    light: u32,
+    // TRIANGLE_TWO_SIDED where it emits on both sides.
+    flags: u32,
+}
+
+// An affine map's rows applied to a point and to a vector.
+fn affine_point(m: array<vec4f, 3>, p: vec3f) -> vec3f {
+    return vec3f(dot(m[0].xyz, p) + m[0].w, dot(m[1].xyz, p) + m[1].w, dot(m[2].xyz, p) + m[2].w);
+}
+
+fn affine_vector(m: array<vec4f, 3>, v: vec3f) -> vec3f {
+    return vec3f(dot(m[0].xyz, v), dot(m[1].xyz, v), dot(m[2].xyz, v));
 }
 
 struct Material {
@@ -107,6 +139,7 @@ struct FrameParams {
 @group(0) @binding(BINDING_FRAME) var<uniform> frame: FrameParams;
 @group(0) @binding(BINDING_SPHERES) var<uniform> spheres: array<Sphere, MAX_SPHERES>;
 @group(0) @binding(BINDING_PLANES) var<uniform> planes: array<Plane, MAX_PLANES>;
+@group(0) @binding(BINDING_QUADRICS) var<uniform> quadrics: array<Quadric, MAX_QUADRICS>;
 @group(0) @binding(BINDING_MATERIALS) var<uniform> materials: array<Material, MAX_MATERIALS>;
 // Read only for uvs, at the hit sphere: a storage buffer.
 @group(0) @binding(BINDING_SPHERE_AXES) var<storage, read> sphere_axes: array<SphereAxes>;

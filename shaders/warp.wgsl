@@ -79,3 +79,16 @@ fn square_to_uniform_cone(u: vec2f, one_minus_cos_max: f32) -> vec3f {
 fn pdf_uniform_cone(one_minus_cos_max: f32) -> f32 {
     return INV_2PI / one_minus_cos_max;
 }
+
+// Shirley and Chiu's concentric map of the unit square onto the unit disk.
+fn square_to_uniform_disk_concentric(u: vec2f) -> vec2f {
+    let x = 2.0 * u.x - 1.0;
+    let y = 2.0 * u.y - 1.0;
+    let q13 = abs(x) < abs(y);
+    let r = select(x, y, q13);
+    let rp = select(y, x, q13);
+    var phi = 0.25 * PI * rp / r;
+    phi = select(phi, 0.5 * PI - phi, q13);
+    phi = select(phi, 0.0, x == 0.0 && y == 0.0);
+    return vec2f(r * cos(phi), r * sin(phi));
+}

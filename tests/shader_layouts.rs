@@ -10,7 +10,7 @@ use naga::proc::Layouter;
 
 use pathlab::film::AccumPixel;
 use pathlab::accel::BvhNode;
-use pathlab::gpu::{pipeline_constants, FrameParams, GpuDeltaLight, GpuLight, GpuMaterial, GpuPlane, GpuSphere, GpuTriangle, GpuTriangleNormals, PipelineKey};
+use pathlab::gpu::{pipeline_constants, FrameParams, GpuDeltaLight, GpuLight, GpuMaterial, GpuPlane, GpuQuadric, GpuSphere, GpuTriangle, GpuTriangleNormals, PipelineKey};
 use pathlab::gpu::{GpuSphereAxes, GpuTriangleUvs};
 use pathlab::method::{BsdfSampling, LightSampling, LightSelect, Preset, Sampler, TriangleSampling};
 use pathlab::names::Named;
@@ -53,6 +53,7 @@ fn shared_structs_match_the_wgsl() {
     check_struct(&pt, "AccumPixel", size_of::<AccumPixel>(), fields!(AccumPixel: sum, count, sum_err, rays_lo, sum_sq, rays_hi, sum_sq_err, faults));
     check_struct(&pt, "Sphere", size_of::<GpuSphere>(), fields!(GpuSphere: center, radius, material));
     check_struct(&pt, "Plane", size_of::<GpuPlane>(), fields!(GpuPlane: normal, offset, material));
+    check_struct(&pt, "Quadric", size_of::<GpuQuadric>(), fields!(GpuQuadric: to_object, to_world, normal, material, area, normal_sign, light, flags));
     check_struct(&pt, "Material", size_of::<GpuMaterial>(), fields!(GpuMaterial: emission, flags, p0, p1, p2, kind, opacity, back));
     check_struct(&pt, "Triangle", size_of::<GpuTriangle>(), fields!(GpuTriangle: p0, material, p1, light, p2, flags));
     check_struct(&pt, "TriangleNormals", size_of::<GpuTriangleNormals>(), fields!(GpuTriangleNormals: n0, n1, n2));
@@ -82,8 +83,11 @@ fn overrides_set_by_the_host_are_those_the_module_declares() {
     let features = SceneFeatures {
         num_spheres: 2,
         num_planes: 1,
+        num_disks: 2,
+        num_cylinders: 1,
         num_sphere_lights: 1,
         num_triangle_lights: 2,
+        num_disk_lights: 1,
         num_environment_lights: 1,
         num_point_lights: 1,
         num_spot_lights: 1,
@@ -138,6 +142,7 @@ fn generated_values_and_bindings_are_the_rust_ones() {
         ("frame", bindings::FRAME),
         ("spheres", bindings::SPHERES),
         ("planes", bindings::PLANES),
+        ("quadrics", bindings::QUADRICS),
         ("materials", bindings::MATERIALS),
         ("accum", bindings::ACCUM),
         ("halton_primes", bindings::HALTON_PRIMES),

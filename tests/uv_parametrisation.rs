@@ -14,27 +14,8 @@
 use crate::common;
 
 use glam::DVec3;
-use pathlab::gpu::{pipeline_constants, KernelRun, PackedTriangles, PipelineKey, SceneBuffers, SceneFeatures};
-use pathlab::method::Preset;
+use pathlab::gpu::SceneFeatures;
 use pathlab::scene::{Scene, Sphere};
-use pathlab::shaders::{self, bindings};
-
-const PROBE_KERNEL: &str = r#"
-struct ProbeRay { o: vec4f, d: vec4f }
-@group(0) @binding(30) var<storage, read> probe_rays: array<ProbeRay>;
-@group(0) @binding(31) var<storage, read_write> probe_out: array<vec4f>;
-
-@compute @workgroup_size(64)
-fn uv_probe(@builtin(global_invocation_id) gid: vec3u) {
-    load_small_triangles();
-    let i = gid.x;
-    if (i >= arrayLength(&probe_rays)) {
-        return;
-    }
-    let hit = intersect_scene(probe_rays[i].o.xyz, probe_rays[i].d.xyz);
-    probe_out[i] = vec4f(hit.uv, bitcast<f32>(hit.object), hit.t);
-}
-"#;
 
 /// A quad of two triangles with texture coordinates that are not the positions' (so a swap of
 /// vertices or of u and v shows), and a triangle without any.
@@ -203,42 +184,11 @@ fn probe_scene(extra: &str) -> Scene {
 fn probe_uvs(scene: &Scene) {
 
     let probes = probes(scene);
-    let packed = PackedTriangles::new(scene, false);
     let mut features = SceneFeatures::of(scene);
     assert!(!features.has_uvs, "no material reads uvs: the pipelines of this scene compute none");
     features.has_uvs = true;
-    let key = PipelineKey::new(Preset::Mis.method(), features, scene.default_light_select());
-    let constants = pipeline_constants(&key);
-    let source = shaders::assemble(&shaders::PATH_TRACER, PROBE_KERNEL);
-    let mut inputs = vec![];
-    let mut uniforms = vec![];
-    let mut texel_tables = vec![];
-    for c in SceneBuffers::contents(scene, &packed) {
-        match c.binding.kind {
-            bindings::Kind::Uniform => uniforms.push((c.binding.number, c.bytes)),
-            bindings::Kind::Storage { .. } => inputs.push((c.binding.number, c.bytes)),
-            bindings::Kind::TexelTable => texel_tables.push((c.binding.number, c.bytes)),
-        }
-    }
-    let rays: Vec<[f32; 8]> = probes
-        .iter()
-        .map(|p| {
-            let (o, d) = (p.origin.as_vec3(), p.direction.normalize().as_vec3());
-            [o.x, o.y, o.z, 0.0, d.x, d.y, d.z, 0.0]
-        })
-        .collect();
-    inputs.push((30, bytemuck::cast_slice(&rays).to_vec()));
-    let run = KernelRun {
-        source: &source,
-        entry: "uv_probe",
-        constants: &constants,
-        inputs,
-        uniforms,
-        texel_tables,
-        output: (31, probes.len() as u64 * 16),
-        workgroups: (probes.len() as u32).div_ceil(64),
-    };
-    let out: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&run.run(common::gpu()).expect("uv probe kernel"));
+    let rays: Vec<(DVec3, DVec3)> = probes.iter().map(|p| (p.origin, p.direction.normalize())).collect();
+    let out: Vec<[f32; 4]> = common::trace_hits(scene, features, &rays).into_iter().map(|h| [h.uv[0], h.uv[1], f32::from_bits(h.object), h.t]).collect();
 
     let first_triangle = (scene.spheres.len() + scene.planes.len()) as u32;
     let mut worst = 0.0f64;

@@ -136,3 +136,18 @@ def test_the_default_method_is_the_clis(cli, tmp_path):
         ours = pathlab.render(pathlab.load_scene(scene, width=w, height=h), spp=4)
         assert ours.metadata["method"] == theirs.metadata["method"] == expected
         assert np.array_equal(ours.image, theirs.image)
+
+
+def test_disk_lights_are_listed_with_their_area_and_power():
+    # Mitsuba's disk as an area light (tests/fixtures/quadrics): the overhead disk is the unit
+    # disk scaled by 0.7 x 0.35, so its area is pi 0.245; power is pi x area x luminance.
+    scene = pathlab.load_scene(FIXTURES / "quadrics" / "quadrics.xml", width=8, height=8)
+    disks = [l for l in scene.lights if l["kind"] == "disk"]
+    assert len(disks) == 2
+    overhead = disks[0]
+    assert abs(overhead["area"] - np.pi * 0.7 * 0.35) < 1e-9
+    luminance = 0.212671 * 8 + 0.715160 * 7 + 0.072169 * 6
+    assert abs(overhead["power"] - np.pi * overhead["area"] * luminance) < 1e-6 * overhead["power"]
+    assert overhead["normal"][1] < -0.9 and not overhead["two_sided"]
+    image = pathlab.render(scene, "mis", spp=2, seed=1).image
+    assert np.isfinite(image).all() and image.mean() > 0

@@ -165,7 +165,7 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
     let f = pathlab::gpu::SceneFeatures::of(&scene);
     println!(
         "{}: valid; {}x{}, max_depth {}, Russian roulette {}, {} materials, {} spheres ({} lights), {} planes ({} can shadow a light), \
-         {} meshes ({} triangles, {} emissive{}), specular {}, BSDFs {}, environment {}, light interiors reachable {}; \
+         {} meshes ({} triangles, {} emissive{}), {}specular {}, BSDFs {}, environment {}, light interiors reachable {}; \
          default light selection {}; scene hash {}",
         path.display(),
         scene.render.width,
@@ -181,6 +181,11 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
         f.num_triangles,
         f.num_triangle_lights,
         if f.has_shading_normals { ", with vertex normals" } else { "" },
+        if f.num_disks + f.num_cylinders > 0 {
+            format!("{} disks ({} lights), {} cylinders, ", f.num_disks, f.num_disk_lights, f.num_cylinders)
+        } else {
+            String::new()
+        },
         if f.has_specular { "yes" } else { "no" },
         pathlab::scene::BsdfKind::ALL
             .iter()

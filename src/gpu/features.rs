@@ -2,7 +2,7 @@
 //! (`SceneFeatures`, each a WGSL `override` constant) and the order its objects take in the
 //! scene buffers (lights first, occluding planes first). The scene itself knows nothing of it.
 
-use crate::scene::{BsdfKind, EmitterKind, Scene};
+use crate::scene::{BsdfKind, EmitterKind, QuadricKind, Scene};
 
 /// What a scene requires of the path-tracing kernel; each becomes a WGSL `override` constant,
 /// so a pipeline carries only the code its scene uses.
@@ -10,11 +10,15 @@ use crate::scene::{BsdfKind, EmitterKind, Scene};
 pub struct SceneFeatures {
     pub num_spheres: u32,
     pub num_planes: u32,
+    /// Mitsuba's analytic disks and cylinders (`Scene::quadrics`; kernel order `quadric_order`).
+    pub num_disks: u32,
+    pub num_cylinders: u32,
     /// Lights of each kind (`EmitterKind`, each a `NUM_<KIND>_LIGHTS` override): the
     /// emissive spheres, the emissive triangles, and the environment where next event
     /// estimation samples it (`PipelineKey::new` decides, by the method).
     pub num_sphere_lights: u32,
     pub num_triangle_lights: u32,
+    pub num_disk_lights: u32,
     pub num_environment_lights: u32,
     /// The delta lights of each kind (point, spot, directional).
     pub num_point_lights: u32,
@@ -73,12 +77,12 @@ impl SceneFeatures {
 
     /// Area emitters a camera ray may have to pass through under `hide_emitters` before it
     /// meets something else, at most: each light sphere twice (in and out), each emissive
-    /// triangle once, never more than `MAX_EMITTER_SKIPS`; 0 without `hide_emitters`.
+    /// triangle and disk once, never more than `MAX_EMITTER_SKIPS`; 0 without `hide_emitters`.
     pub fn emitter_skips(&self) -> u32 {
         if !self.hide_emitters {
             return 0;
         }
-        (2 * self.num_sphere_lights + self.num_triangle_lights).min(MAX_EMITTER_SKIPS)
+        (2 * self.num_sphere_lights + self.num_triangle_lights + self.num_disk_lights).min(MAX_EMITTER_SKIPS)
     }
 
     /// Lights of `kind`.
@@ -86,6 +90,7 @@ impl SceneFeatures {
         match kind {
             EmitterKind::Sphere => self.num_sphere_lights,
             EmitterKind::Triangle => self.num_triangle_lights,
+            EmitterKind::Disk => self.num_disk_lights,
             EmitterKind::Point => self.num_point_lights,
             EmitterKind::Spot => self.num_spot_lights,
             EmitterKind::Directional => self.num_directional_lights,
@@ -98,8 +103,11 @@ impl SceneFeatures {
         SceneFeatures {
             num_spheres: scene.spheres.len() as u32,
             num_planes: scene.planes.len() as u32,
+            num_disks: scene.quadrics.iter().filter(|q| q.kind == QuadricKind::Disk).count() as u32,
+            num_cylinders: scene.quadrics.iter().filter(|q| q.kind == QuadricKind::Cylinder).count() as u32,
             num_sphere_lights: scene.lights_of(EmitterKind::Sphere).len() as u32,
             num_triangle_lights: scene.lights_of(EmitterKind::Triangle).len() as u32,
+            num_disk_lights: scene.lights_of(EmitterKind::Disk).len() as u32,
             num_environment_lights: scene.lights_of(EmitterKind::Environment).len() as u32,
             num_point_lights: scene.point_lights.len() as u32,
             num_spot_lights: scene.spot_lights.len() as u32,
@@ -151,6 +159,14 @@ impl SceneFeatures {
 pub fn sphere_order(scene: &Scene) -> Vec<usize> {
     let lights = scene.light_spheres();
     let others = (0..scene.spheres.len()).filter(|i| !lights.contains(i));
+    lights.iter().copied().chain(others).collect()
+}
+
+/// Order of the quadrics in the kernel: the disks, their lights first (in scene order), so that
+/// disk light l is quadric l, then the cylinders (validation lists the disks first).
+pub fn quadric_order(scene: &Scene) -> Vec<usize> {
+    let lights: Vec<usize> = scene.lights_of(EmitterKind::Disk).into_iter().filter_map(|l| if let crate::scene::Light::Disk(i) = l { Some(i) } else { None }).collect();
+    let others = (0..scene.quadrics.len()).filter(|i| !lights.contains(i));
     lights.iter().copied().chain(others).collect()
 }
 

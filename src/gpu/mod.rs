@@ -17,6 +17,6 @@ pub use kernel::KernelRun;
 pub use pipeline::{loop_iterations_per_sample, AdapterTuning, pipeline_constants, LoopBound, PathTracerPipelines, PipelineKey, PipelineStats, NO_TRAVERSAL_GUARD};
 pub use frame_params::FrameParams;
 pub use scene_buffers::{
-    max_triangles, GpuDeltaLight, GpuLight, GpuMaterial, GpuPlane, GpuSphere, GpuSphereAxes, GpuTriangle, GpuTriangleNormals, GpuTriangleUvs, PackedTriangles,
+    max_triangles, GpuDeltaLight, GpuLight, GpuMaterial, GpuPlane, GpuQuadric, GpuSphere, GpuSphereAxes, GpuTriangle, GpuTriangleNormals, GpuTriangleUvs, PackedTriangles,
     SceneBufferContents, SceneBuffers,
 };

@@ -12,7 +12,7 @@ use glam::DVec3;
 use wgpu::util::DeviceExt;
 
 use crate::accel::{Bvh, BvhNode};
-use crate::scene::{AliasTable, BsdfData, Light, Scene, MAX_DELTA_LIGHTS, MAX_MATERIALS, MAX_PLANES, MAX_SPHERES};
+use crate::scene::{AliasTable, BsdfData, EmitterKind, Light, Scene, MAX_DELTA_LIGHTS, MAX_MATERIALS, MAX_PLANES, MAX_QUADRICS, MAX_SPHERES};
 use crate::shaders::bindings::{self, Binding};
 use crate::shaders::flags::{MATERIAL_EMISSIVE, MATERIAL_ONE_SIDED, NO_BACK, TRIANGLE_HAS_NORMALS, TRIANGLE_HAS_UVS, TRIANGLE_TWO_SIDED};
 
@@ -53,6 +53,27 @@ pub struct GpuMaterial {
     /// (`Material::back`), `NO_BACK` where none.
     pub back: u32,
     pub _pad: u32,
+}
+
+/// A disk or cylinder (`Quadric`, scene.wgsl): its affine maps as rows (object = to_object
+/// applied to world; a row r maps p to dot(r.xyz, p) + r.w), the disk's unit normal, and the
+/// rest.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct GpuQuadric {
+    pub to_object: [[f32; 4]; 3],
+    pub to_world: [[f32; 4]; 3],
+    /// A disk's unit normal in world space, flip_normals applied.
+    pub normal: [f32; 3],
+    pub material: u32,
+    /// Surface area in world space (a light's density).
+    pub area: f32,
+    /// -1 where flip_normals, else 1 (a cylinder's normal is computed at the hit).
+    pub normal_sign: f32,
+    /// The light it is (`u32::MAX`: none).
+    pub light: u32,
+    /// `TRIANGLE_TWO_SIDED` where it emits on both sides.
+    pub flags: u32,
 }
 
 /// A triangle as the kernel reads it (`Triangle`, bvh.wgsl): vertices, material, the light it
@@ -227,6 +248,8 @@ impl PackedTriangles {
             .map(|(l, light)| GpuLight {
                 object: match *light {
                     Light::Sphere(_) => l as u32,
+                    // The disk lights come first among the quadrics, in light order.
+                    Light::Disk(i) => super::features::quadric_order(scene).iter().position(|&q| q == i).unwrap_or(0) as u32,
                     Light::Triangle { mesh, triangle } => gpu_index[first[mesh] + triangle],
                     // Index into `delta_lights`: the point lights, the spot lights, the
                     // directional lights (`SceneBuffers::pack_delta_lights`).
@@ -284,6 +307,7 @@ impl SceneBuffers {
         vec![
             contents(bindings::SPHERES, "spheres", uniform_array(&Self::pack_spheres(scene), MAX_SPHERES)),
             contents(bindings::PLANES, "planes", uniform_array(&Self::pack_planes(scene), MAX_PLANES)),
+            contents(bindings::QUADRICS, "quadrics", uniform_array(&Self::pack_quadrics(scene), MAX_QUADRICS)),
             contents(bindings::MATERIALS, "materials", uniform_array(&materials, MAX_MATERIALS)),
             contents(bindings::DELTA_LIGHTS, "delta lights", uniform_array(&Self::pack_delta_lights(scene), MAX_DELTA_LIGHTS)),
             contents(bindings::BSDF_DATA, "bsdf data", storage_array(&bsdf_data.0)),
@@ -410,6 +434,36 @@ impl SceneBuffers {
             .collect()
     }
 
+    /// The quadrics in kernel order (`features::quadric_order`): the disk lights first, each
+    /// naming its light-table entry, which follows the sphere and triangle lights.
+    pub fn pack_quadrics(scene: &Scene) -> Vec<GpuQuadric> {
+        let first_disk_light = (scene.lights_of(EmitterKind::Sphere).len() + scene.lights_of(EmitterKind::Triangle).len()) as u32;
+        let num_disk_lights = scene.lights_of(EmitterKind::Disk).len();
+        let rows = |m: glam::DAffine3| {
+            let c = m.to_cols_array();
+            // Columns x, y, z, translation (3 each) to rows [x_r, y_r, z_r, t_r].
+            [0, 1, 2].map(|r| [c[r] as f32, c[3 + r] as f32, c[6 + r] as f32, c[9 + r] as f32])
+        };
+        super::features::quadric_order(scene)
+            .into_iter()
+            .enumerate()
+            .map(|(k, i)| {
+                let q = &scene.quadrics[i];
+                let sign = if q.flip_normals { -1.0 } else { 1.0 };
+                GpuQuadric {
+                    to_object: rows(q.to_object()),
+                    to_world: rows(q.to_world),
+                    normal: f3(crate::scene::quadrics::normal_to_world(&q.to_world, DVec3::Z) * sign),
+                    material: q.material as u32,
+                    area: q.area() as f32,
+                    normal_sign: sign as f32,
+                    light: if k < num_disk_lights { first_disk_light + k as u32 } else { u32::MAX },
+                    flags: if q.two_sided_emission { TRIANGLE_TWO_SIDED } else { 0 },
+                }
+            })
+            .collect()
+    }
+
     /// The planes in kernel order (`features::plane_order`): those that can occlude a light first.
     pub fn pack_planes(scene: &Scene) -> Vec<GpuPlane> {
         super::features::plane_order(scene)
@@ -435,6 +489,7 @@ mod tests {
     fn layouts_match_wgsl() {
         assert_eq!(std::mem::size_of::<GpuSphere>(), 32);
         assert_eq!(std::mem::size_of::<GpuPlane>(), 32);
+        assert_eq!(std::mem::size_of::<GpuQuadric>(), 128);
         assert_eq!(std::mem::size_of::<GpuMaterial>(), 80);
         assert_eq!(std::mem::size_of::<GpuTriangle>(), 48);
         assert_eq!(std::mem::size_of::<GpuTriangleNormals>(), 48);
@@ -448,6 +503,7 @@ mod tests {
         let limit = wgpu::Limits::default().max_uniform_buffer_binding_size as usize;
         assert!(MAX_SPHERES * std::mem::size_of::<GpuSphere>() <= limit);
         assert!(MAX_PLANES * std::mem::size_of::<GpuPlane>() <= limit);
+        assert!(MAX_QUADRICS * std::mem::size_of::<GpuQuadric>() <= limit);
         assert!(MAX_MATERIALS * std::mem::size_of::<GpuMaterial>() <= limit);
     }
 

@@ -33,6 +33,13 @@
 //! directional_lights=N, then directional_light.i.direction=… .irradiance=…
 //! ```
 //!
+//! and, only where the scene has disks or cylinders:
+//!
+//! ```text
+//! quadrics=N, then quadric.i.kind=disk|cylinder .to_world=12 reals (the affine map's columns)
+//!   .flip_normals=0|1 .material=INDEX .two_sided=0|1 (its emission)
+//! ```
+//!
 //! where `data` is the hex SHA-256 of the world-space mesh as little-endian bytes: every
 //! position (3 f64), then every normal (3 f64, none for face normals), then every triangle
 //! (3 u32).
@@ -176,6 +183,17 @@ pub fn canonical_encoding(scene: &Scene) -> String {
         for (i, l) in scene.directional_lights.iter().enumerate() {
             line(&format!("directional_light.{i}.direction"), vec3(l.direction));
             line(&format!("directional_light.{i}.irradiance"), vec3(l.irradiance));
+        }
+    }
+    // Only a scene with quadrics adds lines, so that scenes written before keep their hash.
+    if !scene.quadrics.is_empty() {
+        line("quadrics", scene.quadrics.len().to_string());
+        for (i, q) in scene.quadrics.iter().enumerate() {
+            line(&format!("quadric.{i}.kind"), q.kind.name().to_string());
+            line(&format!("quadric.{i}.to_world"), q.to_world.to_cols_array().map(real).join(","));
+            line(&format!("quadric.{i}.flip_normals"), (q.flip_normals as u8).to_string());
+            line(&format!("quadric.{i}.material"), q.material.to_string());
+            line(&format!("quadric.{i}.two_sided"), (q.two_sided_emission as u8).to_string());
         }
     }
     t

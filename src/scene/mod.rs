@@ -16,6 +16,7 @@ pub mod image_file;
 pub mod mesh;
 pub mod mitsuba;
 pub mod overrides;
+pub mod quadrics;
 pub mod spectrum;
 mod raw;
 pub mod technique;
@@ -38,6 +39,7 @@ pub use bsdfs::{
 pub use diagnostic::{Diagnostic, SceneError, Severity};
 pub use emitters::{AliasTable, DirectionalLight, EmitterKind, EnvDistribution, EnvironmentMap, Light, PointLight, SpotLight};
 pub use mesh::Mesh;
+pub use quadrics::{Quadric, QuadricKind, MAX_QUADRICS};
 pub use overrides::{OverrideError, Overrides, Reframing};
 pub use technique::{Technique, TechniqueError};
 pub use transform::Transform;
@@ -273,6 +275,8 @@ pub struct Scene {
     pub planes: Vec<Plane>,
     /// Triangle meshes in world space (`[[meshes]]`, `[[rectangles]]`, `[[cubes]]`).
     pub meshes: Vec<Mesh>,
+    /// Mitsuba's analytic disks and cylinders (`[[disks]]`, `[[cylinders]]`), disks first.
+    pub quadrics: Vec<Quadric>,
     /// The environment as an image (`[environment_map]`, Mitsuba's `envmap`); the constant
     /// `render.environment` is then black.
     pub environment_map: Option<EnvironmentMap>,
@@ -415,6 +419,16 @@ impl Scene {
                             let d = side(v);
                             d * camera <= 0.0 || d.abs() <= MARGIN * scale.max(v.abs().max_element())
                         })
+                    })
+                    // A disk light is on the camera's side if its whole ellipse is: its centre's
+                    // distance exceeds the ellipse's reach along the normal, |(n.a, n.b)| for its
+                    // axes a and b.
+                    || self.lights_of(EmitterKind::Disk).into_iter().any(|l| {
+                        let Light::Disk(i) = l else { return false };
+                        let m = self.quadrics[i].to_world;
+                        let d = side(m.translation);
+                        let reach = p.normal.dot(m.matrix3.x_axis).hypot(p.normal.dot(m.matrix3.y_axis));
+                        d * camera <= 0.0 || d.abs() <= reach * (1.0 + MARGIN) + MARGIN * scale.max(m.translation.abs().max_element())
                     })
                     // A point or spot light as a sphere of radius 0.
                     || self.point_lights.iter().map(|l| l.position).chain(self.spot_lights.iter().map(|l| l.position)).any(|x| {

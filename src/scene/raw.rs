@@ -25,6 +25,11 @@ pub(crate) struct RawScene {
     pub rectangles: Vec<Spanned<RawShape>>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub cubes: Vec<Spanned<RawShape>>,
+    /// `[[disks]]` and `[[cylinders]]`: Mitsuba's analytic `disk` and `cylinder`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub disks: Vec<Spanned<RawShape>>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub cylinders: Vec<Spanned<RawCylinder>>,
     /// `[environment_map]`: Mitsuba's `envmap`.
     pub environment_map: Option<Spanned<RawEnvironmentMap>>,
     /// `[techniques]`: researchers' sampling techniques loaded with the scene.
@@ -114,7 +119,7 @@ pub(crate) struct RawMesh {
     pub shape_index: Option<Spanned<i64>>,
 }
 
-/// `[[rectangles]]` and `[[cubes]]`: Mitsuba's built-in shapes.
+/// `[[rectangles]]`, `[[cubes]]` and `[[disks]]`: Mitsuba's built-in shapes.
 #[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawShape {
@@ -122,6 +127,22 @@ pub(crate) struct RawShape {
     pub transform: Option<Spanned<RawTransform>>,
     pub flip_normals: Option<Spanned<bool>>,
     pub two_sided_emission: Option<Spanned<bool>>,
+}
+
+/// `[[cylinders]]`: Mitsuba's `cylinder` from `p0` (default the origin) to `p1` (default
+/// [0, 0, 1]) of `radius` (default 1), then moved by `transform`.
+#[derive(Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawCylinder {
+    pub material: Spanned<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub p0: Option<Spanned<[f64; 3]>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub p1: Option<Spanned<[f64; 3]>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius: Option<Spanned<f64>>,
+    pub transform: Option<Spanned<RawTransform>>,
+    pub flip_normals: Option<Spanned<bool>>,
 }
 
 /// An object-to-world transform: `scale`, then `rotate` (one rotation or a list, applied in

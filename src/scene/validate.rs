@@ -5,7 +5,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::ops::Range;
 use std::path::Path;
 
-use glam::DVec3;
+use glam::{DAffine3, DVec3};
 use toml::Spanned;
 
 use crate::display::{DisplayTransform, Transfer};
@@ -15,6 +15,7 @@ use super::diagnostic::SourceMap;
 use super::mesh::{self, shapes, Mesh, MeshData, Shading};
 use super::emitters::{DirectionalLight, PointLight, SpotLight, BEAM_WIDTH_OF_CUTOFF, DEFAULT_CUTOFF_ANGLE};
 use super::raw::{RawEnvironmentMap, RawMaterial, RawRotations, RawScale, RawScene, RawTransform};
+use super::quadrics::{self, Quadric, QuadricKind, MAX_QUADRICS};
 use super::transform::Transform;
 use super::{
     Camera, Diagnostic, Fov, Material, Opacity, Plane, RenderSettings, Scene, SceneError, Severity, Sphere, MAX_DELTA_LIGHTS,
@@ -176,6 +177,7 @@ pub(super) fn validate(raw: &RawScene, file: &Path, sources: SourceMap, diagnost
     }
 
     let meshes = check_meshes(&mut ck, raw, &materials, &mut |ck, name, field| resolve(ck, name, field));
+    let quadrics = check_quadrics(&mut ck, raw, &materials, &mut |ck, name, field| resolve(ck, name, field));
 
     // Capacities of the kernel's uniform buffers.
     if let Some(extra) = raw.spheres.get(MAX_SPHERES) {
@@ -201,7 +203,7 @@ pub(super) fn validate(raw: &RawScene, file: &Path, sources: SourceMap, diagnost
         ck.error(raw.render.span(), "render.environment", "give either a constant environment or an environment map, not both (Mitsuba has one infinite emitter)");
     }
     let (point_lights, spot_lights, directional_lights) = check_delta_lights(&mut ck, raw);
-    let any_emitter = spheres.iter().map(|s| s.material).chain(meshes.iter().map(|m| m.material))
+    let any_emitter = spheres.iter().map(|s| s.material).chain(meshes.iter().map(|m| m.material)).chain(quadrics.iter().map(|q| q.material))
         .any(|m| materials.get(m).is_some_and(Material::is_emissive))
         || point_lights.iter().any(|l| l.intensity.max_element() > 0.0)
         || spot_lights.iter().any(|l| l.intensity.max_element() > 0.0)
@@ -223,6 +225,7 @@ pub(super) fn validate(raw: &RawScene, file: &Path, sources: SourceMap, diagnost
         spheres,
         planes,
         meshes,
+        quadrics,
         environment_map,
         point_lights,
         spot_lights,
@@ -367,6 +370,78 @@ fn check_transform(ck: &mut Checker, t: Option<&Spanned<RawTransform>>, field: &
             Transform::default()
         }
     }
+}
+
+/// `[[disks]]` and `[[cylinders]]` (`quadrics`), disks first: transforms invertible; a
+/// cylinder's radius > 0, its ends apart and its `to_world` not a mirror (its normals would turn
+/// inwards); a disk may emit (on its normal's side, or both with `two_sided_emission`), a
+/// cylinder not yet. Mitsuba warns of a cylinder scaled unevenly across its axis or sheared, and
+/// so does pathlab (its intersection is exact either way).
+fn check_quadrics(ck: &mut Checker, raw: &RawScene, materials: &[Material], resolve: &mut Resolve) -> Vec<Quadric> {
+    let mut quadrics = Vec::new();
+    let flag = |f: &Option<Spanned<bool>>| f.as_ref().is_some_and(|f| *f.get_ref());
+    for (i, s) in raw.disks.iter().enumerate() {
+        let table = format!("disks[{i}]");
+        let s = s.get_ref();
+        let material = resolve(ck, &s.material, &format!("{table}.material"));
+        let to_world = check_transform(ck, s.transform.as_ref(), &format!("{table}.transform"));
+        quadrics.push(Quadric {
+            kind: QuadricKind::Disk,
+            to_world: DAffine3::from_mat4(to_world.matrix),
+            flip_normals: flag(&s.flip_normals),
+            material,
+            two_sided_emission: flag(&s.two_sided_emission),
+        });
+    }
+    for (i, c) in raw.cylinders.iter().enumerate() {
+        let table = format!("cylinders[{i}]");
+        let span = c.span();
+        let c = c.get_ref();
+        let material = resolve(ck, &c.material, &format!("{table}.material"));
+        let transform = check_transform(ck, c.transform.as_ref(), &format!("{table}.transform"));
+        let p0 = c.p0.as_ref().map_or(DVec3::ZERO, |p| ck.vector(p, &format!("{table}.p0")));
+        let p1 = c.p1.as_ref().map_or(DVec3::Z, |p| ck.vector(p, &format!("{table}.p1")));
+        let radius = match &c.radius {
+            None => 1.0,
+            Some(r) => {
+                let field = format!("{table}.radius");
+                let v = ck.number(r, &field);
+                if !(v > 0.0) && r.get_ref().is_finite() {
+                    ck.error(r.span(), &field, format!("radius must be > 0 (got {v})"));
+                    continue;
+                }
+                v
+            }
+        };
+        if (p1 - p0).length() == 0.0 {
+            ck.error(c.p1.as_ref().map_or(span.clone(), Spanned::span), format!("{table}.p1"), "p0 and p1 must differ: the cylinder has no length");
+            continue;
+        }
+        let to_world = quadrics::cylinder_to_world(DAffine3::from_mat4(transform.matrix), p0, p1, radius);
+        let l = to_world.matrix3;
+        let at = c.transform.as_ref().map_or(span.clone(), Spanned::span);
+        if l.determinant() < 0.0 {
+            ck.error(at, format!("{table}.transform"), "the cylinder's to_world mirrors it (negative determinant), which pathlab does not support");
+            continue;
+        }
+        let (x, y, z) = (l.x_axis, l.y_axis, l.z_axis);
+        let uneven = (x.length() - y.length()).abs() > 1e-6 * x.length()
+            || x.dot(y).abs() > 1e-6 * x.length_squared()
+            || x.dot(z).abs() > 1e-6 * x.length() * z.length()
+            || y.dot(z).abs() > 1e-6 * y.length() * z.length();
+        if uneven {
+            ck.warn(at, format!("{table}.transform"), "the cylinder's to_world shears it or scales it unevenly across its axis (Mitsuba warns likewise); it is intersected exactly");
+        }
+        if materials.get(material).is_some_and(Material::is_emissive) {
+            ck.error(c.material.span(), format!("{table}.material"), format!("material \"{}\" emits light: an emissive cylinder is not supported yet (a disk, sphere, rectangle or mesh may emit)", c.material.get_ref()));
+        }
+        quadrics.push(Quadric { kind: QuadricKind::Cylinder, to_world, flip_normals: flag(&c.flip_normals), material, two_sided_emission: false });
+    }
+    if quadrics.len() > MAX_QUADRICS {
+        let extra = raw.disks.iter().map(Spanned::span).chain(raw.cylinders.iter().map(Spanned::span)).nth(MAX_QUADRICS).unwrap_or(0..0);
+        ck.error(extra, "disks", too_many(quadrics.len(), MAX_QUADRICS, "disks and cylinders"));
+    }
+    quadrics
 }
 
 type Resolve<'r> = dyn FnMut(&mut Checker, &Spanned<String>, &str) -> usize + 'r;

@@ -46,6 +46,8 @@ pub const FRAME: Binding = Binding { number: 0, name: "FRAME", kind: Kind::Unifo
 pub const SPHERES: Binding = Binding { number: 1, name: "SPHERES", kind: Kind::Uniform };
 pub const PLANES: Binding = Binding { number: 2, name: "PLANES", kind: Kind::Uniform };
 pub const MATERIALS: Binding = Binding { number: 3, name: "MATERIALS", kind: Kind::Uniform };
+/// The disks and cylinders (`Quadric`, scene.wgsl).
+pub const QUADRICS: Binding = Binding { number: 18, name: "QUADRICS", kind: Kind::Uniform };
 /// One band's accumulator (accumulate.wgsl).
 pub const ACCUM: Binding = Binding { number: 5, name: "ACCUM", kind: Kind::Storage { read_only: false } };
 /// The Halton bases, `primes(HALTON_DIMENSIONS)` (sampler.wgsl).
@@ -82,10 +84,11 @@ pub const ENVIRONMENT_MAP: Binding = Binding { number: 15, name: "ENVIRONMENT_MA
 pub const DELTA_LIGHTS: Binding = Binding { number: 16, name: "DELTA_LIGHTS", kind: Kind::Uniform };
 
 /// The path tracer's bind group.
-pub const PATH_TRACER: [Binding; 17] = [
+pub const PATH_TRACER: [Binding; 18] = [
     FRAME,
     SPHERES,
     PLANES,
+    QUADRICS,
     MATERIALS,
     ACCUM,
     HALTON_PRIMES,

@@ -6,7 +6,7 @@ use crate::display::{Transfer, View};
 use crate::metrics::linear::REL_MSE_EPSILON;
 use crate::method::{BsdfSampling, LightSampling, LightSelect, EnvSampling, LobeSelection, MicrofacetSampling, Sampler, TriangleSampling};
 use crate::names::wgsl_constants;
-use crate::scene::{BsdfKind, Distribution, EmitterKind, MAX_DELTA_LIGHTS, MAX_MATERIALS, MAX_PLANES, MAX_SPHERES};
+use crate::scene::{BsdfKind, Distribution, EmitterKind, MAX_DELTA_LIGHTS, MAX_MATERIALS, MAX_PLANES, MAX_QUADRICS, MAX_SPHERES};
 
 use super::{bindings, flags, HALTON_DIMENSIONS};
 
@@ -19,6 +19,7 @@ pub fn generated_constants() -> String {
          // Capacities of the scene's uniform buffers (src/gpu/scene_buffers.rs).\n\
          const MAX_SPHERES: u32 = {MAX_SPHERES}u;\n\
          const MAX_PLANES: u32 = {MAX_PLANES}u;\n\
+         const MAX_QUADRICS: u32 = {MAX_QUADRICS}u;\n\
          const MAX_MATERIALS: u32 = {MAX_MATERIALS}u;\n\
          const MAX_DELTA_LIGHTS: u32 = {MAX_DELTA_LIGHTS}u;\n\
          // The BVH traversal stack: the deepest node the builder makes (src/accel/bvh.rs).\n\

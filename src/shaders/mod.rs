@@ -62,15 +62,19 @@ pub mod files {
     pub const NO_ENV_TECHNIQUE: (&str, &str) = ("techniques/none_env.wgsl", include_str!("../../shaders/techniques/none_env.wgsl"));
     pub const EMITTER: (&str, &str) = ("emitter.wgsl", include_str!("../../shaders/emitter.wgsl"));
     /// One file per kind of the emitter registry (`scene::EmitterKind`), in its order.
-    pub const EMITTER_KINDS: [(&str, &str); 6] = [
+    pub const EMITTER_KINDS: [(&str, &str); 7] = [
         ("emitters/sphere.wgsl", include_str!("../../shaders/emitters/sphere.wgsl")),
         ("emitters/triangle.wgsl", include_str!("../../shaders/emitters/triangle.wgsl")),
+        ("emitters/disk.wgsl", include_str!("../../shaders/emitters/disk.wgsl")),
         ("emitters/point.wgsl", include_str!("../../shaders/emitters/point.wgsl")),
         ("emitters/spot.wgsl", include_str!("../../shaders/emitters/spot.wgsl")),
         ("emitters/directional.wgsl", include_str!("../../shaders/emitters/directional.wgsl")),
         ("emitters/environment.wgsl", include_str!("../../shaders/emitters/environment.wgsl")),
     ];
     pub const SCENE: (&str, &str) = ("scene.wgsl", include_str!("../../shaders/scene.wgsl"));
+    /// The quadrics' intersection, normals, uvs and sampling, one file per kind (`QuadricKind`).
+    pub const DISK: (&str, &str) = ("quadrics/disk.wgsl", include_str!("../../shaders/quadrics/disk.wgsl"));
+    pub const CYLINDER: (&str, &str) = ("quadrics/cylinder.wgsl", include_str!("../../shaders/quadrics/cylinder.wgsl"));
     pub const INTERSECT: (&str, &str) = ("intersect.wgsl", include_str!("../../shaders/intersect.wgsl"));
     pub const ACCUM_PIXEL: (&str, &str) = ("accum_pixel.wgsl", include_str!("../../shaders/accum_pixel.wgsl"));
     pub const ACCUMULATE: (&str, &str) = ("accumulate.wgsl", include_str!("../../shaders/accumulate.wgsl"));
@@ -96,7 +100,7 @@ pub const LIBRARY: [(&str, &str); 10] = [
 ];
 
 /// Everything the path-tracing kernel (`render_main`) needs.
-pub const PATH_TRACER: [(&str, &str); 18] = [
+pub const PATH_TRACER: [(&str, &str); 20] = [
     files::COMMON,
     files::SAMPLER,
     files::WARP,
@@ -109,6 +113,8 @@ pub const PATH_TRACER: [(&str, &str); 18] = [
     files::TECHNIQUE,
     files::LIGHT_TABLE,
     files::SCENE,
+    files::DISK,
+    files::CYLINDER,
     files::BVH,
     files::INTERSECT,
     files::EMITTER,

@@ -274,3 +274,71 @@ pub fn agrees_with_reference(reference: &Film, scene: &Scene, methods: &[Method]
     assert!(z.pass_fraction < MIN_PASS, "a 5% bias passes: {:.4}", z.pass_fraction);
     films
 }
+
+/// What `intersect_scene` returns for one ray (`Hit`, intersect.wgsl).
+#[derive(Debug, Clone, Copy)]
+pub struct TracedHit {
+    pub t: f32,
+    pub normal: [f32; 3],
+    /// The kernel's object index (`u32::MAX`: a miss).
+    pub object: u32,
+    pub uv: [f32; 2],
+}
+
+const TRACE_KERNEL: &str = r#"
+struct ProbeRay { o: vec4f, d: vec4f }
+@group(0) @binding(30) var<storage, read> probe_rays: array<ProbeRay>;
+@group(0) @binding(31) var<storage, read_write> probe_out: array<vec4f>;
+
+@compute @workgroup_size(64)
+fn trace_probe(@builtin(global_invocation_id) gid: vec3u) {
+    load_small_triangles();
+    let i = gid.x;
+    if (i >= arrayLength(&probe_rays)) {
+        return;
+    }
+    let hit = intersect_scene(probe_rays[i].o.xyz, probe_rays[i].d.xyz);
+    probe_out[2u * i] = vec4f(hit.uv, bitcast<f32>(hit.object), hit.t);
+    probe_out[2u * i + 1u] = vec4f(hit.normal, 0.0);
+}
+"#;
+
+/// Traces `rays` (origin, unit direction) through `scene` in a kernel built from the path
+/// tracer's own WGSL with the scene's own buffers (`SceneBuffers::contents`) and the pipeline
+/// constants of `features`: the kernel's `intersect_scene`, each ray's hit.
+pub fn trace_hits(scene: &Scene, features: pathlab::gpu::SceneFeatures, rays: &[(glam::DVec3, glam::DVec3)]) -> Vec<TracedHit> {
+    use pathlab::gpu::{pipeline_constants, KernelRun, PackedTriangles, PipelineKey, SceneBuffers};
+    use pathlab::shaders::{self, bindings};
+    let packed = PackedTriangles::new(scene, false);
+    let key = PipelineKey::new(Preset::Mis.method(), features, scene.default_light_select());
+    let constants = pipeline_constants(&key);
+    let source = shaders::assemble(&shaders::PATH_TRACER, TRACE_KERNEL);
+    let (mut inputs, mut uniforms, mut texel_tables) = (vec![], vec![], vec![]);
+    for c in SceneBuffers::contents(scene, &packed) {
+        match c.binding.kind {
+            bindings::Kind::Uniform => uniforms.push((c.binding.number, c.bytes)),
+            bindings::Kind::Storage { .. } => inputs.push((c.binding.number, c.bytes)),
+            bindings::Kind::TexelTable => texel_tables.push((c.binding.number, c.bytes)),
+        }
+    }
+    let rays: Vec<[f32; 8]> = rays
+        .iter()
+        .map(|(o, d)| {
+            let (o, d) = (o.as_vec3(), d.as_vec3());
+            [o.x, o.y, o.z, 0.0, d.x, d.y, d.z, 0.0]
+        })
+        .collect();
+    inputs.push((30, bytemuck::cast_slice(&rays).to_vec()));
+    let run = KernelRun {
+        source: &source,
+        entry: "trace_probe",
+        constants: &constants,
+        inputs,
+        uniforms,
+        texel_tables,
+        output: (31, rays.len() as u64 * 32),
+        workgroups: (rays.len() as u32).div_ceil(64),
+    };
+    let out: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&run.run(gpu()).expect("trace kernel"));
+    out.chunks(2).map(|h| TracedHit { t: h[0][3], normal: [h[1][0], h[1][1], h[1][2]], object: h[0][2].to_bits(), uv: [h[0][0], h[0][1]] }).collect()
+}

@@ -28,7 +28,7 @@ pub(super) fn power(scene: &Scene) -> f64 {
     4.0 * PI * PI * r * r * radiance
 }
 
-/// Radius of a sphere around the scene's bounded objects (spheres, mesh vertices) and its
+/// Radius of a sphere around the scene's bounded objects (spheres, mesh vertices, quadrics) and its
 /// camera, centred on their bounding box; planes are unbounded and left out.
 pub(super) fn bounding_radius(scene: &Scene) -> f64 {
     let mut lo = scene.camera.position;
@@ -40,6 +40,15 @@ pub(super) fn bounding_radius(scene: &Scene) -> f64 {
     for v in scene.meshes.iter().flat_map(|m| m.positions.iter()) {
         lo = lo.min(*v);
         hi = hi.max(*v);
+    }
+    // A disk or cylinder within the image of its object space's box [-1, 1]^2 x [0, 1].
+    for q in &scene.quadrics {
+        for corner in 0..8 {
+            let c = DVec3::new(if corner & 1 == 0 { -1.0 } else { 1.0 }, if corner & 2 == 0 { -1.0 } else { 1.0 }, (corner >> 2) as f64);
+            let v = q.to_world.transform_point3(c);
+            lo = lo.min(v);
+            hi = hi.max(v);
+        }
     }
     (0.5 * (hi - lo).length()).max(1e-3)
 }

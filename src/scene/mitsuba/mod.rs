@@ -20,7 +20,7 @@ use toml::Spanned;
 
 use super::diagnostic::{Diagnostic, Findings, Severity, SourceMap};
 use super::raw::{
-    RawCamera, RawColor, RawMaterial, RawMesh, RawRender, RawRotation, RawRotations, RawScale, RawScene, RawShape,
+    RawCamera, RawColor, RawCylinder, RawMaterial, RawMesh, RawRender, RawRotation, RawRotations, RawScale, RawScene, RawShape,
     RawSphere, RawTransform,
 };
 use super::bsdfs::{color_value, PluginProps, DEFAULT_REFLECTANCE};
@@ -35,7 +35,25 @@ const MITSUBA_FAR_CLIP: f64 = 1e4;
 const DEFAULT_MAX_DEPTH: i64 = -1;
 const DEFAULT_RR_DEPTH: i64 = 5;
 
-const SHAPES: &str = "obj, ply, serialized, rectangle, cube, sphere, shapegroup, instance";
+const SHAPES: &str = "obj, ply, serialized, rectangle, cube, sphere, disk, cylinder, shapegroup, instance";
+
+/// The shapes read so far, by the raw scene's tables.
+#[derive(Default)]
+struct Shapes {
+    meshes: Vec<Spanned<RawMesh>>,
+    rectangles: Vec<Spanned<RawShape>>,
+    cubes: Vec<Spanned<RawShape>>,
+    spheres: Vec<Spanned<RawSphere>>,
+    disks: Vec<Spanned<RawShape>>,
+    cylinders: Vec<Spanned<RawCylinder>>,
+}
+
+impl Shapes {
+    /// How many shapes, of every kind.
+    fn len(&self) -> usize {
+        self.meshes.len() + self.rectangles.len() + self.cubes.len() + self.spheres.len() + self.disks.len() + self.cylinders.len()
+    }
+}
 
 /// Reads and validates a Mitsuba 3 scene; `defines` override its `<default>`s (`--define`).
 pub(super) fn load(path: &Path, defines: &[(String, String)]) -> Result<Scene, SceneError> {
@@ -686,10 +704,7 @@ impl Translator<'_> {
         let mut depth = (DEFAULT_MAX_DEPTH, DEFAULT_RR_DEPTH, 0usize, None);
         let mut environment: Option<([f64; 3], usize)> = None;
         let mut environment_map = None;
-        let mut meshes = Vec::new();
-        let mut rectangles = Vec::new();
-        let mut cubes = Vec::new();
-        let mut spheres = Vec::new();
+        let mut shapes = Shapes::default();
         let (mut point_lights, mut spot_lights, mut directional_lights) = (Vec::new(), Vec::new(), Vec::new());
         let mut sensors = 0;
         let mut integrators = 0;
@@ -717,7 +732,7 @@ impl Translator<'_> {
                 "bsdf" => {
                     self.bsdf(o);
                 }
-                "shape" => self.shape(o, &mut meshes, &mut rectangles, &mut cubes, &mut spheres),
+                "shape" => self.shape(o, &mut shapes),
                 "emitter" => match o.plugin.as_str() {
                     "constant" => {
                         let mut p = Props::of(o);
@@ -777,12 +792,14 @@ impl Translator<'_> {
             ),
             materials: std::mem::take(&mut self.materials),
             environment_map,
-            spheres,
+            spheres: shapes.spheres,
             planes: Vec::new(),
             display: None,
-            meshes,
-            rectangles,
-            cubes,
+            meshes: shapes.meshes,
+            rectangles: shapes.rectangles,
+            cubes: shapes.cubes,
+            disks: shapes.disks,
+            cylinders: shapes.cylinders,
             point_lights,
             spot_lights,
             directional_lights,
@@ -1244,11 +1261,11 @@ impl Translator<'_> {
         spanned(at, name)
     }
 
-    fn shape(&mut self, o: &Object, meshes: &mut Vec<Spanned<RawMesh>>, rectangles: &mut Vec<Spanned<RawShape>>, cubes: &mut Vec<Spanned<RawShape>>, spheres: &mut Vec<Spanned<RawSphere>>) {
+    fn shape(&mut self, o: &Object, shapes: &mut Shapes) {
         match o.plugin.as_str() {
             "shapegroup" => self.shapegroup(o),
-            "instance" => self.instance(o, meshes, rectangles, cubes, spheres),
-            _ => self.placed_shape(o, None, meshes, rectangles, cubes, spheres),
+            "instance" => self.instance(o, shapes),
+            _ => self.placed_shape(o, None, shapes),
         }
     }
 
@@ -1263,7 +1280,7 @@ impl Translator<'_> {
     /// `<shape type="instance">` with a `<ref>` to one shape group and a `to_world`: the group's
     /// shapes flattened into the scene, each with the instance's transform after its own
     /// (Mitsuba's instance to_world times the shape's), as world-space shapes.
-    fn instance(&mut self, o: &Object, meshes: &mut Vec<Spanned<RawMesh>>, rectangles: &mut Vec<Spanned<RawShape>>, cubes: &mut Vec<Spanned<RawShape>>, spheres: &mut Vec<Spanned<RawSphere>>) {
+    fn instance(&mut self, o: &Object, shapes: &mut Shapes) {
         let mut p = Props::of(o);
         let to_world = self.transform(&mut p, "to_world");
         self.finish(p, "to_world");
@@ -1286,11 +1303,11 @@ impl Translator<'_> {
         if !shapegroup_problems(group, false).is_empty() {
             return;
         }
-        let before = meshes.len() + rectangles.len() + cubes.len() + spheres.len();
+        let before = shapes.len();
         for shape in group.children.iter().filter(|c| c.tag == "shape") {
-            self.placed_shape(shape, to_world.as_ref(), meshes, rectangles, cubes, spheres);
+            self.placed_shape(shape, to_world.as_ref(), shapes);
         }
-        let placed = meshes.len() + rectangles.len() + cubes.len() + spheres.len() - before;
+        let placed = shapes.len() - before;
         self.instanced.push((group.id.clone().unwrap_or_default(), placed));
     }
 
@@ -1299,10 +1316,7 @@ impl Translator<'_> {
         &mut self,
         o: &Object,
         instance: Option<&(Vec<TransformOp>, usize)>,
-        meshes: &mut Vec<Spanned<RawMesh>>,
-        rectangles: &mut Vec<Spanned<RawShape>>,
-        cubes: &mut Vec<Spanned<RawShape>>,
-        spheres: &mut Vec<Spanned<RawSphere>>,
+        shapes: &mut Shapes,
     ) {
         self.shape_count += 1;
         let shape_name = o.id.clone().unwrap_or_else(|| format!("shape{}", self.shape_count));
@@ -1371,7 +1385,7 @@ impl Translator<'_> {
                         return;
                     }
                 };
-                meshes.push(spanned(
+                shapes.meshes.push(spanned(
                     o.at,
                     RawMesh {
                         file: spanned(o.at, path.display().to_string()),
@@ -1388,7 +1402,24 @@ impl Translator<'_> {
             "rectangle" | "cube" => {
                 self.finish(p, "flip_normals, to_world");
                 let shape = RawShape { material, transform, flip_normals, two_sided_emission: None };
-                if o.plugin == "rectangle" { rectangles.push(spanned(o.at, shape)) } else { cubes.push(spanned(o.at, shape)) }
+                if o.plugin == "rectangle" { shapes.rectangles.push(spanned(o.at, shape)) } else { shapes.cubes.push(spanned(o.at, shape)) }
+            }
+            "disk" => {
+                self.finish(p, "flip_normals, to_world");
+                shapes.disks.push(spanned(o.at, RawShape { material, transform, flip_normals, two_sided_emission: None }));
+            }
+            "cylinder" => {
+                let p0 = self.point(&mut p, "p0").map(|v| spanned(o.at, v.to_array()));
+                let p1 = self.point(&mut p, "p1").map(|v| spanned(o.at, v.to_array()));
+                let radius = match p.props.iter().any(|q| q.name == "radius") {
+                    true => match self.positive(&mut p, "radius") {
+                        Some((r, _)) => Some(spanned(o.at, r)),
+                        None => return,
+                    },
+                    false => None,
+                };
+                self.finish(p, "p0, p1, radius, flip_normals, to_world");
+                shapes.cylinders.push(spanned(o.at, RawCylinder { material, p0, p1, radius, transform, flip_normals }));
             }
             "sphere" => {
                 let center = self.point(&mut p, "center").unwrap_or(DVec3::ZERO);
@@ -1424,7 +1455,7 @@ impl Translator<'_> {
                         (m.transform_point3(center), radius * s, rotated.then(|| spanned(*at, axes)))
                     }
                 };
-                spheres.push(spanned(
+                shapes.spheres.push(spanned(
                     o.at,
                     RawSphere { center: spanned(o.at, center.to_array()), radius: spanned(o.at, radius), material, axes },
                 ));

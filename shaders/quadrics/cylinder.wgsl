@@ -1,0 +1,41 @@
+// quadrics/cylinder.wgsl — Mitsuba's cylinder (src/shapes/cylinder.cpp; the host's is
+// src/scene/quadrics/cylinder.rs): the open unit cylinder x^2 + y^2 = 1, 0 <= z <= 1, of its
+// object space, without end caps, its normals outwards (flip_normals: inwards).
+
+// t where the ray meets cylinder q in (t_min, t_max), or -1: the nearer root of
+// |ol.xy + t dl.xy|^2 = 1 whose point lies between z = 0 and z = 1, else the farther one
+// (Mitsuba's test). The roots of a t^2 + 2 h t + c = 0 in the stable form: the discriminant
+// h^2 - a c equals a - (dl.xy x ol.xy)^2 (Lagrange's identity), free of the cancellation of
+// h^2 - a c for far-away rays; the second root comes from Vieta's formula (c / q).
+fn intersect_cylinder(q: Quadric, o: vec3f, d: vec3f, t_min: f32, t_max: f32) -> f32 {
+    let ol = affine_point(q.to_object, o);
+    let dl = affine_vector(q.to_object, d);
+    let a = dot(dl.xy, dl.xy);
+    let h = dot(dl.xy, ol.xy);
+    let c = dot(ol.xy, ol.xy) - 1.0;
+    let cross_z = dl.x * ol.y - dl.y * ol.x;
+    let disc = a - cross_z * cross_z;
+    let root = -h - select(-1.0, 1.0, h >= 0.0) * safe_sqrt(disc);
+    let t_near = min(root / a, c / root);
+    let t_far = max(root / a, c / root);
+    let z_near = ol.z + dl.z * t_near;
+    let z_far = ol.z + dl.z * t_far;
+    let near_ok = (disc >= 0.0) & (t_near > t_min) & (t_near < t_max) & (z_near >= 0.0) & (z_near <= 1.0);
+    let far_ok = (disc >= 0.0) & (t_far > t_min) & (t_far < t_max) & (z_far >= 0.0) & (z_far <= 1.0);
+    return select(select(-1.0, t_far, far_ok), t_near, near_ok);
+}
+
+// The cylinder's unit normal at world point p: the object-space normal (x, y, 0) mapped by the
+// inverse transpose, A^T (x, y, 0) with A the world-to-object rows, turned by flip_normals.
+fn cylinder_normal(q: Quadric, p: vec3f) -> vec3f {
+    let l = affine_point(q.to_object, p);
+    return q.normal_sign * normalize(l.x * q.to_object[0].xyz + l.y * q.to_object[1].xyz);
+}
+
+// Mitsuba's uv of the cylinder at world point p: (phi / 2 pi, z), phi in [0, 2 pi).
+fn cylinder_uv(q: Quadric, p: vec3f) -> vec2f {
+    let l = affine_point(q.to_object, p);
+    var u = atan2(l.y, l.x) * INV_2PI;
+    u = select(u, u + 1.0, u < 0.0);
+    return vec2f(u, l.z);
+}

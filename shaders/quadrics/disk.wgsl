@@ -1,0 +1,29 @@
+// quadrics/disk.wgsl — Mitsuba's disk (src/shapes/disk.cpp; the host's is
+// src/scene/quadrics/disk.rs): the unit disk x^2 + y^2 <= 1 at z = 0 of its object space, its
+// normal +z (Quadric.normal in world space).
+
+// t of the ray's crossing of disk q in (t_min, t_max), or -1: the crossing of z = 0 in object
+// space (t is the same in both spaces: the ray's direction is mapped unnormalised), within the
+// unit circle. A ray parallel to the disk divides by zero and fails the range test.
+fn intersect_disk(q: Quadric, o: vec3f, d: vec3f, t_min: f32, t_max: f32) -> f32 {
+    let ol = affine_point(q.to_object, o);
+    let dl = affine_vector(q.to_object, d);
+    let t = -ol.z / dl.z;
+    let l = ol.xy + dl.xy * t;
+    return select(-1.0, t, (t > t_min) & (t < t_max) & (dot(l, l) <= 1.0));
+}
+
+// Mitsuba's uv of the disk at world point p: (r, phi / 2 pi) of its object-space polar
+// coordinates, phi in [0, 2 pi).
+fn disk_uv(q: Quadric, p: vec3f) -> vec2f {
+    let l = affine_point(q.to_object, p);
+    var v = atan2(l.y, l.x) * INV_2PI;
+    v = select(v, v + 1.0, v < 0.0);
+    return vec2f(length(l.xy), v);
+}
+
+// A point uniform in the area of disk q (Mitsuba's Disk::sample_position: the concentric map,
+// warp.wgsl).
+fn sample_disk_point(q: Quadric, u: vec2f) -> vec3f {
+    return affine_point(q.to_world, vec3f(square_to_uniform_disk_concentric(u), 0.0));
+}

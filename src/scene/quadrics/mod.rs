@@ -1,0 +1,189 @@
+//! Quadrics: Mitsuba 3's analytic `disk` and `cylinder` (pbrt-v4's "other quadrics"), exact
+//! surfaces intersected in object space, one file per kind (`disk.rs`, `cylinder.rs`, and
+//! `shaders/quadrics/<kind>.wgsl`). Each is a unit shape in its object space placed by an affine
+//! `to_world`: the disk x^2 + y^2 <= 1 at z = 0, the open cylinder x^2 + y^2 = 1 for
+//! 0 <= z <= 1 (no end caps). The host functions here are the reference the kernel's are tested
+//! against, and give a light's area and power.
+//!
+//! The kernel tests every quadric per ray (`NUM_DISKS`, `NUM_CYLINDERS`; there is no
+//! acceleration structure for them), disks first, each kind's lights first.
+
+mod cylinder;
+mod disk;
+
+use glam::{DAffine3, DMat3, DVec3};
+
+use crate::names::named_enum;
+
+/// Most quadrics a scene may have (128 bytes each in a uniform buffer).
+pub const MAX_QUADRICS: usize = 256;
+
+named_enum! {
+    /// The kind of a quadric.
+    pub enum QuadricKind("quadric kind") {
+        /// Mitsuba's `disk`: the unit disk at z = 0 in object space, its normal +z.
+        Disk = "disk",
+        /// Mitsuba's `cylinder`: the open unit cylinder from z = 0 to z = 1, normals outwards.
+        Cylinder = "cylinder",
+    }
+}
+
+/// A disk or cylinder in world space.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Quadric {
+    pub kind: QuadricKind,
+    /// Object to world, affine and invertible (a cylinder's `p0`, `p1` and `radius` folded in,
+    /// as Mitsuba does).
+    pub to_world: DAffine3,
+    /// Mitsuba's `flip_normals`: the normal (and the side an emitter emits on) turned around.
+    pub flip_normals: bool,
+    /// Index into `Scene::materials`.
+    pub material: usize,
+    /// Emits on both sides (pathlab's `two_sided_emission`; Mitsuba's area emitters emit on the
+    /// normal's side only).
+    pub two_sided_emission: bool,
+}
+
+impl Quadric {
+    /// World to object.
+    pub fn to_object(&self) -> DAffine3 {
+        self.to_world.inverse()
+    }
+
+    /// Surface area in world space.
+    pub fn area(&self) -> f64 {
+        match self.kind {
+            QuadricKind::Disk => disk::area(self),
+            QuadricKind::Cylinder => cylinder::area(self),
+        }
+    }
+
+    /// Nearest ray parameter t in (t_min, t_max) where the ray o + t d meets the surface.
+    pub fn intersect(&self, o: DVec3, d: DVec3, t_min: f64, t_max: f64) -> Option<f64> {
+        let m = self.to_object();
+        let (ol, dl) = (m.transform_point3(o), m.transform_vector3(d));
+        match self.kind {
+            QuadricKind::Disk => disk::intersect(ol, dl, t_min, t_max),
+            QuadricKind::Cylinder => cylinder::intersect(ol, dl, t_min, t_max),
+        }
+    }
+
+    /// The unit surface normal at world point `p` of the surface (flip_normals applied).
+    pub fn normal(&self, p: DVec3) -> DVec3 {
+        let local = self.to_object().transform_point3(p);
+        let n_object = match self.kind {
+            QuadricKind::Disk => DVec3::Z,
+            QuadricKind::Cylinder => DVec3::new(local.x, local.y, 0.0),
+        };
+        let n = normal_to_world(&self.to_world, n_object);
+        if self.flip_normals { -n } else { n }
+    }
+
+    /// Mitsuba's uv parametrisation at world point `p` of the surface.
+    pub fn uv(&self, p: DVec3) -> [f64; 2] {
+        let local = self.to_object().transform_point3(p);
+        match self.kind {
+            QuadricKind::Disk => disk::uv(local),
+            QuadricKind::Cylinder => cylinder::uv(local),
+        }
+    }
+
+    /// The point of the surface that Mitsuba's `sample_position` gives for `u` in [0, 1)^2
+    /// (uniform in area).
+    pub fn sample_position(&self, u: [f64; 2]) -> DVec3 {
+        let local = match self.kind {
+            QuadricKind::Disk => disk::sample_local(u),
+            QuadricKind::Cylinder => cylinder::sample_local(u),
+        };
+        self.to_world.transform_point3(local)
+    }
+}
+
+/// A normal of object space in world space: the inverse transpose of the linear part, then
+/// normalised (Mitsuba's `Transform * Normal3f`).
+pub fn normal_to_world(to_world: &DAffine3, n: DVec3) -> DVec3 {
+    let inverse_transpose: DMat3 = DMat3::from(to_world.matrix3).inverse().transpose();
+    (inverse_transpose * n).normalize()
+}
+
+/// The smaller and larger roots of a t^2 + b t + c = 0 in the numerically stable form (Mitsuba's
+/// `math::solve_quadratic`): q = -(b + sign(b) sqrt(b^2 - 4ac)) / 2, roots q / a and c / q; the
+/// linear case where a = 0. None where there is no real root.
+pub fn solve_quadratic(a: f64, b: f64, c: f64) -> Option<(f64, f64)> {
+    if a == 0.0 {
+        if b == 0.0 {
+            return None;
+        }
+        let t = -c / b;
+        return Some((t, t));
+    }
+    let discriminant = b * b - 4.0 * a * c;
+    if discriminant < 0.0 {
+        return None;
+    }
+    let q = -0.5 * (b + b.signum() * discriminant.sqrt());
+    let (t0, t1) = (q / a, c / q);
+    Some(if t0 <= t1 { (t0, t1) } else { (t1, t0) })
+}
+
+/// The frame Mitsuba's `coordinate_system` builds about a unit `n` (Duff et al. 2017): the
+/// tangent s, the bitangent t; `(s, t, n)` is what `ScalarAffineTransform4f::to_frame` maps
+/// x, y, z to.
+pub fn coordinate_system(n: DVec3) -> (DVec3, DVec3) {
+    let sign = if n.z >= 0.0 { 1.0 } else { -1.0 };
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    let s = DVec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
+    let t = DVec3::new(b, sign + n.y * n.y * a, -n.y);
+    (s, t)
+}
+
+/// A cylinder's `to_world` from Mitsuba's `p0`, `p1`, `radius` and its own `to_world`:
+/// to_world * translate(p0) * to_frame(frame about (p1 - p0) / |p1 - p0|) * scale(r, r, |p1 - p0|).
+pub fn cylinder_to_world(to_world: DAffine3, p0: DVec3, p1: DVec3, radius: f64) -> DAffine3 {
+    let d = p1 - p0;
+    let length = d.length();
+    let n = d / length;
+    let (s, t) = coordinate_system(n);
+    let frame = DAffine3::from_mat3(DMat3::from_cols(s, t, n));
+    to_world * DAffine3::from_translation(p0) * frame * DAffine3::from_scale(DVec3::new(radius, radius, length))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn quadric(kind: QuadricKind, to_world: DAffine3) -> Quadric {
+        Quadric { kind, to_world, flip_normals: false, material: 0, two_sided_emission: false }
+    }
+
+    #[test]
+    fn a_sheared_disk_has_the_area_of_its_ellipse_and_its_samples_lie_on_it() {
+        let m = DAffine3::from_cols_array(&[1.5, 0.0, 0.0, 0.7, 2.5, 0.3, 0.1, 0.2, 1.0, 4.0, -1.0, 2.0]);
+        let q = quadric(QuadricKind::Disk, m);
+        let x = m.matrix3.x_axis;
+        let y = m.matrix3.y_axis;
+        assert!((q.area() - std::f64::consts::PI * x.cross(y).length()).abs() < 1e-12);
+        for u in [[0.1, 0.2], [0.9, 0.4], [0.5, 0.5], [0.33, 0.99]] {
+            let p = q.sample_position(u);
+            let n = q.normal(p);
+            // On the disk's plane, inside its rim.
+            assert!((p - m.translation).dot(n).abs() < 1e-12);
+            let local = q.to_object().transform_point3(p);
+            assert!(local.x * local.x + local.y * local.y <= 1.0 + 1e-12);
+        }
+    }
+
+    #[test]
+    fn a_ray_meets_a_cylinder_on_its_near_side_and_from_inside_on_its_far_side() {
+        let q = quadric(QuadricKind::Cylinder, cylinder_to_world(DAffine3::IDENTITY, DVec3::new(0.0, 0.0, -1.0), DVec3::new(0.0, 0.0, 1.0), 2.0));
+        let t = q.intersect(DVec3::new(-5.0, 0.0, 0.0), DVec3::X, 0.0, f64::INFINITY).unwrap();
+        assert!((t - 3.0).abs() < 1e-12);
+        assert!((q.normal(DVec3::new(-2.0, 0.0, 0.0)) - DVec3::NEG_X).length() < 1e-12);
+        let t = q.intersect(DVec3::ZERO, DVec3::X, 0.0, f64::INFINITY).unwrap();
+        assert!((t - 2.0).abs() < 1e-12);
+        // Past its end: no end caps.
+        assert!(q.intersect(DVec3::new(0.0, 0.0, 5.0), DVec3::NEG_Z, 0.0, f64::INFINITY).is_none());
+        assert!((q.area() - 2.0 * std::f64::consts::PI * 2.0 * 2.0).abs() < 1e-12);
+    }
+}
