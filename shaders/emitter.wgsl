@@ -1,7 +1,7 @@
 // emitter.wgsl — what every emitter shares: the point lights are sampled from and the record
 // a light sample gives, and the delta lights' records. Each kind of emitter is one file of
-// shaders/emitters/ (sphere.wgsl, triangle.wgsl, point.wgsl, spot.wgsl, directional.wgsl,
-// environment.wgsl) with
+// shaders/emitters/ (sphere.wgsl, triangle.wgsl, disk.wgsl, cylinder.wgsl, point.wgsl,
+// spot.wgsl, directional.wgsl, environment.wgsl) with
 //   sample_<kind>_emitter(l, ctx, u)  a direction from ctx towards light l, with its density;
 //   pdf_<kind>_emitter(l, ctx, wi)    the density sample_ gives wi (for a wi that meets it);
 //   eval_<kind>_emitter(...)          the radiance a ray that found it receives.

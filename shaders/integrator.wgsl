@@ -256,7 +256,10 @@ fn radiance_along(hit: Hit, ray_d: vec3f) -> vec3f {
         return eval_triangle_emitter(hit, ray_d);
     }
     if (is_quadric(hit.object)) {
-        return eval_disk_emitter(hit, ray_d);
+        if (hit.object - first_quadric_object() < NUM_DISKS) {
+            return eval_disk_emitter(hit, ray_d);
+        }
+        return eval_cylinder_emitter(hit, ray_d);
     }
     // A sphere, or a plane (planes never emit: zero).
     return eval_sphere_emitter(hit);

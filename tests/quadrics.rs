@@ -1,5 +1,6 @@
-//! Mitsuba's analytic `disk` and `cylinder` (src/scene/quadrics/, shaders/quadrics/), and the
-//! disk as an area light (src/scene/emitters/disk.rs, shaders/emitters/disk.wgsl).
+//! Mitsuba's analytic `disk` and `cylinder` (src/scene/quadrics/, shaders/quadrics/), and both
+//! as area lights (src/scene/emitters/{disk,cylinder}.rs, shaders/emitters/{disk,cylinder}.wgsl;
+//! their sampling is chi-square tested in tests/chi2_sampling.rs).
 //!
 //! 1. The kernel's intersection against the host's definitions (f64): from a scene of sheared,
 //!    flipped, emissive and p0/p1-placed disks and cylinders (with a sphere before them, so that
@@ -10,7 +11,8 @@
 //!    or beyond a cylinder's ends miss it. Deterministic: no false failures.
 //! 2. tests/fixtures/quadrics/quadrics.xml (two disk lights, one sheared into a tilted ellipse,
 //!    one turned by flip_normals; a textured elliptical disk; a two-sided textured cylinder
-//!    from p0 to p1; a one-sided cylinder with normals inwards) against Mitsuba 3.9.1 loading the
+//!    from p0 to p1; a one-sided cylinder with normals inwards; a glowing tube, an emissive
+//!    cylinder) against Mitsuba 3.9.1 loading the
 //!    same file (48x48, 65536 spp in 64 passes with the variance of its mean; made by
 //!    scripts/xml_fixture_reference.sh): `mis`, `best`, `nee` and `cosine` (BSDF sampling alone:
 //!    the lights' one-sided emission found by rays), z-tested on blocks as tests/cornell_box.rs
@@ -63,6 +65,13 @@ material = "grey"
 p0 = [0, 4, 0]
 p1 = [1, 6, 0.5]
 radius = 0.7
+
+# A light, after the other cylinders in the file and first among them in the kernel's order.
+[[cylinders]]
+material = "lamp"
+p0 = [5, -5, 0]
+p1 = [5, -3.5, 1]
+radius = 0.4
 
 [[cylinders]]
 material = "grey"
@@ -119,13 +128,15 @@ fn probes(scene: &Scene) -> Vec<Probe> {
 #[test]
 fn the_kernels_disks_and_cylinders_are_the_hosts() {
     let scene = common::scene(PROBE_SCENE);
-    assert_eq!(scene.quadrics.iter().map(|q| q.kind).collect::<Vec<_>>(), [QuadricKind::Disk, QuadricKind::Disk, QuadricKind::Cylinder, QuadricKind::Cylinder]);
+    use QuadricKind::{Cylinder, Disk};
+    assert_eq!(scene.quadrics.iter().map(|q| q.kind).collect::<Vec<_>>(), [Disk, Disk, Cylinder, Cylinder, Cylinder]);
     let mut features = SceneFeatures::of(&scene);
-    assert_eq!((features.num_disks, features.num_disk_lights, features.num_cylinders), (2, 1, 2));
+    assert_eq!((features.num_disks, features.num_disk_lights, features.num_cylinders, features.num_cylinder_lights), (2, 1, 3, 1));
     features.has_uvs = true;
-    // The kernel's order: the disk light first, then the other disk, then the cylinders.
+    // The kernel's order: the disk light first, then the other disk, then the cylinder light,
+    // then the other cylinders.
     let order = pathlab::gpu::features::quadric_order(&scene);
-    assert_eq!(order, [1, 0, 2, 3]);
+    assert_eq!(order, [1, 0, 3, 2, 4]);
     let first_quadric = (scene.spheres.len() + scene.planes.len()) as u32;
     let probes = probes(&scene);
     let rays: Vec<(DVec3, DVec3)> = probes.iter().map(|p| (p.origin, (p.target - p.origin).normalize())).collect();
@@ -171,6 +182,7 @@ fn disks_and_cylinders_agree_with_mitsuba() {
     let scene = Scene::load_with(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/quadrics/quadrics.xml"), &defines).unwrap();
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
     assert_eq!(scene.lights_of(pathlab::scene::EmitterKind::Disk).len(), 2);
+    assert_eq!(scene.lights_of(pathlab::scene::EmitterKind::Cylinder).len(), 1);
     let methods = [Preset::Mis.method(), Preset::Best.method(), Preset::Nee.method(), Preset::Cosine.method()];
     agrees_with_reference(&reference, &scene, &methods, plan, 2100, Preset::Mis.method());
 }
@@ -181,7 +193,7 @@ fn bad_disks_and_cylinders_are_refused_with_the_line_and_field() {
     for (body, expected) in [
         ("<shape type=\"cylinder\"><float name=\"radius\" value=\"0\"/></shape>", "bad.xml:3:"),
         ("<shape type=\"cylinder\"><point name=\"p1\" x=\"0\" y=\"0\" z=\"0\"/></shape>", "p0 and p1 must differ"),
-        ("<shape type=\"cylinder\"><emitter type=\"area\"><rgb name=\"radiance\" value=\"1\"/></emitter></shape>", "an emissive cylinder is not supported"),
+        ("<shape type=\"cylinder\"><transform name=\"to_world\"><scale x=\"2\"/></transform><emitter type=\"area\"><rgb name=\"radiance\" value=\"1\"/></emitter></shape>", "an emissive cylinder must not be sheared or scaled unevenly"),
         ("<shape type=\"cylinder\"><transform name=\"to_world\"><scale x=\"-1\"/></transform></shape>", "mirrors it"),
         ("<shape type=\"disk\"><float name=\"radius\" value=\"2\"/></shape>", "bad.xml:3:"),
         ("<shape type=\"disk\"><transform name=\"to_world\"><scale z=\"0\"/></transform></shape>", "singular"),

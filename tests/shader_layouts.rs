@@ -88,6 +88,7 @@ fn overrides_set_by_the_host_are_those_the_module_declares() {
         num_sphere_lights: 1,
         num_triangle_lights: 2,
         num_disk_lights: 1,
+        num_cylinder_lights: 1,
         num_environment_lights: 1,
         num_point_lights: 1,
         num_spot_lights: 1,

@@ -9,12 +9,12 @@ use pathlab::gpu::SceneFeatures;
 use pathlab::shaders;
 
 /// Scene shapes: (spheres, planes, sphere lights, triangles, triangle lights, shading normals,
-/// traversal budget, (disks, disk lights, cylinders)).
-const SHAPES: [(u32, u32, u32, u32, u32, bool, u32, (u32, u32, u32)); 4] = [
-    (0, 0, 0, 0, 0, false, NO_TRAVERSAL_GUARD, (0, 0, 0)),
-    (1, 0, 1, 0, 0, false, NO_TRAVERSAL_GUARD, (1, 1, 0)),
-    (4, 4, 2, 0, 0, false, NO_TRAVERSAL_GUARD, (2, 1, 1)),
-    (2, 1, 1, 12, 2, true, 1000, (0, 0, 2)),
+/// traversal budget, (disks, disk lights, cylinders, cylinder lights)).
+const SHAPES: [(u32, u32, u32, u32, u32, bool, u32, (u32, u32, u32, u32)); 4] = [
+    (0, 0, 0, 0, 0, false, NO_TRAVERSAL_GUARD, (0, 0, 0, 0)),
+    (1, 0, 1, 0, 0, false, NO_TRAVERSAL_GUARD, (1, 1, 0, 0)),
+    (4, 4, 2, 0, 0, false, NO_TRAVERSAL_GUARD, (2, 1, 2, 1)),
+    (2, 1, 1, 12, 2, true, 1000, (0, 0, 2, 0)),
 ];
 
 #[test]
@@ -32,7 +32,7 @@ fn every_override_permutation_validates() {
             for lights in LightSampling::ALL {
                 for select in LightSelect::ALL {
                     for triangles in TriangleSampling::ALL {
-                        for &(num_spheres, num_planes, num_sphere_lights, num_triangles, triangle_lights, has_shading_normals, budget, (num_disks, num_disk_lights, num_cylinders)) in &SHAPES {
+                        for &(num_spheres, num_planes, num_sphere_lights, num_triangles, triangle_lights, has_shading_normals, budget, (num_disks, num_disk_lights, num_cylinders, num_cylinder_lights)) in &SHAPES {
                             // Specular and environment (shaded, and sampled as a light) on and off together, and the light
                             // interiors with them: each on and each off is compiled once.
                             for on in [false, true] {
@@ -65,6 +65,7 @@ fn every_override_permutation_validates() {
                                     num_sphere_lights,
                                     num_triangle_lights: triangle_lights,
                                     num_disk_lights,
+                                    num_cylinder_lights,
                                     // The environment as a light where it is on.
                                     num_environment_lights: on as u32,
                                     // A point, a spot and a directional light where it is on.

@@ -155,7 +155,7 @@ impl PyScene {
     fn display(&self) -> (String, f32) {
         (self.scene.display.transfer.to_string(), self.scene.display.exposure)
     }
-    /// The emitters: one dict per emissive sphere, per emissive disk, per emissive mesh and per point, spot or
+    /// The emitters: one dict per emissive sphere, per emissive disk or cylinder, per emissive mesh and per point, spot or
     /// directional light, with its radiance (intensity, irradiance) and emitted power
     /// (luminance, the weight of power light selection).
     #[getter]
@@ -183,13 +183,18 @@ impl PyScene {
                     }
                     _ => mesh_power.push((mesh, 1, s.light_power(light))),
                 },
-                Light::Disk(i) => {
+                Light::Disk(i) | Light::Cylinder(i) => {
                     let d = PyDict::new(py);
                     let q = &s.quadrics[i];
-                    d.set_item("kind", "disk")?;
+                    d.set_item("kind", q.kind.name())?;
                     d.set_item("index", i)?;
+                    // A disk's centre and normal; a cylinder's p0 and axis.
                     d.set_item("center", vec3(q.to_world.translation))?;
-                    d.set_item("normal", vec3(q.normal(q.to_world.translation)))?;
+                    if let Light::Disk(_) = light {
+                        d.set_item("normal", vec3(q.normal(q.to_world.translation)))?;
+                    } else {
+                        d.set_item("axis", vec3(q.to_world.matrix3.z_axis))?;
+                    }
                     d.set_item("area", q.area())?;
                     d.set_item("emission", vec3(s.materials[q.material].emission))?;
                     d.set_item("two_sided", q.two_sided_emission)?;

@@ -1,8 +1,8 @@
 // emitters/disk.wgsl — an emissive disk (Mitsuba's disk with an area emitter): a diffuse area
 // light emitting on the side of its normal, or on both (src/scene/emitters/disk.rs).
 // light_table[l].object names the quadric (the light disks come first among them). It is
-// sampled as Mitsuba samples it: a point uniform in its area (quadrics/disk.wgsl), its density
-// converted to solid angle at x (pdf_area_point, lights.wgsl).
+// sampled as Mitsuba samples it: a point uniform in its area, its density converted to solid
+// angle at x (sample_disk_light, quadrics/disk.wgsl).
 
 // Whether disk q emits along ray_d (a ray travelling towards its surface): on its normal's
 // side, or on both.
@@ -13,23 +13,18 @@ fn disk_emits_along(q: Quadric, ray_d: vec3f) -> bool {
 // A direction from ctx towards disk light l.
 fn sample_disk_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> EmitterSample {
     let q = quadrics[light_table[l].object];
-    let to_p = sample_disk_point(q, u) - ctx.x;
-    let dist = length(to_p);
-    let wi = to_p / dist;
-    let emission = select(vec3f(0.0), materials[q.material].emission, disk_emits_along(q, wi));
-    return EmitterSample(wi, dist, pdf_area_point(q.area, q.normal, dist, wi), emission, INVALID, false);
+    let ls = sample_disk_light(q, ctx.x, u);
+    let emission = select(vec3f(0.0), materials[q.material].emission, disk_emits_along(q, ls.wi));
+    return EmitterSample(ls.wi, ls.dist, ls.pdf, emission, INVALID, false);
 }
 
-// Solid-angle density with which sample_disk_emitter gives wi from ctx: the area density at the
-// point where the ray (ctx.x, wi) meets the disk, converted to solid angle.
+// Solid-angle density with which sample_disk_emitter gives wi from ctx.
 fn pdf_disk_emitter(l: u32, ctx: LightSampleContext, wi: vec3f) -> f32 {
-    let q = quadrics[light_table[l].object];
-    let t = intersect_disk(q, ctx.x, wi, 0.0, INFINITY);
-    return select(0.0, pdf_area_point(q.area, q.normal, t, wi), t > 0.0);
+    return pdf_disk_light(quadrics[light_table[l].object], ctx.x, wi);
 }
 
-// Radiance a ray along ray_d receives from the quadric it hit: the emission on its emitting
-// side(s), else none (a cylinder never emits: its material's emission is black).
+// Radiance a ray along ray_d receives from the disk it hit: the emission on its emitting
+// side(s), else none.
 fn eval_disk_emitter(hit: Hit, ray_d: vec3f) -> vec3f {
     let q = quadrics[hit.object - first_quadric_object()];
     return select(vec3f(0.0), materials[hit.material].emission, disk_emits_along(q, ray_d));

@@ -25,11 +25,43 @@ fn intersect_cylinder(q: Quadric, o: vec3f, d: vec3f, t_min: f32, t_max: f32) ->
     return select(select(-1.0, t_far, far_ok), t_near, near_ok);
 }
 
-// The cylinder's unit normal at world point p: the object-space normal (x, y, 0) mapped by the
-// inverse transpose, A^T (x, y, 0) with A the world-to-object rows, turned by flip_normals.
+// The cylinder's unit normal at world point p: the object-space normal (x, y, 0) at its
+// object-space point l mapped by the inverse transpose, A^T (x, y, 0) with A the world-to-object
+// rows, turned by flip_normals.
 fn cylinder_normal(q: Quadric, p: vec3f) -> vec3f {
-    let l = affine_point(q.to_object, p);
+    return cylinder_normal_local(q, affine_point(q.to_object, p));
+}
+
+fn cylinder_normal_local(q: Quadric, l: vec3f) -> vec3f {
     return q.normal_sign * normalize(l.x * q.to_object[0].xyz + l.y * q.to_object[1].xyz);
+}
+
+// A direction from x towards a point uniform in the area of cylinder q (Mitsuba's
+// Cylinder::sample_position: (cos 2 pi u1, sin 2 pi u1, u0) in object space), with its
+// solid-angle density, and the unit normal there.
+fn sample_cylinder_light(q: Quadric, x: vec3f, u: vec2f) -> CylinderLightSample {
+    let phi = 2.0 * PI * u.y;
+    let local = vec3f(cos(phi), sin(phi), u.x);
+    let to_p = affine_point(q.to_world, local) - x;
+    let n = cylinder_normal_local(q, local);
+    let dist = length(to_p);
+    let wi = to_p / dist;
+    return CylinderLightSample(LightSample(wi, dist, pdf_area_point(q.area, n, dist, wi)), n);
+}
+
+struct CylinderLightSample {
+    ls: LightSample,
+    n: vec3f,
+}
+
+// Solid-angle density with which sample_cylinder_light gives wi from x, for the first point
+// beyond t_min where the ray (x, wi) meets the cylinder (the point light sampling must have
+// drawn for the direction to carry light): its area density converted to solid angle, 0 where
+// the ray misses. t_min > 0 skips the root at x where x lies on the cylinder itself.
+fn pdf_cylinder_light(q: Quadric, x: vec3f, wi: vec3f, t_min: f32) -> f32 {
+    let t = intersect_cylinder(q, x, wi, t_min, INFINITY);
+    let n = cylinder_normal(q, x + wi * t);
+    return select(0.0, pdf_area_point(q.area, n, t, wi), t > 0.0);
 }
 
 // Mitsuba's uv of the cylinder at world point p: (phi / 2 pi, z), phi in [0, 2 pi).

@@ -22,6 +22,22 @@ fn disk_uv(q: Quadric, p: vec3f) -> vec2f {
     return vec2f(length(l.xy), v);
 }
 
+// A direction from x towards a point uniform in the area of disk q, with its solid-angle
+// density (Mitsuba's Disk::sample_position, converted at x).
+fn sample_disk_light(q: Quadric, x: vec3f, u: vec2f) -> LightSample {
+    let to_p = sample_disk_point(q, u) - x;
+    let dist = length(to_p);
+    let wi = to_p / dist;
+    return LightSample(wi, dist, pdf_area_point(q.area, q.normal, dist, wi));
+}
+
+// Solid-angle density with which sample_disk_light gives wi from x: the area density at the
+// point where the ray (x, wi) meets the disk, converted to solid angle (0 where it misses).
+fn pdf_disk_light(q: Quadric, x: vec3f, wi: vec3f) -> f32 {
+    let t = intersect_disk(q, x, wi, 0.0, INFINITY);
+    return select(0.0, pdf_area_point(q.area, q.normal, t, wi), t > 0.0);
+}
+
 // A point uniform in the area of disk q (Mitsuba's Disk::sample_position: the concentric map,
 // warp.wgsl).
 fn sample_disk_point(q: Quadric, u: vec2f) -> vec3f {

@@ -19,6 +19,7 @@ pub struct SceneFeatures {
     pub num_sphere_lights: u32,
     pub num_triangle_lights: u32,
     pub num_disk_lights: u32,
+    pub num_cylinder_lights: u32,
     pub num_environment_lights: u32,
     /// The delta lights of each kind (point, spot, directional).
     pub num_point_lights: u32,
@@ -77,12 +78,12 @@ impl SceneFeatures {
 
     /// Area emitters a camera ray may have to pass through under `hide_emitters` before it
     /// meets something else, at most: each light sphere twice (in and out), each emissive
-    /// triangle and disk once, never more than `MAX_EMITTER_SKIPS`; 0 without `hide_emitters`.
+    /// triangle and disk once, each light cylinder twice, never more than `MAX_EMITTER_SKIPS`; 0 without `hide_emitters`.
     pub fn emitter_skips(&self) -> u32 {
         if !self.hide_emitters {
             return 0;
         }
-        (2 * self.num_sphere_lights + self.num_triangle_lights + self.num_disk_lights).min(MAX_EMITTER_SKIPS)
+        (2 * self.num_sphere_lights + self.num_triangle_lights + self.num_disk_lights + 2 * self.num_cylinder_lights).min(MAX_EMITTER_SKIPS)
     }
 
     /// Lights of `kind`.
@@ -91,6 +92,7 @@ impl SceneFeatures {
             EmitterKind::Sphere => self.num_sphere_lights,
             EmitterKind::Triangle => self.num_triangle_lights,
             EmitterKind::Disk => self.num_disk_lights,
+            EmitterKind::Cylinder => self.num_cylinder_lights,
             EmitterKind::Point => self.num_point_lights,
             EmitterKind::Spot => self.num_spot_lights,
             EmitterKind::Directional => self.num_directional_lights,
@@ -108,6 +110,7 @@ impl SceneFeatures {
             num_sphere_lights: scene.lights_of(EmitterKind::Sphere).len() as u32,
             num_triangle_lights: scene.lights_of(EmitterKind::Triangle).len() as u32,
             num_disk_lights: scene.lights_of(EmitterKind::Disk).len() as u32,
+            num_cylinder_lights: scene.lights_of(EmitterKind::Cylinder).len() as u32,
             num_environment_lights: scene.lights_of(EmitterKind::Environment).len() as u32,
             num_point_lights: scene.point_lights.len() as u32,
             num_spot_lights: scene.spot_lights.len() as u32,
@@ -162,12 +165,14 @@ pub fn sphere_order(scene: &Scene) -> Vec<usize> {
     lights.iter().copied().chain(others).collect()
 }
 
-/// Order of the quadrics in the kernel: the disks, their lights first (in scene order), so that
-/// disk light l is quadric l, then the cylinders (validation lists the disks first).
+/// Order of the quadrics in the kernel: the disks, then the cylinders (validation lists the
+/// disks first), each kind's lights first (in scene order): disk light l is quadric l, cylinder
+/// light l quadric NUM_DISKS + l.
 pub fn quadric_order(scene: &Scene) -> Vec<usize> {
-    let lights: Vec<usize> = scene.lights_of(EmitterKind::Disk).into_iter().filter_map(|l| if let crate::scene::Light::Disk(i) = l { Some(i) } else { None }).collect();
-    let others = (0..scene.quadrics.len()).filter(|i| !lights.contains(i));
-    lights.iter().copied().chain(others).collect()
+    use crate::scene::QuadricKind;
+    let emits = |i: usize| scene.materials[scene.quadrics[i].material].is_emissive();
+    let of = |kind: QuadricKind| (0..scene.quadrics.len()).filter(move |&i| scene.quadrics[i].kind == kind);
+    [QuadricKind::Disk, QuadricKind::Cylinder].into_iter().flat_map(|kind| of(kind).filter(|&i| emits(i)).chain(of(kind).filter(|&i| !emits(i)))).collect()
 }
 
 /// Order of the planes in the kernel: `Scene::occluding_planes` first, then the others.

@@ -248,8 +248,8 @@ impl PackedTriangles {
             .map(|(l, light)| GpuLight {
                 object: match *light {
                     Light::Sphere(_) => l as u32,
-                    // The disk lights come first among the quadrics, in light order.
-                    Light::Disk(i) => super::features::quadric_order(scene).iter().position(|&q| q == i).unwrap_or(0) as u32,
+                    // Each kind's lights come first among its quadrics, in light order.
+                    Light::Disk(i) | Light::Cylinder(i) => super::features::quadric_order(scene).iter().position(|&q| q == i).unwrap_or(0) as u32,
                     Light::Triangle { mesh, triangle } => gpu_index[first[mesh] + triangle],
                     // Index into `delta_lights`: the point lights, the spot lights, the
                     // directional lights (`SceneBuffers::pack_delta_lights`).
@@ -434,11 +434,14 @@ impl SceneBuffers {
             .collect()
     }
 
-    /// The quadrics in kernel order (`features::quadric_order`): the disk lights first, each
-    /// naming its light-table entry, which follows the sphere and triangle lights.
+    /// The quadrics in kernel order (`features::quadric_order`): each kind's lights first, each
+    /// naming its light-table entry (the disk lights' follow the sphere and triangle lights',
+    /// the cylinder lights' the disk lights').
     pub fn pack_quadrics(scene: &Scene) -> Vec<GpuQuadric> {
         let first_disk_light = (scene.lights_of(EmitterKind::Sphere).len() + scene.lights_of(EmitterKind::Triangle).len()) as u32;
         let num_disk_lights = scene.lights_of(EmitterKind::Disk).len();
+        let num_disks = scene.quadrics.iter().filter(|q| q.kind == crate::scene::QuadricKind::Disk).count();
+        let num_cylinder_lights = scene.lights_of(EmitterKind::Cylinder).len();
         let rows = |m: glam::DAffine3| {
             let c = m.to_cols_array();
             // Columns x, y, z, translation (3 each) to rows [x_r, y_r, z_r, t_r].
@@ -457,7 +460,13 @@ impl SceneBuffers {
                     material: q.material as u32,
                     area: q.area() as f32,
                     normal_sign: sign as f32,
-                    light: if k < num_disk_lights { first_disk_light + k as u32 } else { u32::MAX },
+                    light: if k < num_disk_lights {
+                        first_disk_light + k as u32
+                    } else if k >= num_disks && k < num_disks + num_cylinder_lights {
+                        first_disk_light + (num_disk_lights + k - num_disks) as u32
+                    } else {
+                        u32::MAX
+                    },
                     flags: if q.two_sided_emission { TRIANGLE_TWO_SIDED } else { 0 },
                 }
             })

@@ -420,15 +420,17 @@ impl Scene {
                             d * camera <= 0.0 || d.abs() <= MARGIN * scale.max(v.abs().max_element())
                         })
                     })
-                    // A disk light is on the camera's side if its whole ellipse is: its centre's
-                    // distance exceeds the ellipse's reach along the normal, |(n.a, n.b)| for its
-                    // axes a and b.
-                    || self.lights_of(EmitterKind::Disk).into_iter().any(|l| {
-                        let Light::Disk(i) = l else { return false };
-                        let m = self.quadrics[i].to_world;
-                        let d = side(m.translation);
-                        let reach = p.normal.dot(m.matrix3.x_axis).hypot(p.normal.dot(m.matrix3.y_axis));
-                        d * camera <= 0.0 || d.abs() <= reach * (1.0 + MARGIN) + MARGIN * scale.max(m.translation.abs().max_element())
+                    // A disk or cylinder light is on the camera's side if the box around it is:
+                    // the image of [-1, 1]^2 x [0, 0] (a disk) or [0, 1] (a cylinder) of its
+                    // object space.
+                    || self.quadrics.iter().filter(|q| self.materials[q.material].is_emissive()).any(|q| {
+                        let top = if q.kind == QuadricKind::Disk { 0.0 } else { 1.0 };
+                        (0..8).any(|c| {
+                            let corner = DVec3::new(if c & 1 == 0 { -1.0 } else { 1.0 }, if c & 2 == 0 { -1.0 } else { 1.0 }, if c & 4 == 0 { 0.0 } else { top });
+                            let x = q.to_world.transform_point3(corner);
+                            let d = side(x);
+                            d * camera <= 0.0 || d.abs() <= MARGIN * scale.max(x.abs().max_element())
+                        })
                     })
                     // A point or spot light as a sphere of radius 0.
                     || self.point_lights.iter().map(|l| l.position).chain(self.spot_lights.iter().map(|l| l.position)).any(|x| {

@@ -143,6 +143,8 @@ pub(crate) struct RawCylinder {
     pub radius: Option<Spanned<f64>>,
     pub transform: Option<Spanned<RawTransform>>,
     pub flip_normals: Option<Spanned<bool>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub two_sided_emission: Option<Spanned<bool>>,
 }
 
 /// An object-to-world transform: `scale`, then `rotate` (one rotation or a list, applied in

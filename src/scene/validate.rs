@@ -374,8 +374,8 @@ fn check_transform(ck: &mut Checker, t: Option<&Spanned<RawTransform>>, field: &
 
 /// `[[disks]]` and `[[cylinders]]` (`quadrics`), disks first: transforms invertible; a
 /// cylinder's radius > 0, its ends apart and its `to_world` not a mirror (its normals would turn
-/// inwards); a disk may emit (on its normal's side, or both with `two_sided_emission`), a
-/// cylinder not yet. Mitsuba warns of a cylinder scaled unevenly across its axis or sheared, and
+/// inwards); either may emit (on its normals' side, or both with `two_sided_emission`), a
+/// cylinder only if not sheared or scaled unevenly across its axis. Mitsuba warns of a cylinder scaled unevenly across its axis or sheared, and
 /// so does pathlab (its intersection is exact either way).
 fn check_quadrics(ck: &mut Checker, raw: &RawScene, materials: &[Material], resolve: &mut Resolve) -> Vec<Quadric> {
     let mut quadrics = Vec::new();
@@ -430,12 +430,12 @@ fn check_quadrics(ck: &mut Checker, raw: &RawScene, materials: &[Material], reso
             || x.dot(z).abs() > 1e-6 * x.length() * z.length()
             || y.dot(z).abs() > 1e-6 * y.length() * z.length();
         if uneven {
-            ck.warn(at, format!("{table}.transform"), "the cylinder's to_world shears it or scales it unevenly across its axis (Mitsuba warns likewise); it is intersected exactly");
+            ck.warn(at.clone(), format!("{table}.transform"), "the cylinder's to_world shears it or scales it unevenly across its axis (Mitsuba warns likewise); it is intersected exactly");
         }
-        if materials.get(material).is_some_and(Material::is_emissive) {
-            ck.error(c.material.span(), format!("{table}.material"), format!("material \"{}\" emits light: an emissive cylinder is not supported yet (a disk, sphere, rectangle or mesh may emit)", c.material.get_ref()));
+        if uneven && materials.get(material).is_some_and(Material::is_emissive) {
+            ck.error(at.clone(), format!("{table}.transform"), format!("material \"{}\" emits light: an emissive cylinder must not be sheared or scaled unevenly across its axis (its area, and so its sampling density, would be Mitsuba's approximation)", c.material.get_ref()));
         }
-        quadrics.push(Quadric { kind: QuadricKind::Cylinder, to_world, flip_normals: flag(&c.flip_normals), material, two_sided_emission: false });
+        quadrics.push(Quadric { kind: QuadricKind::Cylinder, to_world, flip_normals: flag(&c.flip_normals), material, two_sided_emission: flag(&c.two_sided_emission) });
     }
     if quadrics.len() > MAX_QUADRICS {
         let extra = raw.disks.iter().map(Spanned::span).chain(raw.cylinders.iter().map(Spanned::span)).nth(MAX_QUADRICS).unwrap_or(0..0);

@@ -62,17 +62,20 @@ pub mod files {
     pub const NO_ENV_TECHNIQUE: (&str, &str) = ("techniques/none_env.wgsl", include_str!("../../shaders/techniques/none_env.wgsl"));
     pub const EMITTER: (&str, &str) = ("emitter.wgsl", include_str!("../../shaders/emitter.wgsl"));
     /// One file per kind of the emitter registry (`scene::EmitterKind`), in its order.
-    pub const EMITTER_KINDS: [(&str, &str); 7] = [
+    pub const EMITTER_KINDS: [(&str, &str); 8] = [
         ("emitters/sphere.wgsl", include_str!("../../shaders/emitters/sphere.wgsl")),
         ("emitters/triangle.wgsl", include_str!("../../shaders/emitters/triangle.wgsl")),
         ("emitters/disk.wgsl", include_str!("../../shaders/emitters/disk.wgsl")),
+        ("emitters/cylinder.wgsl", include_str!("../../shaders/emitters/cylinder.wgsl")),
         ("emitters/point.wgsl", include_str!("../../shaders/emitters/point.wgsl")),
         ("emitters/spot.wgsl", include_str!("../../shaders/emitters/spot.wgsl")),
         ("emitters/directional.wgsl", include_str!("../../shaders/emitters/directional.wgsl")),
         ("emitters/environment.wgsl", include_str!("../../shaders/emitters/environment.wgsl")),
     ];
     pub const SCENE: (&str, &str) = ("scene.wgsl", include_str!("../../shaders/scene.wgsl"));
-    /// The quadrics' intersection, normals, uvs and sampling, one file per kind (`QuadricKind`).
+    /// The quadrics' record, then their intersection, normals, uvs and sampling, one file per
+    /// kind (`QuadricKind`).
+    pub const QUADRIC: (&str, &str) = ("quadrics/quadric.wgsl", include_str!("../../shaders/quadrics/quadric.wgsl"));
     pub const DISK: (&str, &str) = ("quadrics/disk.wgsl", include_str!("../../shaders/quadrics/disk.wgsl"));
     pub const CYLINDER: (&str, &str) = ("quadrics/cylinder.wgsl", include_str!("../../shaders/quadrics/cylinder.wgsl"));
     pub const INTERSECT: (&str, &str) = ("intersect.wgsl", include_str!("../../shaders/intersect.wgsl"));
@@ -86,7 +89,7 @@ pub mod files {
 /// one binding is the BSDFs' data (`bindings::BSDF_DATA`), which `KernelRun` fills with a
 /// placeholder where a test kernel gives none. Test kernels append their own bindings and entry
 /// points to this.
-pub const LIBRARY: [(&str, &str); 10] = [
+pub const LIBRARY: [(&str, &str); 13] = [
     files::COMMON,
     files::SAMPLER,
     files::WARP,
@@ -96,11 +99,14 @@ pub const LIBRARY: [(&str, &str); 10] = [
     files::BSDF,
     files::TEXTURE,
     files::LIGHTS,
+    files::QUADRIC,
+    files::DISK,
+    files::CYLINDER,
     files::TECHNIQUE,
 ];
 
 /// Everything the path-tracing kernel (`render_main`) needs.
-pub const PATH_TRACER: [(&str, &str); 20] = [
+pub const PATH_TRACER: [(&str, &str); 21] = [
     files::COMMON,
     files::SAMPLER,
     files::WARP,
@@ -110,11 +116,12 @@ pub const PATH_TRACER: [(&str, &str); 20] = [
     files::BSDF,
     files::TEXTURE,
     files::LIGHTS,
+    files::QUADRIC,
+    files::DISK,
+    files::CYLINDER,
     files::TECHNIQUE,
     files::LIGHT_TABLE,
     files::SCENE,
-    files::DISK,
-    files::CYLINDER,
     files::BVH,
     files::INTERSECT,
     files::EMITTER,

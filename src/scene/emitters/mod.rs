@@ -1,5 +1,5 @@
 //! Emitters, one file per kind, as Mitsuba 3 lays out `src/emitters/`: an emissive sphere
-//! (`sphere.rs`), an emissive triangle of a mesh (`triangle.rs`), an emissive disk (`disk.rs`), the delta lights `point.rs`,
+//! (`sphere.rs`), an emissive triangle of a mesh (`triangle.rs`), an emissive disk (`disk.rs`) or cylinder (`cylinder.rs`), the delta lights `point.rs`,
 //! `spot.rs` and `directional.rs`, and the environment (`environment.rs`). A kind's Rust file lists its lights in a scene and gives their emitted
 //! power; its WGSL file, `shaders/emitters/<kind>.wgsl`, has `sample_<kind>_emitter`,
 //! `pdf_<kind>_emitter` and `eval_<kind>_emitter`, and is listed in
@@ -11,6 +11,7 @@
 //! lights as one contiguous range, the kinds in this order; which light next event estimation
 //! samples is `selection.rs`'s. See the README's "Adding an emitter".
 
+mod cylinder;
 mod directional;
 mod disk;
 mod environment;
@@ -38,6 +39,8 @@ named_enum! {
         Triangle = "triangle",
         /// An emissive disk (Mitsuba's `disk`): a diffuse area light, one- or two-sided.
         Disk = "disk",
+        /// An emissive cylinder (Mitsuba's `cylinder`): a diffuse area light, one- or two-sided.
+        Cylinder = "cylinder",
         /// A point light (Mitsuba's `point`): a delta light.
         Point = "point",
         /// A spot light (Mitsuba's `spot`): a point light with an angular falloff.
@@ -68,6 +71,8 @@ pub enum Light {
     Triangle { mesh: usize, triangle: usize },
     /// Index into `Scene::quadrics` (a disk).
     Disk(usize),
+    /// Index into `Scene::quadrics` (a cylinder).
+    Cylinder(usize),
     /// Index into `Scene::point_lights`.
     Point(usize),
     /// Index into `Scene::spot_lights`.
@@ -85,6 +90,7 @@ impl Light {
             Light::Sphere(_) => EmitterKind::Sphere,
             Light::Triangle { .. } => EmitterKind::Triangle,
             Light::Disk(_) => EmitterKind::Disk,
+            Light::Cylinder(_) => EmitterKind::Cylinder,
             Light::Point(_) => EmitterKind::Point,
             Light::Spot(_) => EmitterKind::Spot,
             Light::Directional(_) => EmitterKind::Directional,
@@ -108,6 +114,7 @@ impl Scene {
             EmitterKind::Sphere => sphere::lights(self),
             EmitterKind::Triangle => triangle::lights(self),
             EmitterKind::Disk => disk::lights(self),
+            EmitterKind::Cylinder => cylinder::lights(self),
             EmitterKind::Point => point::lights(self),
             EmitterKind::Spot => spot::lights(self),
             EmitterKind::Directional => directional::lights(self),
@@ -115,7 +122,7 @@ impl Scene {
         }
     }
 
-    /// The lights but the environment (the emissive spheres, every emissive triangle, the emissive disks, the point,
+    /// The lights but the environment (the emissive spheres, every emissive triangle, the emissive disks and cylinders, the point,
     /// spot and directional lights), in kernel order: what next event estimation samples unless
     /// the environment is sampled too. This order fixes which sample dimensions each light uses
     /// when every light is sampled.
@@ -166,7 +173,7 @@ impl Scene {
 
     /// How many lights `lights()` lists, counted without listing them.
     pub fn num_lights(&self) -> usize {
-        self.light_spheres().len() + triangle::count(self) + disk::lights(self).len() + self.num_delta_lights()
+        self.light_spheres().len() + triangle::count(self) + disk::lights(self).len() + cylinder::lights(self).len() + self.num_delta_lights()
     }
 
     /// Whether any mesh emits.
@@ -185,6 +192,7 @@ impl Scene {
             Light::Sphere(i) => sphere::power(self, i),
             Light::Triangle { mesh, triangle } => triangle::power(self, mesh, triangle),
             Light::Disk(i) => disk::power(self, i),
+            Light::Cylinder(i) => cylinder::power(self, i),
             Light::Point(i) => point::power(self, i),
             Light::Spot(i) => spot::power(self, i),
             Light::Directional(i) => directional::power(self, i),

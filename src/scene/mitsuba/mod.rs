@@ -1419,7 +1419,7 @@ impl Translator<'_> {
                     false => None,
                 };
                 self.finish(p, "p0, p1, radius, flip_normals, to_world");
-                shapes.cylinders.push(spanned(o.at, RawCylinder { material, p0, p1, radius, transform, flip_normals }));
+                shapes.cylinders.push(spanned(o.at, RawCylinder { material, p0, p1, radius, transform, flip_normals, two_sided_emission: None }));
             }
             "sphere" => {
                 let center = self.point(&mut p, "center").unwrap_or(DVec3::ZERO);
