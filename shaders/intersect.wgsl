@@ -117,7 +117,7 @@ fn intersect_scene(o: vec3f, d: vec3f) -> Hit {
         radius = select(radius, s.radius, closer);
     }
     for (var j = 0u; j < NUM_PLANES; j++) {
-        let p = planes[j];
+        let p = surfaces.planes[j];
         let t = intersect_plane(o, d, p.normal, p.offset, 0.0, t_hit);
         let closer = t > 0.0;
         t_hit = select(t_hit, t, closer);
@@ -136,19 +136,19 @@ fn intersect_scene(o: vec3f, d: vec3f) -> Hit {
         // Quadrics in loops of their own, as spheres: a lane-uniform index, read as broadcasts.
         var quadric = INVALID;
         for (var k = 0u; k < NUM_DISKS; k++) {
-            let t = intersect_disk(quadrics[k], o, d, 0.0, hit.t);
+            let t = intersect_disk(surfaces.quadrics[k], o, d, 0.0, hit.t);
             let closer = t > 0.0;
             hit.t = select(hit.t, t, closer);
             quadric = select(quadric, k, closer);
         }
         for (var k = NUM_DISKS; k < NUM_DISKS + NUM_CYLINDERS; k++) {
-            let t = intersect_cylinder(quadrics[k], o, d, 0.0, hit.t);
+            let t = intersect_cylinder(surfaces.quadrics[k], o, d, 0.0, hit.t);
             let closer = t > 0.0;
             hit.t = select(hit.t, t, closer);
             quadric = select(quadric, k, closer);
         }
         if (quadric != INVALID) {
-            let q = quadrics[quadric];
+            let q = surfaces.quadrics[quadric];
             let x = o + d * hit.t;
             let n = quadric_normal(quadric, q, x);
             var q_uv = vec2f(0.0);
@@ -186,14 +186,14 @@ fn occluded(o: vec3f, d: vec3f, t_max: f32, skip: u32) -> bool {
         blocked = blocked | ((t > 0.0) & (i != skip));
     }
     for (var j = 0u; j < NUM_OCCLUDING_PLANES; j++) {
-        let p = planes[j];
+        let p = surfaces.planes[j];
         blocked = blocked | (intersect_plane(o, d, p.normal, p.offset, 0.0, t_max) > 0.0);
     }
     for (var k = 0u; k < NUM_DISKS; k++) {
-        blocked = blocked | (intersect_disk(quadrics[k], o, d, 0.0, t_max) > 0.0);
+        blocked = blocked | (intersect_disk(surfaces.quadrics[k], o, d, 0.0, t_max) > 0.0);
     }
     for (var k = NUM_DISKS; k < NUM_DISKS + NUM_CYLINDERS; k++) {
-        blocked = blocked | (intersect_cylinder(quadrics[k], o, d, 0.0, t_max) > 0.0);
+        blocked = blocked | (intersect_cylinder(surfaces.quadrics[k], o, d, 0.0, t_max) > 0.0);
     }
     if (NUM_TRIANGLES > 0u && !blocked) {
         blocked = triangles_closest(o, d, t_max, true).index != INVALID;

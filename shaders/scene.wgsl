@@ -4,7 +4,7 @@
 // Scene features, fixed per pipeline (set through pipeline constants).
 override NUM_SPHERES: u32 = 0u;
 override NUM_PLANES: u32 = 0u;
-// Mitsuba's analytic disks and cylinders (quadrics/): quadrics[0 .. NUM_DISKS) are disks, the
+// Mitsuba's analytic disks and cylinders (quadrics/): surfaces.quadrics[0 .. NUM_DISKS) are disks, the
 // light disks first (disk light l is quadric l), then NUM_CYLINDERS cylinders.
 override NUM_DISKS: u32 = 0u;
 override NUM_CYLINDERS: u32 = 0u;
@@ -110,8 +110,14 @@ struct FrameParams {
 // (GPUs: the constant cache; lavapipe: a scalar load, where a storage read is a per-lane loop).
 @group(0) @binding(BINDING_FRAME) var<uniform> frame: FrameParams;
 @group(0) @binding(BINDING_SPHERES) var<uniform> spheres: array<Sphere, MAX_SPHERES>;
-@group(0) @binding(BINDING_PLANES) var<uniform> planes: array<Plane, MAX_PLANES>;
-@group(0) @binding(BINDING_QUADRICS) var<uniform> quadrics: array<Quadric, MAX_QUADRICS>;
+// The planes and the quadrics share one uniform buffer: lavapipe (Mesa 22.3) crashed, at random,
+// compiling kernels that read eight uniform buffers (tests/quadrics.rs renders in fresh
+// processes to catch it).
+struct Surfaces {
+    planes: array<Plane, MAX_PLANES>,
+    quadrics: array<Quadric, MAX_QUADRICS>,
+}
+@group(0) @binding(BINDING_SURFACES) var<uniform> surfaces: Surfaces;
 @group(0) @binding(BINDING_MATERIALS) var<uniform> materials: array<Material, MAX_MATERIALS>;
 // Read only for uvs, at the hit sphere: a storage buffer.
 @group(0) @binding(BINDING_SPHERE_AXES) var<storage, read> sphere_axes: array<SphereAxes>;

@@ -819,7 +819,7 @@ fn wgsl_quadric(q: &pathlab::scene::Quadric) -> String {
     let sign = if q.flip_normals { -1.0 } else { 1.0 };
     let n = pathlab::scene::quadrics::normal_to_world(&q.to_world, glam::DVec3::Z) * sign;
     format!(
-        "Quadric(array<vec4f, 3>({}), array<vec4f, 3>({}), vec3f({:.9}, {:.9}, {:.9}), 0u, {:.9}, {sign:.1}, 0u, 0u)",
+        "Quadric({}, {}, vec3f({:.9}, {:.9}, {:.9}), 0u, {:.9}, {sign:.1}, 0u, 0u)",
         rows(q.to_object()),
         rows(q.to_world),
         n.x,

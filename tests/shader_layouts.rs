@@ -53,7 +53,10 @@ fn shared_structs_match_the_wgsl() {
     check_struct(&pt, "AccumPixel", size_of::<AccumPixel>(), fields!(AccumPixel: sum, count, sum_err, rays_lo, sum_sq, rays_hi, sum_sq_err, faults));
     check_struct(&pt, "Sphere", size_of::<GpuSphere>(), fields!(GpuSphere: center, radius, material));
     check_struct(&pt, "Plane", size_of::<GpuPlane>(), fields!(GpuPlane: normal, offset, material));
-    check_struct(&pt, "Quadric", size_of::<GpuQuadric>(), fields!(GpuQuadric: to_object, to_world, normal, material, area, normal_sign, light, flags));
+    // The planes and quadrics' buffer: the planes at their full capacity, then the quadrics.
+    let planes = pathlab::scene::MAX_PLANES * size_of::<GpuPlane>();
+    check_struct(&pt, "Surfaces", planes + pathlab::scene::MAX_QUADRICS * size_of::<GpuQuadric>(), &[("planes", 0), ("quadrics", planes)]);
+    check_struct(&pt, "Quadric", size_of::<GpuQuadric>(), fields!(GpuQuadric: object_x, object_y, object_z, world_x, world_y, world_z, normal, material, area, normal_sign, light, flags));
     check_struct(&pt, "Material", size_of::<GpuMaterial>(), fields!(GpuMaterial: emission, flags, p0, p1, p2, kind, opacity, back));
     check_struct(&pt, "Triangle", size_of::<GpuTriangle>(), fields!(GpuTriangle: p0, material, p1, light, p2, flags));
     check_struct(&pt, "TriangleNormals", size_of::<GpuTriangleNormals>(), fields!(GpuTriangleNormals: n0, n1, n2));
@@ -142,8 +145,7 @@ fn generated_values_and_bindings_are_the_rust_ones() {
     for (var, b) in [
         ("frame", bindings::FRAME),
         ("spheres", bindings::SPHERES),
-        ("planes", bindings::PLANES),
-        ("quadrics", bindings::QUADRICS),
+        ("surfaces", bindings::SURFACES),
         ("materials", bindings::MATERIALS),
         ("accum", bindings::ACCUM),
         ("halton_primes", bindings::HALTON_PRIMES),

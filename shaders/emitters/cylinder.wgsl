@@ -11,7 +11,7 @@ fn cylinder_emits_along(q: Quadric, n: vec3f, ray_d: vec3f) -> bool {
 
 // A direction from ctx towards cylinder light l.
 fn sample_cylinder_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> EmitterSample {
-    let q = quadrics[light_table[l].object];
+    let q = surfaces.quadrics[light_table[l].object];
     let s = sample_cylinder_light(q, ctx.x, u);
     let emission = select(vec3f(0.0), materials[q.material].emission, cylinder_emits_along(q, s.n, s.ls.wi));
     return EmitterSample(s.ls.wi, s.ls.dist, s.ls.pdf, emission, INVALID, false);
@@ -22,7 +22,7 @@ fn sample_cylinder_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> Emitter
 // point is skipped.
 fn pdf_cylinder_emitter(l: u32, ctx: LightSampleContext, wi: vec3f) -> f32 {
     let k = light_table[l].object;
-    let q = quadrics[k];
+    let q = surfaces.quadrics[k];
     let t_min = select(0.0, 1e-4 * sqrt(q.area), ctx.object == first_quadric_object() + k);
     return pdf_cylinder_light(q, ctx.x, wi, t_min);
 }
@@ -30,6 +30,6 @@ fn pdf_cylinder_emitter(l: u32, ctx: LightSampleContext, wi: vec3f) -> f32 {
 // Radiance a ray along ray_d receives from the cylinder it hit: the emission on its emitting
 // side(s), else none.
 fn eval_cylinder_emitter(hit: Hit, ray_d: vec3f) -> vec3f {
-    let q = quadrics[hit.object - first_quadric_object()];
+    let q = surfaces.quadrics[hit.object - first_quadric_object()];
     return select(vec3f(0.0), materials[hit.material].emission, cylinder_emits_along(q, hit.normal, ray_d));
 }

@@ -12,7 +12,7 @@ fn disk_emits_along(q: Quadric, ray_d: vec3f) -> bool {
 
 // A direction from ctx towards disk light l.
 fn sample_disk_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> EmitterSample {
-    let q = quadrics[light_table[l].object];
+    let q = surfaces.quadrics[light_table[l].object];
     let ls = sample_disk_light(q, ctx.x, u);
     let emission = select(vec3f(0.0), materials[q.material].emission, disk_emits_along(q, ls.wi));
     return EmitterSample(ls.wi, ls.dist, ls.pdf, emission, INVALID, false);
@@ -20,12 +20,12 @@ fn sample_disk_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> EmitterSamp
 
 // Solid-angle density with which sample_disk_emitter gives wi from ctx.
 fn pdf_disk_emitter(l: u32, ctx: LightSampleContext, wi: vec3f) -> f32 {
-    return pdf_disk_light(quadrics[light_table[l].object], ctx.x, wi);
+    return pdf_disk_light(surfaces.quadrics[light_table[l].object], ctx.x, wi);
 }
 
 // Radiance a ray along ray_d receives from the disk it hit: the emission on its emitting
 // side(s), else none.
 fn eval_disk_emitter(hit: Hit, ray_d: vec3f) -> vec3f {
-    let q = quadrics[hit.object - first_quadric_object()];
+    let q = surfaces.quadrics[hit.object - first_quadric_object()];
     return select(vec3f(0.0), materials[hit.material].emission, disk_emits_along(q, ray_d));
 }

@@ -8,8 +8,8 @@
 // h^2 - a c equals a - (dl.xy x ol.xy)^2 (Lagrange's identity), free of the cancellation of
 // h^2 - a c for far-away rays; the second root comes from Vieta's formula (c / q).
 fn intersect_cylinder(q: Quadric, o: vec3f, d: vec3f, t_min: f32, t_max: f32) -> f32 {
-    let ol = affine_point(q.to_object, o);
-    let dl = affine_vector(q.to_object, d);
+    let ol = quadric_point_to_object(q, o);
+    let dl = quadric_vector_to_object(q, d);
     let a = dot(dl.xy, dl.xy);
     let h = dot(dl.xy, ol.xy);
     let c = dot(ol.xy, ol.xy) - 1.0;
@@ -29,11 +29,11 @@ fn intersect_cylinder(q: Quadric, o: vec3f, d: vec3f, t_min: f32, t_max: f32) ->
 // object-space point l mapped by the inverse transpose, A^T (x, y, 0) with A the world-to-object
 // rows, turned by flip_normals.
 fn cylinder_normal(q: Quadric, p: vec3f) -> vec3f {
-    return cylinder_normal_local(q, affine_point(q.to_object, p));
+    return cylinder_normal_local(q, quadric_point_to_object(q, p));
 }
 
 fn cylinder_normal_local(q: Quadric, l: vec3f) -> vec3f {
-    return q.normal_sign * normalize(l.x * q.to_object[0].xyz + l.y * q.to_object[1].xyz);
+    return q.normal_sign * normalize(l.x * q.object_x.xyz + l.y * q.object_y.xyz);
 }
 
 // A direction from x towards a point uniform in the area of cylinder q (Mitsuba's
@@ -42,7 +42,7 @@ fn cylinder_normal_local(q: Quadric, l: vec3f) -> vec3f {
 fn sample_cylinder_light(q: Quadric, x: vec3f, u: vec2f) -> CylinderLightSample {
     let phi = 2.0 * PI * u.y;
     let local = vec3f(cos(phi), sin(phi), u.x);
-    let to_p = affine_point(q.to_world, local) - x;
+    let to_p = quadric_point_to_world(q, local) - x;
     let n = cylinder_normal_local(q, local);
     let dist = length(to_p);
     let wi = to_p / dist;
@@ -66,7 +66,7 @@ fn pdf_cylinder_light(q: Quadric, x: vec3f, wi: vec3f, t_min: f32) -> f32 {
 
 // Mitsuba's uv of the cylinder at world point p: (phi / 2 pi, z), phi in [0, 2 pi).
 fn cylinder_uv(q: Quadric, p: vec3f) -> vec2f {
-    let l = affine_point(q.to_object, p);
+    let l = quadric_point_to_object(q, p);
     var u = atan2(l.y, l.x) * INV_2PI;
     u = select(u, u + 1.0, u < 0.0);
     return vec2f(u, l.z);

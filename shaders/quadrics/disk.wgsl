@@ -6,8 +6,8 @@
 // space (t is the same in both spaces: the ray's direction is mapped unnormalised), within the
 // unit circle. A ray parallel to the disk divides by zero and fails the range test.
 fn intersect_disk(q: Quadric, o: vec3f, d: vec3f, t_min: f32, t_max: f32) -> f32 {
-    let ol = affine_point(q.to_object, o);
-    let dl = affine_vector(q.to_object, d);
+    let ol = quadric_point_to_object(q, o);
+    let dl = quadric_vector_to_object(q, d);
     let t = -ol.z / dl.z;
     let l = ol.xy + dl.xy * t;
     return select(-1.0, t, (t > t_min) & (t < t_max) & (dot(l, l) <= 1.0));
@@ -16,7 +16,7 @@ fn intersect_disk(q: Quadric, o: vec3f, d: vec3f, t_min: f32, t_max: f32) -> f32
 // Mitsuba's uv of the disk at world point p: (r, phi / 2 pi) of its object-space polar
 // coordinates, phi in [0, 2 pi).
 fn disk_uv(q: Quadric, p: vec3f) -> vec2f {
-    let l = affine_point(q.to_object, p);
+    let l = quadric_point_to_object(q, p);
     var v = atan2(l.y, l.x) * INV_2PI;
     v = select(v, v + 1.0, v < 0.0);
     return vec2f(length(l.xy), v);
@@ -41,5 +41,5 @@ fn pdf_disk_light(q: Quadric, x: vec3f, wi: vec3f) -> f32 {
 // A point uniform in the area of disk q (Mitsuba's Disk::sample_position: the concentric map,
 // warp.wgsl).
 fn sample_disk_point(q: Quadric, u: vec2f) -> vec3f {
-    return affine_point(q.to_world, vec3f(square_to_uniform_disk_concentric(u), 0.0));
+    return quadric_point_to_world(q, vec3f(square_to_uniform_disk_concentric(u), 0.0));
 }

@@ -7,8 +7,14 @@
 // tests/shader_layouts.rs). Each map is three rows r: a point p maps to dot(r.xyz, p) + r.w, a vector v to
 // dot(r.xyz, v).
 struct Quadric {
-    to_object: array<vec4f, 3>,
-    to_world: array<vec4f, 3>,
+    // World to object, rows x, y, z.
+    object_x: vec4f,
+    object_y: vec4f,
+    object_z: vec4f,
+    // Object to world, rows x, y, z.
+    world_x: vec4f,
+    world_y: vec4f,
+    world_z: vec4f,
     // A disk's unit normal in world space, flip_normals applied.
     normal: vec3f,
     material: u32,
@@ -22,11 +28,17 @@ struct Quadric {
     flags: u32,
 }
 
-// An affine map's rows applied to a point and to a vector.
-fn affine_point(m: array<vec4f, 3>, p: vec3f) -> vec3f {
-    return vec3f(dot(m[0].xyz, p) + m[0].w, dot(m[1].xyz, p) + m[1].w, dot(m[2].xyz, p) + m[2].w);
+// A world point and a world vector in q's object space, and an object point in the world.
+// (Rows as fields, not an array: lavapipe's compiler (Mesa 22.3) crashed, at random, on
+// kernels passing array<vec4f, 3> to functions.)
+fn quadric_point_to_object(q: Quadric, p: vec3f) -> vec3f {
+    return vec3f(dot(q.object_x.xyz, p) + q.object_x.w, dot(q.object_y.xyz, p) + q.object_y.w, dot(q.object_z.xyz, p) + q.object_z.w);
 }
 
-fn affine_vector(m: array<vec4f, 3>, v: vec3f) -> vec3f {
-    return vec3f(dot(m[0].xyz, v), dot(m[1].xyz, v), dot(m[2].xyz, v));
+fn quadric_vector_to_object(q: Quadric, v: vec3f) -> vec3f {
+    return vec3f(dot(q.object_x.xyz, v), dot(q.object_y.xyz, v), dot(q.object_z.xyz, v));
+}
+
+fn quadric_point_to_world(q: Quadric, p: vec3f) -> vec3f {
+    return vec3f(dot(q.world_x.xyz, p) + q.world_x.w, dot(q.world_y.xyz, p) + q.world_y.w, dot(q.world_z.xyz, p) + q.world_z.w);
 }

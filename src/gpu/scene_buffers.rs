@@ -2,7 +2,7 @@
 //! rules: a vec3 is 16-byte aligned, 12 bytes long), checked against naga's reflection of the
 //! WGSL by `tests/shader_layouts.rs`.
 //!
-//! Spheres, planes and materials go in uniform buffers of fixed capacity (the `MAX_*`
+//! Spheres, planes with the quadrics, and materials go in uniform buffers of fixed capacity (the `MAX_*`
 //! below, also generated into the WGSL): the kernel reads them at lane-uniform indices, which
 //! uniform buffers serve as broadcasts. Each stays under wgpu's default 64 KiB binding limit
 //! (`crate::scene::MAX_*`, enforced by scene validation).
@@ -61,8 +61,14 @@ pub struct GpuMaterial {
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
 pub struct GpuQuadric {
-    pub to_object: [[f32; 4]; 3],
-    pub to_world: [[f32; 4]; 3],
+    /// World to object, rows x, y, z.
+    pub object_x: [f32; 4],
+    pub object_y: [f32; 4],
+    pub object_z: [f32; 4],
+    /// Object to world, rows x, y, z.
+    pub world_x: [f32; 4],
+    pub world_y: [f32; 4],
+    pub world_z: [f32; 4],
     /// A disk's unit normal in world space, flip_normals applied.
     pub normal: [f32; 3],
     pub material: u32,
@@ -306,8 +312,7 @@ impl SceneBuffers {
         let (materials, bsdf_data) = Self::pack_materials(scene);
         vec![
             contents(bindings::SPHERES, "spheres", uniform_array(&Self::pack_spheres(scene), MAX_SPHERES)),
-            contents(bindings::PLANES, "planes", uniform_array(&Self::pack_planes(scene), MAX_PLANES)),
-            contents(bindings::QUADRICS, "quadrics", uniform_array(&Self::pack_quadrics(scene), MAX_QUADRICS)),
+            contents(bindings::SURFACES, "planes and quadrics", Self::pack_surfaces(scene)),
             contents(bindings::MATERIALS, "materials", uniform_array(&materials, MAX_MATERIALS)),
             contents(bindings::DELTA_LIGHTS, "delta lights", uniform_array(&Self::pack_delta_lights(scene), MAX_DELTA_LIGHTS)),
             contents(bindings::BSDF_DATA, "bsdf data", storage_array(&bsdf_data.0)),
@@ -434,6 +439,14 @@ impl SceneBuffers {
             .collect()
     }
 
+    /// The `Surfaces` buffer (scene.wgsl): the planes at their full capacity, then the quadrics
+    /// at theirs.
+    pub fn pack_surfaces(scene: &Scene) -> Vec<u8> {
+        let mut bytes = uniform_array(&Self::pack_planes(scene), MAX_PLANES);
+        bytes.extend(uniform_array(&Self::pack_quadrics(scene), MAX_QUADRICS));
+        bytes
+    }
+
     /// The quadrics in kernel order (`features::quadric_order`): each kind's lights first, each
     /// naming its light-table entry (the disk lights' follow the sphere and triangle lights',
     /// the cylinder lights' the disk lights').
@@ -453,9 +466,14 @@ impl SceneBuffers {
             .map(|(k, i)| {
                 let q = &scene.quadrics[i];
                 let sign = if q.flip_normals { -1.0 } else { 1.0 };
+                let ([object_x, object_y, object_z], [world_x, world_y, world_z]) = (rows(q.to_object()), rows(q.to_world));
                 GpuQuadric {
-                    to_object: rows(q.to_object()),
-                    to_world: rows(q.to_world),
+                    object_x,
+                    object_y,
+                    object_z,
+                    world_x,
+                    world_y,
+                    world_z,
                     normal: f3(crate::scene::quadrics::normal_to_world(&q.to_world, DVec3::Z) * sign),
                     material: q.material as u32,
                     area: q.area() as f32,
@@ -511,8 +529,7 @@ mod tests {
     fn capacities_fit_default_uniform_bindings() {
         let limit = wgpu::Limits::default().max_uniform_buffer_binding_size as usize;
         assert!(MAX_SPHERES * std::mem::size_of::<GpuSphere>() <= limit);
-        assert!(MAX_PLANES * std::mem::size_of::<GpuPlane>() <= limit);
-        assert!(MAX_QUADRICS * std::mem::size_of::<GpuQuadric>() <= limit);
+        assert!(MAX_PLANES * std::mem::size_of::<GpuPlane>() + MAX_QUADRICS * std::mem::size_of::<GpuQuadric>() <= limit);
         assert!(MAX_MATERIALS * std::mem::size_of::<GpuMaterial>() <= limit);
     }
 

@@ -42,12 +42,12 @@ pub struct Binding {
 
 /// Per-dispatch uniform: camera, sample range, tile (`FrameParams`, scene.wgsl).
 pub const FRAME: Binding = Binding { number: 0, name: "FRAME", kind: Kind::Uniform };
-/// The scene's spheres, planes and materials (scene.wgsl).
+/// The scene's spheres, its planes and quadrics (disks and cylinders), and its materials
+/// (scene.wgsl): planes and quadrics in one buffer (`Surfaces`), as lavapipe crashed on kernels
+/// that read eight uniform buffers.
 pub const SPHERES: Binding = Binding { number: 1, name: "SPHERES", kind: Kind::Uniform };
-pub const PLANES: Binding = Binding { number: 2, name: "PLANES", kind: Kind::Uniform };
+pub const SURFACES: Binding = Binding { number: 2, name: "SURFACES", kind: Kind::Uniform };
 pub const MATERIALS: Binding = Binding { number: 3, name: "MATERIALS", kind: Kind::Uniform };
-/// The disks and cylinders (`Quadric`, scene.wgsl).
-pub const QUADRICS: Binding = Binding { number: 18, name: "QUADRICS", kind: Kind::Uniform };
 /// One band's accumulator (accumulate.wgsl).
 pub const ACCUM: Binding = Binding { number: 5, name: "ACCUM", kind: Kind::Storage { read_only: false } };
 /// The Halton bases, `primes(HALTON_DIMENSIONS)` (sampler.wgsl).
@@ -84,11 +84,10 @@ pub const ENVIRONMENT_MAP: Binding = Binding { number: 15, name: "ENVIRONMENT_MA
 pub const DELTA_LIGHTS: Binding = Binding { number: 16, name: "DELTA_LIGHTS", kind: Kind::Uniform };
 
 /// The path tracer's bind group.
-pub const PATH_TRACER: [Binding; 18] = [
+pub const PATH_TRACER: [Binding; 17] = [
     FRAME,
     SPHERES,
-    PLANES,
-    QUADRICS,
+    SURFACES,
     MATERIALS,
     ACCUM,
     HALTON_PRIMES,
