@@ -481,3 +481,31 @@ fn instances_of_shape_groups_are_flattened_as_mitsuba_places_them() {
         assert_eq!((d.file.as_path(), d.line, d.column), (path.as_path(), position_of(&text, at).0, position_of(&text, at).1), "{d}");
     }
 }
+
+/// Participating media under `path`: Mitsuba's `path` integrator ignores them (checked with
+/// Mitsuba 3.9.1: a glass sphere with an absorbing `homogeneous` interior renders the same image
+/// as without it, to 1.2e-7), so pathlab reads a `<medium>` in a shape (inline or by `<ref>`),
+/// in the sensor or named at the top level, warns that it is ignored, and renders the image
+/// of the scene without it, bit for bit. Under `volpath`, where Mitsuba renders the medium,
+/// it is refused with its line.
+#[test]
+fn media_are_ignored_under_path_as_mitsuba_does_and_refused_under_volpath() {
+    let medium = r#"<medium type="homogeneous" id="fog"><rgb name="albedo" value="0"/><rgb name="sigma_t" value="0.5, 0.2, 0.4"/></medium>
+    <shape type="sphere"><float name="radius" value="0.8"/><bsdf type="dielectric"/>
+        <medium type="homogeneous" name="interior"><rgb name="albedo" value="0.2"/></medium>
+    </shape>
+    <shape type="sphere"><point name="center" x="1" y="0" z="-1"/><bsdf type="dielectric"/><ref name="exterior" id="fog"/></shape>"#;
+    let plain = r#"<shape type="sphere"><float name="radius" value="0.8"/><bsdf type="dielectric"/></shape>
+    <shape type="sphere"><point name="center" x="1" y="0" z="-1"/><bsdf type="dielectric"/></shape>"#;
+    let with = common::load_xml(&small(medium), "media.xml").unwrap();
+    let ignored: Vec<usize> = with.warnings.iter().filter(|w| w.message.contains("<medium> is ignored")).map(|w| w.line).collect();
+    // Once each, where it is written (a medium taken by <ref> where it is defined).
+    assert_eq!(ignored, [9, 11], "{:?}", with.warnings);
+    let without = common::load_xml(&small(plain), "plain.xml").unwrap();
+    assert_eq!(with.content_hash(), without.content_hash());
+    let method = pathlab::method::Preset::Mis.method();
+    assert_eq!(common::bits(&common::render(&with, method, 4, 1)), common::bits(&common::render(&without, method, 4, 1)));
+    let volpath = small(&format!("<integrator type=\"volpath\"/>\n{medium}"));
+    let e = common::load_xml(&volpath, "volpath.xml").unwrap_err().to_string();
+    assert!(e.contains("volpath.xml:10:") && e.contains("participating media are not supported"), "{e}");
+}

@@ -156,6 +156,8 @@ fn translate(path: &Path, defines: &[(String, String)]) -> Result<(RawScene, Sou
         shape_count: 0,
         instanced: Vec::new(),
         sensor_correction: None,
+        media: Vec::new(),
+        volumetric: None,
         loaded: &loaded,
     };
     let mut raw = t.scene(path, &loaded.objects);
@@ -474,6 +476,10 @@ struct Translator<'a> {
     instanced: Vec<(String, usize)>,
     /// The sensor matrix's orthonormalisation (`Translation::sensor_correction`).
     sensor_correction: Option<f64>,
+    /// Where the file puts `<medium>`s (in shapes, in the sensor, or named at the top level).
+    media: Vec<usize>,
+    /// A volumetric integrator (`volpath`, `volpathmis`), with where it is: with it media matter.
+    volumetric: Option<(String, usize)>,
     /// The loaded files, for resolving relative file names (`xml::Loaded::resolve`).
     loaded: &'a xml::Loaded,
 }
@@ -762,9 +768,12 @@ impl Translator<'_> {
                 "texture" if o.id.is_some() => {}
                 "texture" => self.error(o.at, "", "a <texture> outside a <bsdf> needs an id, for a <ref name=\"…\" id=\"…\"/> in one".to_string()),
                 "film" | "sampler" | "rfilter" => self.error(o.at, "", format!("<{}> belongs inside the <sensor>", o.tag)),
-                other => self.error(o.at, "", format!("{} is not supported (pathlab has no textures, media or phase functions)", describe(other, &o.plugin))),
+                // A named medium is a definition that shapes take by <ref name="interior" …/>.
+                "medium" => self.media.push(o.at),
+                other => self.error(o.at, "", format!("{} is not supported at the top level of a scene", describe(other, &o.plugin))),
             }
         }
+        self.check_media();
         let Some((camera, _)) = camera else {
             if sensors == 0 && !self.has_errors() {
                 let at = objects.first().map_or(0, |o| o.at);
@@ -806,6 +815,28 @@ impl Translator<'_> {
         })
     }
 
+    /// Participating media: Mitsuba's `path` integrator ignores them (its image is the same
+    /// without them; checked with Mitsuba 3.9.1), so pathlab does too and says so; under
+    /// `volpath` they would be rendered, which pathlab cannot: refused.
+    fn check_media(&mut self) {
+        let mut media = std::mem::take(&mut self.media);
+        // A medium taken by several <ref>s is reported once, where it is defined.
+        media.sort_unstable();
+        media.dedup();
+        match self.volumetric.clone() {
+            Some((plugin, _)) if !media.is_empty() => self.error(
+                media[0],
+                "",
+                format!("<medium> under <integrator type=\"{plugin}\">: participating media are not supported (pathlab traces surfaces; Mitsuba's `path` integrator would ignore the medium, `{plugin}` renders it)"),
+            ),
+            _ => {
+                for at in media {
+                    self.warn(at, "", "<medium> is ignored, as Mitsuba's `path` integrator ignores participating media (the image is the same)");
+                }
+            }
+        }
+    }
+
     fn has_errors(&self) -> bool {
         self.diagnostics.iter().any(|d| d.severity == Severity::Error)
     }
@@ -823,6 +854,7 @@ impl Translator<'_> {
             match child.tag.as_str() {
                 "film" => film = self.film(child),
                 "sampler" => spp = self.sampler(child),
+                "medium" => self.media.push(child.at),
                 other => self.error(child.at, "", format!("{} inside a <sensor> is not supported", describe(other, &child.plugin))),
             }
         }
@@ -1080,11 +1112,10 @@ impl Translator<'_> {
                 self.error(o.at, "type", format!("<integrator type=\"moment\"> must wrap exactly one <integrator> (it wraps {})", nested.len()));
             }
             "path" => {}
-            "volpath" | "volpathmis" => self.warn(
-                o.at,
-                "type",
-                format!("<integrator type=\"{}\"> without media is a path tracer: pathlab renders it with its own", o.plugin),
-            ),
+            "volpath" | "volpathmis" => {
+                self.warn(o.at, "type", format!("<integrator type=\"{}\"> without media is a path tracer: pathlab renders it with its own", o.plugin));
+                self.volumetric = Some((o.plugin.clone(), o.at));
+            }
             other => self.error(
                 o.at,
                 "type",
@@ -1337,6 +1368,7 @@ impl Translator<'_> {
                     }
                     self.finish(ep, "radiance");
                 }
+                ("medium", _) => self.media.push(c.at),
                 ("emitter", other) => self.error(c.at, "type", format!("<emitter type=\"{other}\"> inside a <shape> is not supported (pathlab has area; a {other} emitter stands alone in the <scene>)")),
                 (other, plugin) => self.error(c.at, "", format!("{} inside a <shape> is not supported", describe(other, plugin))),
             }
