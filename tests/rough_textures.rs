@@ -57,12 +57,12 @@ fn textured_roughness_is_read_and_refused_where_mitsuba_refuses_it() {
     assert!((t.eval_1([0.05, 0.05], [0.0; 3]) - 0.4).abs() < 1e-6, "{}", t.eval_1([0.05, 0.05], [0.0; 3]));
     assert!((t.eval_1([0.2, 0.05], [0.0; 3]) - 0.03).abs() < 1e-6, "{}", t.eval_1([0.2, 0.05], [0.0; 3]));
     // The pipeline looks up only the slots some material textures (`TEXTURED_<KIND>`): the
-    // conductor's alpha (its second slot, after specular_reflectance) and the dielectric's
+    // conductor's alpha (its fourth slot, after eta, k and specular_reflectance) and the dielectric's
     // alpha (its third, after specular_reflectance and specular_transmittance); the diffuse
     // wall's reflectance.
     let f = pathlab::gpu::SceneFeatures::of(&scene);
     let slots = |k: pathlab::scene::BsdfKind| (f.textured_slots >> (8 * k.constant())) & 0xff;
-    assert_eq!(slots(pathlab::scene::BsdfKind::RoughConductor), 0b10);
+    assert_eq!(slots(pathlab::scene::BsdfKind::RoughConductor), 0b1000);
     assert_eq!(slots(pathlab::scene::BsdfKind::RoughDielectric), 0b100);
     assert_eq!(slots(pathlab::scene::BsdfKind::Phong), 0b1);
     assert_eq!(slots(pathlab::scene::BsdfKind::Plastic), 0);

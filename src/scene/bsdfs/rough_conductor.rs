@@ -23,11 +23,13 @@ impl BsdfPlugin for RoughConductor {
     const MITSUBA_PLUGINS: &'static [&'static str] = &["roughconductor"];
     const IS_DELTA: bool = false;
     const MICROFACETS: bool = true;
-    const TEXTURE_SLOTS: &'static [usize] = &[2];
+    const TEXTURE_SLOTS: &'static [usize] = &[0, 1, 2];
     const SCALAR_TEXTURE_SLOTS: &'static [(usize, usize)] = &[(0, 3)];
 
     fn textures(&self) -> Vec<&crate::scene::Texture> {
-        self.fresnel.reflectance_texture.iter().chain(self.roughness.texture.iter()).collect()
+        let mut t = self.fresnel.fresnel_textures();
+        t.extend(self.roughness.texture.iter());
+        t
     }
 
     fn from_fields(f: &mut Fields) -> RoughConductor {
