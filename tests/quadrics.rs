@@ -183,6 +183,12 @@ fn disks_and_cylinders_agree_with_mitsuba() {
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
     assert_eq!(scene.lights_of(pathlab::scene::EmitterKind::Disk).len(), 2);
     assert_eq!(scene.lights_of(pathlab::scene::EmitterKind::Cylinder).len(), 1);
+    // `convert` writes `[[disks]]` and `[[cylinders]]`, which load as the same scene.
+    let dir = tempfile::tempdir().unwrap();
+    let (toml, _) = pathlab::scene::mitsuba::to_toml(scene.path.as_path(), &defines, dir.path()).unwrap();
+    assert!(toml.contains("[[disks]]") && toml.contains("[[cylinders]]"));
+    std::fs::write(dir.path().join("q.toml"), &toml).unwrap();
+    assert_eq!(Scene::load(dir.path().join("q.toml")).unwrap().content_hash(), scene.content_hash());
     let methods = [Preset::Mis.method(), Preset::Best.method(), Preset::Nee.method(), Preset::Cosine.method()];
     agrees_with_reference(&reference, &scene, &methods, plan, 2100, Preset::Mis.method());
 }
