@@ -224,7 +224,7 @@ fn textures_are_read_from_toml_and_xml_and_bad_ones_refused() {
         ("<bsdf type=\"diffuse\" id=\"t\"><texture type=\"bricks\" name=\"reflectance\"/></bsdf>", "<texture type=\"bricks\"> is not supported (pathlab has checkerboard, bitmap, volume)"),
         ("<bsdf type=\"diffuse\" id=\"t\"><texture type=\"checkerboard\" name=\"reflectance\"><transform name=\"to_uv\"><rotate z=\"1\" angle=\"30\"/></transform></texture></bsdf>", "only a scale of u and v is supported"),
         ("<bsdf type=\"roughplastic\" id=\"t\"><texture type=\"checkerboard\" name=\"specular_reflectance\"/></bsdf>", "a textured parameter other than diffuse_reflectance is not supported"),
-        ("<bsdf type=\"conductor\" id=\"t\"><texture type=\"checkerboard\" name=\"eta\"/></bsdf>", "a textured parameter other than specular_reflectance (and a roughconductor's alpha) is not supported"),
+        ("<bsdf type=\"conductor\" id=\"t\"><texture type=\"checkerboard\" name=\"alpha\"/></bsdf>", "a textured parameter other than eta, k, specular_reflectance (and a roughconductor's alpha) is not supported"),
         ("<bsdf type=\"dielectric\" id=\"t\"><texture type=\"checkerboard\" name=\"int_ior\"/></bsdf>", "a textured parameter other than specular_reflectance and specular_transmittance (and a roughdielectric's alpha) is not supported"),
     ] {
         std::fs::write(&path, xml(bsdf)).unwrap();

@@ -169,7 +169,6 @@ pub fn sphere_order(scene: &Scene) -> Vec<usize> {
 /// disks first), each kind's lights first (in scene order): disk light l is quadric l, cylinder
 /// light l quadric NUM_DISKS + l.
 pub fn quadric_order(scene: &Scene) -> Vec<usize> {
-    use crate::scene::QuadricKind;
     let emits = |i: usize| scene.materials[scene.quadrics[i].material].is_emissive();
     let of = |kind: QuadricKind| (0..scene.quadrics.len()).filter(move |&i| scene.quadrics[i].kind == kind);
     [QuadricKind::Disk, QuadricKind::Cylinder].into_iter().flat_map(|kind| of(kind).filter(|&i| emits(i)).chain(of(kind).filter(|&i| !emits(i)))).collect()

@@ -420,14 +420,9 @@ impl Scene {
                             d * camera <= 0.0 || d.abs() <= MARGIN * scale.max(v.abs().max_element())
                         })
                     })
-                    // A disk or cylinder light is on the camera's side if the box around it is:
-                    // the image of [-1, 1]^2 x [0, 0] (a disk) or [0, 1] (a cylinder) of its
-                    // object space.
+                    // A disk or cylinder light is on the camera's side if the box around it is.
                     || self.quadrics.iter().filter(|q| self.materials[q.material].is_emissive()).any(|q| {
-                        let top = if q.kind == QuadricKind::Disk { 0.0 } else { 1.0 };
-                        (0..8).any(|c| {
-                            let corner = DVec3::new(if c & 1 == 0 { -1.0 } else { 1.0 }, if c & 2 == 0 { -1.0 } else { 1.0 }, if c & 4 == 0 { 0.0 } else { top });
-                            let x = q.to_world.transform_point3(corner);
+                        q.box_corners().into_iter().any(|x| {
                             let d = side(x);
                             d * camera <= 0.0 || d.abs() <= MARGIN * scale.max(x.abs().max_element())
                         })

@@ -41,14 +41,9 @@ pub(super) fn bounding_radius(scene: &Scene) -> f64 {
         lo = lo.min(*v);
         hi = hi.max(*v);
     }
-    // A disk or cylinder within the image of its object space's box [-1, 1]^2 x [0, 1].
-    for q in &scene.quadrics {
-        for corner in 0..8 {
-            let c = DVec3::new(if corner & 1 == 0 { -1.0 } else { 1.0 }, if corner & 2 == 0 { -1.0 } else { 1.0 }, (corner >> 2) as f64);
-            let v = q.to_world.transform_point3(c);
-            lo = lo.min(v);
-            hi = hi.max(v);
-        }
+    for v in scene.quadrics.iter().flat_map(|q| q.box_corners()) {
+        lo = lo.min(v);
+        hi = hi.max(v);
     }
     (0.5 * (hi - lo).length()).max(1e-3)
 }

@@ -107,6 +107,20 @@ impl EmitterKind {
     }
 }
 
+/// The emissive quadrics of `kind` in scene order, each as the light `make` names (the disk and
+/// cylinder emitters').
+fn emissive_quadrics(scene: &Scene, kind: crate::scene::QuadricKind, make: fn(usize) -> Light) -> Vec<Light> {
+    let emits = |q: &crate::scene::Quadric| q.kind == kind && scene.materials[q.material].is_emissive();
+    scene.quadrics.iter().enumerate().filter(|(_, q)| emits(q)).map(|(i, _)| make(i)).collect()
+}
+
+/// Emitted power of a diffuse area emitter: pi times area times the radiance's luminance, twice
+/// that where it emits on both sides.
+fn area_emitter_power(area: f64, radiance: glam::DVec3, two_sided: bool) -> f64 {
+    let sides = if two_sided { 2.0 } else { 1.0 };
+    std::f64::consts::PI * sides * area * luminance(radiance)
+}
+
 impl Scene {
     /// The lights of `kind`, in kernel order.
     pub fn lights_of(&self, kind: EmitterKind) -> Vec<Light> {

@@ -1,9 +1,7 @@
 //! An emissive mesh triangle: a diffuse area light, emitting on the side of its winding normal
 //! or on both (`shaders/emitters/triangle.wgsl`).
 
-use std::f64::consts::PI;
-
-use super::{luminance, Light};
+use super::Light;
 use crate::scene::Scene;
 
 /// Every triangle of every emissive mesh, mesh by mesh, triangle by triangle.
@@ -25,6 +23,5 @@ pub(super) fn count(scene: &Scene) -> usize {
 /// Emitted power: pi times area times radiance, twice that for a two-sided emitter.
 pub(super) fn power(scene: &Scene, mesh: usize, triangle: usize) -> f64 {
     let m = &scene.meshes[mesh];
-    let sides = if m.two_sided_emission { 2.0 } else { 1.0 };
-    PI * sides * m.triangle_area(triangle) * luminance(scene.materials[m.material].emission)
+    super::area_emitter_power(m.triangle_area(triangle), scene.materials[m.material].emission, m.two_sided_emission)
 }

@@ -88,6 +88,16 @@ impl Quadric {
         }
     }
 
+    /// The corners of a box around it in world space: the image of its object space's
+    /// [-1, 1]^2 x [0, 0] (a disk) or [0, 1] (a cylinder).
+    pub fn box_corners(&self) -> [DVec3; 8] {
+        let top = if self.kind == QuadricKind::Disk { 0.0 } else { 1.0 };
+        std::array::from_fn(|c| {
+            let corner = DVec3::new(if c & 1 == 0 { -1.0 } else { 1.0 }, if c & 2 == 0 { -1.0 } else { 1.0 }, if c & 4 == 0 { 0.0 } else { top });
+            self.to_world.transform_point3(corner)
+        })
+    }
+
     /// The point of the surface that Mitsuba's `sample_position` gives for `u` in [0, 1)^2
     /// (uniform in area).
     pub fn sample_position(&self, u: [f64; 2]) -> DVec3 {
