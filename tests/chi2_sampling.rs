@@ -596,7 +596,8 @@ fn every_sampling_routine_fits_its_pdf() {
 // cell with 4 x 4 Gauss-Legendre points as above. A sample that misses the triangle is a hard
 // failure, and so are the others of the direction harness (pdf mass, reported pdf).
 
-const TRI_BINS: usize = 64;
+/// Cells per side of the unit square a light is binned on (triangles, disks, cylinders).
+const LIGHT_BINS: usize = 64;
 
 struct TriangleCase {
     name: String,
@@ -689,24 +690,30 @@ impl TriangleCase {
     }
 }
 
-fn triangle_chi_square(case: &TriangleCase, seed: u32) -> f64 {
-    let routine = case.routine();
-    let name = &case.name;
+/// A light routine's chi-square p-value, its directions binned where they meet the light on the
+/// unit square the light is the image of (LIGHT_BINS x LIGHT_BINS cells that tile it exactly):
+/// `point(u0, u1)` is the direction from the shading point to the light's point at (u0, u1),
+/// `square_of(d)` the square's point a direction d meets and cos(theta_light) / dist^2 there,
+/// `area` the light's area (the warp's constant Jacobian). Hard failures: a cell point's pdf not
+/// positive, pdf mass off 1 by more than 1e-3, a sample that misses the light, and a sample's
+/// reported pdf off the pdf function's by more than 1e-3 (relative): for every sample, or, with
+/// `rim_may_miss`, wherever the function is not 0 (the f32 direction of a sample on a curved
+/// rim may miss it), which must be 99.9% of them.
+fn light_binned_chi_square(routine: &Routine, seed: u32, what: &str, area: f64, point: impl Fn(f64, f64) -> V3, square_of: impl Fn(V3) -> Option<((f64, f64), f64)>, rim_may_miss: bool) -> f64 {
+    let name = &routine.name;
     let params: [u32; 4] = [SAMPLES, seed, 0, 0];
-    let drawn = run(&routine, "sample_main", vec![(0, bytemuck::cast_slice(&params).to_vec())], 2 * SAMPLES as usize, SAMPLES as usize);
-    let [p0, p1, p2] = case.p;
-    let area = 0.5 * norm3(cross3(sub(p1, p0), sub(p2, p0)));
+    let drawn = run(routine, "sample_main", vec![(0, bytemuck::cast_slice(&params).to_vec())], 2 * SAMPLES as usize, SAMPLES as usize);
     let gl = GAUSS_LEGENDRE_4;
-    let h = 1.0 / TRI_BINS as f64;
+    let h = 1.0 / LIGHT_BINS as f64;
     let mut points: Vec<[f32; 4]> = Vec::new();
     let mut weights = Vec::new();
-    for j in 0..TRI_BINS {
-        for i in 0..TRI_BINS {
+    for j in 0..LIGHT_BINS {
+        for i in 0..LIGHT_BINS {
             for (xa, wa) in gl {
                 for (xb, wb) in gl {
                     let (u0, u1) = ((i as f64 + (xa + 1.0) / 2.0) * h, (j as f64 + (xb + 1.0) / 2.0) * h);
-                    let d = sub(case.point(u0, u1), case.x);
-                    let ((_, _), jac) = case.square_of(d).expect("a cell point meets the triangle");
+                    let d = point(u0, u1);
+                    let ((_, _), jac) = square_of(d).unwrap_or_else(|| panic!("{name}: a cell point misses the {what}"));
                     points.push([d[0] as f32, d[1] as f32, d[2] as f32, 0.0]);
                     // Solid-angle pdf x d(omega)/d(u) = area cos / dist^2, times the GL weight.
                     weights.push(wa * wb * h * h / 4.0 * area * jac);
@@ -716,30 +723,41 @@ fn triangle_chi_square(case: &TriangleCase, seed: u32) -> f64 {
     }
     let cell_points = points.len();
     points.extend(drawn.iter().step_by(2).map(|d| [d[0], d[1], d[2], 0.0]));
-    let pdfs = run(&routine, "pdf_main", vec![(0, bytemuck::cast_slice(&params).to_vec()), (2, bytemuck::cast_slice(&points).to_vec())], points.len(), points.len());
-    let mut expected = vec![0.0f64; TRI_BINS * TRI_BINS];
+    let pdfs = run(routine, "pdf_main", vec![(0, bytemuck::cast_slice(&params).to_vec()), (2, bytemuck::cast_slice(&points).to_vec())], points.len(), points.len());
+    let mut expected = vec![0.0f64; LIGHT_BINS * LIGHT_BINS];
     for (k, w) in weights.iter().enumerate() {
         let p = pdfs[k][0] as f64;
-        assert!(p.is_finite() && p >= 0.0, "{name}: pdf {p} at a cell point");
+        assert!(p.is_finite() && p > 0.0, "{name}: pdf {p} at a cell point");
         expected[k / 16] += w * p;
     }
     let mass: f64 = expected.iter().sum();
-    assert!((mass - 1.0).abs() <= 1e-3, "{name}: pdf integrates to {mass} over the triangle, not 1");
-    let mut observed = vec![0u64; TRI_BINS * TRI_BINS];
+    assert!((mass - 1.0).abs() <= 1e-3, "{name}: pdf integrates to {mass} over the {what}, not 1");
+    let mut observed = vec![0u64; LIGHT_BINS * LIGHT_BINS];
+    let mut compared = 0;
     for (n, pair) in drawn.chunks(2).enumerate() {
         let d = pair[0];
         assert!(d.iter().all(|x| x.is_finite()) && d[3] > 0.0, "{name}: sample {d:?} is not finite or has no density");
         let dir = [d[0] as f64, d[1] as f64, d[2] as f64];
-        let ((u0, u1), _) = case.square_of(dir).unwrap_or_else(|| panic!("{name}: sample {d:?} points away from the triangle"));
+        let ((u0, u1), _) = square_of(dir).unwrap_or_else(|| panic!("{name}: sample {d:?} points away from the {what}"));
         // f32 rounding lands samples up to ~1e-4 (in u) outside the edges.
         let slack = 1e-3;
-        assert!((-slack..=1.0 + slack).contains(&u0) && (-slack..=1.0 + slack).contains(&u1), "{name}: sample {d:?} misses the triangle ({u0}, {u1})");
-        let (i, j) = (((u0 * TRI_BINS as f64) as usize).min(TRI_BINS - 1), ((u1 * TRI_BINS as f64) as usize).min(TRI_BINS - 1));
-        observed[j * TRI_BINS + i] += 1;
+        assert!((-slack..=1.0 + slack).contains(&u0) && (-slack..=1.0 + slack).contains(&u1), "{name}: sample {d:?} misses the {what} ({u0}, {u1})");
+        let (i, j) = (((u0 * LIGHT_BINS as f64) as usize).min(LIGHT_BINS - 1), ((u1 * LIGHT_BINS as f64) as usize).min(LIGHT_BINS - 1));
+        observed[j * LIGHT_BINS + i] += 1;
         let (reported, function) = (d[3] as f64, pdfs[cell_points + n][0] as f64);
-        assert!((reported - function).abs() <= 1e-3 * function, "{name}: sample reports pdf {reported}, pdf function gives {function} at {d:?}");
+        if !rim_may_miss || function > 0.0 {
+            assert!((reported - function).abs() <= 1e-3 * function, "{name}: sample reports pdf {reported}, pdf function gives {function} at {d:?}");
+            compared += 1;
+        }
     }
+    assert!(compared as f64 >= 0.999 * SAMPLES as f64, "{name}: only {compared} samples' pdfs compared");
     pooled_chi_square(name, &expected, &observed, SAMPLES as f64)
+}
+
+fn triangle_chi_square(case: &TriangleCase, seed: u32) -> f64 {
+    let [p0, p1, p2] = case.p;
+    let area = 0.5 * norm3(cross3(sub(p1, p0), sub(p2, p0)));
+    light_binned_chi_square(&case.routine(), seed, "triangle", area, |u0, u1| sub(case.point(u0, u1), case.x), |d| case.square_of(d), false)
 }
 
 fn triangle_cases() -> Vec<TriangleCase> {
@@ -800,8 +818,6 @@ fn triangle_light_sampling_fits_its_pdf() {
 // direction meets (found in f64) and not at the silhouette (cos(theta_light) >= 0.05): the point light sampling must have drawn for the direction to
 // carry light, whose density MIS asks for. These cases have their own Šidák correction at
 // alpha = 0.01: with them the file fails falsely with probability below 0.03.
-
-const QUADRIC_BINS: usize = 64;
 
 struct QuadricCase {
     name: String,
@@ -882,14 +898,12 @@ impl QuadricCase {
 
 /// A disk light's chi-square p-value (binned where directions meet the disk).
 fn disk_chi_square(case: &QuadricCase, seed: u32) -> f64 {
-    let routine = case.routine();
-    let (name, q, x) = (&case.name, &case.quadric, case.x);
-    let params: [u32; 4] = [SAMPLES, seed, 0, 0];
-    let drawn = run(&routine, "sample_main", vec![(0, bytemuck::cast_slice(&params).to_vec())], 2 * SAMPLES as usize, SAMPLES as usize);
+    let (q, x) = (&case.quadric, case.x);
     let to_object = q.to_object();
     let n = q.normal(q.to_world.translation);
     // The unit square's point, and cos(theta_light) / dist^2, where direction d meets the disk.
-    let square_of = |d: glam::DVec3| -> Option<((f64, f64), f64)> {
+    let square_of = |d: V3| -> Option<((f64, f64), f64)> {
+        let d = glam::DVec3::from_array(d);
         let t = q.intersect(x, d, 0.0, f64::INFINITY).or_else(|| {
             // Just past the rim in f32: the plane's crossing.
             let (ol, dl) = (to_object.transform_point3(x), to_object.transform_vector3(d));
@@ -900,53 +914,7 @@ fn disk_chi_square(case: &QuadricCase, seed: u32) -> f64 {
         let dist = t * d.length();
         Some((disk_to_square(local.x, local.y), n.dot(d).abs() / (d.length() * dist * dist)))
     };
-    let gl = GAUSS_LEGENDRE_4;
-    let h = 1.0 / QUADRIC_BINS as f64;
-    let (mut points, mut weights) = (Vec::new(), Vec::new());
-    for j in 0..QUADRIC_BINS {
-        for i in 0..QUADRIC_BINS {
-            for (xa, wa) in gl {
-                for (xb, wb) in gl {
-                    let (u0, u1) = ((i as f64 + (xa + 1.0) / 2.0) * h, (j as f64 + (xb + 1.0) / 2.0) * h);
-                    let d = q.sample_position([u0, u1]) - x;
-                    let (_, jac) = square_of(d).expect("a cell point meets the disk");
-                    points.push([d.x as f32, d.y as f32, d.z as f32, 0.0]);
-                    weights.push(wa * wb * h * h / 4.0 * q.area() * jac);
-                }
-            }
-        }
-    }
-    let cell_points = points.len();
-    points.extend(drawn.iter().step_by(2).map(|d| [d[0], d[1], d[2], 0.0]));
-    let pdfs = run(&routine, "pdf_main", vec![(0, bytemuck::cast_slice(&params).to_vec()), (2, bytemuck::cast_slice(&points).to_vec())], points.len(), points.len());
-    let mut expected = vec![0.0f64; QUADRIC_BINS * QUADRIC_BINS];
-    for (k, w) in weights.iter().enumerate() {
-        let p = pdfs[k][0] as f64;
-        assert!(p.is_finite() && p > 0.0, "{name}: pdf {p} at a cell point");
-        expected[k / 16] += w * p;
-    }
-    let mass: f64 = expected.iter().sum();
-    assert!((mass - 1.0).abs() <= 1e-3, "{name}: pdf integrates to {mass} over the disk, not 1");
-    let mut observed = vec![0u64; QUADRIC_BINS * QUADRIC_BINS];
-    let mut compared = 0;
-    for (k, pair) in drawn.chunks(2).enumerate() {
-        let d = pair[0];
-        assert!(d.iter().all(|v| v.is_finite()) && d[3] > 0.0, "{name}: sample {d:?} is not finite or has no density");
-        let dir = glam::DVec3::new(d[0] as f64, d[1] as f64, d[2] as f64);
-        let ((u0, u1), _) = square_of(dir).unwrap_or_else(|| panic!("{name}: sample {d:?} points away from the disk"));
-        let slack = 1e-3;
-        assert!((-slack..=1.0 + slack).contains(&u0) && (-slack..=1.0 + slack).contains(&u1), "{name}: sample {d:?} misses the disk ({u0}, {u1})");
-        let (i, j) = (((u0 * QUADRIC_BINS as f64) as usize).min(QUADRIC_BINS - 1), ((u1 * QUADRIC_BINS as f64) as usize).min(QUADRIC_BINS - 1));
-        observed[j * QUADRIC_BINS + i] += 1;
-        // The pdf function where the f32 direction still meets the disk (not on its rim).
-        let (reported, function) = (d[3] as f64, pdfs[cell_points + k][0] as f64);
-        if function > 0.0 {
-            assert!((reported - function).abs() <= 1e-3 * function, "{name}: sample reports pdf {reported}, pdf function gives {function} at {d:?}");
-            compared += 1;
-        }
-    }
-    assert!(compared as f64 >= 0.999 * SAMPLES as f64, "{name}: only {compared} samples' pdfs compared");
-    pooled_chi_square(name, &expected, &observed, SAMPLES as f64)
+    light_binned_chi_square(&case.routine(), seed, "disk", q.area(), |u0, u1| (q.sample_position([u0, u1]) - x).to_array(), square_of, true)
 }
 
 /// A cylinder light's chi-square p-value (binned by the sampled point).
@@ -958,7 +926,7 @@ fn cylinder_chi_square(case: &QuadricCase, seed: u32) -> f64 {
     let points: Vec<[f32; 4]> = drawn.iter().step_by(2).map(|d| [d[0], d[1], d[2], 0.0]).collect();
     let pdfs = run(&routine, "pdf_main", vec![(0, bytemuck::cast_slice(&params).to_vec()), (2, bytemuck::cast_slice(&points).to_vec())], points.len(), points.len());
     let to_object = q.to_object();
-    let mut observed = vec![0u64; QUADRIC_BINS * QUADRIC_BINS];
+    let mut observed = vec![0u64; LIGHT_BINS * LIGHT_BINS];
     let mut first_hits = 0;
     for (k, pair) in drawn.chunks(2).enumerate() {
         let (d, dist) = (pair[0], pair[1][0] as f64);
@@ -968,8 +936,8 @@ fn cylinder_chi_square(case: &QuadricCase, seed: u32) -> f64 {
         let radius = local.x.hypot(local.y);
         assert!((radius - 1.0).abs() <= 1e-3 && (-1e-3..=1.0 + 1e-3).contains(&local.z), "{name}: sample {pair:?} is off the cylinder ({local})");
         let u = (local.y.atan2(local.x).rem_euclid(std::f64::consts::TAU) / std::f64::consts::TAU, local.z.clamp(0.0, 1.0));
-        let (i, j) = (((u.0 * QUADRIC_BINS as f64) as usize).min(QUADRIC_BINS - 1), ((u.1 * QUADRIC_BINS as f64) as usize).min(QUADRIC_BINS - 1));
-        observed[j * QUADRIC_BINS + i] += 1;
+        let (i, j) = (((u.0 * LIGHT_BINS as f64) as usize).min(LIGHT_BINS - 1), ((u.1 * LIGHT_BINS as f64) as usize).min(LIGHT_BINS - 1));
+        observed[j * LIGHT_BINS + i] += 1;
         // Where the sampled point is the first the direction meets, the pdf function's density
         // is the reported one (away from the silhouette, cos(theta_light) >= 0.05, where the
         // f32 direction's rounding moves the density by more than the tolerance).
@@ -982,7 +950,7 @@ fn cylinder_chi_square(case: &QuadricCase, seed: u32) -> f64 {
         }
     }
     assert!(first_hits as f64 >= 0.3 * SAMPLES as f64, "{name}: only {first_hits} samples are first hits");
-    let expected = vec![1.0 / (QUADRIC_BINS * QUADRIC_BINS) as f64; QUADRIC_BINS * QUADRIC_BINS];
+    let expected = vec![1.0 / (LIGHT_BINS * LIGHT_BINS) as f64; LIGHT_BINS * LIGHT_BINS];
     pooled_chi_square(name, &expected, &observed, SAMPLES as f64)
 }
 
