@@ -2,7 +2,8 @@
 // material (uniform sphere, hemisphere, cosine), the sample and evaluation records, and the one
 // place a sampled contribution becomes a path weight. Each kind of BSDF is one file of
 // shaders/bsdfs/ (phong.wgsl, conductor.wgsl, rough_conductor.wgsl, dielectric.wgsl,
-// plastic.wgsl, rough_dielectric.wgsl, thin_dielectric.wgsl, rough_plastic.wgsl) with its `eval_pdf_*`, `sample_*` and the entry points the dispatcher calls
+// plastic.wgsl, rough_dielectric.wgsl, thin_dielectric.wgsl, rough_plastic.wgsl,
+// principled.wgsl) with its `eval_pdf_*`, `sample_*` and the entry points the dispatcher calls
 // (`delta_lobe_prob_*` too where a kind has a delta lobe beside smooth ones), for the kind's own
 // strategy only; the dispatcher by kind (`eval_pdf_bsdf_of_kind`, `sample_bsdf_of_kind`),
 // `bsdf_is_delta`, the kinds' numbers `BSDF_KIND_*` and one `HAS_<KIND>` override per kind are

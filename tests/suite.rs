@@ -37,6 +37,7 @@ mod mitsuba_scenes;
 mod noise_floor;
 mod plastics;
 mod polygon_lights;
+mod principled;
 mod quadrics;
 mod render_presets;
 mod rough_plastics;

@@ -1,6 +1,6 @@
 //! BSDFs, one file per kind, as Mitsuba 3 lays out `src/bsdfs/`. A kind's Rust file
 //! (`phong.rs`, `conductor.rs`, `rough_conductor.rs`, `dielectric.rs`, `plastic.rs`,
-//! `rough_dielectric.rs`, `thin_dielectric.rs`, `rough_plastic.rs`) owns
+//! `rough_dielectric.rs`, `thin_dielectric.rs`, `rough_plastic.rs`, `principled.rs`) owns
 //! everything the host knows of it: its validated parameters, the fields of its TOML material,
 //! the properties of its Mitsuba plugins, its lines of the scene hash and its parameter block
 //! for the kernel. Its WGSL file,
@@ -25,6 +25,7 @@ mod named_conductors;
 mod phong;
 mod plastic;
 mod plugin;
+mod principled;
 mod rough_conductor;
 mod rough_dielectric;
 mod rough_plastic;
@@ -45,6 +46,7 @@ pub use mask::{Opacity, DEFAULT_MITSUBA_OPACITY};
 pub use named_conductors::NAMED_CONDUCTORS;
 pub use phong::Phong;
 pub use plastic::{fresnel_diffuse_reflectance, Plastic};
+pub use principled::{Principled, Weight as PrincipledWeight};
 pub use rough_conductor::RoughConductor;
 pub use rough_dielectric::RoughDielectric;
 pub use rough_plastic::{CoatingTables, RoughPlastic, TRANSMITTANCE_RES as ROUGH_PLASTIC_TABLE_RES};
@@ -182,6 +184,9 @@ bsdf_registry! {
     ThinDielectric = "thin-dielectric" => ThinDielectric,
     /// Mitsuba's `roughplastic`: a diffuse base under a rough dielectric coating.
     RoughPlastic = "rough-plastic" => RoughPlastic,
+    /// Mitsuba's `principled`: the Disney principled BRDF (diffuse with retro-reflection, sheen,
+    /// a metallic and tinted GGX specular, a GTR1 clearcoat).
+    Principled = "principled" => Principled,
 }
 
 impl BsdfKind {
