@@ -125,18 +125,10 @@ fn triangle_uv(i: u32, tri: Triangle, bary: vec2f) -> vec2f {
     return bary;
 }
 
-// Barycentrics (of p1 and p2) of a point p in the triangle's plane: the solution of
-// p - p0 = b1 e1 + b2 e2 in the least-squares sense (Cramer's rule on the normal equations).
+// Barycentrics (of p1 and p2) of a point p in the triangle's plane (plane_barycentrics,
+// common.wgsl).
 fn triangle_barycentrics(tri: Triangle, p: vec3f) -> vec2f {
-    let e1 = tri.p1 - tri.p0;
-    let e2 = tri.p2 - tri.p0;
-    let d = p - tri.p0;
-    let d11 = dot(e1, e1);
-    let d12 = dot(e1, e2);
-    let d22 = dot(e2, e2);
-    let d1 = dot(d, e1);
-    let d2 = dot(d, e2);
-    return vec2f(d22 * d1 - d12 * d2, d11 * d2 - d12 * d1) / (d11 * d22 - d12 * d12);
+    return plane_barycentrics(tri.p0, tri.p1, tri.p2, p);
 }
 
 // Whether the triangle emits along w, a direction arriving at a point of it whose shading normal

@@ -34,6 +34,20 @@ fn log1m_stable(d: f32) -> f32 {
     return log(1.0 - d);
 }
 
+// Barycentrics (of p1 and p2) of a point p in the plane of the triangle p0 p1 p2: the solution
+// of p - p0 = b1 e1 + b2 e2 in the least-squares sense (Cramer's rule on the normal equations).
+fn plane_barycentrics(p0: vec3f, p1: vec3f, p2: vec3f, p: vec3f) -> vec2f {
+    let e1 = p1 - p0;
+    let e2 = p2 - p0;
+    let d = p - p0;
+    let d11 = dot(e1, e1);
+    let d12 = dot(e1, e2);
+    let d22 = dot(e2, e2);
+    let d1 = dot(d, e1);
+    let d2 = dot(d, e2);
+    return vec2f(d22 * d1 - d12 * d2, d11 * d2 - d12 * d1) / (d11 * d22 - d12 * d12);
+}
+
 // Orthonormal basis around a unit vector n (Duff et al. 2017, branchless).
 struct Frame {
     t: vec3f,

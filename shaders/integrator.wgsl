@@ -423,7 +423,7 @@ fn render_main(@builtin(global_invocation_id) gid: vec3u) {
         let id = SampleId(pixel, frame.sample_start + s, frame.seed);
         technique_faults = 0u;
         var radiance = trace_path(id, px, py);
-        if ((BSDF_TECHNIQUE || LIGHT_TECHNIQUE) && technique_faults != 0u) {
+        if ((BSDF_TECHNIQUE || LIGHT_TECHNIQUE || ENV_TECHNIQUE) && technique_faults != 0u) {
             // A researcher's technique faulted (technique.wgsl): the sample counts as 0, and
             // is counted, so that nothing poisons the sums silently.
             radiance = vec3f(0.0);

@@ -16,16 +16,25 @@
 // wi.z <= 0, is allowed: f is 0 there, and it counts as a sample that scatters nothing); pdf_
 // returns the density with which sample_ draws wi, per unit solid angle over the whole sphere.
 //
-// kind `light` — sampling a point on a spherical light seen from outside it, in place of the
-// uniform cone (from inside a light, its area is still sampled uniformly):
+// kind `light` — sampling a point on a light, for spherical lights, triangle lights or both: a
+// file defines the pair of functions of each shape it samples, and lights of a shape it does
+// not define keep the built-in strategy (the host finds which it defines). Spherical lights,
+// seen from outside, in place of the uniform cone (from inside a light, its area is still
+// sampled uniformly):
 //   fn sample_light_technique(x: vec3f, n: vec3f, light: SphereLight, u: vec2f) -> vec3f
 //   fn pdf_light_technique(x: vec3f, n: vec3f, light: SphereLight, p: vec3f) -> f32
+// triangle lights (every emissive triangle of a mesh, a rectangle, a cube), in place of
+// `--triangle-sampling` (area or solid angle):
+//   fn sample_triangle_light_technique(x: vec3f, n: vec3f, light: TriangleLight, u: vec2f) -> vec3f
+//   fn pdf_triangle_light_technique(x: vec3f, n: vec3f, light: TriangleLight, p: vec3f) -> f32
 // in world space: x is the shading point, n its unit shading normal on the viewer's side (a
-// technique may ignore it). sample_ returns a point p on the sphere's surface; pdf_ returns,
-// for a point p on the sphere that x sees (the near side), the density per unit solid angle
-// at x of the direction towards p with which sample_ produces it. A point sample_ returns on the
-// far side, hidden from x by the sphere itself, is no sample of that direction: it contributes
-// nothing (drawing the near side only wastes no samples).
+// technique may ignore it). sample_ returns a point p on the light's surface; pdf_ returns, for
+// a point p of the light that x sees, the density per unit solid angle at x of the direction
+// towards p with which sample_ produces it. A point sample_ returns on the far side of a
+// sphere, hidden from x by the sphere itself, is no sample of that direction: it contributes
+// nothing (drawing the near side only wastes no samples). Which side of a triangle emits is
+// pathlab's business: a technique samples the whole triangle, and pathlab is not asked about
+// points seen from the triangle's own plane (they receive nothing).
 //
 // kind `env` — sampling a direction towards the environment map where next event estimation
 // samples the environment (`+env`), in place of the map's luminance distribution:
@@ -70,6 +79,14 @@ struct PhongMaterial {
 struct SphereLight {
     center: vec3f,
     radius: f32,
+}
+
+// A triangle light: its vertices (its winding normal cross(p1 - p0, p2 - p0); which side emits is
+// not the technique's concern).
+struct TriangleLight {
+    p0: vec3f,
+    p1: vec3f,
+    p2: vec3f,
 }
 
 // Loop iterations of the current call, and the faults of the current sample (TECHNIQUE_FAULT_*).
@@ -169,6 +186,55 @@ fn sample_sphere_light_technique(center: vec3f, radius: f32, x: vec3f, n: vec3f,
     let near = dot(p - center, x - p) > 0.0;
     let pdf = pdf_sphere_light_technique(center, radius, x, n, wi);
     return LightSample(wi, dist, select(0.0, pdf, near));
+}
+
+// ---- kind light, triangles: the wrappers emitters/triangle.wgsl calls ----
+
+// Whether x lies in the triangle's plane (to 1e-5 of its size), where it sees none of it: the
+// technique is not asked there (its solid-angle density would be infinite).
+fn technique_in_plane(tri: TriangleLight, x: vec3f) -> bool {
+    let c = cross(tri.p1 - tri.p0, tri.p2 - tri.p0);
+    return abs(dot(x - tri.p0, c)) <= 1e-5 * length(c) * sqrt(length(c));
+}
+
+// Solid-angle density at x with which the technique gives direction wi: its density at the
+// point where the ray (x, wi) meets the triangle's plane (asked for directions that meet the
+// triangle; 0 for one parallel to its plane or away from it).
+fn pdf_triangle_light_with_technique(tri: TriangleLight, x: vec3f, n: vec3f, wi: vec3f) -> f32 {
+    let normal = normalize(cross(tri.p1 - tri.p0, tri.p2 - tri.p0));
+    let t = distance_to_plane(tri.p0, normal, x, wi);
+    if (t <= 0.0 || technique_in_plane(tri, x)) {
+        return 0.0;
+    }
+    technique_iterations = 0u;
+    return technique_density(pdf_triangle_light_technique(x, n, tri, x + wi * t));
+}
+
+// A direction from x towards the point the technique draws, with the technique's density at
+// that point (the point itself: the direction's ray would find it again only to rounding). A
+// point off the triangle, farther from its plane or beyond an edge than 1e-3 of its size
+// (barycentrics outside [-1e-3, 1 + 1e-3]), is a fault.
+fn sample_triangle_light_with_technique(tri: TriangleLight, x: vec3f, n: vec3f, u: vec2f) -> LightSample {
+    let c = cross(tri.p1 - tri.p0, tri.p2 - tri.p0);
+    let normal = normalize(c);
+    if (technique_in_plane(tri, x)) {
+        return LightSample(normal, 0.0, 0.0);
+    }
+    technique_iterations = 0u;
+    let p = sample_triangle_light_technique(x, n, tri, u);
+    // Barycentrics of p1 and p2 (bvh.wgsl) and the distance from the plane.
+    let b = plane_barycentrics(tri.p0, tri.p1, tri.p2, p);
+    let size = sqrt(length(c));
+    let on = abs(dot(p - tri.p0, normal)) <= 1e-3 * size && b.x >= -1e-3 && b.y >= -1e-3 && b.x + b.y <= 1.0 + 1e-3;
+    let to_p = p - x;
+    let dist = length(to_p);
+    if (!technique_finite3(p) || !on || !(dist > 0.0)) {
+        technique_faults |= TECHNIQUE_FAULT_VALUE;
+        return LightSample(normal, 0.0, 0.0);
+    }
+    technique_iterations = 0u;
+    let pdf = technique_density(pdf_triangle_light_technique(x, n, tri, p));
+    return LightSample(to_p / dist, dist, pdf);
 }
 
 // ---- kind env: the wrappers emitters/environment.wgsl calls for a map ----

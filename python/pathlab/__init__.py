@@ -206,7 +206,7 @@ class Technique:
         if kind is None:
             k, sep, rest = p.partition(":")
             if not sep or k not in ("bsdf", "light"):
-                raise ValueError(f"Technique({p!r}): give KIND:FILE.wgsl (KIND bsdf or light), or kind=")
+                raise ValueError(f"Technique({p!r}): give KIND:FILE.wgsl (KIND bsdf, light or env), or kind=")
             kind, p = k, rest
         if kind not in ("bsdf", "light"):
             raise ValueError(f"Technique kind must be 'bsdf' or 'light', not {kind!r}")

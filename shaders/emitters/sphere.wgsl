@@ -24,7 +24,7 @@ fn sample_sphere_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> EmitterSa
     var ls: LightSample;
     if (inside_light(l, sphere, ctx)) {
         ls = sample_sphere_light_area(sphere.center, sphere.radius, ctx.x, u);
-    } else if (LIGHT_TECHNIQUE) {
+    } else if (LIGHT_TECHNIQUE && LIGHT_TECHNIQUE_SPHERES) {
         // A researcher's technique (technique.wgsl); not from a point on the light's own outer
         // surface, which sees none of it (and where the technique's geometry degenerates).
         ls = LightSample(ctx.n, 0.0, 0.0);
@@ -43,7 +43,7 @@ fn sample_sphere_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> EmitterSa
 fn pdf_sphere_emitter(l: u32, ctx: LightSampleContext, wi: vec3f) -> f32 {
     let sphere = spheres[l];
     let inside = inside_light(l, sphere, ctx);
-    if (LIGHT_TECHNIQUE && !inside) {
+    if (LIGHT_TECHNIQUE && LIGHT_TECHNIQUE_SPHERES && !inside) {
         return select(pdf_sphere_light_technique(sphere.center, sphere.radius, ctx.x, ctx.n, wi), 0.0, l == ctx.object);
     }
     return pdf_sphere_light(sphere.center, sphere.radius, ctx.x, inside, wi);

@@ -1,14 +1,20 @@
 // emitters/triangle.wgsl — an emissive mesh triangle: a diffuse area light emitting on the side
 // of its winding normal, or on both (src/scene/emitters/triangle.rs). light_table[l].object
 // names the triangle (its index in the BVH's leaf order); it is sampled by area or by solid
-// angle (TRIANGLE_SAMPLING, lights.wgsl).
+// angle (TRIANGLE_SAMPLING, lights.wgsl), or by a researcher's technique (technique.wgsl).
 
 // A direction from ctx towards triangle light l. It emits towards x when x is on the front
 // side of the sampled point (in its shading frame), or it is two-sided.
 fn sample_triangle_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> EmitterSample {
     let i = light_table[l].object;
     let tri = triangle_at(i);
-    let ls = sample_triangle_light(tri.p0, tri.p1, tri.p2, ctx.x, u);
+    var ls: LightSample;
+    if (LIGHT_TECHNIQUE && LIGHT_TECHNIQUE_TRIANGLES) {
+        // A researcher's technique (technique.wgsl).
+        ls = sample_triangle_light_with_technique(TriangleLight(tri.p0, tri.p1, tri.p2), ctx.x, ctx.n, u);
+    } else {
+        ls = sample_triangle_light(tri.p0, tri.p1, tri.p2, ctx.x, u);
+    }
     var n_s = cross(tri.p1 - tri.p0, tri.p2 - tri.p0);
     if (HAS_SHADING_NORMALS) {
         n_s = triangle_shading_normal(i, tri, normalize(n_s), triangle_barycentrics(tri, ctx.x + ls.wi * ls.dist));
@@ -20,6 +26,9 @@ fn sample_triangle_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> Emitter
 // Solid-angle density with which sample_triangle_emitter gives wi from ctx.
 fn pdf_triangle_emitter(l: u32, ctx: LightSampleContext, wi: vec3f) -> f32 {
     let tri = triangle_at(light_table[l].object);
+    if (LIGHT_TECHNIQUE && LIGHT_TECHNIQUE_TRIANGLES) {
+        return pdf_triangle_light_with_technique(TriangleLight(tri.p0, tri.p1, tri.p2), ctx.x, ctx.n, wi);
+    }
     return pdf_triangle_light(tri.p0, tri.p1, tri.p2, ctx.x, wi);
 }
 

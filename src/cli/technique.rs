@@ -119,8 +119,14 @@ pub fn with_technique_rows(names: Option<Vec<String>>, scene: &Scene) -> anyhow:
                 // Next event estimation of the environment: `+env=NAME` turns it on.
                 TechniqueKind::Env => m.lights != LightSampling::None && !m.lights.is_biased() && scene.environment_map.is_some(),
             };
-            if uses && !m.is_biased() && !m.techniques().any(|(k, _)| k == t.kind) {
-                rows.push(m.with_technique(t.kind, t.name).name());
+            if m.techniques().any(|(k, n)| k == t.kind && n == t.name) {
+                // Listed with the technique already.
+                added = true;
+            } else if uses && !m.is_biased() && !m.techniques().any(|(k, _)| k == t.kind) {
+                let row = m.with_technique(t.kind, t.name).name();
+                if !rows.contains(&row) {
+                    rows.push(row);
+                }
                 added = true;
             }
         }
@@ -138,10 +144,10 @@ fn histogram_path(t: &Technique) -> PathBuf {
 
 #[derive(Args)]
 pub struct CheckTechniqueArgs {
-    /// The technique: KIND:FILE.wgsl (KIND bsdf or light).
+    /// The technique: KIND:FILE.wgsl (KIND bsdf, light or env).
     technique: String,
     /// The scene whose materials or lights give the configurations (default: the study scene's
-    /// defaults, the study's three materials or a unit sphere).
+    /// defaults, the study's three materials, a unit sphere or a right triangle).
     #[arg(long)]
     scene: Option<PathBuf>,
     /// Samples per configuration.

@@ -105,6 +105,30 @@ impl Technique {
     pub fn label(&self) -> String {
         format!("{}:{}", self.kind.name(), self.name)
     }
+
+    /// The lights a `light` technique samples (none for other kinds): spherical lights where the
+    /// file defines `sample_light_technique` or `pdf_light_technique`, triangle lights where it
+    /// defines `sample_triangle_light_technique` or `pdf_triangle_light_technique` (a shape's
+    /// two functions go together: one without the other is refused by validation, which names
+    /// the missing one). Lights of a shape it does not define keep the built-in strategy.
+    pub fn light_shapes(&self) -> LightShapes {
+        if self.kind != TechniqueKind::Light {
+            return LightShapes::default();
+        }
+        let defined = defined_functions(&self.source);
+        let has = |name: &str| defined.iter().any(|f| f == name);
+        LightShapes {
+            spheres: has("sample_light_technique") || has("pdf_light_technique"),
+            triangles: has("sample_triangle_light_technique") || has("pdf_triangle_light_technique"),
+        }
+    }
+}
+
+/// The shapes of light a `light` technique samples (`Technique::light_shapes`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct LightShapes {
+    pub spheres: bool,
+    pub triangles: bool,
 }
 
 /// What a result records of the techniques `method` uses (`loaded` holds their files):
@@ -143,19 +167,11 @@ pub fn check_unique(techniques: &[Technique]) -> Result<(), TechniqueError> {
     Ok(())
 }
 
-/// `source` with `LOOP_GUARD` at the top of every loop body, and the number of loops: after the
-/// `{` that opens the body of each `loop`, `while` and `for` (comments and identifiers that
-/// merely contain those words are skipped; a `for` header's parentheses are skipped whole).
-/// Text is only inserted, never a newline, so lines keep their numbers.
-pub fn guard_loops(source: &str) -> (String, usize) {
+/// Walks WGSL `source` outside its comments (`//` to the end of the line, `/* */` nested):
+/// `identifier(start, end)` for each identifier or keyword, `other(i)` for each other byte.
+fn scan(source: &str, mut identifier: impl FnMut(usize, usize), mut other: impl FnMut(usize)) {
     let bytes = source.as_bytes();
-    let mut out = String::with_capacity(source.len() + 64);
-    let mut loops = 0;
     let mut i = 0;
-    // Set after a loop keyword: insert the guard after the next `{` outside parentheses.
-    let mut pending = false;
-    let mut parens = 0i32;
-    let mut copied = 0;
     while i < bytes.len() {
         let c = bytes[i];
         if c == b'/' && bytes.get(i + 1) == Some(&b'/') {
@@ -188,28 +204,80 @@ pub fn guard_loops(source: &str) -> (String, usize) {
             while i < bytes.len() && (bytes[i].is_ascii_alphanumeric() || bytes[i] == b'_') {
                 i += 1;
             }
-            if matches!(&source[start..i], "loop" | "while" | "for") {
-                pending = true;
-                parens = 0;
-                loops += 1;
-            }
+            identifier(start, i);
             continue;
         }
-        if pending {
-            match c {
-                b'(' => parens += 1,
-                b')' => parens -= 1,
-                b'{' if parens == 0 => {
-                    out.push_str(&source[copied..=i]);
-                    out.push(' ');
-                    out.push_str(LOOP_GUARD);
-                    copied = i + 1;
-                    pending = false;
+        other(i);
+        i += 1;
+    }
+}
+
+/// The names of the functions `source` defines (each identifier after the keyword `fn`).
+pub fn defined_functions(source: &str) -> Vec<String> {
+    let mut names = Vec::new();
+    let after_fn = std::cell::Cell::new(false);
+    scan(
+        source,
+        |start, end| {
+            let word = &source[start..end];
+            if after_fn.get() {
+                names.push(word.to_string());
+            }
+            after_fn.set(word == "fn");
+        },
+        |i| {
+            if !source.as_bytes()[i].is_ascii_whitespace() {
+                after_fn.set(false);
+            }
+        },
+    );
+    names
+}
+
+/// `source` with `LOOP_GUARD` at the top of every loop body, and the number of loops: after the
+/// `{` that opens the body of each `loop`, `while` and `for` (comments and identifiers that
+/// merely contain those words are skipped; a `for` header's parentheses are skipped whole).
+/// Text is only inserted, never a newline, so lines keep their numbers.
+pub fn guard_loops(source: &str) -> (String, usize) {
+    use std::cell::{Cell, RefCell};
+    // Where each guard goes (after the byte at that index), found by the scan.
+    let inserts = RefCell::new(Vec::new());
+    let loops = Cell::new(0);
+    // Set after a loop keyword: insert the guard after the next `{` outside parentheses.
+    let pending = Cell::new(false);
+    let parens = Cell::new(0i32);
+    scan(
+        source,
+        |start, end| {
+            if matches!(&source[start..end], "loop" | "while" | "for") {
+                pending.set(true);
+                parens.set(0);
+                loops.set(loops.get() + 1);
+            }
+        },
+        |i| {
+            if !pending.get() {
+                return;
+            }
+            match source.as_bytes()[i] {
+                b'(' => parens.set(parens.get() + 1),
+                b')' => parens.set(parens.get() - 1),
+                b'{' if parens.get() == 0 => {
+                    inserts.borrow_mut().push(i);
+                    pending.set(false);
                 }
                 _ => {}
             }
-        }
-        i += 1;
+        },
+    );
+    let (inserts, loops) = (inserts.into_inner(), loops.get());
+    let mut out = String::with_capacity(source.len() + inserts.len() * (LOOP_GUARD.len() + 1));
+    let mut copied = 0;
+    for i in inserts {
+        out.push_str(&source[copied..=i]);
+        out.push(' ');
+        out.push_str(LOOP_GUARD);
+        copied = i + 1;
     }
     out.push_str(&source[copied..]);
     (out, loops)
@@ -228,6 +296,16 @@ mod tests {
         assert_eq!(guarded.lines().count(), src.lines().count());
         assert!(guarded.contains(&format!("for (var i = 0u; i < 4u; i++) {{ {LOOP_GUARD} s += 1.0; }}")));
         assert!(guarded.lines().next().unwrap().ends_with("for (;;) {}"), "comments are left alone");
+    }
+
+    #[test]
+    fn defined_functions_are_found_outside_comments() {
+        let src = "// fn commented_out() {}\nfn sample_triangle_light_technique(x: vec3f) -> vec3f { return x; }\n/* fn sample_light_technique() */\nfn  helper_fn2 (a: f32) -> f32 { let fn_like = a; return fn_like; }\n";
+        assert_eq!(defined_functions(src), ["sample_triangle_light_technique", "helper_fn2"]);
+        let t = Technique::from_text(TechniqueKind::Light, TechniqueName::new("t").unwrap(), "t.wgsl", src);
+        assert_eq!(t.light_shapes(), LightShapes { spheres: false, triangles: true });
+        let t = Technique::from_text(TechniqueKind::Bsdf, TechniqueName::new("t").unwrap(), "t.wgsl", src);
+        assert_eq!(t.light_shapes(), LightShapes::default());
     }
 
     #[test]

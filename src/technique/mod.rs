@@ -5,9 +5,12 @@
 //!
 //! Configurations: for a `bsdf` technique, every distinct Phong material of the scene (the
 //! study's three where it has none) at incidences 0, 45 and 85 degrees; for a `light`
-//! technique, every distinct radius of the scene's spherical lights (1 where it has none), seen
-//! from a near point (1.5 radii from the centre) and a far one (30 radii), with the shading
-//! normal towards the light and tilted 70 degrees from it.
+//! technique, for each shape it samples (`Technique::light_shapes`): every distinct radius of
+//! the scene's spherical lights (1 where it has none), seen from a near point (1.5 radii from
+//! the centre) and a far one (30 radii), with the shading normal towards the light and tilted 70
+//! degrees from it; up to four distinct triangles of the scene's triangle lights (a right
+//! triangle where it has none), each from near on its normal, near at 60 degrees, at 80 degrees
+//! and far (`triangle_configurations`).
 //!
 //! Each configuration is two tests: the chi-square test, and the coverage test, a z-test of the
 //! technique's estimate of an integral against the built-in strategy's (both with the
@@ -147,7 +150,7 @@ impl Default for CheckOptions {
 /// Validates `technique` (no GPU), then tests it on `scene`'s configurations.
 pub fn check(gpu: &Gpu, technique: &Technique, scene: &Scene, options: CheckOptions, mut progress: impl FnMut(usize, usize, &str)) -> Result<Verdict, TechniqueError> {
     shaders::validate_technique(technique)?;
-    let (configurations, source) = configurations(technique.kind, scene);
+    let (configurations, source) = configurations(technique, scene);
     let tests = configurations.len() * 2;
     let level = crate::stats::sidak(ALPHA, tests.max(1));
     let files = TechniqueFiles::only(technique);
@@ -231,9 +234,9 @@ pub fn verdicts(gpu: &Gpu, scene: &Scene, method: &crate::method::Method) -> Res
     Ok(verdicts)
 }
 
-/// The configurations of a technique of `kind` on `scene`, and where they came from.
-pub fn configurations(kind: TechniqueKind, scene: &Scene) -> (Vec<Configuration>, String) {
-    match kind {
+/// The configurations of `technique` on `scene`, and where they came from.
+pub fn configurations(technique: &Technique, scene: &Scene) -> (Vec<Configuration>, String) {
+    match technique.kind {
         TechniqueKind::Bsdf => {
             let mut materials: Vec<([f64; 3], [f64; 3], f64, f64)> = Vec::new();
             for m in &scene.materials {
@@ -259,26 +262,20 @@ pub fn configurations(kind: TechniqueKind, scene: &Scene) -> (Vec<Configuration>
             (configs, source)
         }
         TechniqueKind::Light => {
-            let mut radii: Vec<f64> = Vec::new();
-            for l in scene.lights_of(crate::scene::EmitterKind::Sphere) {
-                if let crate::scene::Light::Sphere(s) = l {
-                    let radius = scene.spheres[s].radius;
-                    if !radii.contains(&radius) {
-                        radii.push(radius);
-                    }
-                }
+            let shapes = technique.light_shapes();
+            let mut configs = Vec::new();
+            let mut sources = Vec::new();
+            if shapes.spheres {
+                let (c, source) = sphere_configurations(scene);
+                configs.extend(c);
+                sources.push(source);
             }
-            let source = if radii.is_empty() {
-                radii.push(1.0);
-                "a unit sphere (the scene has no spherical light, where a light technique applies)".to_string()
-            } else {
-                format!("the scene's {} spherical light radius(es)", radii.len())
-            };
-            let configs = radii
-                .iter()
-                .flat_map(|&r| [(1.5, 0.0), (1.5, 70.0), (30.0, 0.0), (30.0, 70.0)].map(move |(ratio, tilt)| sphere_configuration(r, ratio, tilt)))
-                .collect();
-            (configs, source)
+            if shapes.triangles {
+                let (c, source) = triangle_configurations(scene);
+                configs.extend(c);
+                sources.push(source);
+            }
+            (configs, sources.join("; "))
         }
         TechniqueKind::Env => match &scene.environment_map {
             Some(map) => {
@@ -292,6 +289,70 @@ pub fn configurations(kind: TechniqueKind, scene: &Scene) -> (Vec<Configuration>
             None => (Vec::new(), "no configuration: an env technique samples an environment map, and the scene has none".to_string()),
         },
     }
+}
+
+/// A spherical-light technique's configurations: every distinct radius of the scene's spherical
+/// lights (1 where it has none), from near and far, the normal towards the light and tilted.
+fn sphere_configurations(scene: &Scene) -> (Vec<Configuration>, String) {
+    let mut radii: Vec<f64> = Vec::new();
+    for l in scene.lights_of(crate::scene::EmitterKind::Sphere) {
+        if let crate::scene::Light::Sphere(s) = l {
+            let radius = scene.spheres[s].radius;
+            if !radii.contains(&radius) {
+                radii.push(radius);
+            }
+        }
+    }
+    let source = if radii.is_empty() {
+        radii.push(1.0);
+        "a unit sphere (the scene has no spherical light, where a light technique applies)".to_string()
+    } else {
+        format!("the scene's {} spherical light radius(es)", radii.len())
+    };
+    let configs = radii
+        .iter()
+        .flat_map(|&r| [(1.5, 0.0), (1.5, 70.0), (30.0, 0.0), (30.0, 70.0)].map(move |(ratio, tilt)| sphere_configuration(r, ratio, tilt)))
+        .collect();
+    (configs, source)
+}
+
+/// Triangle lights a triangle-light technique is checked on, at most.
+const MAX_TRIANGLES: usize = 4;
+
+/// A triangle-light technique's configurations: up to `MAX_TRIANGLES` distinct triangles of the
+/// scene's emissive meshes (distinct in shape: their edges differ; the first ones of the scene,
+/// a right triangle where it has none), each seen from four points: near (half the triangle's
+/// size, sqrt(area), from its centroid) on its normal, with the shading normal towards it;
+/// near and 60 degrees off its normal; at 80 degrees, nearly in its plane (where a
+/// solid-angle density varies most over the triangle); far (30 sizes) on its normal, the
+/// shading normal tilted 70 degrees.
+fn triangle_configurations(scene: &Scene) -> (Vec<Configuration>, String) {
+    let mut triangles: Vec<[glam::DVec3; 3]> = Vec::new();
+    for l in scene.lights_of(crate::scene::EmitterKind::Triangle) {
+        if let crate::scene::Light::Triangle { mesh, triangle } = l {
+            let m = &scene.meshes[mesh];
+            let p = m.triangles[triangle].map(|v| m.positions[v as usize]);
+            let edges = |t: &[glam::DVec3; 3]| (t[1] - t[0], t[2] - t[0]);
+            if !triangles.iter().any(|t| edges(t) == edges(&p)) {
+                triangles.push(p);
+            }
+            if triangles.len() == MAX_TRIANGLES {
+                break;
+            }
+        }
+    }
+    let source = if triangles.is_empty() {
+        triangles.push([glam::DVec3::ZERO, glam::DVec3::X, glam::DVec3::Y]);
+        "a right triangle of unit legs (the scene has no triangle light, where a triangle-light technique applies)".to_string()
+    } else {
+        format!("{} of the scene's triangle lights", triangles.len())
+    };
+    let configs = triangles
+        .iter()
+        .enumerate()
+        .flat_map(|(k, &p)| [(0.5, 0.0, 0.0), (0.5, 60.0, 0.0), (1.0, 80.0, 0.0), (30.0, 0.0, 70.0)].map(move |(dist, angle, tilt)| triangle_configuration(k, p, dist, angle, tilt)))
+        .collect();
+    (configs, source)
 }
 
 fn v3(v: [f64; 3]) -> String {
@@ -439,25 +500,106 @@ fn sphere_configuration(radius: f64, ratio: f64, tilt: f64) -> Configuration {
          fn routine_pdf(d: vec3f) -> f32 {{ return pdf_sphere_light(ROUTINE_C, ROUTINE_R, vec3f(0.0), false, d); }}\n"
     );
     let name = format!("sphere r={radius} seen from {ratio} radii, normal tilted {tilt} degrees");
-    let make = |wgsl: String, constants: Vec<(&'static str, f64)>, integrand: bool| Routine {
-        name: name.clone(),
-        wgsl,
-        constants,
-        // The edge of the visible cap is a bin edge.
-        s_split: s_cap,
-        pdf_tolerance: 1e-4,
-        pdf_floor: 1e-30,
-        bsdf_data: Vec::new(),
-        environment_map: Vec::new(),
-        bins: chi2::DEFAULT_BINS,
-        integrand,
-    };
-    Configuration {
-        name: name.clone(),
-        technique: make(technique, vec![("LIGHT_TECHNIQUE", 1.0)], true),
-        // Only the built-in cone's estimate is used (the chi-square suite proves the cone).
-        builtin: make(builtin, vec![], false),
-    }
+    // The edge of the visible cap is a bin edge.
+    light_configuration(name, (technique, vec![("LIGHT_TECHNIQUE", 1.0)]), (builtin, vec![]), s_cap, chi2::DEFAULT_BINS, Vec::new())
+}
+
+/// Triangle `k` with vertices `p` seen from a point at `dist` times its size (sqrt(area)) from its
+/// centroid, `angle` degrees off its winding normal (towards its first edge), whose shading
+/// normal is tilted `tilt` degrees from the direction to the centroid: the technique through
+/// `sample_triangle_light_with_technique` and `pdf_triangle_light_technique` (what the path
+/// tracer calls), and the built-in solid-angle strategy. Coordinates are taken relative to the
+/// centroid (the technique's maths is the same anywhere; f32 keeps its precision). The samples
+/// are binned where they land on the triangle, on the unit square it is the image of under the
+/// area warp (u0 = (b1 + b2)^2, u1 = b2 / (b1 + b2)), written as the direction at phi = 2 pi u1,
+/// s = 1 - cos = 2 u0: 64 x 64 cells tile the triangle exactly, none cut by an edge. The density
+/// there is the solid-angle density at x times d(omega) / d(bins) = |cos(theta_light)| / dist^2
+/// x area / (4 pi), finite even where the sight line grazes the triangle. The integrand is that
+/// Jacobian (1 over the directions that meet the triangle): the coverage test compares
+/// estimates of its solid angle.
+fn triangle_configuration(k: usize, p: [glam::DVec3; 3], dist: f64, angle: f64, tilt: f64) -> Configuration {
+    let centroid = (p[0] + p[1] + p[2]) / 3.0;
+    let p = p.map(|v| v - centroid);
+    let c = (p[1] - p[0]).cross(p[2] - p[0]);
+    let (area, normal) = (0.5 * c.length(), c.normalize());
+    let size = area.sqrt();
+    let along = (p[1] - p[0]).normalize();
+    let (a, t) = (angle.to_radians(), tilt.to_radians());
+    let x = dist * size * (a.cos() * normal + a.sin() * along);
+    let towards = (-x).normalize();
+    let side = towards.cross(normal).try_normalize().unwrap_or(along);
+    let n = t.cos() * towards + t.sin() * side;
+    let v = |v: glam::DVec3| v3(v.to_array());
+    let common = format!(
+        "const ROUTINE_P0: vec3f = {};\nconst ROUTINE_P1: vec3f = {};\nconst ROUTINE_P2: vec3f = {};\n\
+         const ROUTINE_X: vec3f = {};\nconst ROUTINE_N: vec3f = {};\nconst ROUTINE_NT: vec3f = {};\nconst ROUTINE_AREA: f32 = {:?};\n\
+         fn routine_tri() -> TriangleLight {{ return TriangleLight(ROUTINE_P0, ROUTINE_P1, ROUTINE_P2); }}\n\
+         // The triangle's point at (u0, u1) of the area warp.\n\
+         fn routine_point(uv: vec2f) -> vec3f {{ let s = sqrt(uv.x); return (1.0 - s) * ROUTINE_P0 + (s * (1.0 - uv.y)) * ROUTINE_P1 + (s * uv.y) * ROUTINE_P2; }}\n\
+         fn routine_s(d: vec3f) -> f32 {{ return select(1.0 - d.z, (d.x * d.x + d.y * d.y) / (1.0 + d.z), d.z > 0.0); }}\n\
+         // (u0, u1) of a binning direction, and the binning direction of (u0, u1).\n\
+         fn routine_uv(d: vec3f) -> vec2f {{\n\
+             var u1 = atan2_accurate(d.y, d.x) * (0.5 * INV_PI);\n\
+             u1 = u1 - floor(u1);\n\
+             return vec2f(clamp(0.5 * routine_s(d), 0.0, 1.0), u1);\n\
+         }}\n\
+         fn routine_dir(uv: vec2f) -> vec3f {{\n\
+             let s = 2.0 * uv.x;\n\
+             let sin_t = safe_sqrt(s * (2.0 - s));\n\
+             return vec3f(sin_t * cos(2.0 * PI * uv.y), sin_t * sin(2.0 * PI * uv.y), 1.0 - s);\n\
+         }}\n\
+         // (u0, u1) of a point of the triangle, from its barycentrics b1, b2.\n\
+         fn routine_uv_of(p: vec3f) -> vec2f {{\n\
+             let b = plane_barycentrics(ROUTINE_P0, ROUTINE_P1, ROUTINE_P2, p);\n\
+             let sum = clamp(b.x + b.y, 0.0, 1.0);\n\
+             return vec2f(sum * sum, select(0.0, clamp(b.y / sum, 0.0, 0.99999994), sum > 0.0));\n\
+         }}\n\
+         // d(solid angle at x) / d(binning solid angle) at the triangle's point p.\n\
+         fn routine_jacobian(p: vec3f) -> f32 {{\n\
+             let to_x = ROUTINE_X - p;\n\
+             let dist2 = dot(to_x, to_x);\n\
+             return abs(dot(ROUTINE_NT, to_x)) / (sqrt(dist2) * dist2) * ROUTINE_AREA * (0.25 * INV_PI);\n\
+         }}\n\
+         fn routine_integrand(d: vec3f) -> f32 {{ return routine_jacobian(routine_point(routine_uv(d))); }}\n",
+        v(p[0]),
+        v(p[1]),
+        v(p[2]),
+        v(x),
+        v(n),
+        v(normal),
+        area as f32,
+    );
+    let technique = format!(
+        "{common}\
+         fn routine_technique_pdf(p: vec3f) -> f32 {{\n\
+             technique_iterations = 0u;\n\
+             return technique_density(pdf_triangle_light_technique(ROUTINE_X, ROUTINE_N, routine_tri(), p));\n\
+         }}\n\
+         fn routine_pdf(d: vec3f) -> f32 {{ let p = routine_point(routine_uv(d)); return routine_technique_pdf(p) * routine_jacobian(p); }}\n\
+         fn routine_sample(u: vec2f, u_lobe: f32) -> Drawn {{\n\
+             let ls = sample_triangle_light_with_technique(routine_tri(), ROUTINE_X, ROUTINE_N, u);\n\
+             let d = routine_dir(routine_uv_of(ROUTINE_X + ls.wi * ls.dist));\n\
+             let estimate = select(0.0, 1.0 / ls.pdf, ls.pdf > 0.0);\n\
+             // (The technique reports no density of its own: pathlab asks its pdf, as here.)\n\
+             return Drawn(vec4f(d, routine_pdf(d)), vec4f(0.0, 0.0, estimate, 0.0));\n\
+         }}\n"
+    );
+    let builtin = format!(
+        "{common}\
+         fn routine_pdf(d: vec3f) -> f32 {{\n\
+             let p = routine_point(routine_uv(d));\n\
+             return pdf_triangle_light(ROUTINE_P0, ROUTINE_P1, ROUTINE_P2, ROUTINE_X, normalize(p - ROUTINE_X)) * routine_jacobian(p);\n\
+         }}\n\
+         fn routine_sample(u: vec2f, u_lobe: f32) -> Drawn {{\n\
+             let ls = sample_triangle_light(ROUTINE_P0, ROUTINE_P1, ROUTINE_P2, ROUTINE_X, u);\n\
+             let d = routine_dir(routine_uv_of(ROUTINE_X + ls.wi * ls.dist));\n\
+             let estimate = select(0.0, 1.0 / ls.pdf, ls.pdf > 0.0);\n\
+             return Drawn(vec4f(d, routine_pdf(d)), vec4f(0.0, 0.0, estimate, 0.0));\n\
+         }}\n"
+    );
+    let name = format!("triangle {k} (area {area:.4}) seen from {dist} sizes, {angle} degrees off its normal, normal tilted {tilt} degrees");
+    let solid_angle = vec![("TRIANGLE_SAMPLING", crate::method::TriangleSampling::SolidAngle.constant() as f64)];
+    light_configuration(name, (technique, vec![("LIGHT_TECHNIQUE", 1.0)]), (builtin, solid_angle), 2.0, (64, 64), Vec::new())
 }
 
 /// The environment map `packed` (`EnvironmentMap::pack`) seen from a point with shading normal
@@ -514,24 +656,36 @@ fn environment_configuration(packed: &[f32], n: [f64; 3], what: &str) -> Configu
          }}\n"
     );
     let name = format!("environment map, normal towards {what}");
-    let make = |wgsl: String, constants: Vec<(&'static str, f64)>, integrand: bool| Routine {
+    // Two cells per texel each way: the map's distribution is constant over a cell.
+    let technique = (technique, vec![("ENV_TECHNIQUE", 1.0), ("HAS_ENVIRONMENT_MAP", 1.0)]);
+    light_configuration(name, technique, (builtin, vec![("HAS_ENVIRONMENT_MAP", 1.0)]), 2.0, (2 * width, 2 * height), packed.to_vec())
+}
+
+/// A configuration of a light or environment technique: the technique's routine (its WGSL and
+/// pipeline constants; its support checked against `routine_integrand`) and the built-in's,
+/// binned alike (`s_split`, `bins`), densities compared to 1e-4 (relative). Only the built-in's
+/// estimate is used (the chi-square suite proves the built-ins).
+fn light_configuration(
+    name: String,
+    technique: (String, Vec<(&'static str, f64)>),
+    builtin: (String, Vec<(&'static str, f64)>),
+    s_split: f64,
+    bins: (usize, usize),
+    environment_map: Vec<f32>,
+) -> Configuration {
+    let make = |(wgsl, constants): (String, Vec<(&'static str, f64)>), integrand: bool| Routine {
         name: name.clone(),
         wgsl,
         constants,
-        s_split: 2.0,
+        s_split,
         pdf_tolerance: 1e-4,
         pdf_floor: 1e-30,
         bsdf_data: Vec::new(),
-        environment_map: packed.to_vec(),
-        // Two cells per texel each way: the map's distribution is constant over a cell.
-        bins: (2 * width, 2 * height),
+        environment_map: environment_map.clone(),
+        bins,
         integrand,
     };
-    Configuration {
-        name: name.clone(),
-        technique: make(technique, vec![("ENV_TECHNIQUE", 1.0), ("HAS_ENVIRONMENT_MAP", 1.0)], true),
-        builtin: make(builtin, vec![("HAS_ENVIRONMENT_MAP", 1.0)], false),
-    }
+    Configuration { technique: make(technique, true), builtin: make(builtin, false), name }
 }
 
 /// Writes the worst configuration's histogram (observed against expected) to `path`, if it
