@@ -121,7 +121,7 @@ fn eval_pdf_bsdf_opaque(b: Bsdf, n_s: vec3f, wo: vec3f, wi: vec3f) -> BsdfEval {
         // The generic direction is drawn when the kind's delta lobe is not.
         e.pdf = generic * (1.0 - bsdf_delta_lobe_prob(b, n_s, wo));
     }
-    if (BSDF_TECHNIQUE && b.kind == BSDF_KIND_PHONG) {
+    if (BSDF_TECHNIQUE && BSDF_TECHNIQUE_PHONG && b.kind == BSDF_KIND_PHONG) {
         // A researcher's technique samples Phong materials (technique.wgsl).
         e.pdf = pdf_phong_technique(phong_of(b), n_s, wo, wi);
     }
@@ -133,7 +133,7 @@ fn eval_pdf_bsdf_opaque(b: Bsdf, n_s: vec3f, wo: vec3f, wi: vec3f) -> BsdfEval {
 // every kind that is not a delta (or its delta lobe, drawn with the kind's own probability);
 // else the kind's own sampling.
 fn sample_bsdf_opaque(b: Bsdf, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> BsdfSample {
-    if (BSDF_TECHNIQUE && b.kind == BSDF_KIND_PHONG) {
+    if (BSDF_TECHNIQUE && BSDF_TECHNIQUE_PHONG && b.kind == BSDF_KIND_PHONG) {
         return sample_phong_technique(phong_of(b), n_s, wo, u_dir, u_lobe);
     }
     if (pdf_generic_strategy(1.0) >= 0.0 && !bsdf_is_delta(b)) {

@@ -81,13 +81,23 @@ fn smith_g1_beckmann_exact(v: vec3f, m: vec3f, alpha: f32) -> f32 {
     return 1.0 / (1.0 + lambda);
 }
 
-// Density of the pipeline's normal sampling at m, for the incident direction wi:
-// D(m) cos(theta_m) (ndf) or D(m) G1(wi, m) |wi . m| / cos(theta_i) (vndf), with the exact G1.
+// Density of the pipeline's normal sampling at m, for the incident direction wi: a
+// researcher's technique's where one samples microfacet normals (technique.wgsl), else
+// D(m) cos(theta_m) (ndf) or the visible normals' density (vndf).
 fn pdf_microfacet(wi: vec3f, m: vec3f, alpha: f32, distribution: u32) -> f32 {
-    let d = eval_microfacet_d(m, alpha, distribution);
-    if (MICROFACET_SAMPLING == MICROFACET_NDF) {
-        return d * m.z;
+    if (BSDF_TECHNIQUE && BSDF_TECHNIQUE_MICROFACET) {
+        return pdf_microfacet_with_technique(wi, m, alpha, distribution);
     }
+    if (MICROFACET_SAMPLING == MICROFACET_NDF) {
+        return eval_microfacet_d(m, alpha, distribution) * m.z;
+    }
+    return pdf_visible_normals(wi, m, alpha, distribution);
+}
+
+// The density of the normals visible from wi, D(m) G1(wi, m) |wi . m| / cos(theta_i), with the
+// exact G1 (the density sample_microfacet_vndf draws).
+fn pdf_visible_normals(wi: vec3f, m: vec3f, alpha: f32, distribution: u32) -> f32 {
+    let d = eval_microfacet_d(m, alpha, distribution);
     var g1: f32;
     if (distribution == DISTRIBUTION_BECKMANN) {
         g1 = smith_g1_beckmann_exact(wi, m, alpha);
@@ -204,8 +214,12 @@ fn sample_microfacet_vndf(wi: vec3f, u: vec2f, alpha: f32, distribution: u32) ->
     return normalize(vec3f(-slope.x, -slope.y, 1.0));
 }
 
-// A normal by the pipeline's strategy, with its density (pdf_microfacet).
+// A normal by the pipeline's strategy (a researcher's technique where one samples microfacet
+// normals), with its density (pdf_microfacet).
 fn sample_microfacet(wi: vec3f, u: vec2f, alpha: f32, distribution: u32) -> MicrofacetSample {
+    if (BSDF_TECHNIQUE && BSDF_TECHNIQUE_MICROFACET) {
+        return sample_microfacet_with_technique(wi, u, alpha, distribution);
+    }
     var m: vec3f;
     if (MICROFACET_SAMPLING == MICROFACET_NDF) {
         m = sample_microfacet_ndf(u, alpha, distribution);

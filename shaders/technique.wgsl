@@ -6,15 +6,29 @@
 //
 // THE CONTRACT
 //
-// kind `bsdf` — sampling a direction at a Phong material (pathlab's `phong`, the study's BRDF
-// f = kd / pi + ks (n + 2) / (2 pi) cos^n(alpha)), in place of its own strategy, whatever the
-// method's BSDF strategy is for other kinds of material:
+// kind `bsdf` — for Phong materials, microfacet materials or both: a file defines the pair of
+// functions of each it samples, and materials it does not sample keep the built-in strategies.
+// Phong materials (pathlab's `phong`, the study's BRDF f = kd / pi + ks (n + 2) / (2 pi)
+// cos^n(alpha)): a direction, in place of their own strategy, whatever the method's BSDF
+// strategy is for other kinds of material:
 //   fn sample_bsdf_technique(wo: vec3f, m: PhongMaterial, u: vec2f, u_lobe: f32) -> vec3f
 //   fn pdf_bsdf_technique(wo: vec3f, m: PhongMaterial, wi: vec3f) -> f32
 // in the local shading frame: +z is the shading normal, wo (unit, towards the viewer) has
 // wo.z > 0. sample_ returns a unit direction wi anywhere on the sphere (one below the surface,
 // wi.z <= 0, is allowed: f is 0 there, and it counts as a sample that scatters nothing); pdf_
 // returns the density with which sample_ draws wi, per unit solid angle over the whole sphere.
+// Microfacet materials (roughconductor, roughdielectric, roughplastic, principled's specular
+// lobe): a microfacet normal, in place of `--microfacet-sampling`, under the materials' own
+// strategy (the reflection or refraction about it, the lobes' choice and MIS stay pathlab's):
+//   fn sample_microfacet_technique(wo: vec3f, alpha: f32, distribution: u32, u: vec2f) -> vec3f
+//   fn pdf_microfacet_technique(wo: vec3f, m: vec3f, alpha: f32, distribution: u32) -> f32
+// in the same frame, wo.z > 0 (from inside a dielectric, the frame is turned to wo's side);
+// alpha is the material's roughness (> 0) and distribution DISTRIBUTION_BECKMANN or
+// DISTRIBUTION_GGX (eval_microfacet_d, smith_g1, sample_microfacet_ndf of microfacet.wgsl are
+// the technique's to call; pdf_microfacet and sample_microfacet call the technique). sample_
+// returns a unit normal m with m.z > 0; pdf_ the density with which it draws m, per unit solid
+// angle of normals. A reflection-only material needs every normal whose mirror direction of wo
+// is above the surface; a rough dielectric every normal wo sees (it refracts about them).
 //
 // kind `light` — sampling a point on a light, for spherical lights, triangle lights or both: a
 // file defines the pair of functions of each shape it samples, and lights of a shape it does
@@ -149,6 +163,28 @@ fn sample_phong_technique(m: Phong, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe:
     let wi = frame_to_world(frame, local / len);
     let pdf = pdf_phong_technique(m, n_s, wo, wi);
     return BsdfSample(wi, pdf, path_weight(eval_phong(m, n_s, wo, wi), dot(wi, n_s), pdf), false, 1.0);
+}
+
+// ---- kind bsdf, microfacet normals: the wrappers microfacet.wgsl calls ----
+
+// Density over normals of the technique at m.
+fn pdf_microfacet_with_technique(wo: vec3f, m: vec3f, alpha: f32, distribution: u32) -> f32 {
+    technique_iterations = 0u;
+    return technique_density(pdf_microfacet_technique(wo, m, alpha, distribution));
+}
+
+// A normal drawn by the technique, with its density. A normal that is not unit or not above
+// the surface is a fault (the sample then contributes 0).
+fn sample_microfacet_with_technique(wo: vec3f, u: vec2f, alpha: f32, distribution: u32) -> MicrofacetSample {
+    technique_iterations = 0u;
+    let m = sample_microfacet_technique(wo, alpha, distribution, u);
+    let len = length(m);
+    if (!technique_finite3(m) || abs(len - 1.0) > 1e-3 || !(m.z > 0.0)) {
+        technique_faults |= TECHNIQUE_FAULT_VALUE;
+        return MicrofacetSample(vec3f(0.0, 0.0, 1.0), 0.0);
+    }
+    let unit = m / len;
+    return MicrofacetSample(unit, pdf_microfacet_with_technique(wo, unit, alpha, distribution));
 }
 
 // ---- kind light: the wrappers emitters/sphere.wgsl calls from outside a light ----

@@ -426,3 +426,63 @@ fn a_triangle_light_technique_is_proven_and_renders_the_built_in_image() {
     }
     println!("{}", report.join("\n"));
 }
+
+/// A bsdf technique for microfacet normals: Dupuy and Benyoub's spherical caps (the visible
+/// normals' density) proven on the conductors' and the rough glass's normals; Eto and
+/// Tokuyoshi's bounded visible normals proven for reflection and refused where a rough
+/// dielectric refracts about normals it never draws; a pdf without G1's normalisation refused
+/// for its mass. Both render the built-in image of the two conductors (per-pixel z-test against
+/// `mis`); the built-in images are unchanged (the seam costs nothing where no technique is
+/// loaded: tests/render_presets.rs and the Mitsuba z-tests).
+#[test]
+fn a_microfacet_technique_is_proven_where_it_is_valid_and_renders_the_built_in_image() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let conductors = Scene::load(root.join("assets/scenes/cornell_conductors.xml")).unwrap();
+    let glass = Scene::load(root.join("tests/fixtures/cornell_rough_glass/cornell_rough_glass.xml")).unwrap();
+    let check_on = |t: &Technique, scene: &Scene| technique::check(gpu(), t, scene, CheckOptions::default(), |_, _, _| {}).unwrap();
+    let caps = Technique::load(TechniqueKind::Bsdf, example("ggx_spherical_caps.wgsl")).unwrap();
+    assert_eq!(caps.bsdf_targets(), pathlab::scene::BsdfTargets { phong: false, microfacet: true });
+    for scene in [&conductors, &glass] {
+        let v = check_on(&caps, scene);
+        println!("{}", v.report());
+        assert!(v.passed() && v.results.len() == 6, "{}", v.report());
+    }
+    let bounded = Technique::load(TechniqueKind::Bsdf, example("ggx_bounded_vndf.wgsl")).unwrap();
+    let v = check_on(&bounded, &conductors);
+    println!("{}", v.report());
+    assert!(v.passed(), "{}", v.report());
+    // At normal incidence every bounded sample reflects above the surface: its estimate of the
+    // share of normals that do is exact, where the visible normals' has noise.
+    let normal = v.results.iter().find(|r| r.name == "ggx alpha=0.2 (reflecting) at 0 degrees").unwrap();
+    let (_, (_, technique_se), (_, builtin_se)) = normal.coverage.unwrap();
+    assert!(technique_se < 0.01 * builtin_se, "{technique_se} against {builtin_se}");
+    let v = check_on(&bounded, &glass);
+    assert!(matches!(failure(&v), Chi2Failure::Uncovered { .. }), "{}", v.report());
+    // The visible normals' density without G1: it integrates to 1 / G1(wo) > 1 off normal incidence.
+    let dir = tempfile::tempdir().unwrap();
+    let no_g1 = dir.path().join("vndf_no_g1.wgsl");
+    let text = std::fs::read_to_string(example("ggx_spherical_caps.wgsl")).unwrap();
+    std::fs::write(&no_g1, text.replace("let g1 = 2.0 * wo.z / (wo.z + t);", "let g1 = 1.0;")).unwrap();
+    let v = check_on(&Technique::load(TechniqueKind::Bsdf, &no_g1).unwrap(), &conductors);
+    match failure(&v) {
+        Chi2Failure::Mass { mass } => assert!(*mass > 1.001, "{mass}"),
+        other => panic!("refused for another reason: {other}"),
+    }
+
+    // The images: `mis` against each technique, per pixel.
+    let mut scene = conductors;
+    scene.render.width = 32;
+    scene.render.height = 32;
+    let reference = render(&scene, Preset::Mis.method(), 16384, 21);
+    scene.techniques = vec![caps, bounded];
+    let mut report = Vec::new();
+    for name in ["mis+bsdf=ggx_spherical_caps", "mis+bsdf=ggx_bounded_vndf"] {
+        let r = pathlab::render::Renderer::new(gpu(), pipelines(), &scene, Method::from_name(name).unwrap(), 22).expect("renderer");
+        let out = finish(r, 4096);
+        assert_eq!(out.faults, 0, "{name}: faults");
+        let z = z_test(&reference, &out.film, 0.01);
+        report.push(format!("{name} (4096 spp) against mis (16384): {:.4} of {} channels pass |z| <= {:.2}; max |z| {:.2}, mean z {:+.3}", z.pass_fraction, z.channels, z.threshold, z.max_abs_z, z.mean_z));
+        assert!(z.pass_fraction >= MIN_PASS, "{}", report.join("\n"));
+    }
+    println!("{}", report.join("\n"));
+}

@@ -29,9 +29,10 @@ fn rough_dielectric_of(b: Bsdf) -> RoughDielectric {
     return RoughDielectric(b.p0.w, b.p0.xyz, b.p1.xyz, max(b.p1.w, 1e-4), u32(b.p2.x));
 }
 
-// The roughness normals are sampled with: Walter's widening for the ndf strategy.
+// The roughness normals are sampled with: Walter's widening for the ndf strategy (a
+// researcher's microfacet technique gets the material's own).
 fn rough_dielectric_sample_alpha(d: RoughDielectric, cos_o: f32) -> f32 {
-    if (MICROFACET_SAMPLING == MICROFACET_NDF) {
+    if (MICROFACET_SAMPLING == MICROFACET_NDF && !(BSDF_TECHNIQUE && BSDF_TECHNIQUE_MICROFACET)) {
         return d.alpha * (1.2 - 0.2 * sqrt(abs(cos_o)));
     }
     return d.alpha;

@@ -41,7 +41,7 @@ pub use emitters::{AliasTable, DirectionalLight, EmitterKind, EnvDistribution, E
 pub use mesh::Mesh;
 pub use quadrics::{Quadric, QuadricKind, MAX_QUADRICS};
 pub use overrides::{OverrideError, Overrides, Reframing};
-pub use technique::{LightShapes, Technique, TechniqueError};
+pub use technique::{BsdfTargets, LightShapes, Technique, TechniqueError};
 pub use transform::Transform;
 
 // Most objects of each kind a scene may have: the capacities of the kernel's uniform buffers

@@ -122,6 +122,30 @@ impl Technique {
             triangles: has("sample_triangle_light_technique") || has("pdf_triangle_light_technique"),
         }
     }
+
+    /// The materials a `bsdf` technique samples (none for other kinds): Phong materials where
+    /// the file defines `sample_bsdf_technique` or `pdf_bsdf_technique`, the microfacet normals of
+    /// every rough kind (roughconductor, roughdielectric, roughplastic, principled's specular)
+    /// where it defines `sample_microfacet_technique` or `pdf_microfacet_technique`. Materials it
+    /// does not sample keep the built-in strategies.
+    pub fn bsdf_targets(&self) -> BsdfTargets {
+        if self.kind != TechniqueKind::Bsdf {
+            return BsdfTargets::default();
+        }
+        let defined = defined_functions(&self.source);
+        let has = |name: &str| defined.iter().any(|f| f == name);
+        BsdfTargets {
+            phong: has("sample_bsdf_technique") || has("pdf_bsdf_technique"),
+            microfacet: has("sample_microfacet_technique") || has("pdf_microfacet_technique"),
+        }
+    }
+}
+
+/// What a `bsdf` technique samples (`Technique::bsdf_targets`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct BsdfTargets {
+    pub phong: bool,
+    pub microfacet: bool,
 }
 
 /// The shapes of light a `light` technique samples (`Technique::light_shapes`).

@@ -3,8 +3,10 @@
 //! (`shaders::validate_technique`), then on configurations drawn from the scene the chi-square
 //! harness (`chi2`) of the kernel-compiled sampler against its own pdf, and a coverage check.
 //!
-//! Configurations: for a `bsdf` technique, every distinct Phong material of the scene (the
-//! study's three where it has none) at incidences 0, 45 and 85 degrees; for a `light`
+//! Configurations: for a `bsdf` technique, for Phong materials every distinct Phong material of
+//! the scene (the study's three where it has none) at incidences 0, 45 and 85 degrees, for
+//! microfacet normals up to four distinct rough materials of the scene at 0, 45 and 80 degrees
+//! (`microfacet_configurations`); for a `light`
 //! technique, for each shape it samples (`Technique::light_shapes`): every distinct radius of
 //! the scene's spherical lights (1 where it has none), seen from a near point (1.5 radii from
 //! the centre) and a far one (30 radii), with the shading normal towards the light and tilted 70
@@ -238,44 +240,12 @@ pub fn verdicts(gpu: &Gpu, scene: &Scene, method: &crate::method::Method) -> Res
 pub fn configurations(technique: &Technique, scene: &Scene) -> (Vec<Configuration>, String) {
     match technique.kind {
         TechniqueKind::Bsdf => {
-            let mut materials: Vec<([f64; 3], [f64; 3], f64, f64)> = Vec::new();
-            for m in &scene.materials {
-                if let Some(p) = m.bsdf.as_phong() {
-                    let [_, p1, _] = Bsdf::Phong(p.clone()).pack(&mut BsdfData::default());
-                    let key = (p.diffuse.to_array(), p.specular.to_array(), p.glossiness, p1[3] as f64);
-                    if !materials.contains(&key) {
-                        materials.push(key);
-                    }
-                }
-            }
-            let source = if materials.is_empty() {
-                // The study's diffuse, glossy and mostly specular materials.
-                materials = vec![([0.8; 3], [0.0; 3], 1.0, 0.0), ([0.5; 3], [0.5; 3], 20.0, 0.5), ([0.1; 3], [0.9; 3], 200.0, 0.9)];
-                "the study's materials (the scene has no Phong material, where a bsdf technique applies)".to_string()
-            } else {
-                format!("the scene's {} Phong material(s)", materials.len())
-            };
-            let configs = materials
-                .iter()
-                .flat_map(|&(kd, ks, n, p_spec)| [0.0, 45.0, 85.0].map(move |theta| phong_configuration(kd, ks, n, p_spec, theta)))
-                .collect();
-            (configs, source)
+            let targets = technique.bsdf_targets();
+            gather(scene, &[(targets.phong, phong_configurations), (targets.microfacet, microfacet_configurations)])
         }
         TechniqueKind::Light => {
             let shapes = technique.light_shapes();
-            let mut configs = Vec::new();
-            let mut sources = Vec::new();
-            if shapes.spheres {
-                let (c, source) = sphere_configurations(scene);
-                configs.extend(c);
-                sources.push(source);
-            }
-            if shapes.triangles {
-                let (c, source) = triangle_configurations(scene);
-                configs.extend(c);
-                sources.push(source);
-            }
-            (configs, sources.join("; "))
+            gather(scene, &[(shapes.spheres, sphere_configurations), (shapes.triangles, triangle_configurations)])
         }
         TechniqueKind::Env => match &scene.environment_map {
             Some(map) => {
@@ -289,6 +259,129 @@ pub fn configurations(technique: &Technique, scene: &Scene) -> (Vec<Configuratio
             None => (Vec::new(), "no configuration: an env technique samples an environment map, and the scene has none".to_string()),
         },
     }
+}
+
+/// The configurations of the parts of a technique's kind that it implements (each `(implemented,
+/// its configurations)`), one after the other, and their sources.
+fn gather(scene: &Scene, parts: &[(bool, fn(&Scene) -> (Vec<Configuration>, String))]) -> (Vec<Configuration>, String) {
+    let mut configs = Vec::new();
+    let mut sources = Vec::new();
+    for (implemented, part) in parts {
+        if *implemented {
+            let (c, source) = part(scene);
+            configs.extend(c);
+            sources.push(source);
+        }
+    }
+    (configs, sources.join("; "))
+}
+
+/// A Phong technique's configurations: every distinct Phong material of the scene (the study's
+/// three where it has none) at incidences 0, 45 and 85 degrees.
+fn phong_configurations(scene: &Scene) -> (Vec<Configuration>, String) {
+    let mut materials: Vec<([f64; 3], [f64; 3], f64, f64)> = Vec::new();
+    for m in &scene.materials {
+        if let Some(p) = m.bsdf.as_phong() {
+            let [_, p1, _] = Bsdf::Phong(p.clone()).pack(&mut BsdfData::default());
+            let key = (p.diffuse.to_array(), p.specular.to_array(), p.glossiness, p1[3] as f64);
+            if !materials.contains(&key) {
+                materials.push(key);
+            }
+        }
+    }
+    let source = if materials.is_empty() {
+        // The study's diffuse, glossy and mostly specular materials.
+        materials = vec![([0.8; 3], [0.0; 3], 1.0, 0.0), ([0.5; 3], [0.5; 3], 20.0, 0.5), ([0.1; 3], [0.9; 3], 200.0, 0.9)];
+        "the study's materials (the scene has no Phong material, where a bsdf technique applies)".to_string()
+    } else {
+        format!("the scene's {} Phong material(s)", materials.len())
+    };
+    let configs = materials
+        .iter()
+        .flat_map(|&(kd, ks, n, p_spec)| [0.0, 45.0, 85.0].map(move |theta| phong_configuration(kd, ks, n, p_spec, theta)))
+        .collect();
+    (configs, source)
+}
+
+/// Microfacet materials a microfacet technique is checked on, at most.
+const MAX_MICROFACET_MATERIALS: usize = 4;
+
+/// A microfacet technique's configurations: up to `MAX_MICROFACET_MATERIALS` distinct
+/// (distribution, roughness, transmits) of the scene's rough materials (a texture's mean
+/// roughness; principled's alpha max(0.001, roughness^2) of GGX; where it has none, GGX of 0.1
+/// and 0.5 and Beckmann of 0.3, reflecting), each at incidences 0, 45 and 80 degrees.
+fn microfacet_configurations(scene: &Scene) -> (Vec<Configuration>, String) {
+    use crate::scene::Distribution;
+    let mut materials: Vec<(Distribution, f64, bool)> = Vec::new();
+    for m in &scene.materials {
+        let key = match &m.bsdf {
+            Bsdf::RoughConductor(c) => (c.distribution, c.roughness.alpha, false),
+            Bsdf::RoughPlastic(p) => (p.distribution, p.alpha, false),
+            Bsdf::RoughDielectric(d) => (d.distribution, d.roughness.alpha, true),
+            Bsdf::Principled(p) => (Distribution::Ggx, p.weight("roughness").powi(2).max(0.001), false),
+            _ => continue,
+        };
+        if !materials.contains(&key) && materials.len() < MAX_MICROFACET_MATERIALS {
+            materials.push(key);
+        }
+    }
+    let source = if materials.is_empty() {
+        materials = vec![(Distribution::Ggx, 0.1, false), (Distribution::Ggx, 0.5, false), (Distribution::Beckmann, 0.3, false)];
+        "GGX of alpha 0.1 and 0.5 and Beckmann of 0.3, reflecting (the scene has no microfacet material, where a microfacet technique applies)".to_string()
+    } else {
+        format!("the scene's {} microfacet material(s)", materials.len())
+    };
+    let configs = materials
+        .iter()
+        .flat_map(|&(d, alpha, transmits)| [0.0, 45.0, 80.0].map(move |theta| microfacet_configuration(d, alpha, transmits, theta)))
+        .collect();
+    (configs, source)
+}
+
+/// Microfacet normals of `distribution` and roughness `alpha` seen from incidence `theta`
+/// degrees (the macro-normal +z): the technique through `sample_microfacet` and
+/// `pdf_microfacet` (what every rough kind calls), and the built-in visible normals. Binned
+/// about the macro-normal, in s bins spaced geometrically from alpha^2 / 10 (a tenth of the
+/// normals' spread in s) up to alpha 0.3. The integrand is the visible normals' density over the
+/// normals the material needs: those whose mirror direction of wo is above the surface for a
+/// reflecting material, every visible one for one that `transmits` (a rough dielectric
+/// refracts about them): its integral is the share of visible normals that scatter, which
+/// the coverage test compares.
+fn microfacet_configuration(distribution: crate::scene::Distribution, alpha: f64, transmits: bool, theta: f64) -> Configuration {
+    let t = theta.to_radians();
+    let common = format!(
+        "const ROUTINE_WO: vec3f = vec3f({:?}, 0.0, {:?});\n\
+         const ROUTINE_ALPHA: f32 = {:?};\n\
+         const ROUTINE_DISTRIBUTION: u32 = {}u;\n\
+         const ROUTINE_TRANSMITS: bool = {transmits};\n\
+         fn routine_integrand(d: vec3f) -> f32 {{\n\
+             let visible = pdf_visible_normals(ROUTINE_WO, d, ROUTINE_ALPHA, ROUTINE_DISTRIBUTION);\n\
+             let mirrored = 2.0 * dot(ROUTINE_WO, d) * d - ROUTINE_WO;\n\
+             return select(0.0, visible, d.z > 0.0 && (ROUTINE_TRANSMITS || mirrored.z > 0.0));\n\
+         }}\n\
+         fn routine_pdf(d: vec3f) -> f32 {{ return select(0.0, pdf_microfacet(ROUTINE_WO, d, ROUTINE_ALPHA, ROUTINE_DISTRIBUTION), d.z > 0.0); }}\n\
+         fn routine_sample(u: vec2f, u_lobe: f32) -> Drawn {{\n\
+             let s = sample_microfacet(ROUTINE_WO, u, ROUTINE_ALPHA, ROUTINE_DISTRIBUTION);\n\
+             let estimate = select(0.0, routine_integrand(s.m) / s.pdf, s.pdf > 0.0);\n\
+             return Drawn(vec4f(s.m, s.pdf), vec4f(0.0, 0.0, estimate, 0.0));\n\
+         }}\n",
+        t.sin() as f32,
+        t.cos() as f32,
+        alpha as f32,
+        distribution.constant(),
+    );
+    let name = format!("{} alpha={alpha} ({}) at {theta} degrees", distribution.name(), if transmits { "reflecting and refracting" } else { "reflecting" });
+    Pair {
+        name,
+        technique: (common.clone(), vec![("BSDF_TECHNIQUE", 1.0)]),
+        builtin: (common, vec![("MICROFACET_SAMPLING", crate::method::MicrofacetSampling::Vndf.constant() as f64)]),
+        s_split: if alpha <= 0.3 { -(alpha * alpha / 10.0).max(1e-12) } else { 2.0 },
+        pdf_tolerance: 1e-3,
+        pdf_floor: 1e-30,
+        bins: chi2::DEFAULT_BINS,
+        environment_map: Vec::new(),
+    }
+    .configuration()
 }
 
 /// A spherical-light technique's configurations: every distinct radius of the scene's spherical
@@ -401,10 +494,13 @@ fn phong_configuration(kd: [f64; 3], ks: [f64; 3], n: f64, p_spec: f64, theta: f
         )
     };
     let name = format!("phong kd={:.3} ks={:.3} n={n} at {theta} degrees", kd[1], ks[1]);
-    let make = |wgsl: String, constants: Vec<(&'static str, f64)>, integrand: bool| Routine {
-        name: name.clone(),
-        wgsl,
-        constants,
+    Pair {
+        name,
+        technique: (routine("sample_phong_technique", "pdf_phong_technique(routine_material(), vec3f(0.0, 0.0, 1.0), routine_wo(), wi)"), vec![("BSDF_TECHNIQUE", 1.0)]),
+        builtin: (
+            routine("sample_phong", "eval_pdf_phong(routine_material(), vec3f(0.0, 0.0, 1.0), routine_wo(), wi).pdf"),
+            vec![("BSDF_SAMPLING", crate::method::BsdfSampling::Phong.constant() as f64), ("HAS_SPECULAR", 1.0)],
+        ),
         s_split: -(0.1 / (n + 1.0)).min(1e-2),
         // The direction's round trip through the binning frame moves its cosine to the mirror
         // direction by a few ulps of 1 (6e-8 each; measured up to 2.4e-7 at 85 degrees): a
@@ -413,20 +509,10 @@ fn phong_configuration(kd: [f64; 3], ks: [f64; 3], n: f64, p_spec: f64, theta: f
         // (Densities are of order 1 / pi: 1e-6 absolute, where the round trip moves the cosine
         // lobe by ~3e-8 at the horizon.)
         pdf_floor: 1e-2,
-        bsdf_data: Vec::new(),
-        environment_map: Vec::new(),
         bins: chi2::DEFAULT_BINS,
-        integrand,
-    };
-    Configuration {
-        name: name.clone(),
-        technique: make(routine("sample_phong_technique", "pdf_phong_technique(routine_material(), vec3f(0.0, 0.0, 1.0), routine_wo(), wi)"), vec![("BSDF_TECHNIQUE", 1.0)], true),
-        builtin: make(
-            routine("sample_phong", "eval_pdf_phong(routine_material(), vec3f(0.0, 0.0, 1.0), routine_wo(), wi).pdf"),
-            vec![("BSDF_SAMPLING", crate::method::BsdfSampling::Phong.constant() as f64), ("HAS_SPECULAR", 1.0)],
-            false,
-        ),
+        environment_map: Vec::new(),
     }
+    .configuration()
 }
 
 /// A sphere of `radius` at `ratio` radii from the shading point x (the origin), whose shading
@@ -501,7 +587,7 @@ fn sphere_configuration(radius: f64, ratio: f64, tilt: f64) -> Configuration {
     );
     let name = format!("sphere r={radius} seen from {ratio} radii, normal tilted {tilt} degrees");
     // The edge of the visible cap is a bin edge.
-    light_configuration(name, (technique, vec![("LIGHT_TECHNIQUE", 1.0)]), (builtin, vec![]), s_cap, chi2::DEFAULT_BINS, Vec::new())
+    Pair::light(name, (technique, vec![("LIGHT_TECHNIQUE", 1.0)]), (builtin, vec![]), s_cap, chi2::DEFAULT_BINS, Vec::new())
 }
 
 /// Triangle `k` with vertices `p` seen from a point at `dist` times its size (sqrt(area)) from its
@@ -599,7 +685,7 @@ fn triangle_configuration(k: usize, p: [glam::DVec3; 3], dist: f64, angle: f64, 
     );
     let name = format!("triangle {k} (area {area:.4}) seen from {dist} sizes, {angle} degrees off its normal, normal tilted {tilt} degrees");
     let solid_angle = vec![("TRIANGLE_SAMPLING", crate::method::TriangleSampling::SolidAngle.constant() as f64)];
-    light_configuration(name, (technique, vec![("LIGHT_TECHNIQUE", 1.0)]), (builtin, solid_angle), 2.0, (64, 64), Vec::new())
+    Pair::light(name, (technique, vec![("LIGHT_TECHNIQUE", 1.0)]), (builtin, solid_angle), 2.0, (64, 64), Vec::new())
 }
 
 /// The environment map `packed` (`EnvironmentMap::pack`) seen from a point with shading normal
@@ -658,34 +744,45 @@ fn environment_configuration(packed: &[f32], n: [f64; 3], what: &str) -> Configu
     let name = format!("environment map, normal towards {what}");
     // Two cells per texel each way: the map's distribution is constant over a cell.
     let technique = (technique, vec![("ENV_TECHNIQUE", 1.0), ("HAS_ENVIRONMENT_MAP", 1.0)]);
-    light_configuration(name, technique, (builtin, vec![("HAS_ENVIRONMENT_MAP", 1.0)]), 2.0, (2 * width, 2 * height), packed.to_vec())
+    Pair::light(name, technique, (builtin, vec![("HAS_ENVIRONMENT_MAP", 1.0)]), 2.0, (2 * width, 2 * height), packed.to_vec())
 }
 
-/// A configuration of a light or environment technique: the technique's routine (its WGSL and
-/// pipeline constants; its support checked against `routine_integrand`) and the built-in's,
-/// binned alike (`s_split`, `bins`), densities compared to 1e-4 (relative). Only the built-in's
+/// A configuration: the technique's routine (its WGSL and pipeline constants; its support
+/// checked against `routine_integrand`) and the built-in's, binned alike (`s_split`, `bins`),
+/// densities compared to `pdf_tolerance` (relative; `pdf_floor` absolute). Only the built-in's
 /// estimate is used (the chi-square suite proves the built-ins).
-fn light_configuration(
+struct Pair {
     name: String,
     technique: (String, Vec<(&'static str, f64)>),
     builtin: (String, Vec<(&'static str, f64)>),
     s_split: f64,
+    pdf_tolerance: f64,
+    pdf_floor: f64,
     bins: (usize, usize),
     environment_map: Vec<f32>,
-) -> Configuration {
-    let make = |(wgsl, constants): (String, Vec<(&'static str, f64)>), integrand: bool| Routine {
-        name: name.clone(),
-        wgsl,
-        constants,
-        s_split,
-        pdf_tolerance: 1e-4,
-        pdf_floor: 1e-30,
-        bsdf_data: Vec::new(),
-        environment_map: environment_map.clone(),
-        bins,
-        integrand,
-    };
-    Configuration { technique: make(technique, true), builtin: make(builtin, false), name }
+}
+
+impl Pair {
+    /// A light's or environment's: densities to 1e-4.
+    fn light(name: String, technique: (String, Vec<(&'static str, f64)>), builtin: (String, Vec<(&'static str, f64)>), s_split: f64, bins: (usize, usize), environment_map: Vec<f32>) -> Configuration {
+        Pair { name, technique, builtin, s_split, pdf_tolerance: 1e-4, pdf_floor: 1e-30, bins, environment_map }.configuration()
+    }
+
+    fn configuration(self) -> Configuration {
+        let make = |(wgsl, constants): (String, Vec<(&'static str, f64)>), integrand: bool| Routine {
+            name: self.name.clone(),
+            wgsl,
+            constants,
+            s_split: self.s_split,
+            pdf_tolerance: self.pdf_tolerance,
+            pdf_floor: self.pdf_floor,
+            bsdf_data: Vec::new(),
+            environment_map: self.environment_map.clone(),
+            bins: self.bins,
+            integrand,
+        };
+        Configuration { technique: make(self.technique.clone(), true), builtin: make(self.builtin.clone(), false), name: self.name }
+    }
 }
 
 /// Writes the worst configuration's histogram (observed against expected) to `path`, if it
