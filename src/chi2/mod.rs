@@ -265,6 +265,9 @@ pub fn describe_faults(bits: u32) -> String {
     what.join("; ")
 }
 
+/// Quadrature points of the cells a support boundary crosses, at most (`binned`).
+const REFINED_POINTS: usize = 1 << 21;
+
 /// Runs one chi-square test of `samples` samples; returns the binned outcome, or the first
 /// hard failure.
 pub fn chi_square(gpu: &Gpu, routine: &Routine, techniques: shaders::TechniqueFiles, samples: u32, seed: u32) -> Result<Chi2Outcome, Chi2Failure> {
@@ -345,6 +348,73 @@ pub fn binned(gpu: &Gpu, routine: &Routine, techniques: shaders::TechniqueFiles,
             return Err(Chi2Failure::Uncovered { integrand, direction: [d[0], d[1], d[2]] });
         }
         expected[k / 16] += w * p;
+    }
+    // Cells a support boundary may cross (the pdf 0 at some quadrature points of the cell and
+    // its eight neighbours, not at others: a boundary can pass between a cell's points) are
+    // integrated again on sub-cells: 4 x 4 points integrate a density smooth
+    // over the cell, not one that drops to 0 inside it (the error is of the order of the jump
+    // times the cell's area; a density bounded to part of a cap, as Eto and Tokuyoshi's
+    // normals, lost 0.15% of its mass to it over 101 x 202 cells, and its samples fell in cells
+    // whose points all missed the support).
+    let (zero, positive): (Vec<bool>, Vec<bool>) = (0..phi_bins * s_bins)
+        .map(|c| {
+            let p = &pdfs[16 * c..16 * c + 16];
+            (p.iter().any(|x| x[0] == 0.0), p.iter().any(|x| x[0] > 0.0))
+        })
+        .unzip();
+    let crossed: Vec<usize> = (0..phi_bins * s_bins)
+        .filter(|&c| {
+            let (j, i) = ((c / phi_bins) as isize, (c % phi_bins) as isize);
+            let around = (-1..=1).flat_map(|dj| (-1..=1).map(move |di| (j + dj, (i + di).rem_euclid(phi_bins as isize))));
+            let cells: Vec<usize> = around.filter(|&(j, _)| j >= 0 && j < s_bins as isize).map(|(j, i)| j as usize * phi_bins + i as usize).collect();
+            cells.iter().any(|&n| zero[n]) && cells.iter().any(|&n| positive[n])
+        })
+        .collect();
+    if !crossed.is_empty() {
+        // 16 x 16 sub-cells, fewer where many cells are crossed (a boundary that crosses the
+        // binning frame's rows, as the horizon of a frame turned to a mirror direction): at most
+        // REFINED_POINTS points in all, within one dispatch.
+        let refine = ((REFINED_POINTS as f64 / (16 * crossed.len()) as f64).sqrt() as usize).clamp(2, 16);
+        let (mut sub_points, mut sub_weights) = (Vec::new(), Vec::new());
+        for &c in &crossed {
+            let (j, i) = (c / phi_bins, c % phi_bins);
+            let (ds, dp) = ((edges[j + 1] - edges[j]) / refine as f64, dphi / refine as f64);
+            for a in 0..refine {
+                for b in 0..refine {
+                    let (s0, phi0) = (edges[j] + a as f64 * ds, i as f64 * dphi + b as f64 * dp);
+                    for (xs, ws) in gl {
+                        for (xp, wp) in gl {
+                            let d = direction(phi0 + dp * (xp + 1.0) / 2.0, s0 + ds * (xs + 1.0) / 2.0);
+                            sub_points.push([d[0] as f32, d[1] as f32, d[2] as f32, 0.0]);
+                            sub_weights.push(ws * wp * ds * dp / 4.0);
+                        }
+                    }
+                }
+            }
+        }
+        let sub_pdfs = run(
+            gpu,
+            &source,
+            routine,
+            "pdf_main",
+            vec![(0, bytemuck::cast_slice(&params).to_vec()), (2, bytemuck::cast_slice(&sub_points).to_vec())],
+            sub_points.len(),
+            sub_points.len(),
+        )
+        .map_err(kernel)?;
+        let per_cell = refine * refine * 16;
+        for (n, &c) in crossed.iter().enumerate() {
+            let range = n * per_cell..(n + 1) * per_cell;
+            expected[c] = 0.0;
+            for k in range {
+                let p = sub_pdfs[k][0] as f64;
+                if !(p.is_finite() && p >= 0.0) || sub_pdfs[k][2] != 0.0 {
+                    let d = sub_points[k];
+                    return Err(Chi2Failure::BadPdf { pdf: p, direction: [d[0], d[1], d[2]] });
+                }
+                expected[c] += sub_weights[k] * p;
+            }
+        }
     }
     let mass: f64 = expected.iter().sum();
     // Samples the routine flags as lost (check.y = 1: a microfacet reflected below the surface)
