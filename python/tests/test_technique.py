@@ -47,3 +47,16 @@ def test_an_unproven_technique_renders_when_allowed_and_says_so():
     assert r.metadata["technique_verdict"].startswith("UNPROVEN: bsdf:phong_n_plus_2")
     progressive = pathlab.Renderer(scene, t.method("mis"))
     assert progressive.add(2).render().metadata["technique_verdict"].startswith("UNPROVEN")
+
+
+def test_triangle_light_and_microfacet_techniques_are_proven_and_render():
+    """The light kind's triangle functions on the Cornell box's light, and the bsdf kind's
+    microfacet functions on the conductors: each proven, each recorded in the header."""
+    root = REPO / "assets" / "scenes"
+    for kind, file, scene_file in [("light", "triangle_area.wgsl", "cornell_box.toml"), ("bsdf", "ggx_spherical_caps.wgsl", "cornell_conductors.xml")]:
+        t = pathlab.Technique(f"{kind}:{EXAMPLES / file}")
+        scene = pathlab.load_scene(root / scene_file, width=16, height=16, techniques=[t])
+        r = pathlab.render(scene, t.method(), spp=8, seed=3)
+        assert r.method == f"mis+{kind}={t.name}"
+        assert r.metadata["technique_verdict"] == "proven"
+        assert r.metadata["technique_faults"] == "0"
