@@ -11,6 +11,22 @@
 // Heitz and d'Eon 2014, for Beckmann), Mitsuba's default.
 override MICROFACET_SAMPLING: u32 = MICROFACET_VNDF;
 
+// The distributions some material of the scene draws normals of (bit 1 << DISTRIBUTION_*; set
+// by the host, SceneFeatures::microfacet_distributions): where only one is, the other's code is
+// compiled out (lavapipe runs both sides of every branch).
+override MICROFACET_DISTRIBUTIONS: u32 = 3u;
+
+// Whether `distribution` is Beckmann's: a constant where the scene has one distribution only.
+fn is_beckmann(distribution: u32) -> bool {
+    if (MICROFACET_DISTRIBUTIONS == (1u << DISTRIBUTION_BECKMANN)) {
+        return true;
+    }
+    if (MICROFACET_DISTRIBUTIONS == (1u << DISTRIBUTION_GGX)) {
+        return false;
+    }
+    return distribution == DISTRIBUTION_BECKMANN;
+}
+
 const INV_SQRT_PI: f32 = 0.56418958354775628695;
 
 // The microfacet distribution D(m) (normalised: the integral of D(m) cos(theta_m) is 1).
@@ -22,7 +38,7 @@ fn eval_microfacet_d(m: vec3f, alpha: f32, distribution: u32) -> f32 {
     let a2 = alpha * alpha;
     let xy = (m.x * m.x + m.y * m.y) / a2;
     var d: f32;
-    if (distribution == DISTRIBUTION_BECKMANN) {
+    if (is_beckmann(distribution)) {
         d = exp(-xy / cos2) / (PI * a2 * cos2 * cos2);
     } else {
         let t = xy + cos2;
@@ -40,7 +56,7 @@ fn smith_g1(v: vec3f, m: vec3f, alpha: f32, distribution: u32) -> f32 {
     let xy_alpha_2 = alpha * alpha * (v.x * v.x + v.y * v.y);
     let tan_theta_alpha_2 = xy_alpha_2 / (v.z * v.z);
     var g: f32;
-    if (distribution == DISTRIBUTION_BECKMANN) {
+    if (is_beckmann(distribution)) {
         let a = inverseSqrt(tan_theta_alpha_2);
         let a2 = a * a;
         g = select((3.535 * a + 2.181 * a2) / (1.0 + 2.276 * a + 2.577 * a2), 1.0, a >= 1.6);
@@ -99,7 +115,7 @@ fn pdf_microfacet(wi: vec3f, m: vec3f, alpha: f32, distribution: u32) -> f32 {
 fn pdf_visible_normals(wi: vec3f, m: vec3f, alpha: f32, distribution: u32) -> f32 {
     let d = eval_microfacet_d(m, alpha, distribution);
     var g1: f32;
-    if (distribution == DISTRIBUTION_BECKMANN) {
+    if (is_beckmann(distribution)) {
         g1 = smith_g1_beckmann_exact(wi, m, alpha);
     } else {
         g1 = smith_g1(wi, m, alpha, distribution);
@@ -115,7 +131,7 @@ fn pdf_visible_normals(wi: vec3f, m: vec3f, alpha: f32, distribution: u32) -> f3
 fn sample_microfacet_ndf(u: vec2f, alpha: f32, distribution: u32) -> vec3f {
     let a2 = alpha * alpha;
     var tan2: f32;
-    if (distribution == DISTRIBUTION_BECKMANN) {
+    if (is_beckmann(distribution)) {
         // log(1 - u) accurate for small u: WGSL bounds log's error near 1 only absolutely
         // (2^-21), a relative error of 2^-21 / u in tan^2 (5e-4 at u = 1e-3 on an NVIDIA H200).
         tan2 = -a2 * log1m_stable(u.x);
@@ -174,7 +190,7 @@ fn erfinv_approx(x: f32) -> f32 {
 // cos(theta_i) in the (x, z) plane: Heitz 2018 for GGX (a disk warped onto the visible
 // hemisphere), Jakob's numerical inversion (three Newton steps) for Beckmann.
 fn sample_visible_11(cos_theta_i: f32, u_in: vec2f, distribution: u32) -> vec2f {
-    if (distribution == DISTRIBUTION_GGX) {
+    if (!is_beckmann(distribution)) {
         var p = square_to_uniform_disk_concentric(u_in);
         let s = 0.5 * (1.0 + cos_theta_i);
         p.y = mix(sqrt(max(0.0, 1.0 - p.x * p.x)), p.y, s);

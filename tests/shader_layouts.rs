@@ -102,6 +102,7 @@ fn overrides_set_by_the_host_are_those_the_module_declares() {
         has_masks: true,
         textured_opacity: true,
         texture_kinds: 7,
+        microfacet_distributions: 3,
         textured_slots: u64::MAX,
         has_back_bsdfs: true,
         rr_depth: 3,

@@ -80,6 +80,8 @@ fn every_override_permutation_validates() {
                                     textured_opacity: on,
                                     // Every kind of texture, or none.
                                     texture_kinds: if on { 7 } else { 0 },
+                                    // Each distribution alone, both, or none.
+                                    microfacet_distributions: (checked % 4) as u32,
                                     // Every slot of every kind looked up, or none.
                                     textured_slots: if (checked / 7) % 2 == 0 { u64::MAX } else { 0 },
                                     // Back BSDFs on and off, with several kinds and with Phong alone.

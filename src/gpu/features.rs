@@ -44,6 +44,11 @@ pub struct SceneFeatures {
     /// The kinds of texture some material uses (bit k: `Texture::kind_number` k): the kernel's
     /// `TEXTURE_KINDS`, so that a scene without grid volumes, say, compiles no grid lookup.
     pub texture_kinds: u32,
+    /// The microfacet distributions some material draws normals of (bit 1 << k:
+    /// `Distribution::constant` k, Beckmann and GGX): the kernel's `MICROFACET_DISTRIBUTIONS`,
+    /// so that a scene of one distribution compiles the other's code out (lavapipe runs both
+    /// sides of every branch: every GGX normal paid for Beckmann's visible-normal inversion).
+    pub microfacet_distributions: u32,
     /// Some material has another BSDF on its back (`Material::back`, Mitsuba's `twosided` with
     /// two BSDFs).
     pub has_back_bsdfs: bool,
@@ -126,6 +131,7 @@ impl SceneFeatures {
                 .iter()
                 .flat_map(|m| m.bsdf.textures().into_iter().chain(m.opacity.as_ref().and_then(|o| o.texture())))
                 .fold(0, |kinds, t| kinds | 1 << t.kind_number()),
+            microfacet_distributions: scene.materials.iter().filter_map(|m| m.bsdf.microfacet_distribution()).fold(0, |bits, d| bits | 1 << d.constant()),
             has_back_bsdfs: scene.materials.iter().any(|m| m.back.is_some()),
             rr_depth: scene.render.rr_depth.unwrap_or(0),
             thin_lens: scene.camera.aperture_radius > 0.0,
@@ -150,6 +156,7 @@ impl SceneFeatures {
             // rounding.
             bsdf_kinds: BsdfKind::ALL.iter().filter(|k| !k.transmits()).fold(self.bsdf_kinds, |kinds, k| kinds | k.bit()),
             has_environment: true,
+            microfacet_distributions: 3,
             num_occluding_planes: self.num_planes,
             light_interiors_reachable: true,
             ..self

@@ -74,6 +74,7 @@ pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
         ("HAS_MASKS", f.has_masks as u32 as f64),
         ("TEXTURED_OPACITY", f.textured_opacity as u32 as f64),
         ("TEXTURE_KINDS", f.texture_kinds as f64),
+        ("MICROFACET_DISTRIBUTIONS", f.microfacet_distributions as f64),
         ("HAS_BACK_BSDFS", f.has_back_bsdfs as u32 as f64),
         ("THIN_LENS", f.thin_lens as u32 as f64),
         ("HIDE_EMITTERS", f.hide_emitters as u32 as f64),

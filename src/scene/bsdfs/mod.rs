@@ -246,6 +246,17 @@ impl Bsdf {
         colour.chain(scalar).enumerate().fold(0, |bits, (i, textured)| bits | ((textured as u8) << i))
     }
 
+    /// The distribution of microfacet normals it draws, for a rough kind (principled: GGX).
+    pub fn microfacet_distribution(&self) -> Option<Distribution> {
+        match self {
+            Bsdf::RoughConductor(c) => Some(c.distribution),
+            Bsdf::RoughDielectric(d) => Some(d.distribution),
+            Bsdf::RoughPlastic(p) => Some(p.distribution),
+            Bsdf::Principled(_) => Some(Distribution::Ggx),
+            _ => None,
+        }
+    }
+
     /// The Phong parameters, for the kind that has them.
     pub fn as_phong(&self) -> Option<&Phong> {
         match self {
