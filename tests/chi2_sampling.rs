@@ -471,16 +471,32 @@ fn rough_dielectric_routines() -> Vec<Routine> {
 /// (density 0) are lost samples.
 fn rough_plastic(distribution: Distribution, strategy: BsdfSampling, microfacets: &str, lobes: LobeSelection, alpha: f64, theta_o: f64) -> Routine {
     let layers = Plastic { diffuse: glam::DVec3::splat(0.5), diffuse_texture: None, specular: glam::DVec3::ONE, int_ior: 1.49, ext_ior: 1.0, nonlinear: false };
+    let name = format!("roughplastic {} {} {microfacets} {} alpha={alpha} theta_o={theta_o}", distribution.name(), strategy.name(), lobes.name());
+    let constants = vec![
+        ("BSDF_SAMPLING", strategy.constant() as f64),
+        ("MICROFACET_SAMPLING", if microfacets == "ndf" { 0.0 } else { 1.0 }),
+        ("LOBE_SELECTION", lobes.constant() as f64),
+    ];
+    glossy_routine(name, Bsdf::RoughPlastic(RoughPlastic { layers, distribution, alpha }), alpha, alpha <= 0.05, theta_o, constants)
+}
+
+/// The routine of a glossy BSDF `bsdf` (`sample_bsdf`, `eval_pdf_bsdf`, with its data bound as
+/// the path tracer binds it) for shading normal +z and incidence `theta_o` degrees, under the
+/// pipeline constants `constants`: binned around the mirror direction where `around_mirror`
+/// (geometric s bins from (alpha cos)^2 / 10), else around the normal; samples of density 0 (a
+/// reflection below the surface) are lost samples, and every sample's weight is checked against
+/// eval * cos / pdf.
+fn glossy_routine(name: String, bsdf: Bsdf, alpha: f64, around_mirror: bool, theta_o: f64, constants: Vec<(&'static str, f64)>) -> Routine {
+    let kind = bsdf.kind().stem().to_uppercase();
     let mut data = BsdfData::default();
-    let [p0, p1, p2] = Bsdf::RoughPlastic(RoughPlastic { layers, distribution, alpha }).pack(&mut data);
+    let [p0, p1, p2] = bsdf.pack(&mut data);
     let t = theta_o.to_radians();
-    let around_mirror = alpha <= 0.05;
     let axis = if around_mirror { [-t.sin(), 0.0, t.cos()] } else { [0.0, 0.0, 1.0] };
     let v = |a: [f32; 4]| format!("vec4f({:?}, {:?}, {:?}, {:?})", a[0], a[1], a[2], a[3]);
     Routine {
-        name: format!("roughplastic {} {} {microfacets} {} alpha={alpha} theta_o={theta_o}", distribution.name(), strategy.name(), lobes.name()),
+        name,
         wgsl: format!(
-            "fn routine_bsdf() -> Bsdf {{ return Bsdf(BSDF_KIND_ROUGH_PLASTIC, {}, {}, {}, false, 1.0); }}\n\
+            "fn routine_bsdf() -> Bsdf {{ return Bsdf(BSDF_KIND_{kind}, {}, {}, {}, false, 1.0); }}\n\
              fn routine_wo() -> vec3f {{ return vec3f({:.9}, 0.0, {:.9}); }}\n\
              fn routine_axis() -> vec3f {{ return vec3f({:.9}, {:.9}, {:.9}); }}\n\
              fn routine_sample(u: vec2f, u_lobe: f32) -> Drawn {{\n\
@@ -508,11 +524,7 @@ fn rough_plastic(distribution: Distribution, strategy: BsdfSampling, microfacets
             axis[1],
             axis[2],
         ),
-        constants: vec![
-            ("BSDF_SAMPLING", strategy.constant() as f64),
-            ("MICROFACET_SAMPLING", if microfacets == "ndf" { 0.0 } else { 1.0 }),
-            ("LOBE_SELECTION", lobes.constant() as f64),
-        ],
+        constants,
         s_split: if around_mirror { -((alpha * t.cos()).powi(2) / 10.0).max(1e-12) } else { 2.0 },
         pdf_tolerance: (1e-6 / (alpha * t.cos().max(1e-3))).max(1e-3),
         pdf_floor: 1e-30,
@@ -561,53 +573,9 @@ fn principled(p: Principled, strategy: BsdfSampling, microfacets: &str, theta_o:
         p.weight("clearcoat"),
         p.weight("sheen")
     );
-    let mut data = BsdfData::default();
-    let [p0, p1, p2] = Bsdf::Principled(p).pack(&mut data);
-    let t = theta_o.to_radians();
     let alpha = (roughness * roughness).max(1e-3);
-    let around_mirror = roughness <= 0.2;
-    let axis = if around_mirror { [-t.sin(), 0.0, t.cos()] } else { [0.0, 0.0, 1.0] };
-    let v = |a: [f32; 4]| format!("vec4f({:?}, {:?}, {:?}, {:?})", a[0], a[1], a[2], a[3]);
-    Routine {
-        name,
-        wgsl: format!(
-            "fn routine_bsdf() -> Bsdf {{ return Bsdf(BSDF_KIND_PRINCIPLED, {}, {}, {}, false, 1.0); }}\n\
-             fn routine_wo() -> vec3f {{ return vec3f({:.9}, 0.0, {:.9}); }}\n\
-             fn routine_axis() -> vec3f {{ return vec3f({:.9}, {:.9}, {:.9}); }}\n\
-             fn routine_sample(u: vec2f, u_lobe: f32) -> Drawn {{\n\
-                 let b = routine_bsdf(); let n_s = vec3f(0.0, 0.0, 1.0); let wo = routine_wo();\n\
-                 let bs = sample_bsdf(b, n_s, wo, u, u_lobe);\n\
-                 let d = frame_to_local(frame_from_normal(routine_axis()), bs.wi);\n\
-                 if (!(bs.pdf > 0.0)) {{\n\
-                     return Drawn(vec4f(d, bs.pdf), vec4f(max3(bs.weight), 1.0, 0.0, 0.0));\n\
-                 }}\n\
-                 let e = eval_pdf_bsdf(b, n_s, wo, bs.wi);\n\
-                 let expect = path_weight(e.f, dot(bs.wi, n_s), bs.pdf);\n\
-                 let err = max3(abs(bs.weight - expect)) / max(max3(abs(expect)), 1e-30);\n\
-                 return Drawn(vec4f(d, bs.pdf), vec4f(err, 0.0, 0.0, 0.0));\n\
-             }}\n\
-             fn routine_pdf(d: vec3f) -> f32 {{\n\
-                 let wi = frame_to_world(frame_from_normal(routine_axis()), d);\n\
-                 return eval_pdf_bsdf(routine_bsdf(), vec3f(0.0, 0.0, 1.0), routine_wo(), wi).pdf;\n\
-             }}\n",
-            v(p0),
-            v(p1),
-            v(p2),
-            t.sin(),
-            t.cos(),
-            axis[0],
-            axis[1],
-            axis[2],
-        ),
-        constants: vec![("BSDF_SAMPLING", strategy.constant() as f64), ("MICROFACET_SAMPLING", if microfacets == "ndf" { 0.0 } else { 1.0 })],
-        s_split: if around_mirror { -((alpha * t.cos()).powi(2) / 10.0).max(1e-12) } else { 2.0 },
-        pdf_tolerance: (1e-6 / (alpha * t.cos().max(1e-3))).max(1e-3),
-        pdf_floor: 1e-30,
-        bsdf_data: data.0,
-        environment_map: Vec::new(),
-        integrand: false,
-        bins: chi2::DEFAULT_BINS,
-    }
+    let constants = vec![("BSDF_SAMPLING", strategy.constant() as f64), ("MICROFACET_SAMPLING", if microfacets == "ndf" { 0.0 } else { 1.0 })];
+    glossy_routine(name, Bsdf::Principled(p), alpha, roughness <= 0.2, theta_o, constants)
 }
 
 /// Mitsuba's defaults at normal and 60 degrees' incidence (both microfacet strategies);

@@ -33,11 +33,6 @@ use pathlab::method::{LobeSelection, MicrofacetSampling, Method, Preset};
 use pathlab::names::Named;
 use pathlab::scene::{Bsdf, Distribution, Plastic, RoughPlastic, Scene, SceneError};
 
-fn v3(v: &serde_json::Value) -> [f64; 3] {
-    let a = v.as_array().unwrap();
-    [a[0].as_f64().unwrap(), a[1].as_f64().unwrap(), a[2].as_f64().unwrap()]
-}
-
 #[test]
 fn the_rough_plastic_evaluates_as_mitsubas_and_is_reciprocal() {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/roughplastic_evals.json");
@@ -48,33 +43,15 @@ fn the_rough_plastic_evaluates_as_mitsubas_and_is_reciprocal() {
     for c in configs {
         let distribution = Distribution::from_name(c["distribution"].as_str().unwrap()).unwrap();
         let layers = Plastic {
-            diffuse: DVec3::from(v3(&c["diffuse"])),
+            diffuse: DVec3::from(json_v3(&c["diffuse"])),
             diffuse_texture: None,
-            specular: DVec3::from(v3(&c["specular"])),
+            specular: DVec3::from(json_v3(&c["specular"])),
             int_ior: c["int_ior"].as_f64().unwrap(),
             ext_ior: c["ext_ior"].as_f64().unwrap(),
             nonlinear: c["nonlinear"].as_bool().unwrap(),
         };
         let p = RoughPlastic { layers, distribution, alpha: c["alpha"].as_f64().unwrap() };
-        let pairs_json = c["pairs"].as_array().unwrap();
-        let pairs: Vec<[f32; 4]> = pairs_json
-            .iter()
-            .flat_map(|pair| [v3(&pair["wo"]), v3(&pair["wi"])])
-            .map(|d| [d[0] as f32, d[1] as f32, d[2] as f32, 0.0])
-            .collect();
-        let out = eval_bsdf_pairs(&Bsdf::RoughPlastic(p.clone()), &pairs);
-        for (i, pair) in pairs_json.iter().enumerate() {
-            let (f, pdf) = (v3(&pair["f"]), pair["pdf"].as_f64().unwrap());
-            let (fwd, bwd) = (out[2 * i], out[2 * i + 1]);
-            let at = format!("{p:?} wo {} wi {}", pair["wo"], pair["wi"]);
-            for ch in 0..3 {
-                let (got, back) = (fwd[ch] as f64, bwd[ch] as f64);
-                assert!((got - f[ch]).abs() <= 1e-3 * f[ch] + 1e-6, "{at}: f channel {ch} is {got}, Mitsuba's {}", f[ch]);
-                assert!((got - back).abs() <= 1e-4 * got + 1e-6, "{at}: f(wi, wo) = {got} but f(wo, wi) = {back}");
-            }
-            let got = fwd[3] as f64;
-            assert!((got - pdf).abs() <= 5e-3 * pdf + 1e-6, "{at}: pdf {got}, Mitsuba's {pdf}");
-        }
+        agrees_with_mitsuba_evals(&Bsdf::RoughPlastic(p.clone()), c["pairs"].as_array().unwrap(), &format!("{p:?}"), (1e-3, 1e-6), (5e-3, 1e-6));
     }
 }
 

@@ -32,6 +32,44 @@ pub fn scene(text: &str) -> Scene {
     Scene::parse(text, "test.toml").unwrap_or_else(|e| panic!("test scene is invalid:\n{e}"))
 }
 
+/// Three numbers of a JSON fixture.
+#[allow(dead_code)]
+pub fn json_v3(v: &serde_json::Value) -> [f64; 3] {
+    let a = v.as_array().unwrap();
+    [a[0].as_f64().unwrap(), a[1].as_f64().unwrap(), a[2].as_f64().unwrap()]
+}
+
+/// The kernel's f and pdf of `bsdf` (`eval_bsdf_pairs`) against Mitsuba's own at each pair of a
+/// fixture made by `scripts/*_evals.py` (`wo`, `wi`, `f`, `pdf`), and reciprocity: f within
+/// `f_tol` (relative, absolute) of Mitsuba's, the pdf within `pdf_tol`, f(wi, wo) = f(wo, wi) to
+/// 1e-4 (relative, or 1e-6). `what` names the material in messages. Returns the largest
+/// differences relative to the value plus 1e-2 (f, pdf).
+#[allow(dead_code)]
+pub fn agrees_with_mitsuba_evals(bsdf: &pathlab::scene::Bsdf, pairs_json: &[serde_json::Value], what: &str, f_tol: (f64, f64), pdf_tol: (f64, f64)) -> (f64, f64) {
+    let pairs: Vec<[f32; 4]> = pairs_json
+        .iter()
+        .flat_map(|pair| [json_v3(&pair["wo"]), json_v3(&pair["wi"])])
+        .map(|d| [d[0] as f32, d[1] as f32, d[2] as f32, 0.0])
+        .collect();
+    let out = eval_bsdf_pairs(bsdf, &pairs);
+    let (mut worst_f, mut worst_pdf) = (0.0f64, 0.0f64);
+    for (i, pair) in pairs_json.iter().enumerate() {
+        let (f, pdf) = (json_v3(&pair["f"]), pair["pdf"].as_f64().unwrap());
+        let (fwd, bwd) = (out[2 * i], out[2 * i + 1]);
+        let at = format!("{what} wo {} wi {}", pair["wo"], pair["wi"]);
+        for ch in 0..3 {
+            let (got, back) = (fwd[ch] as f64, bwd[ch] as f64);
+            worst_f = worst_f.max((got - f[ch]).abs() / (f[ch] + 1e-2));
+            assert!((got - f[ch]).abs() <= f_tol.0 * f[ch] + f_tol.1, "{at}: f channel {ch} is {got}, Mitsuba's {}", f[ch]);
+            assert!((got - back).abs() <= 1e-4 * got + 1e-6, "{at}: f(wi, wo) = {got} but f(wo, wi) = {back}");
+        }
+        let got = fwd[3] as f64;
+        worst_pdf = worst_pdf.max((got - pdf).abs() / (pdf + 1e-2));
+        assert!((got - pdf).abs() <= pdf_tol.0 * pdf + pdf_tol.1, "{at}: pdf {got}, Mitsuba's {pdf}");
+    }
+    (worst_f, worst_pdf)
+}
+
 /// A 4x4 TOML scene of one sphere of material `m` under a white environment, `material` the
 /// lines of its `[materials.m]` table: for tests of a BSDF's fields.
 #[allow(dead_code)]
