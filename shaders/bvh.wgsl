@@ -94,6 +94,9 @@ fn bvh_node(i: u32) -> BvhNode {
 // box: 36 triangles). On a GPU the copy of them each invocation keeps lives in local memory,
 // and the BVH is far faster.
 @group(0) @binding(BINDING_SMALL_TRIANGLES) var<uniform> small_triangles: array<Triangle, BRUTE_FORCE_TRIANGLES>;
+// Their distinct vertex positions (`accel::SharedVertices`), each sheared once per ray by the
+// unrolled tests.
+@group(0) @binding(BINDING_SMALL_VERTICES) var<uniform> small_vertices: array<vec4f, MAX_SHARED_VERTICES>;
 
 // Triangle i, from the uniform copy where the scene is small.
 fn triangle_at(i: u32) -> Triangle {
@@ -193,27 +196,24 @@ fn edge_function(p: vec2f, q: vec2f) -> f32 {
     return select(e, -e, swap);
 }
 
-// Distance to the triangle along the ray if it is hit in (0, t_max), else -1; barycentrics of
-// p1 and p2 in `bary`.
-fn intersect_triangle(r: ShearedRay, p0: vec3f, p1: vec3f, p2: vec3f, t_max: f32, bary: ptr<function, vec2f>) -> f32 {
-    let a = p0 - r.origin;
-    let b = p1 - r.origin;
-    let c = p2 - r.origin;
-    // The vertices sheared into the ray's space.
-    let ax = a[r.k.x] - r.shear.x * a[r.k.z];
-    let ay = a[r.k.y] - r.shear.y * a[r.k.z];
-    let bx = b[r.k.x] - r.shear.x * b[r.k.z];
-    let by = b[r.k.y] - r.shear.y * b[r.k.z];
-    let cx = c[r.k.x] - r.shear.x * c[r.k.z];
-    let cy = c[r.k.y] - r.shear.y * c[r.k.z];
+// Vertex p in the ray's space: translated to its origin, its axes permuted by the ray's
+// dominant one, x and y sheared so the ray runs along z, and z scaled by the ray's 1 / d_z.
+fn shear_vertex(r: ShearedRay, p: vec3f) -> vec3f {
+    let a = p - r.origin;
+    return vec3f(a[r.k.x] - r.shear.x * a[r.k.z], a[r.k.y] - r.shear.y * a[r.k.z], r.shear.z * a[r.k.z]);
+}
+
+// Distance along the ray to the triangle of sheared corners a, b, c (shear_vertex) if it is hit
+// in (0, t_max), else -1; barycentrics of b and c in `bary`.
+fn intersect_sheared(a: vec3f, b: vec3f, c: vec3f, t_max: f32, bary: ptr<function, vec2f>) -> f32 {
     // Scaled barycentrics: the edge functions.
-    let u = edge_function(vec2f(bx, by), vec2f(cx, cy));
-    let v = edge_function(vec2f(cx, cy), vec2f(ax, ay));
-    let w = edge_function(vec2f(ax, ay), vec2f(bx, by));
+    let u = edge_function(b.xy, c.xy);
+    let v = edge_function(c.xy, a.xy);
+    let w = edge_function(a.xy, b.xy);
     let mixed = (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0);
     let det = u + v + w;
     // The hit's distance scaled by det, compared without a division.
-    let t = u * (r.shear.z * a[r.k.z]) + v * (r.shear.z * b[r.k.z]) + w * (r.shear.z * c[r.k.z]);
+    let t = u * a.z + v * b.z + w * c.z;
     let in_range = select((t < 0.0) && (t > t_max * det), (t > 0.0) && (t < t_max * det), det > 0.0);
     if (mixed || det == 0.0 || !in_range) {
         return -1.0;
@@ -221,6 +221,12 @@ fn intersect_triangle(r: ShearedRay, p0: vec3f, p1: vec3f, p2: vec3f, t_max: f32
     let inv = 1.0 / det;
     *bary = vec2f(v, w) * inv;
     return t * inv;
+}
+
+// Distance to the triangle along the ray if it is hit in (0, t_max), else -1; barycentrics of
+// p1 and p2 in `bary`.
+fn intersect_triangle(r: ShearedRay, p0: vec3f, p1: vec3f, p2: vec3f, t_max: f32, bary: ptr<function, vec2f>) -> f32 {
+    return intersect_sheared(shear_vertex(r, p0), shear_vertex(r, p1), shear_vertex(r, p2), t_max, bary);
 }
 
 // Entry distance of the ray into a node's box if it enters before t_max, else -1. The exit

@@ -398,3 +398,137 @@ fn every_node_but_the_root_finds_its_parent() {
         assert_eq!(found, bvh.nodes.len() - 1, "{n} triangles: every node but the root is a child");
     }
 }
+
+// ----- the small scenes' unrolled tests on shared vertices (generated, bvh.wgsl) -------------
+
+const SMALL_KERNEL: &str = r#"
+struct TestRay { o: vec4f, d: vec4f }
+@group(0) @binding(0) var<storage, read> test_rays: array<TestRay>;
+@group(0) @binding(1) var<storage, read_write> test_out: array<vec4f>;
+
+@compute @workgroup_size(64)
+fn small_main(@builtin(global_invocation_id) gid: vec3u) {
+    load_small_triangles();
+    let i = gid.x;
+    if (i >= arrayLength(&test_rays)) {
+        return;
+    }
+    let r = test_rays[i];
+    let best = triangles_brute_force(r.o.xyz, r.d.xyz, r.o.w);
+    test_out[i] = vec4f(select(-1.0, best.t, best.index != INVALID), bitcast<f32>(best.index), best.bary);
+}
+"#;
+
+/// The path tracer's unrolled small-scene tests (`triangles_brute_force`, each distinct vertex
+/// sheared once per ray, the corners `override` constants: `accel::SharedVertices`) for `rays`
+/// (origin, direction, t_max) over `tris` in their order: (t or -1, triangle index,
+/// barycentrics of its second and third corners) per ray.
+fn gpu_small_scene(tris: &[Triangle], rays: &[(Vec3, Vec3, f32)]) -> Vec<(f32, u32, [f32; 2])> {
+    use pathlab::accel::SharedVertices;
+    use pathlab::gpu::KernelRun;
+    use pathlab::shaders::{self, bindings, files};
+    let corners: Vec<[[f32; 3]; 3]> = tris.iter().map(|t| t.map(|v| v.to_array())).collect();
+    let (shared, positions) = SharedVertices::of(&corners).expect("a small scene");
+    let source = shaders::assemble_unrolled(&[files::COMMON, files::BVH], SMALL_KERNEL, tris.len() as u32);
+    let ordered = common::gpu().info.device_type != wgpu::DeviceType::Cpu;
+    let mut constants = vec![
+        ("NUM_TRIANGLES", tris.len() as f64),
+        ("NUM_SMALL_VERTICES", shared.count as f64),
+        ("ORDERED_EDGES", ordered as u32 as f64),
+    ];
+    for (names, c) in shaders::small_corner_names().iter().zip(shared.corners) {
+        constants.extend([0, 1, 2].map(|j| (names[j].as_str(), c[j] as f64)));
+    }
+    let mut vertices: Vec<[f32; 4]> = positions.iter().map(|p| [p[0], p[1], p[2], 0.0]).collect();
+    vertices.resize(pathlab::accel::MAX_SHARED_VERTICES as usize, [0.0; 4]);
+    let ray_data: Vec<[f32; 8]> = rays.iter().map(|(o, d, t)| [o.x, o.y, o.z, *t, d.x, d.y, d.z, 0.0]).collect();
+    let run = KernelRun {
+        source: &source,
+        entry: "small_main",
+        constants: &constants,
+        inputs: vec![(0, bytemuck::cast_slice(&ray_data).to_vec())],
+        uniforms: vec![(bindings::SMALL_VERTICES.number, bytemuck::cast_slice(&vertices).to_vec())],
+        texel_tables: vec![],
+        output: (1, rays.len() as u64 * 16),
+        workgroups: (rays.len() as u32).div_ceil(64),
+    };
+    let out: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&run.run(common::gpu()).expect("small-scene kernel"));
+    out.iter().map(|o| (o[0], o[1].to_bits(), [o[2], o[3]])).collect()
+}
+
+/// The small scenes' tests, which shear each distinct vertex once per ray and read every
+/// triangle's corners from those (`accel::SharedVertices`), find what the CPU's watertight test
+/// finds, triangle by triangle, on a closed icosahedron (20 triangles, 12 vertices) and a strip of
+/// quads (12 triangles sharing diagonals and sides) with a stray triangle among them: random
+/// rays, and rays aimed at every vertex, edge midpoint and random edge point. On a CPU adapter
+/// a random ray's distance must equal the CPU twin's bit for bit (the same operations in the
+/// same order), and the triangle it names must give that distance and those barycentrics
+/// itself (a tie resolves to either); on any adapter every ray from inside the closed mesh must hit (watertight), and a
+/// ray aimed at an edge or vertex the CPU hits must hit at its distance.
+#[test]
+fn the_small_scenes_tests_on_shared_vertices_agree_with_the_cpu_and_are_watertight() {
+    let mut rng = Rng(31);
+    let mut tris = icosphere(0);
+    let closed = tris.len();
+    for k in 0..6 {
+        let (x0, x1) = (3.0 + k as f32 * 0.5, 3.5 + k as f32 * 0.5);
+        let (a, b, c, d) = (Vec3::new(x0, -1.0, 0.2), Vec3::new(x1, -1.0, 0.2), Vec3::new(x1, 1.0, 0.3), Vec3::new(x0, 1.0, 0.3));
+        tris.extend([[a, b, c], [a, c, d]]);
+    }
+    tris.push([Vec3::new(3.2, -0.5, -0.4), Vec3::new(5.0, 0.2, 0.9), Vec3::new(4.1, 0.8, -0.2)]);
+    assert!(tris.len() <= pathlab::accel::BRUTE_FORCE_TRIANGLES as usize);
+    let corners: Vec<[[f32; 3]; 3]> = tris.iter().map(|t| t.map(|v| v.to_array())).collect();
+    let shared = pathlab::accel::SharedVertices::of(&corners).unwrap().0;
+    assert_eq!(shared.count, 12 + 14 + 3, "the icosahedron's 12 vertices, the strip's 14, the stray triangle's 3");
+    let mut rays: Vec<(Vec3, Vec3, f32)> = Vec::new();
+    for (k, [a, b, c]) in tris.iter().enumerate() {
+        let targets = [*a, *b, *c, (*a + *b) * 0.5, (*b + *c) * 0.5, (*c + *a) * 0.5, *a + (*b - *a) * rng.u(), *c + (*a - *c) * rng.u()];
+        for target in targets {
+            let origins = if k < closed { [Vec3::ZERO, rng.vec(-0.3, 0.3)] } else { [Vec3::new(4.5, 0.0, -2.0), rng.vec(2.0, 6.0) - Vec3::new(0.0, 0.0, 8.0)] };
+            for origin in origins {
+                rays.push((origin, target - origin, f32::INFINITY));
+            }
+        }
+    }
+    let aimed = rays.len();
+    rays.extend(random_rays(&mut rng, 20_000, Vec3::new(2.0, 0.0, 0.0), 3.0).into_iter().map(|(o, d)| (o, d, f32::INFINITY)));
+    // Some with a t_max short of the nearest hit: they must miss.
+    for k in 0..2000 {
+        let (o, d, _) = rays[aimed + k];
+        if let Some(t) = brute(&tris, o, d, f32::INFINITY) {
+            rays.push((o, d, t * 0.5));
+        }
+    }
+    let got = gpu_small_scene(&tris, &rays);
+    let cpu_arithmetic = common::gpu().info.device_type == wgpu::DeviceType::Cpu;
+    let mut mismatches = Vec::new();
+    let mut hits = 0;
+    for (k, (&(o, d, t_max), &(t, index, bary))) in rays.iter().zip(&got).enumerate() {
+        let expected = brute(&tris, o, d, t_max);
+        hits += (t > 0.0) as usize;
+        // The hit triangle's own test gives the kernel's distance (a tie resolves to either).
+        let own = (t > 0.0).then(|| {
+            let [p0, p1, p2] = tris[index as usize];
+            ShearedRay::new(o, d).hit(p0, p1, p2, t_max).map(|h| (h.0, [h.1, h.2]))
+        });
+        let agrees = if k < aimed {
+            // Aimed exactly at an edge or a vertex, where the CPU twin decides a zero edge
+            // function in f64 and the kernel does not: the distances may differ in the last
+            // bits, and a ray through a mesh's border may hit on one side only.
+            expected.is_none_or(|te| t > 0.0 && (t - te).abs() <= 1e-6 * te)
+        } else if cpu_arithmetic {
+            expected.map_or(t < 0.0, |te| te == t) && own.is_none_or(|h| h == Some((t, bary)))
+        } else {
+            expected.is_some() == (t > 0.0)
+        };
+        if !agrees {
+            mismatches.push(format!("ray {k} ({o:?} + t {d:?}, t_max {t_max}): kernel t {t} (triangle {index}), the CPU's {expected:?}"));
+        }
+        // Rays from inside the icosahedron (16 per triangle of it) through its vertices and edges.
+        if k < 16 * closed && t < 0.0 {
+            mismatches.push(format!("ray {k} from inside the icosahedron, through a vertex or an edge, escaped"));
+        }
+    }
+    assert!(mismatches.is_empty(), "{} of {} rays disagree: {:?}", mismatches.len(), rays.len(), &mismatches[..mismatches.len().min(5)]);
+    assert!(hits > 1500, "only {hits} rays hit");
+}

@@ -97,6 +97,7 @@ fn overrides_set_by_the_host_are_those_the_module_declares() {
         num_spot_lights: 1,
         num_directional_lights: 1,
         num_triangles: 4,
+        small_vertices: Default::default(),
         has_shading_normals: true,
         has_uvs: true,
         has_masks: true,

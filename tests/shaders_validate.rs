@@ -73,6 +73,7 @@ fn every_override_permutation_validates() {
                                     num_spot_lights: on as u32,
                                     num_directional_lights: on as u32,
                                     num_triangles,
+                                    small_vertices: Default::default(),
                                     has_shading_normals,
                                     has_uvs: on,
                                     // Masks on and off, with uvs on and off.

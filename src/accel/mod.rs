@@ -4,6 +4,7 @@
 //! `tests/bvh.rs` holds both against brute force.
 
 pub mod bvh;
+pub mod shared_vertices;
 pub mod triangle;
 
 pub use bvh::{Bvh, BvhNode, Triangle};
@@ -16,4 +17,5 @@ pub use bvh::{Bvh, BvhNode, Triangle};
 /// unrolled tests grow the kernel's code (to megabytes, with every inlined query) faster than
 /// they save loads.
 pub const BRUTE_FORCE_TRIANGLES: u32 = 40;
+pub use shared_vertices::{SharedVertices, MAX_SHARED_VERTICES};
 pub use triangle::ShearedRay;

@@ -2,6 +2,7 @@
 //! (`SceneFeatures`, each a WGSL `override` constant) and the order its objects take in the
 //! scene buffers (lights first, occluding planes first). The scene itself knows nothing of it.
 
+use crate::accel::SharedVertices;
 use crate::scene::{BsdfKind, EmitterKind, QuadricKind, Scene};
 
 /// What a scene requires of the path-tracing kernel; each becomes a WGSL `override` constant,
@@ -26,6 +27,10 @@ pub struct SceneFeatures {
     pub num_spot_lights: u32,
     pub num_directional_lights: u32,
     pub num_triangles: u32,
+    /// A small scene's distinct vertex positions and each triangle's corners among them
+    /// (`accel::SharedVertices`; the default where the scene traverses the BVH): the
+    /// `NUM_SMALL_VERTICES` and `SMALL_CORNER_<k>_<j>` overrides.
+    pub small_vertices: SharedVertices,
     /// Some mesh has vertex normals (interpolated as shading normals).
     pub has_shading_normals: bool,
     /// Some material reads the hit's uv parametrisation (`BsdfPlugin::reads_uv`): only then
@@ -121,6 +126,12 @@ impl SceneFeatures {
             num_spot_lights: scene.spot_lights.len() as u32,
             num_directional_lights: scene.directional_lights.len() as u32,
             num_triangles: scene.num_triangles() as u32,
+            small_vertices: if scene.num_triangles() <= crate::accel::BRUTE_FORCE_TRIANGLES as usize {
+                // The kernel's order of the triangles (the BVH's leaves): cheap at this size.
+                super::PackedTriangles::new(scene, false).shared_vertices().map_or(SharedVertices::default(), |(s, _)| s)
+            } else {
+                SharedVertices::default()
+            },
             has_shading_normals: scene.meshes.iter().any(|m| !m.normals.is_empty()),
             has_uvs: scene.materials.iter().any(|m| m.reads_uv()),
             has_masks: scene.materials.iter().any(|m| m.opacity.is_some()),

@@ -95,6 +95,11 @@ pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
     for k in BsdfKind::ALL.into_iter().filter(|k| !k.texture_slots().is_empty() || !k.scalar_texture_slots().is_empty()) {
         constants.push((k.textured_override(), ((f.textured_slots >> (8 * k.constant())) & 0xff) as f64));
     }
+    // The small scene's distinct vertices and each triangle's corners among them.
+    constants.push(("NUM_SMALL_VERTICES", f.small_vertices.count as f64));
+    for (names, corners) in shaders::small_corner_names().iter().zip(f.small_vertices.corners) {
+        constants.extend([0, 1, 2].map(|j| (names[j].as_str(), corners[j] as f64)));
+    }
     // One NUM_<KIND>_LIGHTS per emitter kind (NUM_LIGHTS is their sum, in the WGSL).
     constants.extend(EmitterKind::ALL.map(|k| (k.count_override(), f.lights_of(k) as f64)));
     constants

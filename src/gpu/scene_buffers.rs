@@ -198,6 +198,13 @@ impl PackedTriangles {
             + std::mem::size_of_val(&self.lights[..])
     }
 
+    /// The distinct vertex positions of a small scene's triangles (kernel order) and each
+    /// triangle's corners among them; None where the kernel traverses the BVH.
+    pub fn shared_vertices(&self) -> Option<(crate::accel::SharedVertices, Vec<[f32; 3]>)> {
+        let corners: Vec<[[f32; 3]; 3]> = self.triangles.iter().map(|t| [t.p0, t.p1, t.p2]).collect();
+        crate::accel::SharedVertices::of(&corners)
+    }
+
     /// Builds the BVH over every mesh triangle and lays the triangles out in its leaf order,
     /// with the light table of `Scene::sampled_lights(sample_environment)`.
     pub fn new(scene: &Scene, sample_environment: bool) -> PackedTriangles {
@@ -328,6 +335,14 @@ impl SceneBuffers {
                 bindings::SMALL_TRIANGLES,
                 "small triangles",
                 uniform_array(&packed.triangles[..small], crate::accel::BRUTE_FORCE_TRIANGLES as usize),
+            ),
+            contents(
+                bindings::SMALL_VERTICES,
+                "small vertices",
+                uniform_array(
+                    &packed.shared_vertices().map_or(Vec::new(), |(_, positions)| positions.iter().map(|p| [p[0], p[1], p[2], 0.0]).collect()),
+                    crate::accel::MAX_SHARED_VERTICES as usize,
+                ),
             ),
         ]
     }

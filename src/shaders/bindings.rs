@@ -66,6 +66,9 @@ pub const LIGHTS: Binding = Binding { number: 10, name: "LIGHTS", kind: Kind::St
 
 /// The triangles of a small scene again, in a uniform buffer (`small_triangles`, bvh.wgsl).
 pub const SMALL_TRIANGLES: Binding = Binding { number: 11, name: "SMALL_TRIANGLES", kind: Kind::Uniform };
+/// Their distinct vertex positions (`accel::SharedVertices`), in a uniform buffer
+/// (`small_vertices`, bvh.wgsl): the unrolled tests shear each once per ray.
+pub const SMALL_VERTICES: Binding = Binding { number: 18, name: "SMALL_VERTICES", kind: Kind::Uniform };
 
 /// The triangles' texture coordinates (`TriangleUvs`, bvh.wgsl) and the spheres' object axes
 /// (`SphereAxes`, intersect.wgsl): the uv parametrisation, read only where a material does.
@@ -84,7 +87,7 @@ pub const ENVIRONMENT_MAP: Binding = Binding { number: 15, name: "ENVIRONMENT_MA
 pub const DELTA_LIGHTS: Binding = Binding { number: 16, name: "DELTA_LIGHTS", kind: Kind::Uniform };
 
 /// The path tracer's bind group.
-pub const PATH_TRACER: [Binding; 17] = [
+pub const PATH_TRACER: [Binding; 18] = [
     FRAME,
     SPHERES,
     SURFACES,
@@ -97,6 +100,7 @@ pub const PATH_TRACER: [Binding; 17] = [
     BVH_PARENTS,
     LIGHTS,
     SMALL_TRIANGLES,
+    SMALL_VERTICES,
     TRIANGLE_UVS,
     SPHERE_AXES,
     BSDF_DATA,

@@ -24,8 +24,10 @@ pub fn generated_constants() -> String {
          const MAX_DELTA_LIGHTS: u32 = {MAX_DELTA_LIGHTS}u;\n\
          // The BVH traversal stack: the deepest node the builder makes (src/accel/bvh.rs).\n\
          const BVH_MAX_DEPTH: u32 = {}u;\n\
-         // Scenes of at most this many triangles test them all from a uniform buffer (src/accel/mod.rs).\n\
+         // Scenes of at most this many triangles test them all from a uniform buffer (src/accel/mod.rs),\n\
+         // sheared once per distinct vertex position, of which there are at most MAX_SHARED_VERTICES.\n\
          const BRUTE_FORCE_TRIANGLES: u32 = {}u;\n\
+         const MAX_SHARED_VERTICES: u32 = {}u;\n\
          // Texels per row of a texel table (src/shaders/bindings.rs).\n\
          const TEXEL_TABLE_WIDTH: u32 = {}u;\n\
          // Loop iterations one call of a researcher's technique may run (src/scene/technique.rs).\n\
@@ -58,6 +60,7 @@ pub fn generated_constants() -> String {
          {}{}",
         crate::accel::bvh::MAX_DEPTH,
         crate::accel::BRUTE_FORCE_TRIANGLES,
+        crate::accel::MAX_SHARED_VERTICES,
         bindings::TEXEL_TABLE_WIDTH,
         crate::scene::technique::TECHNIQUE_MAX_ITERATIONS,
         wgsl_constants::<Sampler>("SAMPLER"),
@@ -209,42 +212,70 @@ pub fn light_counts() -> String {
     s
 }
 
+/// The names of the `override` constants that give triangle k's corner j among the small
+/// scene's distinct vertex positions (`accel::SharedVertices`), for k below
+/// `BRUTE_FORCE_TRIANGLES`: `SMALL_CORNER_<k>_<j>`.
+pub fn small_corner_names() -> &'static [[String; 3]] {
+    static NAMES: std::sync::LazyLock<Vec<[String; 3]>> =
+        std::sync::LazyLock::new(|| (0..crate::accel::BRUTE_FORCE_TRIANGLES).map(|k| [0, 1, 2].map(|j| format!("SMALL_CORNER_{k}_{j}"))).collect());
+    &NAMES
+}
+
 /// The small scenes' triangle tests (see bvh.wgsl) for scenes of at most `n` triangles:
-/// `load_small_triangles`, which copies the uniform array `small_triangles` into the private
-/// array `small_triangle_cache`, and `triangles_brute_force`, one test per triangle of that
-/// copy. Both are unrolled at constant indices, `n` steps, each compiled only where the
-/// triangle exists (`k < NUM_TRIANGLES` folds once the override is set). The tests run in index
-/// order and a hit replaces the best one only when strictly closer, as a loop over the
-/// triangles would. The path tracer's module is assembled with `n` the scene's own count
-/// (`unrolled_triangles`): dead steps still cost the driver their compilation before it folds
-/// them (64 dead steps cost every scene's pipeline a second on lavapipe).
+/// `load_small_triangles`, which copies the distinct vertex positions of the uniform array
+/// `small_vertices` into the private array `small_vertex_cache`, and `triangles_brute_force`,
+/// which shears each of them once into the ray's space and then tests each triangle on its
+/// sheared corners (`accel::SharedVertices`: the corners are the `override` constants
+/// `SMALL_CORNER_<k>_<j>`, declared here for every triangle a small scene may have, so the
+/// indexing folds to constants). Both are unrolled at constant indices, each step compiled only
+/// where its vertex or triangle exists (`k < NUM_SMALL_VERTICES`, `k < NUM_TRIANGLES` fold once
+/// the overrides are set). The tests run in index order and a hit replaces the best one only
+/// when strictly closer, as a loop over the triangles would. The path tracer's module is
+/// assembled with `n` the scene's own count (`unrolled_triangles`): dead steps still cost the
+/// driver their compilation before it folds them (64 dead steps cost every scene's pipeline a
+/// second on lavapipe).
 pub fn small_triangle_tests(n: u32) -> String {
-    let mut s = format!(
-        "// The triangle tests unrolled in this module: a scene of at most this many triangles\n\
+    let mut s = String::from(
+        "// Distinct vertex positions of the small scene (at most MAX_SHARED_VERTICES; 0 where the\n\
+         // scene traverses the BVH), and each triangle's corners among them.\n\
+         override NUM_SMALL_VERTICES: u32 = 0u;\n",
+    );
+    for names in small_corner_names() {
+        s += &format!("override {}: u32 = 0u;\noverride {}: u32 = 0u;\noverride {}: u32 = 0u;\n", names[0], names[1], names[2]);
+    }
+    s += &format!(
+        "\n// The triangle tests unrolled in this module: a scene of at most this many triangles\n\
          // tests them all in turn, a larger one traverses the BVH.\n\
          const SMALL_TRIANGLE_TESTS: u32 = {n}u;\n\n\
-         var<private> small_triangle_cache: array<Triangle, BRUTE_FORCE_TRIANGLES>;\n\n\
-         // Copies the small scene's triangles into registers: called by every entry point that\n\
-         // traces rays, first, outside any branch or loop (where lavapipe reads a uniform as one\n\
-         // load for all lanes).\n\
+         var<private> small_vertex_cache: array<vec3f, MAX_SHARED_VERTICES>;\n\n\
+         // Copies the small scene's vertex positions into registers: called by every entry point\n\
+         // that traces rays, first, outside any branch or loop (where lavapipe reads a uniform as\n\
+         // one load for all lanes).\n\
          fn load_small_triangles() {{\n",
     );
-    for k in 0..n {
-        s += &format!("    if ({k}u < NUM_TRIANGLES) {{ small_triangle_cache[{k}] = small_triangles[{k}]; }}\n");
+    for k in 0..3 * n {
+        s += &format!("    if ({k}u < NUM_SMALL_VERTICES) {{ small_vertex_cache[{k}] = small_vertices[{k}].xyz; }}\n");
     }
     s += "}\n\n\
-          // The nearest triangle along (o, d) closer than t_max, every triangle tested in turn.\n\
+          // The nearest triangle along (o, d) closer than t_max, every triangle tested in turn on\n\
+          // its corners sheared once per ray.\n\
           fn triangles_brute_force(o: vec3f, d: vec3f, t_max: f32) -> TriangleHit {\n    \
-          var best = TriangleHit(t_max, INVALID, vec2f(0.0));\n    \
-          let ray = sheared_ray(o, d);\n    \
-          var bary: vec2f;\n";
-    for k in 0..n {
+          var best = TriangleHit(t_max, INVALID, vec2f(0.0));\n";
+    if n == 0 {
+        return s + "    return best;\n}\n";
+    }
+    s += &format!("    let ray = sheared_ray(o, d);\n    var sheared: array<vec3f, {}>;\n", 3 * n);
+    for k in 0..3 * n {
+        s += &format!("    if ({k}u < NUM_SMALL_VERTICES) {{ sheared[{k}] = shear_vertex(ray, small_vertex_cache[{k}]); }}\n");
+    }
+    s += "    var bary: vec2f;\n";
+    for (k, names) in small_corner_names().iter().enumerate().take(n as usize) {
         s += &format!(
             "    if ({k}u < NUM_TRIANGLES) {{\n        \
-             let tri = small_triangle_cache[{k}];\n        \
-             let t = intersect_triangle(ray, tri.p0, tri.p1, tri.p2, best.t, &bary);\n        \
+             let t = intersect_sheared(sheared[{}], sheared[{}], sheared[{}], best.t, &bary);\n        \
              if (t > 0.0) {{ best = TriangleHit(t, {k}u, bary); }}\n    \
-             }}\n"
+             }}\n",
+            names[0], names[1], names[2]
         );
     }
     s + "    return best;\n}\n"
