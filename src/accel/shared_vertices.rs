@@ -19,7 +19,7 @@ pub struct SharedVertices {
     /// Distinct positions: at most 3 per triangle.
     pub count: u32,
     /// Triangle k's corners p0, p1, p2 (kernel order); zero past the scene's triangles.
-    pub corners: [[u8; 3]; BRUTE_FORCE_TRIANGLES as usize],
+    pub corners: [[u16; 3]; BRUTE_FORCE_TRIANGLES as usize],
 }
 
 impl Default for SharedVertices {
@@ -42,12 +42,12 @@ impl SharedVertices {
         }
         let mut shared = SharedVertices::default();
         let mut positions: Vec<[f32; 3]> = Vec::new();
-        let mut index: std::collections::HashMap<[u32; 3], u8> = std::collections::HashMap::new();
+        let mut index: std::collections::HashMap<[u32; 3], u16> = std::collections::HashMap::new();
         for (k, triangle) in triangles.iter().enumerate() {
             for (j, p) in triangle.iter().enumerate() {
                 let i = *index.entry(p.map(f32::to_bits)).or_insert_with(|| {
                     positions.push(*p);
-                    (positions.len() - 1) as u8
+                    (positions.len() - 1) as u16
                 });
                 shared.corners[k][j] = i;
             }

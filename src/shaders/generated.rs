@@ -247,11 +247,12 @@ pub fn small_triangle_tests(n: u32) -> String {
         "\n// The triangle tests unrolled in this module: a scene of at most this many triangles\n\
          // tests them all in turn, a larger one traverses the BVH.\n\
          const SMALL_TRIANGLE_TESTS: u32 = {n}u;\n\n\
-         var<private> small_vertex_cache: array<vec3f, MAX_SHARED_VERTICES>;\n\n\
+         var<private> small_vertex_cache: array<vec3f, {}>;\n\n\
          // Copies the small scene's vertex positions into registers: called by every entry point\n\
          // that traces rays, first, outside any branch or loop (where lavapipe reads a uniform as\n\
          // one load for all lanes).\n\
          fn load_small_triangles() {{\n",
+        (3 * n).max(1)
     );
     for k in 0..3 * n {
         s += &format!("    if ({k}u < NUM_SMALL_VERTICES) {{ small_vertex_cache[{k}] = small_vertices[{k}].xyz; }}\n");
