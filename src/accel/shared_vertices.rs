@@ -5,7 +5,7 @@
 //! Why: the watertight test's per-ray work on a vertex (translate to the ray's origin, permute
 //! the axes by the ray's dominant one, shear) is the larger part of a test, and on lavapipe it
 //! is paid in full for every triangle and every lane. Meshes share vertices: the Cornell box's
-//! 36 triangles have 108 corners but 64 distinct positions, a closed box's 12 triangles 8. The
+//! 36 triangles have 108 corners but 28 distinct positions, a closed box's 12 triangles 8. The
 //! kernel shears each distinct position once per ray and the tests read the sheared corners by
 //! constant index (the corners are `override` constants, `SMALL_CORNER_<k>_<j>`), so the
 //! driver folds the indexing away. Each sheared value is computed by exactly the operations the

@@ -302,6 +302,15 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
             (packed.normals.len() * 48) as f64 / (1 << 20) as f64,
             (b.nodes.len() * 32) as f64 / (1 << 20) as f64,
         );
+        if let Some((shared, _)) = packed.shared_vertices() {
+            println!(
+                "Small scene: on a CPU adapter the kernel tests all {} triangles in turn (at most {}), on {} distinct vertices sheared once per ray ({} corners)",
+                packed.triangles.len(),
+                pathlab::accel::BRUTE_FORCE_TRIANGLES,
+                shared.count,
+                3 * packed.triangles.len()
+            );
+        }
     }
     Ok(())
 }
