@@ -20,11 +20,15 @@ pub struct SharedVertices {
     pub count: u32,
     /// Triangle k's corners p0, p1, p2 (kernel order); zero past the scene's triangles.
     pub corners: [[u16; 3]; BRUTE_FORCE_TRIANGLES as usize],
+    /// Bit j of entry k: triangle k's corner j is its position's first use (positions are
+    /// numbered in order of first use). The kernel shears a position there, just before the
+    /// first test that reads it, so that its value lives no longer than it must.
+    pub first_uses: [u8; BRUTE_FORCE_TRIANGLES as usize],
 }
 
 impl Default for SharedVertices {
     fn default() -> Self {
-        SharedVertices { count: 0, corners: [[0; 3]; BRUTE_FORCE_TRIANGLES as usize] }
+        SharedVertices { count: 0, corners: [[0; 3]; BRUTE_FORCE_TRIANGLES as usize], first_uses: [0; BRUTE_FORCE_TRIANGLES as usize] }
     }
 }
 
@@ -47,6 +51,7 @@ impl SharedVertices {
             for (j, p) in triangle.iter().enumerate() {
                 let i = *index.entry(p.map(f32::to_bits)).or_insert_with(|| {
                     positions.push(*p);
+                    shared.first_uses[k] |= 1 << j;
                     (positions.len() - 1) as u16
                 });
                 shared.corners[k][j] = i;
@@ -68,6 +73,7 @@ mod tests {
         assert_eq!(shared.count, 4);
         assert_eq!(positions, vec![a, b, c, d]);
         assert_eq!(&shared.corners[..2], &[[0, 1, 2], [0, 2, 3]]);
+        assert_eq!(&shared.first_uses[..2], &[0b111, 0b100]);
         assert!(shared.corners[2..].iter().all(|c| *c == [0, 0, 0]));
     }
 

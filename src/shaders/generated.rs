@@ -221,6 +221,14 @@ pub fn small_corner_names() -> &'static [[String; 3]] {
     &NAMES
 }
 
+/// The names of the `override` constants that say which corners of triangle k are their
+/// positions' first uses (`accel::SharedVertices::first_uses`): `SMALL_FIRST_USES_<k>`.
+pub fn small_first_use_names() -> &'static [String] {
+    static NAMES: std::sync::LazyLock<Vec<String>> =
+        std::sync::LazyLock::new(|| (0..crate::accel::BRUTE_FORCE_TRIANGLES).map(|k| format!("SMALL_FIRST_USES_{k}")).collect());
+    &NAMES
+}
+
 /// The small scenes' triangle tests (see bvh.wgsl) for scenes of at most `n` triangles:
 /// `load_small_triangles`, which copies the distinct vertex positions of the uniform array
 /// `small_vertices` into the private array `small_vertex_cache`, and `triangles_brute_force`,
@@ -240,8 +248,8 @@ pub fn small_triangle_tests(n: u32) -> String {
          // scene traverses the BVH), and each triangle's corners among them.\n\
          override NUM_SMALL_VERTICES: u32 = 0u;\n",
     );
-    for names in small_corner_names() {
-        s += &format!("override {}: u32 = 0u;\noverride {}: u32 = 0u;\noverride {}: u32 = 0u;\n", names[0], names[1], names[2]);
+    for (names, first) in small_corner_names().iter().zip(small_first_use_names()) {
+        s += &format!("override {}: u32 = 0u;\noverride {}: u32 = 0u;\noverride {}: u32 = 0u;\noverride {first}: u32 = 0u;\n", names[0], names[1], names[2]);
     }
     s += &format!(
         "\n// The triangle tests unrolled in this module: a scene of at most this many triangles\n\
@@ -265,14 +273,16 @@ pub fn small_triangle_tests(n: u32) -> String {
     if n == 0 {
         return s + "    return best;\n}\n";
     }
-    s += &format!("    let ray = sheared_ray(o, d);\n    var sheared: array<vec3f, {}>;\n", 3 * n);
-    for k in 0..3 * n {
-        s += &format!("    if ({k}u < NUM_SMALL_VERTICES) {{ sheared[{k}] = shear_vertex(ray, small_vertex_cache[{k}]); }}\n");
-    }
-    s += "    var bary: vec2f;\n";
+    s += &format!("    let ray = sheared_ray(o, d);\n    var sheared: array<vec3f, {}>;\n    var bary: vec2f;\n", 3 * n);
     for (k, names) in small_corner_names().iter().enumerate().take(n as usize) {
+        s += &format!("    if ({k}u < NUM_TRIANGLES) {{\n");
+        // Each position sheared at its first use (SMALL_FIRST_USES_<k>, bit j), just before
+        // the first test that reads it.
+        for (j, name) in names.iter().enumerate() {
+            s += &format!("        if (({} & {}u) != 0u) {{ sheared[{name}] = shear_vertex(ray, small_vertex_cache[{name}]); }}\n", small_first_use_names()[k], 1 << j);
+        }
         s += &format!(
-            "    if ({k}u < NUM_TRIANGLES) {{\n        \
+            "        \
              let t = intersect_sheared(sheared[{}], sheared[{}], sheared[{}], best.t, &bary);\n        \
              if (t > 0.0) {{ best = TriangleHit(t, {k}u, bary); }}\n    \
              }}\n",
