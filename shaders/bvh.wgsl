@@ -222,7 +222,11 @@ fn intersect_sheared(a: vec3f, b: vec3f, c: vec3f, t_max: f32, bary: ptr<functio
     let sign = bitcast<u32>(det) & 0x80000000u;
     let uvw = bitcast<vec3f>(bitcast<vec3u>(vec3f(u, v, w)) ^ vec3u(sign));
     let t_signed = bitcast<f32>(bitcast<u32>(t) ^ sign);
-    if (!(min(min(uvw.x, uvw.y), uvw.z) >= 0.0 && t_signed > 0.0 && t_signed < t_max * abs(det))) {
+    // The smallest edge function by selects, which compile to the SIMD minimum (WGSL's min may
+    // add NaN handling: none is needed, a NaN failing every comparison either way).
+    let uv_min = select(uvw.y, uvw.x, uvw.x < uvw.y);
+    let uvw_min = select(uvw.z, uv_min, uv_min < uvw.z);
+    if (!(uvw_min >= 0.0 && t_signed > 0.0 && t_signed < t_max * abs(det))) {
         return -1.0;
     }
     let inv = 1.0 / det;
