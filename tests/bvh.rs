@@ -214,6 +214,20 @@ fn brute_main(@builtin(global_invocation_id) gid: vec3u) {
     }
     test_out[i] = vec4f(select(-1.0, best.t, best.index != INVALID), bitcast<f32>(best.index), 0.0, 0.0);
 }
+
+// The small scenes' unrolled tests (generated: `triangles_brute_force`, on shared vertices),
+// for a module assembled with them unrolled to the scene's triangle count.
+@compute @workgroup_size(64)
+fn small_main(@builtin(global_invocation_id) gid: vec3u) {
+    load_small_triangles();
+    let i = gid.x;
+    if (i >= arrayLength(&test_rays)) {
+        return;
+    }
+    let r = test_rays[i];
+    let best = triangles_brute_force(r.o.xyz, r.d.xyz, r.o.w);
+    test_out[i] = vec4f(select(-1.0, best.t, best.index != INVALID), bitcast<f32>(best.index), best.bary);
+}
 "#;
 
 /// Runs the kernel's closest and any queries for `rays` (origin, direction, closest t_max,
@@ -401,24 +415,6 @@ fn every_node_but_the_root_finds_its_parent() {
 
 // ----- the small scenes' unrolled tests on shared vertices (generated, bvh.wgsl) -------------
 
-const SMALL_KERNEL: &str = r#"
-struct TestRay { o: vec4f, d: vec4f }
-@group(0) @binding(0) var<storage, read> test_rays: array<TestRay>;
-@group(0) @binding(1) var<storage, read_write> test_out: array<vec4f>;
-
-@compute @workgroup_size(64)
-fn small_main(@builtin(global_invocation_id) gid: vec3u) {
-    load_small_triangles();
-    let i = gid.x;
-    if (i >= arrayLength(&test_rays)) {
-        return;
-    }
-    let r = test_rays[i];
-    let best = triangles_brute_force(r.o.xyz, r.d.xyz, r.o.w);
-    test_out[i] = vec4f(select(-1.0, best.t, best.index != INVALID), bitcast<f32>(best.index), best.bary);
-}
-"#;
-
 /// The path tracer's unrolled small-scene tests (`triangles_brute_force`, each distinct vertex
 /// sheared once per ray, the corners `override` constants: `accel::SharedVertices`) for `rays`
 /// (origin, direction, t_max) over `tris` in their order: (t or -1, triangle index,
@@ -429,7 +425,7 @@ fn gpu_small_scene(tris: &[Triangle], rays: &[(Vec3, Vec3, f32)]) -> Vec<(f32, u
     use pathlab::shaders::{self, bindings, files};
     let corners: Vec<[[f32; 3]; 3]> = tris.iter().map(|t| t.map(|v| v.to_array())).collect();
     let (shared, positions) = SharedVertices::of(&corners).expect("a small scene");
-    let source = shaders::assemble_unrolled(&[files::COMMON, files::BVH], SMALL_KERNEL, tris.len() as u32);
+    let source = shaders::assemble_unrolled(&[files::COMMON, files::BVH], BVH_KERNEL, tris.len() as u32);
     let ordered = common::gpu().info.device_type != wgpu::DeviceType::Cpu;
     let mut constants = vec![
         ("NUM_TRIANGLES", tris.len() as f64),
