@@ -427,15 +427,8 @@ fn gpu_small_scene(tris: &[Triangle], rays: &[(Vec3, Vec3, f32)]) -> Vec<(f32, u
     let (shared, positions) = SharedVertices::of(&corners).expect("a small scene");
     let source = shaders::assemble_unrolled(&[files::COMMON, files::BVH], BVH_KERNEL, tris.len() as u32);
     let ordered = common::gpu().info.device_type != wgpu::DeviceType::Cpu;
-    let mut constants = vec![
-        ("NUM_TRIANGLES", tris.len() as f64),
-        ("NUM_SMALL_VERTICES", shared.count as f64),
-        ("ORDERED_EDGES", ordered as u32 as f64),
-    ];
-    for (k, (names, c)) in shaders::small_corner_names().iter().zip(shared.corners).enumerate() {
-        constants.extend([0, 1, 2].map(|j| (names[j].as_str(), c[j] as f64)));
-        constants.push((shaders::small_first_use_names()[k].as_str(), shared.first_uses[k] as f64));
-    }
+    let mut constants = vec![("NUM_TRIANGLES", tris.len() as f64), ("ORDERED_EDGES", ordered as u32 as f64)];
+    constants.extend(shaders::small_vertex_constants(&shared));
     let mut vertices: Vec<[f32; 4]> = positions.iter().map(|p| [p[0], p[1], p[2], 0.0]).collect();
     vertices.resize(pathlab::accel::MAX_SHARED_VERTICES as usize, [0.0; 4]);
     let ray_data: Vec<[f32; 8]> = rays.iter().map(|(o, d, t)| [o.x, o.y, o.z, *t, d.x, d.y, d.z, 0.0]).collect();

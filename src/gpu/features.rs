@@ -29,7 +29,8 @@ pub struct SceneFeatures {
     pub num_triangles: u32,
     /// A small scene's distinct vertex positions and each triangle's corners among them
     /// (`accel::SharedVertices`; the default where the scene traverses the BVH): the
-    /// `NUM_SMALL_VERTICES` and `SMALL_CORNER_<k>_<j>` overrides.
+    /// `NUM_SMALL_VERTICES`, `SMALL_CORNER_<k>_<j>` and `SMALL_FIRST_USES_<k>` overrides
+    /// (`shaders::small_vertex_constants`).
     pub small_vertices: SharedVertices,
     /// Some mesh has vertex normals (interpolated as shading normals).
     pub has_shading_normals: bool,

@@ -96,11 +96,7 @@ pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
         constants.push((k.textured_override(), ((f.textured_slots >> (8 * k.constant())) & 0xff) as f64));
     }
     // The small scene's distinct vertices and each triangle's corners among them.
-    constants.push(("NUM_SMALL_VERTICES", f.small_vertices.count as f64));
-    for (k, (names, corners)) in shaders::small_corner_names().iter().zip(f.small_vertices.corners).enumerate() {
-        constants.extend([0, 1, 2].map(|j| (names[j].as_str(), corners[j] as f64)));
-        constants.push((shaders::small_first_use_names()[k].as_str(), f.small_vertices.first_uses[k] as f64));
-    }
+    constants.extend(shaders::small_vertex_constants(&f.small_vertices));
     // One NUM_<KIND>_LIGHTS per emitter kind (NUM_LIGHTS is their sum, in the WGSL).
     constants.extend(EmitterKind::ALL.map(|k| (k.count_override(), f.lights_of(k) as f64)));
     constants

@@ -229,6 +229,17 @@ pub fn small_first_use_names() -> &'static [String] {
     &NAMES
 }
 
+/// The `override` constants of a small scene's shared vertices (`accel::SharedVertices`):
+/// `NUM_SMALL_VERTICES`, and per triangle its corners and first uses.
+pub fn small_vertex_constants(shared: &crate::accel::SharedVertices) -> Vec<(&'static str, f64)> {
+    let mut constants = vec![("NUM_SMALL_VERTICES", shared.count as f64)];
+    for (k, (names, corners)) in small_corner_names().iter().zip(shared.corners).enumerate() {
+        constants.extend([0, 1, 2].map(|j| (names[j].as_str(), corners[j] as f64)));
+        constants.push((small_first_use_names()[k].as_str(), shared.first_uses[k] as f64));
+    }
+    constants
+}
+
 /// The small scenes' triangle tests (see bvh.wgsl) for scenes of at most `n` triangles:
 /// `load_small_triangles`, which copies the distinct vertex positions of the uniform array
 /// `small_vertices` into the private array `small_vertex_cache`, and `triangles_brute_force`,
