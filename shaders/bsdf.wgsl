@@ -183,7 +183,8 @@ fn sample_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> Bsd
 // slots whose meaning is the kind's (each kind's file unpacks them, `<stem>_of`), and the side
 // the viewer is on: `inside` when wo is against the surface's (shading) normal, where a
 // transmitting BSDF's relative index is the inverse (n_s, given turned towards wo, no longer
-// tells). `opacity`: Mitsuba's mask around it (bsdfs/mask.wgsl), 1 where opaque.
+// tells). `opacity`: Mitsuba's mask around it (bsdfs/mask.wgsl), 1 where opaque. `tangent`:
+// the surface's dp/du at the point (Hit.tangent), where HAS_TANGENT_FRAMES; else 0.
 struct Bsdf {
     kind: u32,
     p0: vec4f,
@@ -191,4 +192,30 @@ struct Bsdf {
     p2: vec4f,
     inside: bool,
     opacity: f32,
+    tangent: vec3f,
+}
+
+// Some material depends on the direction of the surface's parametrisation (anisotropic
+// roughness: SceneFeatures::tangent_frames): hits then carry dp/du (Hit.tangent), and the
+// kinds that read it build their frame from it (bsdf_frame).
+override HAS_TANGENT_FRAMES: bool = false;
+
+// The shading frame of a BSDF whose lobes depend on the azimuth (anisotropic roughness), around
+// the shading normal n_s: Mitsuba's (SurfaceInteraction::initialize_sh_frame), s the surface's
+// dp/du made orthogonal to n_s by Gram-Schmidt, t = n_s x s; where dp/du is zero or parallel to
+// n_s (a sphere's pole), the arbitrary frame of n_s (Mitsuba's coordinate_system, the same
+// construction, Duff et al. 2017). n_s turned to the viewer keeps s and turns t: the
+// distributions are symmetric in y, so nothing a BSDF gives changes. Without HAS_TANGENT_FRAMES
+// the arbitrary frame, which isotropic lobes do not see.
+fn bsdf_frame(b: Bsdf, n_s: vec3f) -> Frame {
+    if (!HAS_TANGENT_FRAMES) {
+        return frame_from_normal(n_s);
+    }
+    let s = b.tangent - n_s * dot(n_s, b.tangent);
+    let len2 = dot(s, s);
+    if (!(len2 > 0.0)) {
+        return frame_from_normal(n_s);
+    }
+    let s_unit = s * inverseSqrt(len2);
+    return Frame(s_unit, cross(n_s, s_unit), n_s);
 }

@@ -128,6 +128,25 @@ fn triangle_uv(i: u32, tri: Triangle, bary: vec2f) -> vec2f {
     return bary;
 }
 
+// The direction of dp/du of triangle i, whose unit winding normal is n, as Mitsuba's meshes have
+// it (mesh.cpp): from its vertices' texture coordinates where it has them,
+//   dp/du = (duv1.y dp0 - duv0.y dp1) / det,  det = duv0.x duv1.y - duv0.y duv1.x,
+// with dp0 = p1 - p0, dp1 = p2 - p0, duv0 = uv1 - uv0, duv1 = uv2 - uv0 (where det is 0, the first
+// axis of the arbitrary frame of n, Mitsuba's coordinate_system); else p1 - p0 (the barycentric
+// parametrisation).
+fn triangle_tangent(i: u32, tri: Triangle, n: vec3f) -> vec3f {
+    let dp0 = tri.p1 - tri.p0;
+    if ((tri.flags & TRIANGLE_HAS_UVS) != 0u) {
+        let t = triangle_uvs[i];
+        let duv0 = t.uv1 - t.uv0;
+        let duv1 = t.uv2 - t.uv0;
+        let det = duv0.x * duv1.y - duv0.y * duv1.x;
+        let dp1 = tri.p2 - tri.p0;
+        return select(frame_from_normal(n).t, (duv1.y * dp0 - duv0.y * dp1) / det, det != 0.0);
+    }
+    return dp0;
+}
+
 // Barycentrics (of p1 and p2) of a point p in the triangle's plane (plane_barycentrics,
 // common.wgsl).
 fn triangle_barycentrics(tri: Triangle, p: vec3f) -> vec2f {

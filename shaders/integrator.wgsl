@@ -330,6 +330,9 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
         }
         var m = material_bsdf(hit.material, from_inside, hit.uv, x);
         m.inside = from_inside;
+        if (HAS_TANGENT_FRAMES) {
+            m.tangent = hit.tangent;
+        }
         let dim_base = first_vertex_dim() + (depth - 1u) * dims_per_vertex();
         // A one-sided BSDF seen from behind (the side its surface normal points away from)
         // scatters nothing: Mitsuba's rule for BSDFs not wrapped in `twosided`.
@@ -382,7 +385,7 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
         }
         ray_d = bs.wi;
         // A sample that cannot scatter (below the surface) ends the path untraced.
-        hit = Hit(0.0, vec3f(0.0, 0.0, 1.0), 0u, INVALID, vec3f(0.0, 0.0, 1.0), vec2f(0.0));
+        hit = Hit(0.0, vec3f(0.0, 0.0, 1.0), 0u, INVALID, vec3f(0.0, 0.0, 1.0), vec2f(0.0), vec3f(0.0));
         if (scattered) {
             hit = intersect_scene(ray_o, ray_d);
         }

@@ -15,6 +15,10 @@ struct Hit {
     // The uv parametrisation at the hit (sphere_uv, plane_uv, triangle_uv), where HAS_UVS;
     // else 0.
     uv: vec2f,
+    // The direction of dp/du there (sphere_tangent, plane_tangent, quadric_tangent,
+    // triangle_tangent; not normalised, 0 where the parametrisation is singular), where
+    // HAS_TANGENT_FRAMES; else 0.
+    tangent: vec3f,
 }
 
 // The first object index of the quadrics (disks, then cylinders).
@@ -46,6 +50,14 @@ fn quadric_uv(k: u32, q: Quadric, p: vec3f) -> vec2f {
         return disk_uv(q, p);
     }
     return cylinder_uv(q, p);
+}
+
+// The direction of dp/du of quadric k at world point p of it.
+fn quadric_tangent(k: u32, q: Quadric, p: vec3f) -> vec3f {
+    if (k < NUM_DISKS) {
+        return disk_tangent(q, p);
+    }
+    return cylinder_tangent(q, p);
 }
 
 // Smallest root t of |o + t d - c|^2 = r^2 in (t_min, t_max), or -1.
@@ -84,6 +96,19 @@ fn sphere_uv(i: u32, n: vec3f) -> vec2f {
     var phi = atan2(l.y, l.x);
     phi = select(phi, phi + 2.0 * PI, phi < 0.0);
     return vec2f(phi * INV_2PI, acos(clamp(l.z, -1.0, 1.0)) * INV_PI);
+}
+
+// The direction of dp/du of sphere i at the point whose outward unit normal is n (Mitsuba's
+// sphere.cpp: to_world 2 pi (-y, x, 0) of the object-space point): around the sphere's z axis; 0
+// at its poles.
+fn sphere_tangent(i: u32, n: vec3f) -> vec3f {
+    let a = sphere_axes[i];
+    return a.y * dot(n, a.x) - a.x * dot(n, a.y);
+}
+
+// The direction of dp/du of a plane: the first axis of its uv parametrisation (plane_uv).
+fn plane_tangent(normal: vec3f) -> vec3f {
+    return frame_from_normal(normal).t;
 }
 
 // The uv parametrisation of a plane (pathlab's own shape: Mitsuba has no infinite plane): the
@@ -131,7 +156,11 @@ fn intersect_scene(o: vec3f, d: vec3f) -> Hit {
     if (HAS_UVS && object != INVALID) {
         uv = select(plane_uv(plane_normal, o + d * t_hit), sphere_uv(object, sphere_normal), object < NUM_SPHERES);
     }
-    var hit = Hit(t_hit, normal, material, object, normal, uv);
+    var tangent = vec3f(0.0);
+    if (HAS_TANGENT_FRAMES && object != INVALID) {
+        tangent = select(plane_tangent(plane_normal), sphere_tangent(object, sphere_normal), object < NUM_SPHERES);
+    }
+    var hit = Hit(t_hit, normal, material, object, normal, uv, tangent);
     if (NUM_DISKS + NUM_CYLINDERS > 0u) {
         // Quadrics in loops of their own, as spheres: a lane-uniform index, read as broadcasts.
         var quadric = INVALID;
@@ -155,7 +184,11 @@ fn intersect_scene(o: vec3f, d: vec3f) -> Hit {
             if (HAS_UVS) {
                 q_uv = quadric_uv(quadric, q, x);
             }
-            hit = Hit(hit.t, n, q.material, first_quadric_object() + quadric, n, q_uv);
+            var q_tangent = vec3f(0.0);
+            if (HAS_TANGENT_FRAMES) {
+                q_tangent = quadric_tangent(quadric, q, x);
+            }
+            hit = Hit(hit.t, n, q.material, first_quadric_object() + quadric, n, q_uv, q_tangent);
         }
     }
     if (NUM_TRIANGLES > 0u) {
@@ -168,7 +201,11 @@ fn intersect_scene(o: vec3f, d: vec3f) -> Hit {
             if (HAS_UVS) {
                 tri_uv = triangle_uv(th.index, tri, th.bary);
             }
-            hit = Hit(th.t, n, tri.material, first_triangle_object() + th.index, shading_normal, tri_uv);
+            var tri_tangent = vec3f(0.0);
+            if (HAS_TANGENT_FRAMES) {
+                tri_tangent = triangle_tangent(th.index, tri, n);
+            }
+            hit = Hit(th.t, n, tri.material, first_triangle_object() + th.index, shading_normal, tri_uv, tri_tangent);
         }
     }
     return hit;

@@ -132,7 +132,7 @@ struct Surfaces {
 // its speed).
 fn material_bsdf(material: u32, from_inside: bool, uv: vec2f, p: vec3f) -> Bsdf {
     let i = material_on_side(material, from_inside);
-    var b = Bsdf(BSDF_KIND_PHONG, materials[i].p0, materials[i].p1, vec4f(0.0), false, 1.0);
+    var b = Bsdf(BSDF_KIND_PHONG, materials[i].p0, materials[i].p1, vec4f(0.0), false, 1.0, vec3f(0.0));
     if (bsdf_kinds_vary()) {
         b.kind = materials[i].kind;
         b.p2 = materials[i].p2;

@@ -93,7 +93,8 @@ fn principled_parameters_are_read_and_bad_ones_refused() {
         ("specular = 13", "materials.m.specular", "[0, 12.5)"),
         ("specular = 0.5\neta = 1.5", "materials.m.eta", "not both"),
         ("eta = 0", "materials.m.eta", "> 0"),
-        ("anisotropic = 0.5", "materials.m.anisotropic", "tangent frame"),
+        ("anisotropic = 1.5", "materials.m.anisotropic", "must be in [0, 1]"),
+        ("anisotropic = { texture = \"checkerboard\" }", "materials.m.anisotropic", "textured `anisotropic`"),
         ("spec_trans = 0.2", "materials.m.spec_trans", "transmission"),
         ("clearcoat_sampling_rate = 0", "materials.m.clearcoat_sampling_rate", "> 0"),
         ("alpha = 0.1", "materials.m.alpha", "belongs to"),
@@ -114,7 +115,8 @@ fn principled_parameters_are_read_and_bad_ones_refused() {
     let s = load_xml(&xml("<float name=\"metallic\" value=\"0.745455\"/><float name=\"anisotropic\" value=\"0\"/><float name=\"spec_trans\" value=\"0.0\"/>"), "p.xml").unwrap();
     assert!(matches!(&s.materials[0].bsdf, Bsdf::Principled(p) if (p.weight("metallic") - 0.745455).abs() < 1e-12));
     for (props, message) in [
-        ("<float name=\"anisotropic\" value=\"0.3\"/>", "tangent frame"),
+        ("<float name=\"anisotropic\" value=\"1.3\"/>", "must be in [0, 1]"),
+        ("<texture type=\"checkerboard\" name=\"anisotropic\"/>", "textured `anisotropic`"),
         ("<float name=\"spec_trans\" value=\"1\"/>", "transmission"),
         ("<float name=\"metallic\" value=\"2\"/>", "must be in [0, 1]"),
         ("<float name=\"eta\" value=\"1.5\"/><float name=\"specular\" value=\"0.5\"/>", "not both"),

@@ -101,6 +101,7 @@ fn overrides_set_by_the_host_are_those_the_module_declares() {
         has_shading_normals: true,
         has_uvs: true,
         has_masks: true,
+        anisotropic_roughness: true,
         textured_opacity: true,
         texture_kinds: 7,
         microfacet_distributions: 3,

@@ -87,6 +87,8 @@ fn every_override_permutation_validates() {
                                     textured_slots: if (checked / 7) % 2 == 0 { u64::MAX } else { 0 },
                                     // Back BSDFs on and off, with several kinds and with Phong alone.
                                     has_back_bsdfs: (checked / 5) % 2 == 0,
+                                    // Tangent frames and anisotropic microfacets on and off.
+                                    anisotropic_roughness: (checked / 11) % 2 == 0,
                                     rr_depth: if on { 2 } else { 0 },
                                     thin_lens: on,
                                     hide_emitters: on,

@@ -6,6 +6,7 @@
 mod common;
 
 mod advise;
+mod anisotropic;
 mod analytic_scenes;
 mod bvh;
 mod checkpoint;

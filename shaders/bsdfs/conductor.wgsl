@@ -1,6 +1,7 @@
 // bsdfs/conductor.wgsl — Mitsuba's smooth `conductor`: a mirror, a delta lobe (eval and pdf
 // are 0 for every given wi), with the exact Fresnel term of a complex index eta + i k
-// (microfacet.wgsl's fresnel_conductor). `Conductor` also holds the rough conductor's roughness.
+// (microfacet.wgsl's fresnel_conductor). `Conductor` also holds the rough conductor's roughness
+// (alpha_u, alpha_v).
 
 struct Conductor {
     // Complex index of refraction eta + i k, per channel.
@@ -8,7 +9,7 @@ struct Conductor {
     k: vec3f,
     // Mitsuba's specular_reflectance: a factor on the Fresnel term.
     reflectance: vec3f,
-    alpha: f32,
+    alpha_uv: vec2f,
     distribution: u32,
 }
 
@@ -21,11 +22,17 @@ fn sample_conductor(c: Conductor, n_s: vec3f, wo: vec3f) -> BsdfSample {
 }
 
 // The parameter block as src/scene/bsdfs/conductor.rs packs it: p0 = (eta, alpha),
-// p1 = (k, the distribution's number), p2 = (reflectance, 0); the smooth conductor has
-// alpha 0 (its distribution is unused).
+// p1 = (k, the distribution's number), p2 = (reflectance, alpha_v: 0 where isotropic,
+// src/scene/bsdfs/rough_conductor.rs); the smooth conductor has alpha 0 (its distribution is
+// unused).
 fn conductor_of(b: Bsdf) -> Conductor {
     // The roughness at least 1e-4 (Mitsuba's MicrofacetDistribution), for a textured one.
-    return Conductor(b.p0.xyz, b.p1.xyz, b.p2.xyz, max(b.p0.w, 1e-4), u32(b.p1.w));
+    let alpha_u = max(b.p0.w, 1e-4);
+    var alpha_v = alpha_u;
+    if (ANISOTROPIC_ROUGHNESS && b.p2.w > 0.0) {
+        alpha_v = b.p2.w;
+    }
+    return Conductor(b.p0.xyz, b.p1.xyz, b.p2.xyz, vec2f(alpha_u, alpha_v), u32(b.p1.w));
 }
 
 // The dispatcher's entry points (generated from src/scene/bsdfs/mod.rs): no direction but the

@@ -1,9 +1,10 @@
 // bsdfs/principled.wgsl — Mitsuba's `principled` term for term (principled.cpp,
 // principledhelpers.h; the host's side and the lobes' formulas: src/scene/bsdfs/principled.rs):
-// the Disney principled BRDF without transmission or anisotropy. Lobes, with C the base colour,
-// M metallic, r roughness, wo the viewer's direction (Mitsuba's wi), wi the scattered one:
+// the Disney principled BRDF without transmission. Lobes, with C the base colour, M metallic,
+// r roughness, wo the viewer's direction (Mitsuba's wi), wi the scattered one:
 //
-//   specular:  F D G / (4 cos_o cos_i), GGX of alpha max(0.001, r^2), F the principled Fresnel;
+//   specular:  F D G / (4 cos_o cos_i), GGX of alpha max(0.001, r^2) (anisotropic: of
+//              (alpha_u, alpha_v), principled_alpha), F the principled Fresnel;
 //   clearcoat: clearcoat / 4 Fcc Dcc Gcc (GTR1 normals; Mitsuba's, without 1 / (4 cos_o cos_i));
 //   diffuse:   (1 - M) C / pi (Disney's diffuse with retro-reflection, blended by flatness
 //              with the fake subsurface term);
@@ -28,15 +29,21 @@ struct Principled {
     specular_rate: f32,
     clearcoat_rate: f32,
     diffuse_rate: f32,
+    anisotropic: f32,
 }
 
 // The parameter block as src/scene/bsdfs/principled.rs packs it: p0 = (base_color, roughness),
 // p1 = (metallic, spec_tint, sheen, sheen_tint), p2 = (clearcoat, clearcoat_gloss, eta, data);
-// the data: flatness and the three sampling rates.
+// the data: flatness, the three sampling rates and anisotropic (read only where some material
+// has anisotropic roughness).
 fn principled_of(b: Bsdf) -> Principled {
     let d = u32(b.p2.w);
+    var anisotropic = 0.0;
+    if (ANISOTROPIC_ROUGHNESS) {
+        anisotropic = bsdf_data[d + 4u];
+    }
     return Principled(b.p0.xyz, b.p0.w, b.p1.x, b.p1.y, b.p1.z, b.p1.w, b.p2.x, b.p2.y, b.p2.z,
-                      bsdf_data[d], bsdf_data[d + 1u], bsdf_data[d + 2u], bsdf_data[d + 3u]);
+                      bsdf_data[d], bsdf_data[d + 1u], bsdf_data[d + 2u], bsdf_data[d + 3u], anisotropic);
 }
 
 // Schlick's weight (1 - cos)^5, its argument clipped to [0, 1].
@@ -109,9 +116,16 @@ fn clearcoat_alpha(p: Principled) -> f32 {
     return mix(0.1, 0.001, p.clearcoat_gloss);
 }
 
-// The main specular lobe's GGX roughness (isotropic: Mitsuba's calc_dist_params).
-fn principled_alpha(p: Principled) -> f32 {
-    return max(0.001, p.roughness * p.roughness);
+// The main specular lobe's GGX roughness (alpha_u, alpha_v) (Mitsuba's calc_dist_params):
+// max(0.001, r^2) along both where not anisotropic, else (max(0.001, r^2 / aspect),
+// max(0.001, r^2 aspect)) with aspect = sqrt(1 - 0.9 anisotropic).
+fn principled_alpha(p: Principled) -> vec2f {
+    let r2 = p.roughness * p.roughness;
+    if (ANISOTROPIC_ROUGHNESS && p.anisotropic > 0.0) {
+        let aspect = sqrt(1.0 - 0.9 * p.anisotropic);
+        return max(vec2f(0.001), vec2f(r2 / aspect, r2 * aspect));
+    }
+    return vec2f(max(0.001, r2));
 }
 
 // The probabilities of the diffuse lobe and of the clearcoat in the own sampling (the main
@@ -138,8 +152,8 @@ fn eval_pdf_principled_local(p: Principled, wo: vec3f, wi: vec3f) -> BsdfEval {
     var f = vec3f(0.0);
     // The main specular reflection (Mitsuba's mask: only where the dielectric reflects).
     if (compatible && f_dielectric > 0.0) {
-        let d = eval_microfacet_d(h, alpha, DISTRIBUTION_GGX);
-        let g = smith_g(wo, wi, h, alpha, DISTRIBUTION_GGX);
+        let d = eval_microfacet_d_uv(h, alpha, DISTRIBUTION_GGX);
+        let g = smith_g_uv(wo, wi, h, alpha, DISTRIBUTION_GGX);
         f += principled_fresnel(p, f_dielectric, dot(wo, h)) * (d * g / (4.0 * wo.z * wi.z));
     }
     // The clearcoat: Schlick's F of R0 = 0.04, GTR1 normals, GGX's G1 at roughness 0.25.
@@ -177,7 +191,7 @@ fn eval_pdf_principled_local(p: Principled, wo: vec3f, wi: vec3f) -> BsdfEval {
     if (compatible) {
         let jacobian = 1.0 / (4.0 * dot(wi, h));
         let prob_specular = 1.0 - probs.x - probs.y;
-        pdf += prob_specular * pdf_microfacet(wo, h, alpha, DISTRIBUTION_GGX) * jacobian;
+        pdf += prob_specular * pdf_microfacet_uv(wo, h, alpha, DISTRIBUTION_GGX) * jacobian;
         pdf += probs.y * eval_gtr1(h, a_cc) * h.z * jacobian;
     }
     return BsdfEval(f, pdf);
@@ -185,8 +199,8 @@ fn eval_pdf_principled_local(p: Principled, wo: vec3f, wi: vec3f) -> BsdfEval {
 
 // One lobe by u_lobe (diffuse, clearcoat, then the main specular), its direction from u_dir;
 // weighted by path_weight with the whole BSDF and the mixture's density, as Mitsuba's.
-fn sample_principled(p: Principled, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> BsdfSample {
-    let frame = frame_from_normal(n_s);
+fn sample_principled(p: Principled, frame: Frame, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> BsdfSample {
+    let n_s = frame.n;
     let wo_l = frame_to_local(frame, wo);
     if (wo_l.z <= 0.0) {
         return BsdfSample(n_s, 0.0, vec3f(0.0), false, 1.0);
@@ -201,7 +215,7 @@ fn sample_principled(p: Principled, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe:
         if (u_lobe < probs.x + probs.y) {
             m = sample_gtr1(u_dir, clearcoat_alpha(p));
         } else {
-            m = sample_microfacet(wo_l, u_dir, principled_alpha(p), DISTRIBUTION_GGX).m;
+            m = sample_microfacet_uv(wo_l, u_dir, principled_alpha(p), DISTRIBUTION_GGX).m;
         }
         wi_l = 2.0 * dot(wo_l, m) * m - wo_l;
         // Mitsuba's mask: the reflection must be above the surface and see the normal's front.
@@ -216,10 +230,10 @@ fn sample_principled(p: Principled, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe:
 
 // The dispatcher's entry points (generated from src/scene/bsdfs/mod.rs).
 fn eval_pdf_principled_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, wi: vec3f) -> BsdfEval {
-    let frame = frame_from_normal(n_s);
+    let frame = bsdf_frame(b, n_s);
     return eval_pdf_principled_local(principled_of(b), frame_to_local(frame, wo), frame_to_local(frame, wi));
 }
 
 fn sample_principled_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> BsdfSample {
-    return sample_principled(principled_of(b), n_s, wo, u_dir, u_lobe);
+    return sample_principled(principled_of(b), bsdf_frame(b, n_s), wo, u_dir, u_lobe);
 }

@@ -18,24 +18,30 @@ struct RoughDielectric {
     eta: f32,
     reflectance: vec3f,
     transmittance: vec3f,
-    alpha: f32,
+    // (alpha_u, alpha_v).
+    alpha_uv: vec2f,
     distribution: u32,
 }
 
 // The parameter block as src/scene/bsdfs/rough_dielectric.rs packs it: p0 = (reflectance, eta),
-// p1 = (transmittance, alpha), p2 = (distribution, 0, 0, 0).
+// p1 = (transmittance, alpha), p2 = (distribution, alpha_v: 0 where isotropic, 0, 0).
 fn rough_dielectric_of(b: Bsdf) -> RoughDielectric {
     // The roughness at least 1e-4 (Mitsuba's MicrofacetDistribution), for a textured one.
-    return RoughDielectric(b.p0.w, b.p0.xyz, b.p1.xyz, max(b.p1.w, 1e-4), u32(b.p2.x));
+    let alpha_u = max(b.p1.w, 1e-4);
+    var alpha_v = alpha_u;
+    if (ANISOTROPIC_ROUGHNESS && b.p2.y > 0.0) {
+        alpha_v = b.p2.y;
+    }
+    return RoughDielectric(b.p0.w, b.p0.xyz, b.p1.xyz, vec2f(alpha_u, alpha_v), u32(b.p2.x));
 }
 
-// The roughness normals are sampled with: Walter's widening for the ndf strategy (a
-// researcher's microfacet technique gets the material's own).
-fn rough_dielectric_sample_alpha(d: RoughDielectric, cos_o: f32) -> f32 {
+// The roughness normals are sampled with: Walter's widening of both alphas for the ndf strategy
+// (a researcher's microfacet technique gets the material's own).
+fn rough_dielectric_sample_alpha(d: RoughDielectric, cos_o: f32) -> vec2f {
     if (MICROFACET_SAMPLING == MICROFACET_NDF && !(BSDF_TECHNIQUE && BSDF_TECHNIQUE_MICROFACET)) {
-        return d.alpha * (1.2 - 0.2 * sqrt(abs(cos_o)));
+        return d.alpha_uv * (1.2 - 0.2 * sqrt(abs(cos_o)));
     }
-    return d.alpha;
+    return d.alpha_uv;
 }
 
 struct RoughDielectricEval {
@@ -55,9 +61,9 @@ fn eval_pdf_rough_dielectric_local(d: RoughDielectric, eta: f32, wo: vec3f, wi: 
     let dot_wi_m = dot(wi, m);
     // The micro- and the macro-surface agree on the sides of both directions.
     let valid = cos_o > 0.0 && cos_i != 0.0 && dot_wo_m * cos_o > 0.0 && dot_wi_m * cos_i > 0.0;
-    let dist = eval_microfacet_d(m, d.alpha, d.distribution);
+    let dist = eval_microfacet_d_uv(m, d.alpha_uv, d.distribution);
     let f = fresnel_dielectric(dot_wo_m, eta).r;
-    let g = smith_g(wo, wi, m, d.alpha, d.distribution);
+    let g = smith_g_uv(wo, wi, m, d.alpha_uv, d.distribution);
     var value: vec3f;
     var jacobian: f32;
     var lobe: f32;
@@ -71,7 +77,7 @@ fn eval_pdf_rough_dielectric_local(d: RoughDielectric, eta: f32, wo: vec3f, wi: 
         jacobian = eta * eta * dot_wi_m / (denominator * denominator);
         lobe = 1.0 - f;
     }
-    let pdf = pdf_microfacet(wo, m, rough_dielectric_sample_alpha(d, cos_o), d.distribution) * lobe * abs(jacobian);
+    let pdf = pdf_microfacet_uv(wo, m, rough_dielectric_sample_alpha(d, cos_o), d.distribution) * lobe * abs(jacobian);
     return RoughDielectricEval(select(vec3f(0.0), value, valid), select(0.0, pdf, valid));
 }
 
@@ -82,11 +88,11 @@ fn rough_dielectric_eta(d: RoughDielectric, inside: bool) -> f32 {
 
 // A normal by the pipeline's microfacet strategy, then reflection with probability F(wo . m)
 // (u_lobe <= F, Mitsuba's test) or refraction; the weight is f |cos| / pdf of the result.
-fn sample_rough_dielectric(d: RoughDielectric, inside: bool, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> BsdfSample {
-    let frame = frame_from_normal(n_s);
+fn sample_rough_dielectric(d: RoughDielectric, inside: bool, frame: Frame, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> BsdfSample {
+    let n_s = frame.n;
     let wo_l = frame_to_local(frame, wo);
     let eta = rough_dielectric_eta(d, inside);
-    let m = sample_microfacet(wo_l, u_dir, rough_dielectric_sample_alpha(d, wo_l.z), d.distribution).m;
+    let m = sample_microfacet_uv(wo_l, u_dir, rough_dielectric_sample_alpha(d, wo_l.z), d.distribution).m;
     let fr = fresnel_dielectric(dot(wo_l, m), eta);
     var wi_l: vec3f;
     var rel = 1.0;
@@ -116,7 +122,7 @@ fn sample_rough_dielectric(d: RoughDielectric, inside: bool, n_s: vec3f, wo: vec
 // The dispatcher's entry points (generated from src/scene/bsdfs/mod.rs).
 fn eval_pdf_rough_dielectric_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, wi: vec3f) -> BsdfEval {
     let d = rough_dielectric_of(b);
-    let frame = frame_from_normal(n_s);
+    let frame = bsdf_frame(b, n_s);
     let wi_l = frame_to_local(frame, wi);
     let e = eval_pdf_rough_dielectric_local(d, rough_dielectric_eta(d, b.inside), frame_to_local(frame, wo), wi_l);
     // f = (f |cos|) / |cos|, zero where cos is (f |cos| is zero there too).
@@ -124,5 +130,5 @@ fn eval_pdf_rough_dielectric_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, wi: vec3f) -> 
 }
 
 fn sample_rough_dielectric_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> BsdfSample {
-    return sample_rough_dielectric(rough_dielectric_of(b), b.inside, n_s, wo, u_dir, u_lobe);
+    return sample_rough_dielectric(rough_dielectric_of(b), b.inside, bsdf_frame(b, n_s), wo, u_dir, u_lobe);
 }

@@ -67,7 +67,7 @@ fn eval_pdf_rough_plastic_local(p: RoughPlastic, wo: vec3f, wi: vec3f) -> BsdfEv
     }
     let h = normalize(wo + wi);
     let d = eval_microfacet_d(h, p.alpha, p.distribution);
-    let g = smith_g(wo, wi, h, p.alpha, p.distribution);
+    let g = smith_g_uv(wo, wi, h, vec2f(p.alpha), p.distribution);
     let f = fresnel_dielectric(dot(wo, h), p.eta).r;
     let specular = p.specular * (f * d * g / (4.0 * wo.z * wi.z));
     let t_o = rough_plastic_transmittance(p, wo.z);

@@ -71,3 +71,10 @@ fn cylinder_uv(q: Quadric, p: vec3f) -> vec2f {
     u = select(u, u + 1.0, u < 0.0);
     return vec2f(u, l.z);
 }
+
+// The direction of dp/du of cylinder q at world point p of it (Mitsuba's cylinder.cpp:
+// to_world 2 pi (-y, x, 0), around the axis).
+fn cylinder_tangent(q: Quadric, p: vec3f) -> vec3f {
+    let l = quadric_point_to_object(q, p);
+    return quadric_vector_to_world(q, vec3f(-l.y, l.x, 0.0));
+}

@@ -22,6 +22,13 @@ fn disk_uv(q: Quadric, p: vec3f) -> vec2f {
     return vec2f(length(l.xy), v);
 }
 
+// The direction of dp/du of disk q at world point p of it (Mitsuba's disk.cpp: to_world (cos phi,
+// sin phi, 0), away from the centre); 0 at the centre.
+fn disk_tangent(q: Quadric, p: vec3f) -> vec3f {
+    let l = quadric_point_to_object(q, p);
+    return quadric_vector_to_world(q, vec3f(l.x, l.y, 0.0));
+}
+
 // A direction from x towards a point uniform in the area of disk q, with its solid-angle
 // density (Mitsuba's Disk::sample_position, converted at x).
 fn sample_disk_light(q: Quadric, x: vec3f, u: vec2f) -> LightSample {

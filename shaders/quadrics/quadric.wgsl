@@ -42,3 +42,7 @@ fn quadric_vector_to_object(q: Quadric, v: vec3f) -> vec3f {
 fn quadric_point_to_world(q: Quadric, p: vec3f) -> vec3f {
     return vec3f(dot(q.world_x.xyz, p) + q.world_x.w, dot(q.world_y.xyz, p) + q.world_y.w, dot(q.world_z.xyz, p) + q.world_z.w);
 }
+
+fn quadric_vector_to_world(q: Quadric, v: vec3f) -> vec3f {
+    return vec3f(dot(q.world_x.xyz, v), dot(q.world_y.xyz, v), dot(q.world_z.xyz, v));
+}

@@ -55,6 +55,10 @@ pub struct SceneFeatures {
     /// so that a scene of one distribution compiles the other's code out (lavapipe runs both
     /// sides of every branch: every GGX normal paid for Beckmann's visible-normal inversion).
     pub microfacet_distributions: u32,
+    /// Some material's roughness differs along u and v (`Bsdf::is_anisotropic`): the kernel's
+    /// `ANISOTROPIC_ROUGHNESS` (the anisotropic microfacet formulas) and `HAS_TANGENT_FRAMES`
+    /// (hits carry dp/du, which places the lobes).
+    pub anisotropic_roughness: bool,
     /// Some material has another BSDF on its back (`Material::back`, Mitsuba's `twosided` with
     /// two BSDFs).
     pub has_back_bsdfs: bool,
@@ -144,6 +148,7 @@ impl SceneFeatures {
                 .flat_map(|m| m.bsdf.textures().into_iter().chain(m.opacity.as_ref().and_then(|o| o.texture())))
                 .fold(0, |kinds, t| kinds | 1 << t.kind_number()),
             microfacet_distributions: scene.materials.iter().filter_map(|m| m.bsdf.microfacet_distribution()).fold(0, |bits, d| bits | 1 << d.constant()),
+            anisotropic_roughness: scene.materials.iter().any(|m| m.bsdf.is_anisotropic()),
             has_back_bsdfs: scene.materials.iter().any(|m| m.back.is_some()),
             rr_depth: scene.render.rr_depth.unwrap_or(0),
             thin_lens: scene.camera.aperture_radius > 0.0,

@@ -76,6 +76,8 @@ pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
         ("TEXTURE_KINDS", f.texture_kinds as f64),
         ("MICROFACET_DISTRIBUTIONS", f.microfacet_distributions as f64),
         ("HAS_BACK_BSDFS", f.has_back_bsdfs as u32 as f64),
+        ("ANISOTROPIC_ROUGHNESS", f.anisotropic_roughness as u32 as f64),
+        ("HAS_TANGENT_FRAMES", f.anisotropic_roughness as u32 as f64),
         ("THIN_LENS", f.thin_lens as u32 as f64),
         ("HIDE_EMITTERS", f.hide_emitters as u32 as f64),
         ("EMITTER_SKIPS", f.emitter_skips() as f64),

@@ -63,6 +63,10 @@ pub enum TechniqueError {
     Invalid { message: String },
     #[error("the method uses the {kind} technique `{name}`, which no --technique (or the scene's [techniques]) loads")]
     NotLoaded { kind: TechniqueKind, name: String },
+    /// A microfacet technique (of one alpha, the contract's interface) for a scene with
+    /// anisotropic roughness.
+    #[error("technique {label} samples microfacet normals of one alpha (the contract's interface), and material `{material}` has anisotropic roughness: render it without the technique, or make the material isotropic")]
+    Anisotropic { label: String, material: String },
     /// Its check failed and it is not allowed unproven: the check's report.
     #[error("technique {label} is refused:\n{report}(allow it unproven to render with it anyway: --allow-unproven, or allow_unproven=True in Python)")]
     Refused { label: String, report: String },

@@ -152,6 +152,11 @@ impl Default for CheckOptions {
 /// Validates `technique` (no GPU), then tests it on `scene`'s configurations.
 pub fn check(gpu: &Gpu, technique: &Technique, scene: &Scene, options: CheckOptions, mut progress: impl FnMut(usize, usize, &str)) -> Result<Verdict, TechniqueError> {
     shaders::validate_technique(technique)?;
+    if technique.kind == TechniqueKind::Bsdf && technique.bsdf_targets().microfacet {
+        if let Some(m) = scene.materials.iter().find(|m| m.bsdf.is_anisotropic()) {
+            return Err(TechniqueError::Anisotropic { label: technique.label(), material: m.name.clone() });
+        }
+    }
     let (configurations, source) = configurations(technique, scene);
     let tests = configurations.len() * 2;
     let level = crate::stats::sidak(ALPHA, tests.max(1));
@@ -355,7 +360,7 @@ fn microfacet_configuration(distribution: crate::scene::Distribution, alpha: f64
          const ROUTINE_DISTRIBUTION: u32 = {}u;\n\
          const ROUTINE_TRANSMITS: bool = {transmits};\n\
          fn routine_integrand(d: vec3f) -> f32 {{\n\
-             let visible = pdf_visible_normals(ROUTINE_WO, d, ROUTINE_ALPHA, ROUTINE_DISTRIBUTION);\n\
+             let visible = pdf_visible_normals(ROUTINE_WO, d, vec2f(ROUTINE_ALPHA), ROUTINE_DISTRIBUTION);\n\
              let mirrored = 2.0 * dot(ROUTINE_WO, d) * d - ROUTINE_WO;\n\
              return select(0.0, visible, d.z > 0.0 && (ROUTINE_TRANSMITS || mirrored.z > 0.0));\n\
          }}\n\

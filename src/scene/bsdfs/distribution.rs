@@ -24,15 +24,36 @@ crate::names::named_enum! {
 }
 
 /// A rough kind's roughness: `alpha`, or a texture of it (Mitsuba's `eval_1` of it at the hit,
-/// `Texture::scalar`; `alpha` is then its mean, for what the host computes).
+/// `Texture::scalar`; `alpha` is then its mean, for what the host computes); or, anisotropic,
+/// Mitsuba's `alpha_u` (in `alpha`) along the surface's dp/du and `alpha_v` across it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Roughness {
-    /// >= 1e-4.
+    /// >= 1e-4; alpha_u where `alpha_v` is given.
     pub alpha: f64,
     pub texture: Option<Texture>,
+    /// Mitsuba's `alpha_v` (>= 1e-4; numbers only) where the roughness is given as `alpha_u`
+    /// and `alpha_v`; `None`: the same along both.
+    pub alpha_v: Option<f64>,
 }
 
 impl Roughness {
+    /// One alpha along both directions.
+    pub fn isotropic(alpha: f64) -> Roughness {
+        Roughness { alpha, texture: None, alpha_v: None }
+    }
+
+    /// Whether it differs along u and v (the kernel's `ANISOTROPIC_ROUGHNESS`, and tangent
+    /// frames at hits).
+    pub fn is_anisotropic(&self) -> bool {
+        self.alpha_v.is_some_and(|v| v != self.alpha)
+    }
+
+    /// Its alpha_v in the parameter block: 0 where it is isotropic (the kernel then takes
+    /// alpha_u), else alpha_v.
+    pub fn pack_v(&self) -> f32 {
+        self.alpha_v.map_or(0.0, |v| v as f32)
+    }
+
     /// Its number in the parameter block: alpha, or -(start + 1) of its texture's record (a
     /// scalar texture slot, resolved in the kernel and clamped there to 1e-4 as Mitsuba's
     /// `MicrofacetDistribution::configure`).
@@ -43,19 +64,36 @@ impl Roughness {
         }
     }
 
-    /// Its value in the scene hash: alpha, and a texture's line after it.
+    /// Its value in the scene hash: alpha, and a texture's line after it, or alpha_u and
+    /// alpha_v (an isotropic roughness hashes as before alpha_v existed).
     pub fn hash_value(&self) -> String {
-        match &self.texture {
-            None => real(self.alpha),
-            Some(t) => format!("{} {}", real(self.alpha), t.hash_value(crate::scene::hash::vec3)),
+        match (&self.texture, self.alpha_v) {
+            (_, Some(v)) => format!("{} v {}", real(self.alpha), real(v)),
+            (None, None) => real(self.alpha),
+            (Some(t), None) => format!("{} {}", real(self.alpha), t.hash_value(crate::scene::hash::vec3)),
         }
     }
 }
 
+/// One roughness number of a TOML field: > 0 required (`smooth` names the smooth kind to use
+/// instead), and below 1e-4 clamped to it with a warning, as Mitsuba does.
+fn read_alpha(f: &mut Fields, name: &str, smooth: &str) -> Option<f64> {
+    let a = f.number(name)?;
+    let v = *a.get_ref();
+    if !(v > 0.0) {
+        f.error(a.span(), name, format!("{name} must be > 0 (got {v}); a smooth one is bsdf = \"{smooth}\""));
+    } else if v < MIN_ALPHA {
+        f.warn(a.span(), name, format!("{name} {v} is below {MIN_ALPHA}: it is clamped to {MIN_ALPHA}, as Mitsuba does"));
+    }
+    Some(v.max(MIN_ALPHA))
+}
+
 /// A rough kind's `distribution` and `alpha` from its TOML fields: Beckmann and 0.1 by default,
 /// alpha > 0 required (`smooth` names the smooth kind to use instead), and below 1e-4 clamped
-/// to it with a warning, as Mitsuba does. Where `textured`, alpha may be a texture table.
-pub(crate) fn read_fields(f: &mut Fields, smooth: &str, textured: bool) -> (Distribution, Roughness) {
+/// to it with a warning, as Mitsuba does. Where `textured`, alpha may be a texture table. Where
+/// `anisotropic`, `alpha_u` and `alpha_v` (numbers, both, and not with `alpha`, as Mitsuba
+/// requires) may take its place.
+pub(crate) fn read_fields(f: &mut Fields, smooth: &str, textured: bool, anisotropic: bool) -> (Distribution, Roughness) {
     let distribution = match f.string("distribution") {
         None => Distribution::Beckmann,
         Some(d) => Distribution::from_name(d.get_ref()).unwrap_or_else(|| {
@@ -63,36 +101,45 @@ pub(crate) fn read_fields(f: &mut Fields, smooth: &str, textured: bool) -> (Dist
             Distribution::Beckmann
         }),
     };
+    if anisotropic && (f.has("alpha_u") || f.has("alpha_v")) {
+        let span = f.span_of(if f.has("alpha_u") { "alpha_u" } else { "alpha_v" });
+        if f.has("alpha") {
+            f.error(span.clone(), "alpha_u", "give either `alpha` or `alpha_u` and `alpha_v`, not both (as Mitsuba requires)".to_string());
+        }
+        for name in ["alpha_u", "alpha_v"] {
+            if f.is_table(name) {
+                let at = f.span_of(name);
+                f.error(at, name, format!("{name} must be a number: textured anisotropic roughness is not supported yet"));
+                return (distribution, Roughness::isotropic(DEFAULT_ALPHA));
+            }
+        }
+        let (u, v) = (read_alpha(f, "alpha_u", smooth), read_alpha(f, "alpha_v", smooth));
+        return match (u, v) {
+            (Some(u), Some(v)) => (distribution, Roughness { alpha: u, texture: None, alpha_v: Some(v) }),
+            _ => {
+                f.error(span, "alpha_u", "give both `alpha_u` and `alpha_v` (as Mitsuba requires)".to_string());
+                (distribution, Roughness::isotropic(DEFAULT_ALPHA))
+            }
+        };
+    }
     if f.is_table("alpha") {
         if !textured {
             let span = f.span_of("alpha");
             f.error(span, "alpha", "alpha of this kind must be a number: Mitsuba's roughplastic precomputes its coating for one roughness".to_string());
-            return (distribution, Roughness { alpha: DEFAULT_ALPHA, texture: None });
+            return (distribution, Roughness::isotropic(DEFAULT_ALPHA));
         }
         let (_, texture) = f.color_or_texture("alpha", glam::DVec3::splat(DEFAULT_ALPHA));
         let texture = texture.map(Texture::scalar);
         let alpha = texture.as_ref().map_or(DEFAULT_ALPHA, |t| crate::scene::emitters::luminance(t.mean())).max(MIN_ALPHA);
-        return (distribution, Roughness { alpha, texture });
+        return (distribution, Roughness { alpha, texture, alpha_v: None });
     }
-    let alpha = match f.number("alpha") {
-        None => DEFAULT_ALPHA,
-        Some(a) => {
-            let v = *a.get_ref();
-            if !(v > 0.0) {
-                f.error(a.span(), "alpha", format!("alpha must be > 0 (got {v}); a smooth one is bsdf = \"{smooth}\""));
-            } else if v < MIN_ALPHA {
-                f.warn(a.span(), "alpha", format!("alpha {v} is below {MIN_ALPHA}: it is clamped to {MIN_ALPHA}, as Mitsuba does"));
-            }
-            v.max(MIN_ALPHA)
-        }
-    };
-    (distribution, Roughness { alpha, texture: None })
+    (distribution, Roughness::isotropic(read_alpha(f, "alpha", smooth).unwrap_or(DEFAULT_ALPHA)))
 }
 
-/// A rough Mitsuba plugin's `distribution` and `alpha` as TOML fields (anisotropic roughness
-/// refused, `sample_visible` taken with a warning: the strategy is `--microfacet-sampling`);
-/// `None` when an error was reported.
-pub(crate) fn read_mitsuba(p: &mut dyn PluginProps, textured: bool) -> Option<[(&'static str, toml::Value); 2]> {
+/// A rough Mitsuba plugin's `distribution` and `alpha` (or, where `anisotropic`, `alpha_u` and
+/// `alpha_v`: both, numbers, not with `alpha`) as TOML fields (`sample_visible` taken with a
+/// warning: the strategy is `--microfacet-sampling`); `None` when an error was reported.
+pub(crate) fn read_mitsuba(p: &mut dyn PluginProps, textured: bool, anisotropic: bool) -> Option<Vec<(&'static str, toml::Value)>> {
     let plugin = p.plugin().to_string();
     let distribution = match p.string("distribution") {
         None => "beckmann".to_string(),
@@ -104,10 +151,47 @@ pub(crate) fn read_mitsuba(p: &mut dyn PluginProps, textured: bool) -> Option<[(
             d
         }
     };
-    for name in ["alpha_u", "alpha_v"] {
-        if let Some(at) = p.take(name) {
-            p.error(at, name, format!("`{name}`: anisotropic roughness is not supported (give one `alpha`)"));
+    let sample_visible = |p: &mut dyn PluginProps| {
+        if let Some(at) = p.take("sample_visible") {
+            p.warn(
+                at,
+                "sample_visible",
+                "`sample_visible` is ignored: pathlab's microfacet sampling is --microfacet-sampling (vndf by default); the expected image is the same".into(),
+            );
         }
+    };
+    if !anisotropic {
+        for name in ["alpha_u", "alpha_v"] {
+            if let Some(at) = p.take(name) {
+                p.error(at, name, format!("`{name}`: <bsdf type=\"{plugin}\"> has one `alpha` (Mitsuba's is isotropic)"));
+            }
+        }
+    } else if p.has("alpha_u") || p.has("alpha_v") {
+        // Mitsuba's microfacet constructor: both, and not with `alpha`.
+        let mut values = Vec::new();
+        for name in ["alpha_u", "alpha_v"] {
+            if p.has_texture(name) {
+                p.error(p.at(), name, format!("a textured `{name}` is not supported yet (give a <float>)"));
+                let _ = p.color_or_texture(name);
+                continue;
+            }
+            match p.float(name) {
+                None => p.error(p.at(), name, format!("give both `alpha_u` and `alpha_v` (Mitsuba: \"Microfacet model: both 'alpha_u' and 'alpha_v' must be specified.\")")),
+                Some((a, _)) if a.is_finite() && a > 0.0 => values.push((name, toml::Value::Float(a))),
+                Some((a, at)) => p.error(at, name, format!("`{name}` of <bsdf type=\"{plugin}\"> must be a finite number > 0 (got {a})")),
+            }
+        }
+        if let Some(at) = p.take("alpha") {
+            p.error(at, "alpha", "give either `alpha` or `alpha_u` and `alpha_v`, not both (as Mitsuba requires)".into());
+            return None;
+        }
+        sample_visible(p);
+        if values.len() != 2 {
+            return None;
+        }
+        let mut fields = vec![("distribution", toml::Value::String(distribution))];
+        fields.extend(values);
+        return Some(fields);
     }
     let alpha = if p.has_texture("alpha") {
         if textured {
@@ -126,14 +210,8 @@ pub(crate) fn read_mitsuba(p: &mut dyn PluginProps, textured: bool) -> Option<[(
             }
         }
     };
-    if let Some(at) = p.take("sample_visible") {
-        p.warn(
-            at,
-            "sample_visible",
-            "`sample_visible` is ignored: pathlab's microfacet sampling is --microfacet-sampling (vndf by default); the expected image is the same".into(),
-        );
-    }
-    Some([("distribution", toml::Value::String(distribution)), ("alpha", alpha?)])
+    sample_visible(p);
+    Some(vec![("distribution", toml::Value::String(distribution)), ("alpha", alpha?)])
 }
 
 // ----- the host's microfacet maths, for precomputed tables (the kernel's: shaders/microfacet.wgsl)

@@ -257,6 +257,18 @@ impl Bsdf {
         }
     }
 
+    /// Whether its roughness differs along the surface's dp/du and across it (Mitsuba's
+    /// `alpha_u` and `alpha_v`): the kernel then carries tangent frames (`SceneFeatures::
+    /// anisotropic_roughness`).
+    pub fn is_anisotropic(&self) -> bool {
+        match self {
+            Bsdf::RoughConductor(c) => c.roughness.is_anisotropic(),
+            Bsdf::RoughDielectric(d) => d.roughness.is_anisotropic(),
+            Bsdf::Principled(p) => p.anisotropic > 0.0,
+            _ => false,
+        }
+    }
+
     /// The Phong parameters, for the kind that has them.
     pub fn as_phong(&self) -> Option<&Phong> {
         match self {

@@ -215,6 +215,8 @@ pub(crate) trait PluginProps {
     fn texture(&self) -> Option<usize>;
     /// Whether a nested texture gives property `name`.
     fn has_texture(&self, name: &str) -> bool;
+    /// Whether property `name` is given (and not yet taken), as a value or a nested texture.
+    fn has(&self, name: &str) -> bool;
     fn color(&mut self, name: &str) -> Option<[f64; 3]>;
     /// A colour without the [0, 1] bound of a reflectance (a conductor's `eta`, `k`): Mitsuba's
     /// `get_unbounded_texture`, which converts a spectrum differently.

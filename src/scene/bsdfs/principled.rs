@@ -27,9 +27,10 @@
 //! TOML and Mitsuba: `base_color` (default 0.5, a colour or a texture), `roughness` (0.5),
 //! `metallic`, `spec_tint`, `sheen`, `sheen_tint`, `clearcoat`, `clearcoat_gloss` (0; each a
 //! number in [0, 1] or a texture), `specular` (0.5, eta = 2 / (1 - sqrt(0.08 specular)) - 1) or
-//! `eta`, `flatness` (0), `anisotropic` and `spec_trans` (0 only: anisotropy needs the surface's
-//! tangent frame, transmission the dielectric's two-sided handling, neither carried yet), and
-//! the three sampling rates (1).
+//! `eta`, `flatness` (0), `anisotropic` (0; a number in [0, 1]: the main specular lobe's GGX
+//! stretched along the surface's dp/du, Mitsuba's `calc_dist_params`), `spec_trans` (0 only:
+//! transmission needs the dielectric's two-sided handling, not carried yet), and the three
+//! sampling rates (1).
 
 use glam::DVec3;
 
@@ -51,8 +52,7 @@ const WEIGHT_SLOTS: [(usize, usize); 7] = [(0, 3), (1, 0), (1, 1), (1, 2), (1, 3
 /// The numbers that must be constants: the fake subsurface blend and the sampling rates.
 const RATES: [&str; 3] = ["main_specular_sampling_rate", "clearcoat_sampling_rate", "diffuse_reflectance_sampling_rate"];
 /// The lobes pathlab refuses unless 0, with why.
-const REFUSED: [(&str, &str); 2] = [
-    ("anisotropic", "anisotropic roughness needs the surface's tangent frame (Mitsuba's dp/du), which pathlab does not carry yet: give 0"),
+const REFUSED: [(&str, &str); 1] = [
     ("spec_trans", "specular transmission of the principled BSDF is not supported yet: give 0 (a glass is <bsdf type=\"roughdielectric\">)"),
 ];
 
@@ -96,6 +96,10 @@ pub struct Principled {
     pub eta: f64,
     /// The fake subsurface blend.
     pub flatness: f64,
+    /// Mitsuba's `anisotropic` in [0, 1]: the main specular lobe's GGX of alpha (max(0.001,
+    /// r^2 / aspect), max(0.001, r^2 aspect)) along dp/du and across it, aspect = sqrt(1 - 0.9
+    /// anisotropic); 0: isotropic.
+    pub anisotropic: f64,
     /// main_specular, clearcoat, diffuse_reflectance sampling rates.
     pub rates: [f64; 3],
 }
@@ -204,15 +208,22 @@ impl BsdfPlugin for Principled {
             }
             (None, None) => eta_from_specular(DEFAULT_SPECULAR),
         };
-        let flatness = match f.number("flatness") {
-            None => 0.0,
-            Some(v) => {
-                if let Some(problem) = weight_problem("flatness", *v.get_ref()) {
-                    f.error(v.span(), "flatness", problem);
-                }
-                *v.get_ref()
+        let [flatness, anisotropic] = ["flatness", "anisotropic"].map(|name| {
+            if f.is_table(name) {
+                let span = f.span_of(name);
+                f.error(span, name, format!("a textured `{name}` is not supported: give a number in [0, 1]"));
+                return 0.0;
             }
-        };
+            match f.number(name) {
+                None => 0.0,
+                Some(v) => {
+                    if let Some(problem) = weight_problem(name, *v.get_ref()) {
+                        f.error(v.span(), name, problem);
+                    }
+                    *v.get_ref()
+                }
+            }
+        });
         for (name, why) in REFUSED {
             if f.is_table(name) {
                 let span = f.span_of(name);
@@ -232,7 +243,7 @@ impl BsdfPlugin for Principled {
                 *v.get_ref()
             }
         });
-        Principled { base_color, base_color_texture, weights, eta, flatness, rates }
+        Principled { base_color, base_color_texture, weights, eta, flatness, anisotropic, rates }
     }
 
     fn from_mitsuba(p: &mut dyn PluginProps) -> Option<Vec<(&'static str, toml::Value)>> {
@@ -242,10 +253,10 @@ impl BsdfPlugin for Principled {
             fields.push(("base_color", c));
         }
         // A number in [0, 1], or a texture (its value at the hit, Mitsuba's eval_1).
-        for name in WEIGHTS.into_iter().chain(["flatness"]) {
+        for name in WEIGHTS.into_iter().chain(["flatness", "anisotropic"]) {
             if p.has_texture(name) {
-                if name == "flatness" {
-                    p.error(p.at(), name, "a textured `flatness` is not supported (give a <float>)".into());
+                if name == "flatness" || name == "anisotropic" {
+                    p.error(p.at(), name, format!("a textured `{name}` is not supported (give a <float>)"));
                     ok = false;
                 } else if let Some(t) = p.color_or_texture(name) {
                     fields.push((name, t));
@@ -307,7 +318,7 @@ impl BsdfPlugin for Principled {
         }
         p.finish(
             "base_color, roughness, metallic, spec_tint, sheen, sheen_tint, clearcoat, clearcoat_gloss, specular or eta, flatness, \
-             anisotropic and spec_trans (0 only), main_specular_sampling_rate, clearcoat_sampling_rate, diffuse_reflectance_sampling_rate",
+             anisotropic, spec_trans (0 only), main_specular_sampling_rate, clearcoat_sampling_rate, diffuse_reflectance_sampling_rate",
         );
         ok.then_some(fields)
     }
@@ -322,6 +333,10 @@ impl BsdfPlugin for Principled {
         }
         line("principled.eta", real(self.eta));
         line("principled.flatness", real(self.flatness));
+        // Only an anisotropic one adds a line: isotropic scenes keep their hash.
+        if self.anisotropic != 0.0 {
+            line("principled.anisotropic", real(self.anisotropic));
+        }
         line("principled.rates", self.rates.map(real).join(" "));
     }
 
@@ -331,14 +346,14 @@ impl BsdfPlugin for Principled {
 
     /// `p0 = (base_color, roughness)`, `p1 = (metallic, spec_tint, sheen, sheen_tint)`, `p2 =
     /// (clearcoat, clearcoat_gloss, eta, first BSDF datum)`: the layout of WGSL's
-    /// `principled_of`; the data: flatness, then the three sampling rates.
+    /// `principled_of`; the data: flatness, the three sampling rates, anisotropic.
     fn pack(&self, data: &mut BsdfData) -> BsdfParams {
         let c = match &self.base_color_texture {
             Some(t) => glam::Vec3::new(-(t.pack(data) as f32) - 1.0, 0.0, 0.0),
             None => self.base_color.as_vec3(),
         };
         let w = self.weights.clone().map(|w| w.pack(data));
-        let first = data.push(&[self.flatness as f32, self.rates[0] as f32, self.rates[1] as f32, self.rates[2] as f32]);
+        let first = data.push(&[self.flatness as f32, self.rates[0] as f32, self.rates[1] as f32, self.rates[2] as f32, self.anisotropic as f32]);
         [[c.x, c.y, c.z, w[0]], [w[1], w[2], w[3], w[4]], [w[5], w[6], self.eta as f32, first as f32]]
     }
 }
@@ -358,6 +373,7 @@ impl Principled {
             weights: WEIGHTS.map(|name| Weight::constant(default_weight(name))),
             eta: eta_from_specular(DEFAULT_SPECULAR),
             flatness: 0.0,
+            anisotropic: 0.0,
             rates: [1.0; 3],
         }
     }

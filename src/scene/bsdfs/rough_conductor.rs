@@ -2,7 +2,8 @@
 //! microfacet reflection with the conductor's Fresnel term and separable Smith shadowing. TOML
 //! the conductor's `eta`, `k` or `material`, `specular_reflectance`, and `distribution` (`beckmann`, Mitsuba's
 //! default, or `ggx`) and `alpha` (default 0.1; below 1e-4 clamped to it, as Mitsuba does; or a
-//! texture, Mitsuba's `eval_1` of it at the hit: `distribution::Roughness`).
+//! texture, Mitsuba's `eval_1` of it at the hit: `distribution::Roughness`), or `alpha_u` and
+//! `alpha_v` (numbers): anisotropic, along the surface's dp/du and across it.
 
 use super::conductor::Conductor;
 use super::distribution::{self, Distribution, Roughness};
@@ -19,7 +20,7 @@ pub struct RoughConductor {
 
 impl BsdfPlugin for RoughConductor {
     const TOML_NAME: &'static str = "roughconductor";
-    const FIELDS: &'static [&'static str] = &["distribution", "alpha", "eta", "k", "material", "specular_reflectance"];
+    const FIELDS: &'static [&'static str] = &["distribution", "alpha", "alpha_u", "alpha_v", "eta", "k", "material", "specular_reflectance"];
     const MITSUBA_PLUGINS: &'static [&'static str] = &["roughconductor"];
     const IS_DELTA: bool = false;
     const MICROFACETS: bool = true;
@@ -34,16 +35,16 @@ impl BsdfPlugin for RoughConductor {
 
     fn from_fields(f: &mut Fields) -> RoughConductor {
         let fresnel = Conductor::read_fresnel(f);
-        let (distribution, roughness) = distribution::read_fields(f, "conductor", true);
+        let (distribution, roughness) = distribution::read_fields(f, "conductor", true, true);
         RoughConductor { fresnel, distribution, roughness }
     }
 
     fn from_mitsuba(p: &mut dyn PluginProps) -> Option<Vec<(&'static str, toml::Value)>> {
         // The roughness first: a textured alpha is taken before the Fresnel reader refuses
         // other textures.
-        let microfacets = distribution::read_mitsuba(p, true);
+        let microfacets = distribution::read_mitsuba(p, true, true);
         let mut fields = Conductor::mitsuba_fresnel(p);
-        p.finish("distribution, alpha, eta, k, material, specular_reflectance (and, with a warning, sample_visible)");
+        p.finish("distribution, alpha, alpha_u, alpha_v, eta, k, material, specular_reflectance (and, with a warning, sample_visible)");
         fields.extend(microfacets?);
         Some(fields)
     }
@@ -55,6 +56,9 @@ impl BsdfPlugin for RoughConductor {
 
     fn pack(&self, data: &mut BsdfData) -> BsdfParams {
         let alpha = self.roughness.pack(data);
-        self.fresnel.pack_with(alpha, self.distribution, data)
+        let mut block = self.fresnel.pack_with(alpha, self.distribution, data);
+        // p2.w: alpha_v, 0 where isotropic (WGSL's conductor_of).
+        block[2][3] = self.roughness.pack_v();
+        block
     }
 }

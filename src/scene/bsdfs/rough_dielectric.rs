@@ -12,7 +12,8 @@
 //! `sample_visible`), then reflects with probability F or refracts. Both sides scatter. TOML and
 //! Mitsuba: `int_ior`, `ext_ior` (defaults bk7 and air; numbers or names of `ior.rs`; they must
 //! differ), `specular_reflectance`, `specular_transmittance`, `distribution`, `alpha` (a number or
-//! a texture: `distribution::Roughness`).
+//! a texture: `distribution::Roughness`) or `alpha_u` and `alpha_v` (numbers; anisotropic along
+//! the surface's dp/du and across it).
 
 use glam::DVec3;
 
@@ -44,7 +45,7 @@ impl RoughDielectric {
 
 impl BsdfPlugin for RoughDielectric {
     const TOML_NAME: &'static str = "roughdielectric";
-    const FIELDS: &'static [&'static str] = &["int_ior", "ext_ior", "specular_reflectance", "specular_transmittance", "distribution", "alpha"];
+    const FIELDS: &'static [&'static str] = &["int_ior", "ext_ior", "specular_reflectance", "specular_transmittance", "distribution", "alpha", "alpha_u", "alpha_v"];
     const MITSUBA_PLUGINS: &'static [&'static str] = &["roughdielectric"];
     const IS_DELTA: bool = false;
     const TRANSMITS: bool = true;
@@ -64,16 +65,16 @@ impl BsdfPlugin for RoughDielectric {
         if int_ior == ext_ior {
             f.error(f.span(), "int_ior", format!("int_ior and ext_ior must differ (both {int_ior}), as Mitsuba requires: an index-matched interface scatters nothing"));
         }
-        let (distribution, roughness) = distribution::read_fields(f, "dielectric", true);
+        let (distribution, roughness) = distribution::read_fields(f, "dielectric", true, true);
         RoughDielectric { int_ior, ext_ior, reflectance, transmittance, textures, distribution, roughness }
     }
 
     fn from_mitsuba(p: &mut dyn PluginProps) -> Option<Vec<(&'static str, toml::Value)>> {
         // The roughness first: a textured alpha is taken before the interface's reader refuses
         // other textures.
-        let microfacets = distribution::read_mitsuba(p, true);
+        let microfacets = distribution::read_mitsuba(p, true, true);
         let mut fields = Interface::mitsuba_fields(p);
-        p.finish("int_ior, ext_ior, specular_reflectance, specular_transmittance, distribution, alpha (and, with a warning, sample_visible)");
+        p.finish("int_ior, ext_ior, specular_reflectance, specular_transmittance, distribution, alpha, alpha_u, alpha_v (and, with a warning, sample_visible)");
         fields.extend(microfacets?);
         Some(fields)
     }
@@ -87,10 +88,10 @@ impl BsdfPlugin for RoughDielectric {
         line("roughdielectric.microfacets", format!("{} {}", self.distribution.name(), self.roughness.hash_value()));
     }
 
-    /// `p0 = (reflectance, eta)`, `p1 = (transmittance, alpha)`, `p2 = (distribution, 0, 0, 0)`:
-    /// the layout of WGSL's `rough_dielectric_of`.
+    /// `p0 = (reflectance, eta)`, `p1 = (transmittance, alpha)`, `p2 = (distribution, alpha_v
+    /// or 0 where isotropic, 0, 0)`: the layout of WGSL's `rough_dielectric_of`.
     fn pack(&self, data: &mut BsdfData) -> BsdfParams {
         let [r, t] = self.textures.pack(self.reflectance, self.transmittance, data);
-        [[r.x, r.y, r.z, self.eta() as f32], [t.x, t.y, t.z, self.roughness.pack(data)], [self.distribution.constant() as f32, 0.0, 0.0, 0.0]]
+        [[r.x, r.y, r.z, self.eta() as f32], [t.x, t.y, t.z, self.roughness.pack(data)], [self.distribution.constant() as f32, self.roughness.pack_v(), 0.0, 0.0]]
     }
 }

@@ -126,14 +126,14 @@ impl BsdfPlugin for RoughPlastic {
 
     fn from_fields(f: &mut Fields) -> RoughPlastic {
         let layers = Plastic::from_fields(f);
-        let (distribution, roughness) = distribution::read_fields(f, "plastic", false);
+        let (distribution, roughness) = distribution::read_fields(f, "plastic", false, false);
         let alpha = roughness.alpha;
         RoughPlastic { layers, distribution, alpha }
     }
 
     fn from_mitsuba(p: &mut dyn PluginProps) -> Option<Vec<(&'static str, toml::Value)>> {
         let mut fields = Plastic::mitsuba_layers(p);
-        let microfacets = distribution::read_mitsuba(p, false);
+        let microfacets = distribution::read_mitsuba(p, false, false);
         p.finish("diffuse_reflectance, specular_reflectance, int_ior, ext_ior, nonlinear, distribution, alpha (and, with a warning, sample_visible)");
         fields.extend(microfacets?);
         Some(fields)

@@ -370,6 +370,9 @@ impl PluginProps for PluginReader<'_, '_, '_> {
     fn has_texture(&self, name: &str) -> bool {
         self.o.children.iter().any(|c| c.tag == "texture" && c.name.as_deref() == Some(name))
     }
+    fn has(&self, name: &str) -> bool {
+        self.has_texture(name) || self.p.as_ref().is_some_and(|p| p.props.iter().any(|prop| prop.name == name))
+    }
     fn color_or_texture(&mut self, name: &str) -> Option<toml::Value> {
         let nested = self.o.children.iter().position(|c| c.tag == "texture" && c.name.as_deref() == Some(name));
         let Some(i) = nested else { return self.color(name).map(color_value) };
