@@ -152,10 +152,25 @@ fn sample_bsdf_opaque(b: Bsdf, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32)
     return sample_bsdf_of_kind(b, n_s, wo, u_dir, u_lobe);
 }
 
-// f(wi, wo) and the pipeline's density at wi of a material's BSDF, its mask applied: the
-// nested BSDF's, both times the opacity (Mitsuba's mask.cpp eval_pdf).
+// f(wi, wo) and the pipeline's density at wi of a material's BSDF, its normal map and mask
+// applied. A normal map's (Mitsuba's normalmap.cpp eval_pdf): the nested BSDF's in the perturbed
+// frame of normal n_p, zero unless wi is on the same side of n_s and n_p, the value times the
+// shadowing term and expressed against n_s's cosine, f = f_p |wi . n_p| / |wi . n_s| (Mitsuba's
+// BSDFs return f cos; pathlab's integrator multiplies by |wi . n_s|). A mask's: both times the
+// opacity (mask.cpp eval_pdf).
 fn eval_pdf_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, wi: vec3f) -> BsdfEval {
-    var e = eval_pdf_bsdf_opaque(b, n_s, wo, wi);
+    var e: BsdfEval;
+    if (is_normal_mapped(b)) {
+        let n_p = b.normal;
+        e = eval_pdf_bsdf_opaque(b, n_p, wo, wi);
+        let cos_s = dot(wi, n_s);
+        let cos_p = dot(wi, n_p);
+        let same_side = cos_s * cos_p > 0.0;
+        e.f = select(vec3f(0.0), e.f * (shadow_terminator(n_p, n_s, wi) * abs(cos_p / cos_s)), same_side);
+        e.pdf = select(0.0, e.pdf, same_side);
+    } else {
+        e = eval_pdf_bsdf_opaque(b, n_s, wo, wi);
+    }
     if (HAS_MASKS) {
         e.f *= b.opacity;
         e.pdf *= b.opacity;
@@ -169,13 +184,28 @@ fn eval_pdf_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, wi: vec3f) -> BsdfEval {
 // unchanged and its density times the opacity.
 fn sample_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> BsdfSample {
     if (!HAS_MASKS) {
-        return sample_bsdf_opaque(b, n_s, wo, u_dir, u_lobe);
+        return sample_bsdf_mapped(b, n_s, wo, u_dir, u_lobe);
     }
     if (bsdf_passes_through(b, u_lobe)) {
         return sample_null_bsdf(b, wo);
     }
-    var s = sample_bsdf_opaque(b, n_s, wo, u_dir, u_lobe / b.opacity);
+    var s = sample_bsdf_mapped(b, n_s, wo, u_dir, u_lobe / b.opacity);
     s.pdf *= b.opacity;
+    return s;
+}
+
+// wi drawn by the pipeline's strategy before the mask, a normal map applied (Mitsuba's
+// normalmap.cpp sample): the nested BSDF's sample in the perturbed frame of normal n_p, weight
+// and density zero unless wi is on the same side of n_s and n_p, the weight times the shadowing
+// term (f_p |cos_p| / pdf is the weight in either frame).
+fn sample_bsdf_mapped(b: Bsdf, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> BsdfSample {
+    if (!is_normal_mapped(b)) {
+        return sample_bsdf_opaque(b, n_s, wo, u_dir, u_lobe);
+    }
+    var s = sample_bsdf_opaque(b, b.normal, wo, u_dir, u_lobe);
+    let same_side = dot(s.wi, n_s) * dot(s.wi, b.normal) > 0.0;
+    s.weight = select(vec3f(0.0), s.weight * shadow_terminator(b.normal, n_s, s.wi), same_side);
+    s.pdf = select(0.0, s.pdf, same_side);
     return s;
 }
 
@@ -184,7 +214,9 @@ fn sample_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> Bsd
 // the viewer is on: `inside` when wo is against the surface's (shading) normal, where a
 // transmitting BSDF's relative index is the inverse (n_s, given turned towards wo, no longer
 // tells). `opacity`: Mitsuba's mask around it (bsdfs/mask.wgsl), 1 where opaque. `tangent`:
-// the surface's dp/du at the point (Hit.tangent), where HAS_TANGENT_FRAMES; else 0.
+// the surface's dp/du at the point (Hit.tangent), where HAS_TANGENT_FRAMES; else 0. `normal`:
+// where a normal map perturbs it (bsdfs/normal_map.wgsl), the perturbed shading normal, on the
+// viewer's side (and `tangent` the perturbed frame's first axis); else 0.
 struct Bsdf {
     kind: u32,
     p0: vec4f,
@@ -193,6 +225,7 @@ struct Bsdf {
     inside: bool,
     opacity: f32,
     tangent: vec3f,
+    normal: vec3f,
 }
 
 // Some material depends on the direction of the surface's parametrisation (anisotropic

@@ -333,6 +333,12 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
         if (HAS_TANGENT_FRAMES) {
             m.tangent = hit.tangent;
         }
+        if (HAS_NORMAL_MAPS) {
+            let map = materials[hit.material].normal_map;
+            if (map != NO_NORMAL_MAP) {
+                m = normal_mapped(m, eval_texture(map, hit.uv, x), hit.shading_normal, n_s, wo);
+            }
+        }
         let dim_base = first_vertex_dim() + (depth - 1u) * dims_per_vertex();
         // A one-sided BSDF seen from behind (the side its surface normal points away from)
         // scatters nothing: Mitsuba's rule for BSDFs not wrapped in `twosided`.

@@ -70,7 +70,9 @@ struct Material {
     // Mitsuba's twosided with two BSDFs: the material whose BSDF scatters on the back, NO_BACK
     // where none.
     back: u32,
-    _pad2: u32,
+    // Mitsuba's normalmap (shaders/bsdfs/normal_map.wgsl): the start of its texture's record in
+    // bsdf_data, NO_NORMAL_MAP where none.
+    normal_map: u32,
 }
 
 // Flags of a material: MATERIAL_EMISSIVE and MATERIAL_ONE_SIDED, generated from
@@ -132,7 +134,7 @@ struct Surfaces {
 // its speed).
 fn material_bsdf(material: u32, from_inside: bool, uv: vec2f, p: vec3f) -> Bsdf {
     let i = material_on_side(material, from_inside);
-    var b = Bsdf(BSDF_KIND_PHONG, materials[i].p0, materials[i].p1, vec4f(0.0), false, 1.0, vec3f(0.0));
+    var b = Bsdf(BSDF_KIND_PHONG, materials[i].p0, materials[i].p1, vec4f(0.0), false, 1.0, vec3f(0.0), vec3f(0.0));
     if (bsdf_kinds_vary()) {
         b.kind = materials[i].kind;
         b.p2 = materials[i].p2;

@@ -293,20 +293,20 @@ fn anisotropic_routines() -> Vec<Routine> {
             ];
             let name = format!("anisotropic roughconductor {} {microfacets} alpha_u=0.08 alpha_v=0.5 theta_o=50 tangent {tangent}", distribution.name());
             let mut routine = glossy_routine(name, Bsdf::RoughConductor(conductor.clone()), 0.08, false, 50.0, constants.clone());
-            routine.wgsl = routine.wgsl.replace("1.0, vec3f(1.0, 0.0, 0.0)); }}", &format!("1.0, {tangent}); }}"));
+            routine.wgsl = routine.wgsl.replace("1.0, vec3f(1.0, 0.0, 0.0), vec3f(0.0)); }}", &format!("1.0, {tangent}, vec3f(0.0)); }}"));
             r.push(routine);
             // Narrow across the tangent, wide along it.
             conductor.roughness = pathlab::scene::Roughness { alpha: 0.6, texture: None, alpha_v: Some(0.03) };
             let name = format!("anisotropic roughconductor {} {microfacets} alpha_u=0.6 alpha_v=0.03 theta_o=20 tangent {tangent}", distribution.name());
             let mut routine = glossy_routine(name, Bsdf::RoughConductor(conductor), 0.03, false, 20.0, constants);
-            routine.wgsl = routine.wgsl.replace("1.0, vec3f(1.0, 0.0, 0.0)); }}", &format!("1.0, {tangent}); }}"));
+            routine.wgsl = routine.wgsl.replace("1.0, vec3f(1.0, 0.0, 0.0), vec3f(0.0)); }}", &format!("1.0, {tangent}, vec3f(0.0)); }}"));
             r.push(routine);
             for (alpha_u, alpha_v, theta, inside) in [(0.3, 0.7, 40.0, false), (0.8, 0.35, 30.0, true)] {
                 let mut routine = rough_dielectric(distribution, BsdfSampling::Phong, microfacets, alpha_u, 1.5, inside, theta);
                 let isotropic = Bsdf::RoughDielectric(rough_dielectric_record(distribution, alpha_u, None, 1.5)).pack(&mut BsdfData::default());
                 let anisotropic = Bsdf::RoughDielectric(rough_dielectric_record(distribution, alpha_u, Some(alpha_v), 1.5)).pack(&mut BsdfData::default());
                 let v = |a: [f32; 4]| format!("vec4f({:?}, {:?}, {:?}, {:?})", a[0], a[1], a[2], a[3]);
-                routine.wgsl = routine.wgsl.replace(&v(isotropic[2]), &v(anisotropic[2])).replace("1.0, vec3f(1.0, 0.0, 0.0)); }}", &format!("1.0, {tangent}); }}"));
+                routine.wgsl = routine.wgsl.replace(&v(isotropic[2]), &v(anisotropic[2])).replace("1.0, vec3f(1.0, 0.0, 0.0), vec3f(0.0)); }}", &format!("1.0, {tangent}, vec3f(0.0)); }}"));
                 routine.name = format!("anisotropic {} alpha_v={alpha_v} tangent {tangent}", routine.name);
                 routine.constants.extend([("ANISOTROPIC_ROUGHNESS", 1.0), ("HAS_TANGENT_FRAMES", 1.0)]);
                 r.push(routine);
@@ -319,11 +319,54 @@ fn anisotropic_routines() -> Vec<Routine> {
         for (anisotropic, roughness, theta) in [(0.85, 0.45, 45.0), (0.5, 0.2, 70.0)] {
             let p = Principled { anisotropic, ..Principled::mitsuba_default().with("metallic", 0.7).with("roughness", roughness).with("clearcoat", 0.3) };
             let mut routine = principled(p, BsdfSampling::Phong, microfacets, theta);
-            routine.wgsl = routine.wgsl.replace("1.0, vec3f(1.0, 0.0, 0.0)); }}", &format!("1.0, {tangent}); }}"));
+            routine.wgsl = routine.wgsl.replace("1.0, vec3f(1.0, 0.0, 0.0), vec3f(0.0)); }}", &format!("1.0, {tangent}, vec3f(0.0)); }}"));
             routine.name = format!("anisotropic {} anisotropic={anisotropic} tangent {tangent}", routine.name);
             routine.constants.extend([("ANISOTROPIC_ROUGHNESS", 1.0), ("HAS_TANGENT_FRAMES", 1.0)]);
             r.push(routine);
         }
+    }
+    r
+}
+
+/// Normal-mapped BSDFs as the path tracer samples them (`normal_mapped`, then `sample_bsdf` and
+/// `eval_pdf_bsdf` with HAS_NORMAL_MAPS on): a texel `c` of the normal map perturbs the frame
+/// of shading normal +z (tangent +x); directions on different sides of the two normals are
+/// lost samples (density 0), and every weight must be eval |cos| / pdf with the shadowing
+/// term. A rough plastic, a rough conductor with anisotropic roughness along the perturbed
+/// frame's tangent, and principled's defaults, at incidences where the texel's normal is
+/// flipped (seen from its back) and where it is not.
+fn normal_map_routines() -> Vec<Routine> {
+    let patch = |mut routine: Routine, texel: [f64; 3], what: &str| {
+        let start = routine.wgsl.find("fn routine_bsdf() -> Bsdf { return ").unwrap() + "fn routine_bsdf() -> Bsdf { return ".len();
+        let end = start + routine.wgsl[start..].find("; }").unwrap();
+        let record = routine.wgsl[start..end].to_string();
+        let mapped = format!("normal_mapped({record}, vec3f({:?}, {:?}, {:?}), vec3f(0.0, 0.0, 1.0), vec3f(0.0, 0.0, 1.0), routine_wo())", texel[0], texel[1], texel[2]);
+        routine.wgsl = routine.wgsl.replacen(&record, &mapped, 1);
+        // A direction grazing the perturbed surface has its cosine there recomputed from world
+        // coordinates (absolute error ~6e-8 in f32), so a weight that vanishes with it (G1
+        // grows as the cosine) moves by ~6e-8 / cos relative: weights are compared against
+        // 0.05 at least (absolutely below it).
+        routine.wgsl = routine.wgsl.replacen("/ max(max3(abs(expect)), 1e-30)", "/ max(max3(abs(expect)), 0.05)", 1);
+        routine.name = format!("normal-mapped ({what}, texel {texel:?}) {}", routine.name);
+        routine.constants.extend([("HAS_NORMAL_MAPS", 1.0), ("HAS_TANGENT_FRAMES", 1.0)]);
+        routine
+    };
+    let mut r = Vec::new();
+    // Tilted 34 degrees towards +x and -y; tilted 50 degrees towards -x (flipped for wo on -x).
+    for (texel, theta) in [([0.8, 0.35, 0.9], 30.0), ([0.8, 0.35, 0.9], 75.0), ([0.12, 0.5, 0.82], 60.0)] {
+        for microfacets in ["vndf", "ndf"] {
+            r.push(patch(rough_plastic(Distribution::Ggx, BsdfSampling::Phong, microfacets, LobeSelection::Fresnel, 0.2, theta), texel, "rough plastic"));
+        }
+        r.push(patch(rough_plastic(Distribution::Beckmann, BsdfSampling::Cosine, "vndf", LobeSelection::Fresnel, 0.3, theta), texel, "rough plastic, cosine strategy"));
+        let conductor = pathlab::scene::RoughConductor {
+            fresnel: pathlab::scene::Conductor { eta: glam::DVec3::ZERO, k: glam::DVec3::ONE, eta_texture: None, k_texture: None, reflectance: glam::DVec3::ONE, reflectance_texture: None },
+            distribution: Distribution::Ggx,
+            roughness: pathlab::scene::Roughness { alpha: 0.4, texture: None, alpha_v: Some(0.1) },
+        };
+        let constants = vec![("BSDF_SAMPLING", BsdfSampling::Phong.constant() as f64), ("MICROFACET_SAMPLING", 1.0), ("ANISOTROPIC_ROUGHNESS", 1.0)];
+        let name = format!("roughconductor ggx vndf alpha_u=0.4 alpha_v=0.1 theta_o={theta}");
+        r.push(patch(glossy_routine(name, Bsdf::RoughConductor(conductor), 0.1, false, theta, constants), texel, "anisotropic rough conductor"));
+        r.push(patch(principled(Principled::mitsuba_default(), BsdfSampling::Phong, "vndf", theta), texel, "principled"));
     }
     r
 }
@@ -353,7 +396,7 @@ fn plastic(diffuse: f64, specular: f64, int_ior: f64, nonlinear: bool, strategy:
     Routine {
         name: format!("plastic diffuse={diffuse} specular={specular} ior={int_ior} nonlinear={nonlinear} {} {} theta_o={theta_o}", strategy.name(), lobes.name()),
         wgsl: format!(
-            "fn routine_bsdf() -> Bsdf {{ return Bsdf(BSDF_KIND_PLASTIC, {}, {}, {}, false, 1.0, vec3f(1.0, 0.0, 0.0)); }}\n\
+            "fn routine_bsdf() -> Bsdf {{ return Bsdf(BSDF_KIND_PLASTIC, {}, {}, {}, false, 1.0, vec3f(1.0, 0.0, 0.0), vec3f(0.0)); }}\n\
              fn routine_wo() -> vec3f {{ return vec3f({:.9}, 0.0, {:.9}); }}\n\
              fn routine_sample(u: vec2f, u_lobe: f32) -> Drawn {{\n\
                  let b = routine_bsdf(); let n_s = vec3f(0.0, 0.0, 1.0); let wo = routine_wo();\n\
@@ -399,9 +442,9 @@ fn masked_plastic(opacity: f64, strategy: BsdfSampling, theta_o: f64) -> Routine
     let p = Plastic { diffuse: glam::DVec3::splat(0.5), diffuse_texture: None, specular: glam::DVec3::splat(1.0), int_ior: 1.49, ext_ior: 1.0, nonlinear: false };
     let [p0, p1, p2] = Bsdf::Plastic(p.clone()).pack(&mut BsdfData::default());
     let v = |a: [f32; 4]| format!("vec4f({:?}, {:?}, {:?}, {:?})", a[0], a[1], a[2], a[3]);
-    let plain = format!("return Bsdf(BSDF_KIND_PLASTIC, {}, {}, {}, false, 1.0, vec3f(1.0, 0.0, 0.0)); }}", v(p0), v(p1), v(p2));
+    let plain = format!("return Bsdf(BSDF_KIND_PLASTIC, {}, {}, {}, false, 1.0, vec3f(1.0, 0.0, 0.0), vec3f(0.0)); }}", v(p0), v(p1), v(p2));
     assert!(r.wgsl.contains(&plain));
-    r.wgsl = r.wgsl.replace(&plain, &format!("return Bsdf(BSDF_KIND_PLASTIC, {}, {}, {}, false, {opacity:?}, vec3f(1.0, 0.0, 0.0)); }}", v(p0), v(p1), v(p2)));
+    r.wgsl = r.wgsl.replace(&plain, &format!("return Bsdf(BSDF_KIND_PLASTIC, {}, {}, {}, false, {opacity:?}, vec3f(1.0, 0.0, 0.0), vec3f(0.0)); }}", v(p0), v(p1), v(p2)));
     // A null sample: checked before the mirror's test.
     let delta = "if (bs.delta) {\n";
     assert!(r.wgsl.contains(delta));
@@ -481,7 +524,7 @@ fn rough_dielectric(distribution: Distribution, strategy: BsdfSampling, microfac
     Routine {
         name: format!("roughdielectric {} {} {microfacets} alpha={alpha} eta={eta}{} theta_o={theta_o}", distribution.name(), strategy.name(), if inside { " inside" } else { "" }),
         wgsl: format!(
-            "fn routine_bsdf() -> Bsdf {{ return Bsdf(BSDF_KIND_ROUGH_DIELECTRIC, {}, {}, {}, {inside}, 1.0, vec3f(1.0, 0.0, 0.0)); }}\n\
+            "fn routine_bsdf() -> Bsdf {{ return Bsdf(BSDF_KIND_ROUGH_DIELECTRIC, {}, {}, {}, {inside}, 1.0, vec3f(1.0, 0.0, 0.0), vec3f(0.0)); }}\n\
              fn routine_wo() -> vec3f {{ return vec3f({:.9}, 0.0, {:.9}); }}\n\
              fn routine_sample(u: vec2f, u_lobe: f32) -> Drawn {{\n\
                  let b = routine_bsdf(); let n_s = vec3f(0.0, 0.0, 1.0); let wo = routine_wo();\n\
@@ -584,7 +627,7 @@ fn glossy_routine(name: String, bsdf: Bsdf, alpha: f64, around_mirror: bool, the
     Routine {
         name,
         wgsl: format!(
-            "fn routine_bsdf() -> Bsdf {{ return Bsdf(BSDF_KIND_{kind}, {}, {}, {}, false, 1.0, vec3f(1.0, 0.0, 0.0)); }}\n\
+            "fn routine_bsdf() -> Bsdf {{ return Bsdf(BSDF_KIND_{kind}, {}, {}, {}, false, 1.0, vec3f(1.0, 0.0, 0.0), vec3f(0.0)); }}\n\
              fn routine_wo() -> vec3f {{ return vec3f({:.9}, 0.0, {:.9}); }}\n\
              fn routine_axis() -> vec3f {{ return vec3f({:.9}, {:.9}, {:.9}); }}\n\
              fn routine_sample(u: vec2f, u_lobe: f32) -> Drawn {{\n\
@@ -709,6 +752,7 @@ fn all_routines() -> Vec<Routine> {
     r.push(inside([0.3, -0.2, 0.5]));
     r.extend(microfacet_routines());
     r.extend(anisotropic_routines());
+    r.extend(normal_map_routines());
     r.extend(plastic_routines());
     r.extend(rough_dielectric_routines());
     r.extend(rough_plastic_routines());

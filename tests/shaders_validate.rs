@@ -89,6 +89,7 @@ fn every_override_permutation_validates() {
                                     has_back_bsdfs: (checked / 5) % 2 == 0,
                                     // Tangent frames and anisotropic microfacets on and off.
                                     anisotropic_roughness: (checked / 11) % 2 == 0,
+                                    has_normal_maps: (checked / 13) % 2 == 0,
                                     rr_depth: if on { 2 } else { 0 },
                                     thin_lens: on,
                                     hide_emitters: on,

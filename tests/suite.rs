@@ -32,6 +32,7 @@ mod extremes;
 mod file_mutations;
 mod lamps;
 mod masks;
+mod normal_maps;
 mod mesh_scenes;
 mod metrics_fixtures;
 mod mitsuba_scenes;

@@ -87,7 +87,10 @@ pub struct Routine {
     pub s_split: f64,
     /// Relative tolerance of a sample's reported pdf against the pdf function at the sampled
     /// direction (as written out, in f32): 1e-4, more for lobes so narrow that the direction's
-    /// rounding moves the density, or whose half vector cancels.
+    /// rounding moves the density, or whose half vector cancels. A sample's weight is held to
+    /// it too where it is above 1e-4: the same rounding moves the BSDF's value (a lobe sampled
+    /// in a frame that is not the routine's, as a normal map's, is evaluated at the direction
+    /// after its round trip through the world: 1.0e-4 relative, measured, for a rough plastic).
     pub pdf_tolerance: f64,
     /// The density below which `pdf_tolerance` applies to this floor instead (an absolute
     /// tolerance for small densities): where a routine is binned in another frame than its
@@ -431,6 +434,7 @@ pub fn binned(gpu: &Gpu, routine: &Routine, techniques: shaders::TechniqueFiles,
     expected.push((1.0 - mass).max(0.0));
 
     let mut observed = vec![0u64; phi_bins * s_bins + 1];
+    let weight_tolerance = routine.pdf_tolerance.max(1e-4) as f32;
     *observed.last_mut().unwrap() = lost;
     let (mut sum, mut sum_sq) = (0.0f64, 0.0f64);
     for (n, pair) in drawn.chunks(2).enumerate() {
@@ -444,7 +448,7 @@ pub fn binned(gpu: &Gpu, routine: &Routine, techniques: shaders::TechniqueFiles,
                 failure = failure.or(Some(Chi2Failure::NonFinite { sample: d }));
                 continue;
             }
-            if check[0] > 1e-4 {
+            if check[0] > weight_tolerance {
                 failure = failure.or(Some(Chi2Failure::Weight(check[0] as f64)));
             }
             continue;
@@ -477,7 +481,7 @@ pub fn binned(gpu: &Gpu, routine: &Routine, techniques: shaders::TechniqueFiles,
         if (reported - function).abs() > routine.pdf_tolerance * function.abs().max(routine.pdf_floor) {
             failure = failure.or(Some(Chi2Failure::ReportedPdf { reported, function, direction: [d[0], d[1], d[2]] }));
         }
-        if check[0] > 1e-4 {
+        if check[0] > weight_tolerance {
             failure = failure.or(Some(Chi2Failure::Weight(check[0] as f64)));
         }
     }

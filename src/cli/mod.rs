@@ -233,6 +233,14 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
     if !masked.is_empty() {
         println!("masks: {} material(s) let rays through (Mitsuba's mask; shadow rays do not see through): {}", masked.len(), masked.join(", "));
     }
+    let mapped: Vec<&str> = scene.materials.iter().filter(|m| m.normal_map.is_some()).map(|m| m.name.as_str()).collect();
+    if !mapped.is_empty() {
+        println!("normal maps: {} material(s) scatter in a normal map's perturbed frame (Mitsuba's normalmap): {}", mapped.len(), mapped.join(", "));
+    }
+    let anisotropic: Vec<&str> = scene.materials.iter().filter(|m| m.bsdf.is_anisotropic()).map(|m| m.name.as_str()).collect();
+    if !anisotropic.is_empty() {
+        println!("anisotropic roughness: {} material(s), placed by each shape's dp/du: {}", anisotropic.len(), anisotropic.join(", "));
+    }
     let backs: Vec<String> = scene.materials.iter().filter_map(|m| m.back.map(|b| format!("{} (back: {})", m.name, scene.materials[b].name))).collect();
     if !backs.is_empty() {
         println!("two BSDFs: {} material(s) scatter by another BSDF on their back (Mitsuba's twosided with two): {}", backs.len(), backs.join(", "));

@@ -59,6 +59,9 @@ pub struct SceneFeatures {
     /// `ANISOTROPIC_ROUGHNESS` (the anisotropic microfacet formulas) and `HAS_TANGENT_FRAMES`
     /// (hits carry dp/du, which places the lobes).
     pub anisotropic_roughness: bool,
+    /// Some material is normal-mapped (`Material::normal_map`, Mitsuba's `normalmap`): the
+    /// kernel's `HAS_NORMAL_MAPS`; hits then carry dp/du too (`HAS_TANGENT_FRAMES`).
+    pub has_normal_maps: bool,
     /// Some material has another BSDF on its back (`Material::back`, Mitsuba's `twosided` with
     /// two BSDFs).
     pub has_back_bsdfs: bool,
@@ -145,10 +148,11 @@ impl SceneFeatures {
             texture_kinds: scene
                 .materials
                 .iter()
-                .flat_map(|m| m.bsdf.textures().into_iter().chain(m.opacity.as_ref().and_then(|o| o.texture())))
+                .flat_map(|m| m.textures())
                 .fold(0, |kinds, t| kinds | 1 << t.kind_number()),
             microfacet_distributions: scene.materials.iter().filter_map(|m| m.bsdf.microfacet_distribution()).fold(0, |bits, d| bits | 1 << d.constant()),
             anisotropic_roughness: scene.materials.iter().any(|m| m.bsdf.is_anisotropic()),
+            has_normal_maps: scene.materials.iter().any(|m| m.normal_map.is_some()),
             has_back_bsdfs: scene.materials.iter().any(|m| m.back.is_some()),
             rr_depth: scene.render.rr_depth.unwrap_or(0),
             thin_lens: scene.camera.aperture_radius > 0.0,

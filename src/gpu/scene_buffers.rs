@@ -14,7 +14,7 @@ use wgpu::util::DeviceExt;
 use crate::accel::{Bvh, BvhNode};
 use crate::scene::{AliasTable, BsdfData, EmitterKind, Light, Scene, MAX_DELTA_LIGHTS, MAX_MATERIALS, MAX_PLANES, MAX_QUADRICS, MAX_SPHERES};
 use crate::shaders::bindings::{self, Binding};
-use crate::shaders::flags::{MATERIAL_EMISSIVE, MATERIAL_ONE_SIDED, NO_BACK, TRIANGLE_HAS_NORMALS, TRIANGLE_HAS_UVS, TRIANGLE_TWO_SIDED};
+use crate::shaders::flags::{MATERIAL_EMISSIVE, MATERIAL_ONE_SIDED, NO_BACK, NO_NORMAL_MAP, TRIANGLE_HAS_NORMALS, TRIANGLE_HAS_UVS, TRIANGLE_TWO_SIDED};
 
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
@@ -52,7 +52,9 @@ pub struct GpuMaterial {
     /// Mitsuba's `twosided` with two BSDFs: the material whose BSDF scatters on the back
     /// (`Material::back`), `NO_BACK` where none.
     pub back: u32,
-    pub _pad: u32,
+    /// Mitsuba's `normalmap` (`NormalMap::pack`): the start of its texture's record in the BSDF
+    /// data, `NO_NORMAL_MAP` where none.
+    pub normal_map: u32,
 }
 
 /// A disk or cylinder (`Quadric`, scene.wgsl): its affine maps as rows (object = to_object
@@ -402,7 +404,7 @@ impl SceneBuffers {
                     kind: m.bsdf_kind().constant(),
                     opacity: m.opacity.as_ref().map_or(1.0, |o| o.pack(&mut data)),
                     back: m.back.map_or(NO_BACK, |b| b as u32),
-                    _pad: 0,
+                    normal_map: m.normal_map.as_ref().map_or(NO_NORMAL_MAP, |n| n.pack(&mut data)),
                 }
             })
             .collect();

@@ -125,6 +125,10 @@ pub fn canonical_encoding(scene: &Scene) -> String {
         if let Some(o) = &m.opacity {
             line(&format!("material.{i}.opacity"), o.hash_value());
         }
+        // Only normal-mapped materials add a line.
+        if let Some(n) = &m.normal_map {
+            line(&format!("material.{i}.normal_map"), n.hash_value());
+        }
         // Only materials with a back BSDF add a line: the back material's index.
         if let Some(b) = m.back {
             line(&format!("material.{i}.back"), b.to_string());

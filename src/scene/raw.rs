@@ -224,7 +224,7 @@ pub(crate) struct RawRender {
     pub hide_emitters: Option<Spanned<bool>>,
 }
 
-/// `[materials.<name>]`: what every material has (`emission`, `two_sided`, `opacity`, `back`, the `bsdf` kind) and
+/// `[materials.<name>]`: what every material has (`emission`, `two_sided`, `opacity`, `normal_map`, `back`, the `bsdf` kind) and
 /// the fields of its BSDF kind, kept as written with their spans: the kind's file reads them
 /// (`scene::bsdfs`), so that a new kind adds its fields without touching this file.
 #[derive(Debug, Default)]
@@ -237,6 +237,8 @@ pub(crate) struct RawMaterial {
     pub bsdf: Option<Spanned<String>>,
     /// Mitsuba's `mask`: a number in [0, 1] or a texture table (`bsdfs::Opacity`).
     pub opacity: Option<Spanned<toml::Value>>,
+    /// Mitsuba's `normalmap`: a texture table (`bsdfs::NormalMap`).
+    pub normal_map: Option<Spanned<toml::Value>>,
     /// Mitsuba's `twosided` with two BSDFs: the name of the material whose BSDF scatters on the
     /// back.
     pub back: Option<Spanned<String>>,
@@ -260,6 +262,7 @@ impl<'de> Deserialize<'de> for RawMaterial {
                         "two_sided" => m.two_sided = Some(map.next_value()?),
                         "bsdf" => m.bsdf = Some(map.next_value()?),
                         "opacity" => m.opacity = Some(map.next_value()?),
+                        "normal_map" => m.normal_map = Some(map.next_value()?),
                         "back" => m.back = Some(map.next_value()?),
                         _ => {
                             let value = map.next_value()?;
@@ -293,6 +296,9 @@ impl Serialize for RawMaterial {
         }
         if let Some(o) = &self.opacity {
             map.serialize_entry("opacity", o.get_ref())?;
+        }
+        if let Some(n) = &self.normal_map {
+            map.serialize_entry("normal_map", n.get_ref())?;
         }
         if let Some(b) = &self.back {
             map.serialize_entry("back", b.get_ref())?;

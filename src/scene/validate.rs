@@ -704,8 +704,25 @@ fn check_materials(ck: &mut Checker, raw: &RawScene) -> (Vec<Material>, BTreeMap
                 }
             }
         });
+        let normal_map = m.normal_map.as_ref().and_then(|n| {
+            let base = ck.file.parent().map(std::path::Path::to_path_buf).unwrap_or_default();
+            let field = format!("materials.{name}.normal_map");
+            if bsdf.kind().transmits() || bsdf.kind().both_sides() {
+                ck.error(n.span(), field, format!("a normal map around a {}, which transmits, is not supported (normal-map a BSDF that reflects)", bsdf.kind().toml_name()));
+                return None;
+            }
+            match super::bsdfs::NormalMap::from_toml(n.get_ref(), n.span(), &base) {
+                Ok(map) => Some(map),
+                Err(errors) => {
+                    for (span, message) in errors {
+                        ck.error(span, field.clone(), message);
+                    }
+                    None
+                }
+            }
+        });
         names.insert(name.clone(), materials.len());
-        materials.push(Material { name: name.clone(), emission, two_sided, bsdf, opacity, back: None });
+        materials.push(Material { name: name.clone(), emission, two_sided, bsdf, opacity, normal_map, back: None });
     }
     // Backs, once every material has its index: a back's own BSDF is what scatters, so it must
     // be a plain one-BSDF material that only reflects (Mitsuba's twosided nests no
@@ -724,8 +741,8 @@ fn check_materials(ck: &mut Checker, raw: &RawScene) -> (Vec<Material>, BTreeMap
             Some("a material cannot be its own back".to_string())
         } else if bm.bsdf_kind().transmits() {
             Some(format!("the back \"{}\" is a {}, which transmits: Mitsuba's twosided nests only BSDFs that reflect", bm.name, bm.bsdf_kind().toml_name()))
-        } else if raw.materials.get(back.get_ref()).is_some_and(|r| r.get_ref().back.is_some()) || bm.opacity.is_some() || bm.is_emissive() {
-            Some(format!("the back \"{}\" must be a plain material: no back, opacity or emission of its own", bm.name))
+        } else if raw.materials.get(back.get_ref()).is_some_and(|r| r.get_ref().back.is_some()) || bm.opacity.is_some() || bm.normal_map.is_some() || bm.is_emissive() {
+            Some(format!("the back \"{}\" must be a plain material: no back, opacity, normal map or emission of its own", bm.name))
         } else if !materials[i].two_sided {
             Some("a material with a back is two-sided: two_sided = false does not apply".to_string())
         } else if materials[i].bsdf_kind().transmits() {

@@ -118,7 +118,7 @@ pub fn eval_bsdf_pairs(bsdf: &pathlab::scene::Bsdf, pairs: &[[f32; 4]]) -> Vec<[
          fn eval_main(@builtin(global_invocation_id) gid: vec3u) {{\n\
              let i = gid.x;\n\
              if (i >= test_params.count) {{ return; }}\n\
-             let b = Bsdf(BSDF_KIND_{kind}, test_params.p0, test_params.p1, test_params.p2, false, 1.0, vec3f(1.0, 0.0, 0.0));\n\
+             let b = Bsdf(BSDF_KIND_{kind}, test_params.p0, test_params.p1, test_params.p2, false, 1.0, vec3f(1.0, 0.0, 0.0), vec3f(0.0));\n\
              let n_s = vec3f(0.0, 0.0, 1.0);\n\
              let wo = test_dirs[2u * i].xyz;\n\
              let wi = test_dirs[2u * i + 1u].xyz;\n\

@@ -208,6 +208,8 @@ struct Bsdf {
     /// A `mask`'s opacity as the TOML field's value (`scene::Opacity`): a number, or a texture
     /// table.
     opacity: Option<toml::Value>,
+    /// A `normalmap`'s texture as the TOML field's value (`scene::NormalMap`).
+    normal_map: Option<toml::Value>,
     /// A `twosided`'s second BSDF, which scatters on the back (`Material::back`).
     back: Option<Box<Bsdf>>,
 }
@@ -218,7 +220,7 @@ impl Bsdf {
     /// unless given a BSDF).
     fn default_diffuse(emits: bool) -> Bsdf {
         let (reflectance, name) = if emits { (0.0, "default-emitter") } else { (DEFAULT_REFLECTANCE, "default-diffuse") };
-        Bsdf { kind: BsdfKind::Phong, fields: vec![("diffuse", color_value([reflectance; 3]))], two_sided: false, name: Some(name.into()), opacity: None, back: None }
+        Bsdf { kind: BsdfKind::Phong, fields: vec![("diffuse", color_value([reflectance; 3]))], two_sided: false, name: Some(name.into()), opacity: None, normal_map: None, back: None }
     }
 }
 
@@ -1187,8 +1189,8 @@ impl Translator<'_> {
                                 self.error(o.at, "type", format!("the {side} of a <bsdf type=\"twosided\"> with two BSDFs is a {}, which transmits: only BSDFs that reflect can be nested (Mitsuba refuses it too)", o.plugin));
                                 return None;
                             }
-                            if bsdf.opacity.is_some() || bsdf.two_sided {
-                                self.error(o.at, "type", format!("the {side} of a <bsdf type=\"twosided\"> with two BSDFs must be one plain BSDF (a mask or a twosided inside one side is not supported; a mask may wrap the twosided)"));
+                            if bsdf.opacity.is_some() || bsdf.two_sided || bsdf.normal_map.is_some() {
+                                self.error(o.at, "type", format!("the {side} of a <bsdf type=\"twosided\"> with two BSDFs must be one plain BSDF (a mask, normal map or twosided inside one side is not supported; a mask may wrap the twosided)"));
                                 return None;
                             }
                         }
@@ -1201,16 +1203,17 @@ impl Translator<'_> {
                 }
             }
             "mask" => self.mask(o),
+            "normalmap" => self.normal_map(o),
             plugin => match BsdfKind::from_mitsuba_plugin(plugin) {
                 Some(kind) => {
                     let mut reader = PluginReader { t: self, p: Some(Props::of(o)), o, taken: Vec::new() };
                     let fields = kind.read_mitsuba(&mut reader);
                     reader.finish("");
-                    fields.map(|fields| Bsdf { kind, fields, two_sided: false, name, opacity: None, back: None })
+                    fields.map(|fields| Bsdf { kind, fields, two_sided: false, name, opacity: None, normal_map: None, back: None })
                 }
                 None => {
                     let known = BsdfKind::all_mitsuba_plugins().join(", ");
-                    self.error(o.at, "type", format!("<bsdf type=\"{plugin}\"> is not supported (pathlab has {known}, twosided, mask)"));
+                    self.error(o.at, "type", format!("<bsdf type=\"{plugin}\"> is not supported (pathlab has {known}, twosided, mask, normalmap)"));
                     None
                 }
             },
@@ -1260,6 +1263,62 @@ impl Translator<'_> {
         }
     }
 
+    /// `<bsdf type="normalmap">` (Mitsuba's normalmap.cpp): its one nested BSDF, plain and
+    /// reflecting (a mask or twosided may wrap the normal map, not the other way round), with
+    /// the `normalmap` texture; `flip_invalid_normals` and `use_shadowing_function` true, as
+    /// Mitsuba's defaults (false is refused).
+    fn normal_map(&mut self, o: &Object) -> Option<Bsdf> {
+        // Mitsuba's normalmap reads eval_3, which only its bitmap has (its checkerboard fails at
+        // render time: "Texture::eval_3(): not implemented!").
+        let other = o.children.iter().find(|c| c.tag == "texture" && c.name.as_deref() == Some("normalmap") && c.plugin != "bitmap");
+        if let Some(t) = other {
+            let why = if t.plugin == "checkerboard" { "Mitsuba's checkerboard has no eval_3, which its normalmap reads".to_string() } else { format!("<texture type=\"{}\"> is not supported as one", t.plugin) };
+            self.error(t.at, "normalmap", format!("a normal map must be a bitmap ({why})"));
+            return None;
+        }
+        let mut reader = PluginReader { t: self, p: Some(Props::of(o)), o, taken: Vec::new() };
+        let has_map = reader.has_texture("normalmap");
+        let map = if has_map { reader.color_or_texture("normalmap") } else { None };
+        let flags = ["flip_invalid_normals", "use_shadowing_function"].map(|name| (name, reader.boolean(name)));
+        let stray = reader.texture();
+        reader.finish("normalmap (a <texture>), flip_invalid_normals, use_shadowing_function, one nested <bsdf>");
+        if let Some(at) = stray {
+            self.error(at, "", "a <texture> inside a <bsdf type=\"normalmap\"> other than its `normalmap` is not supported");
+        }
+        for (name, value) in flags {
+            if let Some((false, at)) = value {
+                self.error(at, name, format!("`{name}` = false is not supported (pathlab follows Mitsuba's default, true)"));
+            }
+        }
+        if !has_map {
+            self.error(o.at, "normalmap", "<bsdf type=\"normalmap\"> needs its normals as a <texture name=\"normalmap\">");
+        }
+        let inner: Vec<&Object> = o.children.iter().filter(|c| c.tag == "bsdf").collect();
+        let b = match inner.as_slice() {
+            [one] => {
+                let b = self.bsdf(one)?;
+                if b.opacity.is_some() || b.two_sided || b.back.is_some() || b.normal_map.is_some() {
+                    self.error(one.at, "type", "the BSDF inside a <bsdf type=\"normalmap\"> must be one plain BSDF (a mask or twosided may wrap the normal map instead)");
+                    return None;
+                }
+                if b.kind.transmits() || b.kind.both_sides() {
+                    self.error(one.at, "type", format!("a normal map around a <bsdf type=\"{}\">, which transmits, is not supported (normal-map a BSDF that reflects)", one.plugin));
+                    return None;
+                }
+                b
+            }
+            [] => {
+                self.error(o.at, "", "<bsdf type=\"normalmap\"> needs the <bsdf> it perturbs");
+                return None;
+            }
+            [_, second, ..] => {
+                self.error(second.at, "", "<bsdf type=\"normalmap\"> takes one nested <bsdf> (Mitsuba: \"Only a single BSDF child object can be specified.\")");
+                return None;
+            }
+        };
+        Some(Bsdf { normal_map: Some(map?), name: o.id.clone().or(b.name.clone()), ..b })
+    }
+
     /// The material of a BSDF with an emission: shared by every shape with the same pair.
     fn material(&mut self, bsdf: &Bsdf, emission: Option<[f64; 3]>, shape_name: &str, at: usize) -> Spanned<String> {
         if let Some((name, _, _)) = self.material_keys.iter().find(|(_, b, e)| b == bsdf && *e == emission) {
@@ -1289,6 +1348,7 @@ impl Translator<'_> {
             bsdf: (bsdf.kind != BsdfKind::ALL[0]).then(|| spanned(at, bsdf.kind.toml_name().to_string())),
             params: bsdf.fields.iter().map(|(k, v)| (k.to_string(), spanned(at, v.clone()))).collect(),
             opacity: bsdf.opacity.clone().map(|o| spanned(at, o)),
+            normal_map: bsdf.normal_map.clone().map(|n| spanned(at, n)),
         };
         self.materials.insert(name.clone(), spanned(at, m));
         self.material_keys.push((name.clone(), bsdf.clone(), emission));
