@@ -159,17 +159,17 @@ fn sample_bsdf_opaque(b: Bsdf, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32)
 // BSDFs return f cos; pathlab's integrator multiplies by |wi . n_s|). A mask's: both times the
 // opacity (mask.cpp eval_pdf).
 fn eval_pdf_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, wi: vec3f) -> BsdfEval {
-    var e: BsdfEval;
-    if (is_normal_mapped(b)) {
-        let n_p = b.normal;
-        e = eval_pdf_bsdf_opaque(b, n_p, wo, wi);
+    // One call of the dispatcher, whichever normal (SIMD CPU drivers compile every call: two
+    // made every pipeline ~1 s slower to create).
+    let mapped = is_normal_mapped(b);
+    let n_p = select(n_s, b.normal, mapped);
+    var e = eval_pdf_bsdf_opaque(b, n_p, wo, wi);
+    if (mapped) {
         let cos_s = dot(wi, n_s);
         let cos_p = dot(wi, n_p);
         let same_side = cos_s * cos_p > 0.0;
         e.f = select(vec3f(0.0), e.f * (shadow_terminator(n_p, n_s, wi) * abs(cos_p / cos_s)), same_side);
         e.pdf = select(0.0, e.pdf, same_side);
-    } else {
-        e = eval_pdf_bsdf_opaque(b, n_s, wo, wi);
     }
     if (HAS_MASKS) {
         e.f *= b.opacity;
@@ -199,13 +199,14 @@ fn sample_bsdf(b: Bsdf, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> Bsd
 // and density zero unless wi is on the same side of n_s and n_p, the weight times the shadowing
 // term (f_p |cos_p| / pdf is the weight in either frame).
 fn sample_bsdf_mapped(b: Bsdf, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe: f32) -> BsdfSample {
-    if (!is_normal_mapped(b)) {
-        return sample_bsdf_opaque(b, n_s, wo, u_dir, u_lobe);
+    // One call of the dispatcher, whichever normal (as eval_pdf_bsdf).
+    let mapped = is_normal_mapped(b);
+    var s = sample_bsdf_opaque(b, select(n_s, b.normal, mapped), wo, u_dir, u_lobe);
+    if (mapped) {
+        let same_side = dot(s.wi, n_s) * dot(s.wi, b.normal) > 0.0;
+        s.weight = select(vec3f(0.0), s.weight * shadow_terminator(b.normal, n_s, s.wi), same_side);
+        s.pdf = select(0.0, s.pdf, same_side);
     }
-    var s = sample_bsdf_opaque(b, b.normal, wo, u_dir, u_lobe);
-    let same_side = dot(s.wi, n_s) * dot(s.wi, b.normal) > 0.0;
-    s.weight = select(vec3f(0.0), s.weight * shadow_terminator(b.normal, n_s, s.wi), same_side);
-    s.pdf = select(0.0, s.pdf, same_side);
     return s;
 }
 

@@ -217,11 +217,12 @@ fn sample_microfacet_ndf(u: vec2f, alpha: f32, distribution: u32) -> vec3f {
 // D above is the alpha = 1 slope density with its slopes divided by (alpha_u, alpha_v), over
 // alpha_u alpha_v). Without ANISOTROPIC_ROUGHNESS, sample_microfacet_ndf of alpha_u.
 fn sample_microfacet_ndf_uv(u: vec2f, alpha_uv: vec2f, distribution: u32) -> vec3f {
+    // One call of the sampler (SIMD CPU drivers compile every call).
+    let m = sample_microfacet_ndf(u, select(alpha_uv.x, 1.0, ANISOTROPIC_ROUGHNESS), distribution);
     if (!ANISOTROPIC_ROUGHNESS) {
-        return sample_microfacet_ndf(u, alpha_uv.x, distribution);
+        return m;
     }
-    let m1 = sample_microfacet_ndf(u, 1.0, distribution);
-    return normalize(vec3f(alpha_uv.x * m1.x, alpha_uv.y * m1.y, m1.z));
+    return normalize(vec3f(alpha_uv.x * m.x, alpha_uv.y * m.y, m.z));
 }
 
 // erf(x): Dr.Jit's single-precision polynomials (a fit on [0, 1), an exp2 form beyond).
