@@ -97,18 +97,7 @@ fn projected_roughness_2(v: vec3f, alpha_uv: vec2f) -> f32 {
 //   GGX:      2 / (1 + sqrt(1 + alpha^2 tan^2(theta_v))).
 // 1 at normal incidence; 0 where v sees the back of m (dot(v, m) cos(theta_v) <= 0).
 fn smith_g1(v: vec3f, m: vec3f, alpha: f32, distribution: u32) -> f32 {
-    let xy_alpha_2 = alpha * alpha * (v.x * v.x + v.y * v.y);
-    let tan_theta_alpha_2 = xy_alpha_2 / (v.z * v.z);
-    var g: f32;
-    if (is_beckmann(distribution)) {
-        let a = inverseSqrt(tan_theta_alpha_2);
-        let a2 = a * a;
-        g = select((3.535 * a + 2.181 * a2) / (1.0 + 2.276 * a + 2.577 * a2), 1.0, a >= 1.6);
-    } else {
-        g = 2.0 / (1.0 + sqrt(1.0 + tan_theta_alpha_2));
-    }
-    g = select(g, 1.0, xy_alpha_2 == 0.0);
-    return select(g, 0.0, dot(v, m) * v.z <= 0.0);
+    return smith_g1_uv(v, m, vec2f(alpha), distribution);
 }
 
 // G1 of the roughness (alpha_u, alpha_v): alpha^2 tan^2(theta_v) is a_u^2 v.x^2 + a_v^2 v.y^2 over
