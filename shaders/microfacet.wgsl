@@ -44,17 +44,8 @@ const INV_SQRT_PI: f32 = 0.56418958354775628695;
 //   GGX:      1 / (pi a^2 ((x^2 + y^2) / a^2 + z^2)^2)
 // Mitsuba's only guard: 0 unless D cos(theta_m) > 1e-20 (so also 0 below the surface).
 fn eval_microfacet_d(m: vec3f, alpha: f32, distribution: u32) -> f32 {
-    let cos2 = m.z * m.z;
     let a2 = alpha * alpha;
-    let xy = (m.x * m.x + m.y * m.y) / a2;
-    var d: f32;
-    if (is_beckmann(distribution)) {
-        d = exp(-xy / cos2) / (PI * a2 * cos2 * cos2);
-    } else {
-        let t = xy + cos2;
-        d = 1.0 / (PI * a2 * t * t);
-    }
-    return select(0.0, d, d * m.z > 1e-20);
+    return microfacet_d_of_slopes(m, (m.x * m.x + m.y * m.y) / a2, a2, distribution);
 }
 
 // D(m) of the roughness alpha_uv = (alpha_u, alpha_v), Mitsuba's anisotropic form:
@@ -65,11 +56,15 @@ fn eval_microfacet_d_uv(m: vec3f, alpha_uv: vec2f, distribution: u32) -> f32 {
     if (!ANISOTROPIC_ROUGHNESS) {
         return eval_microfacet_d(m, alpha_uv.x, distribution);
     }
-    let cos2 = m.z * m.z;
-    let a2 = alpha_uv.x * alpha_uv.y;
     let sx = m.x / alpha_uv.x;
     let sy = m.y / alpha_uv.y;
-    let xy = sx * sx + sy * sy;
+    return microfacet_d_of_slopes(m, sx * sx + sy * sy, alpha_uv.x * alpha_uv.y, distribution);
+}
+
+// Both forms of D from xy = (x / a_u)^2 + (y / a_v)^2 (m's scaled slopes times cos^2) and
+// a2 = a_u a_v.
+fn microfacet_d_of_slopes(m: vec3f, xy: f32, a2: f32, distribution: u32) -> f32 {
+    let cos2 = m.z * m.z;
     var d: f32;
     if (is_beckmann(distribution)) {
         d = exp(-xy / cos2) / (PI * a2 * cos2 * cos2);
