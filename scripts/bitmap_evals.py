@@ -8,8 +8,9 @@ reference renderer's venv (../shared/reference-renderer):
 
 It writes the small test images into tests/fixtures/textures/ (deterministic: texel values from a
 fixed formula) unless they exist, then tests/fixtures/textures/bitmap_evals.json: per
-configuration (file, filter_type, wrap_mode, raw, the to_uv matrix's 2x3 part) the uvs and
-Mitsuba's eval at each (llvm_ad_rgb, the variant of the reference renders)."""
+configuration (file, filter_type, wrap_mode, raw, the to_uv matrix's 2x3 part) the uvs, Mitsuba's
+eval at each and its eval_1_grad (the gradient in uv that its bumpmap reads) (llvm_ad_rgb, the
+variant of the reference renders)."""
 import json
 import os
 import sys
@@ -110,9 +111,11 @@ def main():
         si.uv = mi.Point2f(pts[:, 0], pts[:, 1])
         c = tex.eval(si)
         vals = np.stack([np.array(c[0]), np.array(c[1]), np.array(c[2])], axis=1)
+        g = tex.eval_1_grad(si)
+        grads = np.stack([np.array(g[0]), np.array(g[1])], axis=1)
         out["configs"].append({"file": name, "filter_type": filt, "wrap_mode": wrap, "raw": raw, "to_uv": m,
                                "mean": float(np.array(tex.mean()).ravel()[0]),
-                               "uv": pts.tolist(), "rgb": vals.tolist()})
+                               "uv": pts.tolist(), "rgb": vals.tolist(), "grad": grads.tolist()})
     path = os.path.join(DIR, "bitmap_evals.json")
     with open(path, "w") as f:
         json.dump(out, f)

@@ -339,6 +339,13 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
                 m = normal_mapped(m, eval_texture(map, hit.uv, x), hit.shading_normal, n_s, wo);
             }
         }
+        if (HAS_BUMP_MAPS) {
+            let bump = materials[hit.material].bump_map;
+            if (bump != NO_BUMP_MAP) {
+                let dp = surface_partials(hit, x);
+                m = bump_mapped(m, bump, hit.uv, dp.du, dp.dv, hit.normal, hit.shading_normal, n_s, wo);
+            }
+        }
         let dim_base = first_vertex_dim() + (depth - 1u) * dims_per_vertex();
         // A one-sided BSDF seen from behind (the side its surface normal points away from)
         // scatters nothing: Mitsuba's rule for BSDFs not wrapped in `twosided`.

@@ -118,6 +118,61 @@ fn plane_uv(normal: vec3f, x: vec3f) -> vec2f {
     return vec2f(dot(x, f.t), dot(x, f.b));
 }
 
+// The partial derivatives of a surface's position along its uv parametrisation, with their
+// lengths (Mitsuba's si.dp_du, si.dp_dv), where a bump map needs them (surface_partials).
+struct Partials {
+    du: vec3f,
+    dv: vec3f,
+}
+
+// dp/du and dp/dv of sphere i at the point whose outward unit normal is n, l = n in its object
+// axes (Mitsuba's sphere.cpp: to_world of 2 pi (-l.y, l.x, 0) and of pi (l.z cos phi, l.z sin
+// phi, -r_xy), r_xy = sqrt(l.x^2 + l.y^2); to_world scales by the radius; at the poles dp/dv is
+// pi to_world (1, 0, 0)).
+fn sphere_partials(i: u32, n: vec3f) -> Partials {
+    let a = sphere_axes[i];
+    let r = spheres[i].radius;
+    let l = vec3f(dot(n, a.x), dot(n, a.y), dot(n, a.z));
+    let rd = sqrt(l.x * l.x + l.y * l.y);
+    let dv_l = select(vec3f(1.0, 0.0, 0.0), vec3f(l.z * (l.x / rd), l.z * (l.y / rd), -rd), rd != 0.0);
+    let du = (2.0 * PI * r) * (a.y * l.x - a.x * l.y);
+    let dv = (PI * r) * (a.x * dv_l.x + a.y * dv_l.y + a.z * dv_l.z);
+    return Partials(du, dv);
+}
+
+// dp/du and dp/dv of quadric k at world point p of it: a disk's (disk.cpp) to_world (cos phi,
+// sin phi, 0) and 2 pi r to_world (-sin phi, cos phi, 0) (both of (0, 0, 0)'s direction at the
+// centre); a cylinder's (cylinder.cpp) to_world 2 pi (-l.y, l.x, 0) and to_world (0, 0, 1).
+fn quadric_partials(k: u32, q: Quadric, p: vec3f) -> Partials {
+    let l = quadric_point_to_object(q, p);
+    if (k < NUM_DISKS) {
+        let r2 = dot(l.xy, l.xy);
+        let inv_r = select(0.0, inverseSqrt(r2), r2 != 0.0);
+        let c = l.xy * inv_r;
+        return Partials(quadric_vector_to_world(q, vec3f(c.x, c.y, 0.0)),
+                        quadric_vector_to_world(q, vec3f(-c.y, c.x, 0.0)) * (2.0 * PI * (r2 * inv_r)));
+    }
+    return Partials(quadric_vector_to_world(q, 2.0 * PI * vec3f(-l.y, l.x, 0.0)), quadric_vector_to_world(q, vec3f(0.0, 0.0, 1.0)));
+}
+
+// dp/du and dp/dv at a hit at point x (bump maps): the sphere's, the plane's (the axes of its
+// uv, plane_uv), the quadric's, or the triangle's (triangle_partials).
+fn surface_partials(hit: Hit, x: vec3f) -> Partials {
+    if (hit.object < NUM_SPHERES) {
+        return sphere_partials(hit.object, hit.normal);
+    }
+    if (hit.object < NUM_SPHERES + NUM_PLANES) {
+        let f = frame_from_normal(hit.normal);
+        return Partials(f.t, f.b);
+    }
+    if (is_quadric(hit.object)) {
+        let k = hit.object - first_quadric_object();
+        return quadric_partials(k, surfaces.quadrics[k], x);
+    }
+    let i = hit.object - first_triangle_object();
+    return triangle_partials(i, triangle_at(i), hit.normal);
+}
+
 // Closest hit along (o, d). The candidate's normal data and material are carried along by
 // selects as closer hits are found, rather than looked up afterwards at the hit's index,
 // which differs per lane (a gather on SIMD CPU drivers and a serialised constant-cache read on

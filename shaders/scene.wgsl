@@ -73,6 +73,9 @@ struct Material {
     // Mitsuba's normalmap (shaders/bsdfs/normal_map.wgsl): the start of its texture's record in
     // bsdf_data, NO_NORMAL_MAP where none.
     normal_map: u32,
+    // Mitsuba's bumpmap (shaders/bsdfs/bump_map.wgsl): the start of its record in bsdf_data (the
+    // scale, then its texture's record), NO_BUMP_MAP where none.
+    bump_map: u32,
 }
 
 // Flags of a material: MATERIAL_EMISSIVE and MATERIAL_ONE_SIDED, generated from

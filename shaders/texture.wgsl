@@ -79,6 +79,43 @@ fn eval_bitmap_texture(at: u32, uv_in: vec2f) -> vec3f {
     return top + f.y * (bottom - top);
 }
 
+// The gradient in uv of the bitmap at `at` as Mitsuba's Bitmap::eval_1_grad gives it (host twin:
+// Bitmap::eval_1_grad): zero for nearest filtering; for bilinear, the partials of the
+// interpolant of the four texels' luminances in pixel coordinates,
+//   df/dx = (1 - fy)(f10 - f00) + fy (f11 - f01),  df/dy = (1 - fx)(f01 - f00) + fx (f11 - f10),
+// through to_uv by its transpose and times the resolution, (m00 df/dx + m10 df/dy) w and
+// (m01 df/dx + m11 df/dy) h, in Mitsuba's order.
+fn bitmap_gradient(at: u32, uv_in: vec2f) -> vec2f {
+    if (bsdf_data[at + 3u] == 0.0) {
+        return vec2f(0.0);
+    }
+    let m00 = bsdf_data[at + 6u];
+    let m01 = bsdf_data[at + 7u];
+    let m10 = bsdf_data[at + 9u];
+    let m11 = bsdf_data[at + 10u];
+    let uv = vec2f(m00 * uv_in.x + m01 * uv_in.y + bsdf_data[at + 8u],
+                   m10 * uv_in.x + m11 * uv_in.y + bsdf_data[at + 11u]);
+    let size = vec2f(bsdf_data[at + 1u], bsdf_data[at + 2u]);
+    let p = uv * size - vec2f(0.5);
+    let base = floor(p);
+    let f = p - base;
+    let x0 = i32(base.x);
+    let y0 = i32(base.y);
+    let f00 = texture_value_1(bitmap_texel(at, x0, y0));
+    let f10 = texture_value_1(bitmap_texel(at, x0 + 1, y0));
+    let f01 = texture_value_1(bitmap_texel(at, x0, y0 + 1));
+    let f11 = texture_value_1(bitmap_texel(at, x0 + 1, y0 + 1));
+    let dx = (1.0 - f.y) * (f10 - f00) + f.y * (f11 - f01);
+    let dy = (1.0 - f.x) * (f01 - f00) + f.x * (f11 - f10);
+    return vec2f((m00 * dx + m10 * dy) * size.x, (m01 * dx + m11 * dy) * size.y);
+}
+
+// The gradient in uv of the texture whose record starts at `at` (a bump map's heights: a bitmap,
+// the only texture with Mitsuba's eval_1_grad; the host refuses the others).
+fn texture_gradient(at: u32, uv: vec2f) -> vec2f {
+    return bitmap_gradient(at, uv);
+}
+
 // Cell (x, y, z) (wrapped) of the grid volume at `at`, as RGB (one channel: grey).
 fn volume_cell(at: u32, x: i32, y: i32, z: i32) -> vec3f {
     let n = vec3i(i32(bsdf_data[at + 1u]), i32(bsdf_data[at + 2u]), i32(bsdf_data[at + 3u]));

@@ -90,6 +90,8 @@ fn every_override_permutation_validates() {
                                     // Tangent frames and anisotropic microfacets on and off.
                                     anisotropic_roughness: (checked / 11) % 2 == 0,
                                     has_normal_maps: (checked / 13) % 2 == 0,
+                                    // Bump maps on and off, with and without normal maps.
+                                    has_bump_maps: (checked / 17) % 2 == 0,
                                     rr_depth: if on { 2 } else { 0 },
                                     thin_lens: on,
                                     hide_emitters: on,

@@ -8,6 +8,7 @@ mod common;
 mod advise;
 mod anisotropic;
 mod analytic_scenes;
+mod bump_maps;
 mod bvh;
 mod checkpoint;
 mod chi2_sampling;

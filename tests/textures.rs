@@ -21,6 +21,10 @@
 //!    textures in a plastic's base, a roughplastic's base and a roughconductor's reflectance
 //!    (tests/fixtures/cornell_textured_layers/), z-tested against Mitsuba as in 2. A bitmap
 //!    lookup without the sRGB decode fails 4 and 5 (55% of channels passing, max |z| 165).
+//! 6. Gradients (Mitsuba's `eval_1_grad`, what its bumpmap reads): `Bitmap::eval_1_grad` against
+//!    Mitsuba 3.9.1's at the uvs and configurations of 4 (scripts/bitmap_evals.py), and the
+//!    kernel's `texture_gradient` against the host's, away from texel centres (where the
+//!    gradient jumps): equal to f32 rounding.
 
 use crate::common;
 
@@ -92,6 +96,11 @@ fn the_kernels_checkerboard_is_the_hosts() {
 /// The bitmaps of tests/fixtures/textures/bitmap_evals.json (scripts/bitmap_evals.py) with
 /// their uvs and Mitsuba 3.9.1's values there.
 fn mitsuba_bitmap_evals() -> Vec<(Bitmap, Vec<[f32; 2]>, Vec<[f32; 3]>)> {
+    mitsuba_bitmap_evals_and_gradients().into_iter().map(|(b, uv, rgb, _)| (b, uv, rgb)).collect()
+}
+
+/// `mitsuba_bitmap_evals` with Mitsuba's `eval_1_grad` at each uv (what its bumpmap reads).
+fn mitsuba_bitmap_evals_and_gradients() -> Vec<(Bitmap, Vec<[f32; 2]>, Vec<[f32; 3]>, Vec<[f32; 2]>)> {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/textures");
     let json: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("bitmap_evals.json")).unwrap()).unwrap();
     let f = |v: &serde_json::Value| v.as_f64().unwrap();
@@ -108,7 +117,8 @@ fn mitsuba_bitmap_evals() -> Vec<(Bitmap, Vec<[f32; 2]>, Vec<[f32; 3]>)> {
             let bitmap = Bitmap::new(file, image, Filter::parse(c["filter_type"].as_str().unwrap()).unwrap(), Wrap::parse(c["wrap_mode"].as_str().unwrap()).unwrap(), raw, to_uv);
             let uvs = c["uv"].as_array().unwrap().iter().map(|p| [f(&p[0]) as f32, f(&p[1]) as f32]).collect();
             let rgb = c["rgb"].as_array().unwrap().iter().map(|p| [f(&p[0]) as f32, f(&p[1]) as f32, f(&p[2]) as f32]).collect();
-            (bitmap, uvs, rgb)
+            let grad = c["grad"].as_array().unwrap().iter().map(|p| [f(&p[0]) as f32, f(&p[1]) as f32]).collect();
+            (bitmap, uvs, rgb, grad)
         })
         .collect()
 }
@@ -132,6 +142,71 @@ fn bitmap_lookups_are_mitsubas() {
         }
     }
     assert!(checked > 2000, "{checked} lookups");
+}
+
+/// Whether uv lies within 1e-3 texel of a texel centre along x or y of the bitmap: where the
+/// bilinear interpolant's gradient jumps, and the last bit of the position's rounding decides
+/// which side's value a lookup gives.
+fn near_a_texel_centre(b: &Bitmap, uv: [f32; 2]) -> bool {
+    let m = b.to_uv;
+    let (u, v) = (uv[0] as f64, uv[1] as f64);
+    let px = (m[0][0] * u + m[0][1] * v + m[0][2]) * b.image.width as f64 - 0.5;
+    let py = (m[1][0] * u + m[1][1] * v + m[1][2]) * b.image.height as f64 - 0.5;
+    (px - px.round()).abs() < 1e-3 || (py - py.round()).abs() < 1e-3
+}
+
+#[test]
+fn bitmap_gradients_are_mitsubas() {
+    // Mitsuba's eval_1_grad (its bumpmap's heights) against `Bitmap::eval_1_grad` at the same
+    // uvs and configurations as the lookups, away from texel centres (near_a_texel_centre):
+    // equal but for f32 rounding (differences of luminances times the resolution).
+    let (mut checked, mut skipped) = (0, 0);
+    for (bitmap, uvs, _, expected) in mitsuba_bitmap_evals_and_gradients() {
+        for (uv, e) in uvs.iter().zip(&expected) {
+            if near_a_texel_centre(&bitmap, *uv) {
+                skipped += 1;
+                continue;
+            }
+            let got = bitmap.eval_1_grad(*uv);
+            assert!((0..2).all(|c| (got[c] - e[c]).abs() <= 2e-5 * (1.0 + e[c].abs())), "{} {:?} {:?} raw {} to_uv {:?} at {uv:?}: pathlab {got:?}, Mitsuba {e:?}", bitmap.file.display(), bitmap.filter, bitmap.wrap, bitmap.raw, bitmap.to_uv);
+            checked += 1;
+        }
+    }
+    println!("{checked} gradients checked, {skipped} near texel centres skipped");
+    assert!(checked > 1000, "{checked} gradients");
+}
+
+const GRADIENT_KERNEL: &str = r#"
+@group(0) @binding(0) var<storage, read> test_uvs: array<vec4f>;
+@group(0) @binding(1) var<storage, read_write> test_out: array<vec4f>;
+
+@compute @workgroup_size(64)
+fn gradient_main(@builtin(global_invocation_id) gid: vec3u) {
+    let i = gid.x;
+    if (i >= arrayLength(&test_uvs)) {
+        return;
+    }
+    test_out[i] = vec4f(texture_gradient(u32(test_uvs[i].z), test_uvs[i].xy), 0.0, 0.0);
+}
+"#;
+
+#[test]
+fn the_kernels_bitmap_gradient_is_the_hosts() {
+    let cases = mitsuba_bitmap_evals();
+    let mut data = BsdfData::default();
+    data.push(&[7.0; 3]);
+    let mut queries: Vec<[f32; 4]> = Vec::new();
+    for (t, (bitmap, uvs, _)) in cases.iter().enumerate() {
+        let start = bitmap.pack(&mut data) as f32;
+        queries.extend(uvs.iter().filter(|uv| !near_a_texel_centre(bitmap, **uv)).map(|uv| [uv[0], uv[1], start, t as f32]));
+    }
+    let inputs = vec![(0, bytemuck::cast_slice(&queries).to_vec()), (shaders::bindings::BSDF_DATA.number, bytemuck::cast_slice(&data.0).to_vec())];
+    let out: Vec<[f32; 4]> = run_test_kernel(&shaders::LIBRARY, GRADIENT_KERNEL, "gradient_main", inputs, queries.len(), 1);
+    for (q, got) in queries.iter().zip(&out) {
+        let b = &cases[q[3] as usize].0;
+        let expected = b.eval_1_grad([q[0], q[1]]);
+        assert!((0..2).all(|c| (got[c] - expected[c]).abs() <= 2e-5 * (1.0 + expected[c].abs())), "{} {:?} {:?} at ({}, {}): kernel {:?}, host {expected:?}", b.file.display(), b.filter, b.wrap, q[0], q[1], &got[..2]);
+    }
 }
 
 #[test]

@@ -12,15 +12,21 @@ override HAS_NORMAL_MAPS: bool = false;
 // The BSDF b perturbed by the normal-map texel c (Mitsuba's NormalMap::frame), at a point whose
 // shading frame is Mitsuba's sh_frame, s (dp/du made orthogonal to the shading normal n_front)
 // and t = n_front x s, with its third axis n_s, the shading normal turned towards the viewer wo
-// (Mitsuba's twosided mirrors the local z on the back, keeping s and t):
-//   n = 2 c - 1, mirrored about the normal, (-x, -y, z), where the viewer sees its back
-//   (flip_invalid_normals: cos(theta_o) (wo . n) <= 0 in the local frame);
-//   n' = normalize(n), s' = normalize(x - n' n'.x), both taken to the world.
+// (Mitsuba's twosided mirrors the local z on the back, keeping s and t): the normal n = 2 c - 1
+// of that frame (perturbed_frame).
 fn normal_mapped(b: Bsdf, c: vec3f, n_front: vec3f, n_s: vec3f, wo: vec3f) -> Bsdf {
-    let f = bsdf_frame(b, n_front);
+    return perturbed_frame(b, 2.0 * c - vec3f(1.0), bsdf_frame(b, n_front), n_s, wo);
+}
+
+// The BSDF b scattering in the frame of a perturbed normal n_in, given in the local shading frame
+// (f.t, f.b, n_s) (normal_mapped, bump_mapped; Mitsuba's NormalMap::frame and BumpMap::frame
+// after their normals): n_in mirrored about the shading normal, (-x, -y, z), where the viewer
+// sees its back (flip_invalid_normals: cos(theta_o) (wo . n) <= 0 in the local frame);
+// n' = normalize(n), s' = normalize(x - n' n'.x), both taken to the world.
+fn perturbed_frame(b: Bsdf, n_in: vec3f, f: Frame, n_s: vec3f, wo: vec3f) -> Bsdf {
     let s = f.t;
     let t = f.b;
-    var n = 2.0 * c - vec3f(1.0);
+    var n = n_in;
     let wo_l = vec3f(dot(wo, s), dot(wo, t), dot(wo, n_s));
     if (wo_l.z * dot(wo_l, n) <= 0.0) {
         n = vec3f(-n.x, -n.y, n.z);
@@ -33,9 +39,9 @@ fn normal_mapped(b: Bsdf, c: vec3f, n_front: vec3f, n_s: vec3f, wo: vec3f) -> Bs
     return mapped;
 }
 
-// Whether b scatters in a normal map's perturbed frame.
+// Whether b scatters in a normal map's or a bump map's perturbed frame.
 fn is_normal_mapped(b: Bsdf) -> bool {
-    return HAS_NORMAL_MAPS && dot(b.normal, b.normal) > 0.0;
+    return (HAS_NORMAL_MAPS || HAS_BUMP_MAPS) && dot(b.normal, b.normal) > 0.0;
 }
 
 // Estevez et al.'s microfacet-based shadowing of a perturbed normal n_p (Ray Tracing Gems 2019,

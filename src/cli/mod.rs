@@ -237,6 +237,10 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
     if !mapped.is_empty() {
         println!("normal maps: {} material(s) scatter in a normal map's perturbed frame (Mitsuba's normalmap): {}", mapped.len(), mapped.join(", "));
     }
+    let bumped: Vec<String> = scene.materials.iter().filter_map(|m| m.bump_map.as_ref().map(|b| format!("{} (scale {})", m.name, b.scale as f32))).collect();
+    if !bumped.is_empty() {
+        println!("bump maps: {} material(s) scatter in the frame of a bumped surface (Mitsuba's bumpmap): {}", bumped.len(), bumped.join(", "));
+    }
     let anisotropic: Vec<&str> = scene.materials.iter().filter(|m| m.bsdf.is_anisotropic()).map(|m| m.name.as_str()).collect();
     if !anisotropic.is_empty() {
         println!("anisotropic roughness: {} material(s), placed by each shape's dp/du: {}", anisotropic.len(), anisotropic.join(", "));

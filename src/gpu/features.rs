@@ -62,6 +62,10 @@ pub struct SceneFeatures {
     /// Some material is normal-mapped (`Material::normal_map`, Mitsuba's `normalmap`): the
     /// kernel's `HAS_NORMAL_MAPS`; hits then carry dp/du too (`HAS_TANGENT_FRAMES`).
     pub has_normal_maps: bool,
+    /// Some material is bump-mapped (`Material::bump_map`, Mitsuba's `bumpmap`): the kernel's
+    /// `HAS_BUMP_MAPS`, which computes the surface's partials dp/du and dp/dv where one is hit
+    /// (the bumped normal is a world direction: no tangent frame needed to place it).
+    pub has_bump_maps: bool,
     /// Some material has another BSDF on its back (`Material::back`, Mitsuba's `twosided` with
     /// two BSDFs).
     pub has_back_bsdfs: bool,
@@ -153,6 +157,7 @@ impl SceneFeatures {
             microfacet_distributions: scene.materials.iter().filter_map(|m| m.bsdf.microfacet_distribution()).fold(0, |bits, d| bits | 1 << d.constant()),
             anisotropic_roughness: scene.materials.iter().any(|m| m.bsdf.is_anisotropic()),
             has_normal_maps: scene.materials.iter().any(|m| m.normal_map.is_some()),
+            has_bump_maps: scene.materials.iter().any(|m| m.bump_map.is_some()),
             has_back_bsdfs: scene.materials.iter().any(|m| m.back.is_some()),
             rr_depth: scene.render.rr_depth.unwrap_or(0),
             thin_lens: scene.camera.aperture_radius > 0.0,

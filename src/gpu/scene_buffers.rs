@@ -14,7 +14,7 @@ use wgpu::util::DeviceExt;
 use crate::accel::{Bvh, BvhNode};
 use crate::scene::{AliasTable, BsdfData, EmitterKind, Light, Scene, MAX_DELTA_LIGHTS, MAX_MATERIALS, MAX_PLANES, MAX_QUADRICS, MAX_SPHERES};
 use crate::shaders::bindings::{self, Binding};
-use crate::shaders::flags::{MATERIAL_EMISSIVE, MATERIAL_ONE_SIDED, NO_BACK, NO_NORMAL_MAP, TRIANGLE_HAS_NORMALS, TRIANGLE_HAS_UVS, TRIANGLE_TWO_SIDED};
+use crate::shaders::flags::{MATERIAL_EMISSIVE, MATERIAL_ONE_SIDED, NO_BACK, NO_BUMP_MAP, NO_NORMAL_MAP, TRIANGLE_HAS_NORMALS, TRIANGLE_HAS_UVS, TRIANGLE_TWO_SIDED};
 
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
@@ -55,6 +55,10 @@ pub struct GpuMaterial {
     /// Mitsuba's `normalmap` (`NormalMap::pack`): the start of its texture's record in the BSDF
     /// data, `NO_NORMAL_MAP` where none.
     pub normal_map: u32,
+    /// Mitsuba's `bumpmap` (`BumpMap::pack`): the start of its record in the BSDF data (the
+    /// scale, then the texture's record), `NO_BUMP_MAP` where none.
+    pub bump_map: u32,
+    pub _pad: [u32; 3],
 }
 
 /// A disk or cylinder (`Quadric`, scene.wgsl): its affine maps as rows (object = to_object
@@ -405,6 +409,8 @@ impl SceneBuffers {
                     opacity: m.opacity.as_ref().map_or(1.0, |o| o.pack(&mut data)),
                     back: m.back.map_or(NO_BACK, |b| b as u32),
                     normal_map: m.normal_map.as_ref().map_or(NO_NORMAL_MAP, |n| n.pack(&mut data)),
+                    bump_map: m.bump_map.as_ref().map_or(NO_BUMP_MAP, |b| b.pack(&mut data)),
+                    _pad: [0; 3],
                 }
             })
             .collect();
@@ -534,7 +540,7 @@ mod tests {
         assert_eq!(std::mem::size_of::<GpuSphere>(), 32);
         assert_eq!(std::mem::size_of::<GpuPlane>(), 32);
         assert_eq!(std::mem::size_of::<GpuQuadric>(), 128);
-        assert_eq!(std::mem::size_of::<GpuMaterial>(), 80);
+        assert_eq!(std::mem::size_of::<GpuMaterial>(), 96);
         assert_eq!(std::mem::size_of::<GpuTriangle>(), 48);
         assert_eq!(std::mem::size_of::<GpuTriangleNormals>(), 48);
         assert_eq!(std::mem::size_of::<GpuTriangleUvs>(), 24);

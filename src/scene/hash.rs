@@ -129,6 +129,10 @@ pub fn canonical_encoding(scene: &Scene) -> String {
         if let Some(n) = &m.normal_map {
             line(&format!("material.{i}.normal_map"), n.hash_value());
         }
+        // Only bump-mapped materials add a line.
+        if let Some(b) = &m.bump_map {
+            line(&format!("material.{i}.bump_map"), b.hash_value());
+        }
         // Only materials with a back BSDF add a line: the back material's index.
         if let Some(b) = m.back {
             line(&format!("material.{i}.back"), b.to_string());

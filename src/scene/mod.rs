@@ -34,7 +34,7 @@ pub mod textures;
 pub use textures::Texture;
 pub use bsdfs::{
     Bsdf, BsdfData, BsdfKind, CoatingTables, Conductor, Dielectric, Distribution, Phong, Plastic, Principled, PrincipledWeight, RoughConductor, RoughDielectric, RoughPlastic,
-    ThinDielectric, NAMED_CONDUCTORS, ROUGH_PLASTIC_TABLE_RES, NormalMap, Opacity, Roughness,
+    ThinDielectric, NAMED_CONDUCTORS, ROUGH_PLASTIC_TABLE_RES, NormalMap, BumpMap, Opacity, Roughness,
 };
 pub use diagnostic::{Diagnostic, SceneError, Severity};
 pub use emitters::{AliasTable, DirectionalLight, EmitterKind, EnvDistribution, EnvironmentMap, Light, PointLight, SpotLight};
@@ -184,6 +184,9 @@ pub struct Material {
     /// Mitsuba's `normalmap` around the BSDF (`bsdfs::NormalMap`): the BSDF scatters in the
     /// frame of the map's normals; `None`: in the surface's shading frame.
     pub normal_map: Option<NormalMap>,
+    /// Mitsuba's `bumpmap` around the BSDF (`bsdfs::BumpMap`): the BSDF scatters in the frame of
+    /// the bumped surface; `None`: in the surface's shading frame. Not with a normal map.
+    pub bump_map: Option<BumpMap>,
     /// Mitsuba's `twosided` with two BSDFs: the material (an index into `Scene::materials`)
     /// whose BSDF scatters on this surface's back, in the frame turned to that side; this
     /// material's own BSDF scatters on its front. `None`: one BSDF for both sides (or for the
@@ -196,18 +199,19 @@ impl Material {
         self.emission.max_element() > 0.0
     }
 
-    /// Its textures: its BSDF's parameters', then its opacity's, then its normal map's (a back
-    /// material's are its own).
+    /// Its textures: its BSDF's parameters', then its opacity's, then its normal map's or bump
+    /// map's (a back material's are its own).
     pub fn textures(&self) -> Vec<&Texture> {
         let mut t = self.bsdf.textures();
         t.extend(self.opacity.as_ref().and_then(Opacity::texture));
         t.extend(self.normal_map.as_ref().map(|n| &n.texture));
+        t.extend(self.bump_map.as_ref().map(|b| &b.texture));
         t
     }
 
     /// Whether it reads the hit's uv parametrisation (a texture).
     pub fn reads_uv(&self) -> bool {
-        self.bsdf.reads_uv() || self.opacity.as_ref().is_some_and(|o| o.texture().is_some()) || self.normal_map.is_some()
+        self.bsdf.reads_uv() || self.opacity.as_ref().is_some_and(|o| o.texture().is_some()) || self.normal_map.is_some() || self.bump_map.is_some()
     }
 
     /// The kind of its BSDF (`BsdfKind`, the registry of kinds).

@@ -224,7 +224,7 @@ pub(crate) struct RawRender {
     pub hide_emitters: Option<Spanned<bool>>,
 }
 
-/// `[materials.<name>]`: what every material has (`emission`, `two_sided`, `opacity`, `normal_map`, `back`, the `bsdf` kind) and
+/// `[materials.<name>]`: what every material has (`emission`, `two_sided`, `opacity`, `normal_map`, `bump_map`, `back`, the `bsdf` kind) and
 /// the fields of its BSDF kind, kept as written with their spans: the kind's file reads them
 /// (`scene::bsdfs`), so that a new kind adds its fields without touching this file.
 #[derive(Debug, Default)]
@@ -239,6 +239,8 @@ pub(crate) struct RawMaterial {
     pub opacity: Option<Spanned<toml::Value>>,
     /// Mitsuba's `normalmap`: a texture table (`bsdfs::NormalMap`).
     pub normal_map: Option<Spanned<toml::Value>>,
+    /// Mitsuba's `bumpmap`: a texture table with its `scale` (`bsdfs::BumpMap`).
+    pub bump_map: Option<Spanned<toml::Value>>,
     /// Mitsuba's `twosided` with two BSDFs: the name of the material whose BSDF scatters on the
     /// back.
     pub back: Option<Spanned<String>>,
@@ -263,6 +265,7 @@ impl<'de> Deserialize<'de> for RawMaterial {
                         "bsdf" => m.bsdf = Some(map.next_value()?),
                         "opacity" => m.opacity = Some(map.next_value()?),
                         "normal_map" => m.normal_map = Some(map.next_value()?),
+                        "bump_map" => m.bump_map = Some(map.next_value()?),
                         "back" => m.back = Some(map.next_value()?),
                         _ => {
                             let value = map.next_value()?;
@@ -299,6 +302,9 @@ impl Serialize for RawMaterial {
         }
         if let Some(n) = &self.normal_map {
             map.serialize_entry("normal_map", n.get_ref())?;
+        }
+        if let Some(b) = &self.bump_map {
+            map.serialize_entry("bump_map", b.get_ref())?;
         }
         if let Some(b) = &self.back {
             map.serialize_entry("back", b.get_ref())?;

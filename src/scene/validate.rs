@@ -721,8 +721,29 @@ fn check_materials(ck: &mut Checker, raw: &RawScene) -> (Vec<Material>, BTreeMap
                 }
             }
         });
+        let bump_map = m.bump_map.as_ref().and_then(|b| {
+            let base = ck.file.parent().map(std::path::Path::to_path_buf).unwrap_or_default();
+            let field = format!("materials.{name}.bump_map");
+            if bsdf.kind().transmits() || bsdf.kind().both_sides() {
+                ck.error(b.span(), field, format!("a bump map around a {}, which transmits, is not supported (bump-map a BSDF that reflects)", bsdf.kind().toml_name()));
+                return None;
+            }
+            if m.normal_map.is_some() {
+                ck.error(b.span(), field, "a material takes a normal map or a bump map, not both");
+                return None;
+            }
+            match super::bsdfs::BumpMap::from_toml(b.get_ref(), b.span(), &base) {
+                Ok(map) => Some(map),
+                Err(errors) => {
+                    for (span, message) in errors {
+                        ck.error(span, field.clone(), message);
+                    }
+                    None
+                }
+            }
+        });
         names.insert(name.clone(), materials.len());
-        materials.push(Material { name: name.clone(), emission, two_sided, bsdf, opacity, normal_map, back: None });
+        materials.push(Material { name: name.clone(), emission, two_sided, bsdf, opacity, normal_map, bump_map, back: None });
     }
     // Backs, once every material has its index: a back's own BSDF is what scatters, so it must
     // be a plain one-BSDF material that only reflects (Mitsuba's twosided nests no
@@ -741,8 +762,8 @@ fn check_materials(ck: &mut Checker, raw: &RawScene) -> (Vec<Material>, BTreeMap
             Some("a material cannot be its own back".to_string())
         } else if bm.bsdf_kind().transmits() {
             Some(format!("the back \"{}\" is a {}, which transmits: Mitsuba's twosided nests only BSDFs that reflect", bm.name, bm.bsdf_kind().toml_name()))
-        } else if raw.materials.get(back.get_ref()).is_some_and(|r| r.get_ref().back.is_some()) || bm.opacity.is_some() || bm.normal_map.is_some() || bm.is_emissive() {
-            Some(format!("the back \"{}\" must be a plain material: no back, opacity, normal map or emission of its own", bm.name))
+        } else if raw.materials.get(back.get_ref()).is_some_and(|r| r.get_ref().back.is_some()) || bm.opacity.is_some() || bm.normal_map.is_some() || bm.bump_map.is_some() || bm.is_emissive() {
+            Some(format!("the back \"{}\" must be a plain material: no back, opacity, normal map, bump map or emission of its own", bm.name))
         } else if !materials[i].two_sided {
             Some("a material with a back is two-sided: two_sided = false does not apply".to_string())
         } else if materials[i].bsdf_kind().transmits() {

@@ -12,6 +12,9 @@ pub const NO_BACK: u32 = u32::MAX;
 /// `Material.normal_map` of a material without a normal map.
 pub const NO_NORMAL_MAP: u32 = u32::MAX;
 
+/// `Material.bump_map` of a material without a bump map.
+pub const NO_BUMP_MAP: u32 = u32::MAX;
+
 /// Triangle flag: emits on both sides.
 pub const TRIANGLE_TWO_SIDED: u32 = 1;
 /// Triangle flag: has vertex normals (`GpuTriangleNormals` at the same index).
@@ -33,6 +36,7 @@ pub fn wgsl() -> String {
         ("MATERIAL_ONE_SIDED", MATERIAL_ONE_SIDED),
         ("NO_BACK", NO_BACK),
         ("NO_NORMAL_MAP", NO_NORMAL_MAP),
+        ("NO_BUMP_MAP", NO_BUMP_MAP),
         ("TRIANGLE_TWO_SIDED", TRIANGLE_TWO_SIDED),
         ("TRIANGLE_HAS_NORMALS", TRIANGLE_HAS_NORMALS),
         ("TRIANGLE_HAS_UVS", TRIANGLE_HAS_UVS),

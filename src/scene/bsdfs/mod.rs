@@ -13,8 +13,10 @@
 //! dispatch (`shaders::bsdf_dispatch`). See the README's "Adding a BSDF".
 //!
 //! Mitsuba's `mask` (`mask.rs`, `shaders/bsdfs/mask.wgsl`) wraps any kind: it is a material's
-//! opacity, not a kind.
+//! opacity, not a kind. Likewise `normalmap` (`normal_map.rs`) and `bumpmap` (`bump_map.rs`):
+//! a material's perturbed shading frame.
 
+mod bump_map;
 mod conductor;
 mod dielectric;
 mod distribution;
@@ -39,6 +41,7 @@ use toml::Spanned;
 
 use super::checker::Checker;
 
+pub use bump_map::{BumpMap, DEFAULT_BUMP_SCALE};
 pub use conductor::Conductor;
 pub use dielectric::Dielectric;
 pub use distribution::{Distribution, Roughness};

@@ -210,6 +210,8 @@ struct Bsdf {
     opacity: Option<toml::Value>,
     /// A `normalmap`'s texture as the TOML field's value (`scene::NormalMap`).
     normal_map: Option<toml::Value>,
+    /// A `bumpmap`'s texture and scale as the TOML field's value (`scene::BumpMap`).
+    bump_map: Option<toml::Value>,
     /// A `twosided`'s second BSDF, which scatters on the back (`Material::back`).
     back: Option<Box<Bsdf>>,
 }
@@ -220,7 +222,7 @@ impl Bsdf {
     /// unless given a BSDF).
     fn default_diffuse(emits: bool) -> Bsdf {
         let (reflectance, name) = if emits { (0.0, "default-emitter") } else { (DEFAULT_REFLECTANCE, "default-diffuse") };
-        Bsdf { kind: BsdfKind::Phong, fields: vec![("diffuse", color_value([reflectance; 3]))], two_sided: false, name: Some(name.into()), opacity: None, normal_map: None, back: None }
+        Bsdf { kind: BsdfKind::Phong, fields: vec![("diffuse", color_value([reflectance; 3]))], two_sided: false, name: Some(name.into()), opacity: None, normal_map: None, bump_map: None, back: None }
     }
 }
 
@@ -1189,8 +1191,8 @@ impl Translator<'_> {
                                 self.error(o.at, "type", format!("the {side} of a <bsdf type=\"twosided\"> with two BSDFs is a {}, which transmits: only BSDFs that reflect can be nested (Mitsuba refuses it too)", o.plugin));
                                 return None;
                             }
-                            if bsdf.opacity.is_some() || bsdf.two_sided || bsdf.normal_map.is_some() {
-                                self.error(o.at, "type", format!("the {side} of a <bsdf type=\"twosided\"> with two BSDFs must be one plain BSDF (a mask, normal map or twosided inside one side is not supported; a mask may wrap the twosided)"));
+                            if bsdf.opacity.is_some() || bsdf.two_sided || bsdf.normal_map.is_some() || bsdf.bump_map.is_some() {
+                                self.error(o.at, "type", format!("the {side} of a <bsdf type=\"twosided\"> with two BSDFs must be one plain BSDF (a mask, normal map, bump map or twosided inside one side is not supported; a mask may wrap the twosided)"));
                                 return None;
                             }
                         }
@@ -1204,16 +1206,17 @@ impl Translator<'_> {
             }
             "mask" => self.mask(o),
             "normalmap" => self.normal_map(o),
+            "bumpmap" => self.bump_map(o),
             plugin => match BsdfKind::from_mitsuba_plugin(plugin) {
                 Some(kind) => {
                     let mut reader = PluginReader { t: self, p: Some(Props::of(o)), o, taken: Vec::new() };
                     let fields = kind.read_mitsuba(&mut reader);
                     reader.finish("");
-                    fields.map(|fields| Bsdf { kind, fields, two_sided: false, name, opacity: None, normal_map: None, back: None })
+                    fields.map(|fields| Bsdf { kind, fields, two_sided: false, name, opacity: None, normal_map: None, bump_map: None, back: None })
                 }
                 None => {
                     let known = BsdfKind::all_mitsuba_plugins().join(", ");
-                    self.error(o.at, "type", format!("<bsdf type=\"{plugin}\"> is not supported (pathlab has {known}, twosided, mask, normalmap)"));
+                    self.error(o.at, "type", format!("<bsdf type=\"{plugin}\"> is not supported (pathlab has {known}, twosided, mask, normalmap, bumpmap)"));
                     None
                 }
             },
@@ -1297,7 +1300,7 @@ impl Translator<'_> {
         let b = match inner.as_slice() {
             [one] => {
                 let b = self.bsdf(one)?;
-                if b.opacity.is_some() || b.two_sided || b.back.is_some() || b.normal_map.is_some() {
+                if b.opacity.is_some() || b.two_sided || b.back.is_some() || b.normal_map.is_some() || b.bump_map.is_some() {
                     self.error(one.at, "type", "the BSDF inside a <bsdf type=\"normalmap\"> must be one plain BSDF (a mask or twosided may wrap the normal map instead)");
                     return None;
                 }
@@ -1317,6 +1320,69 @@ impl Translator<'_> {
             }
         };
         Some(Bsdf { normal_map: Some(map?), name: o.id.clone().or(b.name.clone()), ..b })
+    }
+
+    /// `<bsdf type="bumpmap">` (Mitsuba's bumpmap.cpp): its one nested BSDF, plain and
+    /// reflecting (a mask or twosided may wrap the bump map, not the other way round), with one
+    /// `<texture>` of any name, a bitmap (Mitsuba's only texture with a gradient, `eval_1_grad`),
+    /// and `scale` (default 1); `flip_invalid_normals` and `use_shadowing_function` true, as
+    /// Mitsuba's defaults (false is refused).
+    fn bump_map(&mut self, o: &Object) -> Option<Bsdf> {
+        let textures: Vec<(usize, &Object)> = o.children.iter().enumerate().filter(|(_, c)| c.tag == "texture").collect();
+        let (index, texture) = match textures.as_slice() {
+            [one] => *one,
+            [] => {
+                self.error(o.at, "", "<bsdf type=\"bumpmap\"> needs its heights as one <texture> (a bitmap)");
+                return None;
+            }
+            [_, second, ..] => {
+                self.error(second.1.at, "", "<bsdf type=\"bumpmap\"> takes one <texture> (Mitsuba: \"Only a single Texture child object can be specified.\")");
+                return None;
+            }
+        };
+        if texture.plugin != "bitmap" {
+            let why = if texture.plugin == "checkerboard" { "Mitsuba's checkerboard has no gradient, eval_1_grad, which its bumpmap reads".to_string() } else { format!("<texture type=\"{}\"> is not supported as one", texture.plugin) };
+            self.error(texture.at, "type", format!("a bump map must be a bitmap ({why})"));
+            return None;
+        }
+        let mut reader = PluginReader { t: self, p: Some(Props::of(o)), o, taken: vec![index] };
+        let heights = reader.bitmap(texture);
+        let scale = reader.float("scale");
+        let flags = ["flip_invalid_normals", "use_shadowing_function"].map(|name| (name, reader.boolean(name)));
+        reader.finish("scale, flip_invalid_normals, use_shadowing_function, one <texture>, one nested <bsdf>");
+        for (name, value) in flags {
+            if let Some((false, at)) = value {
+                self.error(at, name, format!("`{name}` = false is not supported (pathlab follows Mitsuba's default, true)"));
+            }
+        }
+        let inner: Vec<&Object> = o.children.iter().filter(|c| c.tag == "bsdf").collect();
+        let b = match inner.as_slice() {
+            [one] => {
+                let b = self.bsdf(one)?;
+                if b.opacity.is_some() || b.two_sided || b.back.is_some() || b.normal_map.is_some() || b.bump_map.is_some() {
+                    self.error(one.at, "type", "the BSDF inside a <bsdf type=\"bumpmap\"> must be one plain BSDF (a mask or twosided may wrap the bump map instead)");
+                    return None;
+                }
+                if b.kind.transmits() || b.kind.both_sides() {
+                    self.error(one.at, "type", format!("a bump map around a <bsdf type=\"{}\">, which transmits, is not supported (bump-map a BSDF that reflects)", one.plugin));
+                    return None;
+                }
+                b
+            }
+            [] => {
+                self.error(o.at, "", "<bsdf type=\"bumpmap\"> needs the <bsdf> it perturbs");
+                return None;
+            }
+            [_, second, ..] => {
+                self.error(second.at, "", "<bsdf type=\"bumpmap\"> takes one nested <bsdf> (Mitsuba: \"Only a single BSDF child object can be specified.\")");
+                return None;
+            }
+        };
+        let mut map = heights?;
+        if let (toml::Value::Table(t), Some((s, _))) = (&mut map, scale) {
+            t.insert("scale".into(), toml::Value::Float(s));
+        }
+        Some(Bsdf { bump_map: Some(map), name: o.id.clone().or(b.name.clone()), ..b })
     }
 
     /// The material of a BSDF with an emission: shared by every shape with the same pair.
@@ -1349,6 +1415,7 @@ impl Translator<'_> {
             params: bsdf.fields.iter().map(|(k, v)| (k.to_string(), spanned(at, v.clone()))).collect(),
             opacity: bsdf.opacity.clone().map(|o| spanned(at, o)),
             normal_map: bsdf.normal_map.clone().map(|n| spanned(at, n)),
+            bump_map: bsdf.bump_map.clone().map(|b| spanned(at, b)),
         };
         self.materials.insert(name.clone(), spanned(at, m));
         self.material_keys.push((name.clone(), bsdf.clone(), emission));

@@ -146,6 +146,33 @@ impl Bitmap {
         }
     }
 
+    /// Its gradient in uv as Mitsuba's `eval_1_grad` gives it, in f32 as the kernel computes it
+    /// (`bitmap_gradient`): zero for nearest filtering; for bilinear, the partials of the
+    /// interpolant of the four texels' luminances in pixel coordinates,
+    ///   df/dx = (1 - fy)(f10 - f00) + fy (f11 - f01),  df/dy = (1 - fx)(f01 - f00) + fx (f11 - f10),
+    /// taken through `to_uv` by its transpose and times the resolution, (m00 df/dx + m10 df/dy) w
+    /// and (m01 df/dx + m11 df/dy) h, as Mitsuba writes it.
+    pub fn eval_1_grad(&self, uv: [f32; 2]) -> [f32; 2] {
+        if self.filter == Filter::Nearest {
+            return [0.0; 2];
+        }
+        let m = self.to_uv_f32();
+        let (u, v) = (m[0] * uv[0] + m[1] * uv[1] + m[2], m[3] * uv[0] + m[4] * uv[1] + m[5]);
+        let (w, h) = (self.image.width as f32, self.image.height as f32);
+        let (px, py) = (u * w - 0.5, v * h - 0.5);
+        let (x0, y0) = (px.floor(), py.floor());
+        let (fx, fy) = (px - x0, py - y0);
+        let (x0, y0) = (x0 as i32, y0 as i32);
+        let lum = |t: [f32; 3]| {
+            let l = crate::scene::emitters::LUMINANCE_WEIGHTS.map(|w| w as f32);
+            l[0] * t[0] + l[1] * t[1] + l[2] * t[2]
+        };
+        let (f00, f10, f01, f11) = (lum(self.texel(x0, y0)), lum(self.texel(x0 + 1, y0)), lum(self.texel(x0, y0 + 1)), lum(self.texel(x0 + 1, y0 + 1)));
+        let dx = (1.0 - fy) * (f10 - f00) + fy * (f11 - f01);
+        let dy = (1.0 - fx) * (f01 - f00) + fx * (f11 - f10);
+        [(m[0] * dx + m[3] * dy) * w, (m[1] * dx + m[4] * dy) * h]
+    }
+
     /// Numbers of its record in the BSDF data.
     pub fn record_len(&self) -> u64 {
         let texels = self.image.width as u64 * self.image.height as u64;
@@ -187,6 +214,31 @@ impl Bitmap {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The gradient is the bilinear interpolant's: central differences of `eval`'s luminance
+    /// inside a texel cell agree with it (to f32 rounding of the differences), through a
+    /// `to_uv` that scales and shifts (where Mitsuba's order of the resolution factor and the
+    /// transpose equals the chain rule's), on a 5x3 image; nearest filtering has none.
+    #[test]
+    fn the_gradient_is_the_interpolants() {
+        let texels: Vec<[f32; 3]> = (0..15).map(|i| [((i * 7) % 11) as f32 / 10.0, ((i * 3) % 5) as f32 / 4.0, (i % 2) as f32]).collect();
+        let image = Image { width: 5, height: 3, texels: Texels::Float(texels), srgb: false };
+        let to_uv = [[1.5, 0.25, 0.1], [-0.5, 2.0, 0.3]];
+        let diagonal = Bitmap::new(PathBuf::from("t.exr"), image.clone(), Filter::Bilinear, Wrap::Repeat, true, [[1.5, 0.0, 0.1], [0.0, 2.0, 0.3]]);
+        let lum_d = |uv: [f32; 2]| {
+            let (c, w) = (diagonal.eval(uv), crate::scene::emitters::LUMINANCE_WEIGHTS);
+            w[0] * c[0] as f64 + w[1] * c[1] as f64 + w[2] * c[2] as f64
+        };
+        for (u, v) in [(0.13f32, 0.41f32), (0.57, 0.77), (0.9, 0.05), (0.33, 0.63)] {
+            let g = diagonal.eval_1_grad([u, v]);
+            let h = 1e-3f32;
+            let du = (lum_d([u + h, v]) - lum_d([u - h, v])) / (2.0 * h as f64);
+            let dv = (lum_d([u, v + h]) - lum_d([u, v - h])) / (2.0 * h as f64);
+            assert!((g[0] as f64 - du).abs() < 2e-3 * (1.0 + du.abs()) && (g[1] as f64 - dv).abs() < 2e-3 * (1.0 + dv.abs()), "at ({u}, {v}): {g:?} against ({du}, {dv})");
+        }
+        let nearest = Bitmap::new(PathBuf::from("t.exr"), image, Filter::Nearest, Wrap::Repeat, true, to_uv);
+        assert_eq!(nearest.eval_1_grad([0.3, 0.3]), [0.0, 0.0]);
+    }
 
     #[test]
     fn wrap_modes_fold_indices_as_drjit_does() {
