@@ -26,6 +26,13 @@ override MICROFACET_DISTRIBUTIONS: u32 = 3u;
 // ones of alpha_u, operation for operation.
 override ANISOTROPIC_ROUGHNESS: bool = false;
 
+// Whether a rough kind's alpha_v slot says "isotropic": -0.0, its sign bit alone (the host's
+// Roughness::pack_v). A textured alpha_v resolves to a value >= +0 (clamped to 1e-4 as Mitsuba
+// clamps it), and a number alpha_v is > 0.
+fn is_isotropic_sentinel(alpha_v: f32) -> bool {
+    return bitcast<u32>(alpha_v) == 0x80000000u;
+}
+
 // Whether `distribution` is Beckmann's: a constant where the scene has one distribution only.
 fn is_beckmann(distribution: u32) -> bool {
     if (MICROFACET_DISTRIBUTIONS == (1u << DISTRIBUTION_BECKMANN)) {

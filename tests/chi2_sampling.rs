@@ -282,7 +282,7 @@ fn anisotropic_routines() -> Vec<Routine> {
             let mut conductor = pathlab::scene::RoughConductor {
                 fresnel: pathlab::scene::Conductor { eta: glam::DVec3::ZERO, k: glam::DVec3::ONE, eta_texture: None, k_texture: None, reflectance: glam::DVec3::ONE, reflectance_texture: None },
                 distribution,
-                roughness: pathlab::scene::Roughness { alpha: 0.08, texture: None, alpha_v: Some(0.5) },
+                roughness: pathlab::scene::Roughness { alpha: 0.08, texture: None, alpha_v: Some(0.5), texture_v: None },
             };
             let constants = vec![
                 ("BSDF_SAMPLING", BsdfSampling::Phong.constant() as f64),
@@ -296,7 +296,7 @@ fn anisotropic_routines() -> Vec<Routine> {
             routine.wgsl = routine.wgsl.replace("1.0, vec3f(1.0, 0.0, 0.0), vec3f(0.0)); }}", &format!("1.0, {tangent}, vec3f(0.0)); }}"));
             r.push(routine);
             // Narrow across the tangent, wide along it.
-            conductor.roughness = pathlab::scene::Roughness { alpha: 0.6, texture: None, alpha_v: Some(0.03) };
+            conductor.roughness = pathlab::scene::Roughness { alpha: 0.6, texture: None, alpha_v: Some(0.03), texture_v: None };
             let name = format!("anisotropic roughconductor {} {microfacets} alpha_u=0.6 alpha_v=0.03 theta_o=20 tangent {tangent}", distribution.name());
             let mut routine = glossy_routine(name, Bsdf::RoughConductor(conductor), 0.03, false, 20.0, constants);
             routine.wgsl = routine.wgsl.replace("1.0, vec3f(1.0, 0.0, 0.0), vec3f(0.0)); }}", &format!("1.0, {tangent}, vec3f(0.0)); }}"));
@@ -361,7 +361,7 @@ fn normal_map_routines() -> Vec<Routine> {
         let conductor = pathlab::scene::RoughConductor {
             fresnel: pathlab::scene::Conductor { eta: glam::DVec3::ZERO, k: glam::DVec3::ONE, eta_texture: None, k_texture: None, reflectance: glam::DVec3::ONE, reflectance_texture: None },
             distribution: Distribution::Ggx,
-            roughness: pathlab::scene::Roughness { alpha: 0.4, texture: None, alpha_v: Some(0.1) },
+            roughness: pathlab::scene::Roughness { alpha: 0.4, texture: None, alpha_v: Some(0.1), texture_v: None },
         };
         let constants = vec![("BSDF_SAMPLING", BsdfSampling::Phong.constant() as f64), ("MICROFACET_SAMPLING", 1.0), ("ANISOTROPIC_ROUGHNESS", 1.0)];
         let name = format!("roughconductor ggx vndf alpha_u=0.4 alpha_v=0.1 theta_o={theta}");
@@ -512,7 +512,7 @@ fn plastic_routines() -> Vec<Routine> {
 /// A clear rough glass of relative index `eta` and roughness alpha (alpha_u), with alpha_v
 /// where anisotropic.
 fn rough_dielectric_record(distribution: Distribution, alpha: f64, alpha_v: Option<f64>, eta: f64) -> RoughDielectric {
-    let roughness = pathlab::scene::Roughness { alpha, texture: None, alpha_v };
+    let roughness = pathlab::scene::Roughness { alpha, texture: None, alpha_v, texture_v: None };
     RoughDielectric { int_ior: eta, ext_ior: 1.0, reflectance: glam::DVec3::ONE, transmittance: glam::DVec3::ONE, textures: Default::default(), distribution, roughness }
 }
 

@@ -22,15 +22,15 @@ fn sample_conductor(c: Conductor, n_s: vec3f, wo: vec3f) -> BsdfSample {
 }
 
 // The parameter block as src/scene/bsdfs/conductor.rs packs it: p0 = (eta, alpha),
-// p1 = (k, the distribution's number), p2 = (reflectance, alpha_v: 0 where isotropic,
+// p1 = (k, the distribution's number), p2 = (reflectance, alpha_v: -0.0 where isotropic,
 // src/scene/bsdfs/rough_conductor.rs); the smooth conductor has alpha 0 (its distribution is
 // unused).
 fn conductor_of(b: Bsdf) -> Conductor {
     // The roughness at least 1e-4 (Mitsuba's MicrofacetDistribution), for a textured one.
     let alpha_u = max(b.p0.w, 1e-4);
     var alpha_v = alpha_u;
-    if (ANISOTROPIC_ROUGHNESS && b.p2.w > 0.0) {
-        alpha_v = b.p2.w;
+    if (ANISOTROPIC_ROUGHNESS && !is_isotropic_sentinel(b.p2.w)) {
+        alpha_v = max(b.p2.w, 1e-4);
     }
     return Conductor(b.p0.xyz, b.p1.xyz, b.p2.xyz, vec2f(alpha_u, alpha_v), u32(b.p1.w));
 }

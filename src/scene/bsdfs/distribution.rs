@@ -25,33 +25,46 @@ crate::names::named_enum! {
 
 /// A rough kind's roughness: `alpha`, or a texture of it (Mitsuba's `eval_1` of it at the hit,
 /// `Texture::scalar`; `alpha` is then its mean, for what the host computes); or, anisotropic,
-/// Mitsuba's `alpha_u` (in `alpha`) along the surface's dp/du and `alpha_v` across it.
+/// Mitsuba's `alpha_u` (in `alpha`, `texture`) along the surface's dp/du and `alpha_v` (in
+/// `alpha_v`, `texture_v`) across it, each a number or a texture.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Roughness {
     /// >= 1e-4; alpha_u where `alpha_v` is given.
     pub alpha: f64,
     pub texture: Option<Texture>,
-    /// Mitsuba's `alpha_v` (>= 1e-4; numbers only) where the roughness is given as `alpha_u`
-    /// and `alpha_v`; `None`: the same along both.
+    /// Mitsuba's `alpha_v` (>= 1e-4; a textured one's mean) where the roughness is given as
+    /// `alpha_u` and `alpha_v`; `None`: the same along both.
     pub alpha_v: Option<f64>,
+    /// A textured `alpha_v` (`Texture::scalar`).
+    pub texture_v: Option<Texture>,
 }
 
 impl Roughness {
     /// One alpha along both directions.
     pub fn isotropic(alpha: f64) -> Roughness {
-        Roughness { alpha, texture: None, alpha_v: None }
+        Roughness { alpha, texture: None, alpha_v: None, texture_v: None }
     }
 
     /// Whether it differs along u and v (the kernel's `ANISOTROPIC_ROUGHNESS`, and tangent
     /// frames at hits).
     pub fn is_anisotropic(&self) -> bool {
-        self.alpha_v.is_some_and(|v| v != self.alpha)
+        self.alpha_v.is_some_and(|v| v != self.alpha || self.texture.is_some() || self.texture_v.is_some())
     }
 
-    /// Its alpha_v in the parameter block: 0 where it is isotropic (the kernel then takes
-    /// alpha_u), else alpha_v.
-    pub fn pack_v(&self) -> f32 {
-        self.alpha_v.map_or(0.0, |v| v as f32)
+    /// Its textures: alpha's (or alpha_u's), then alpha_v's.
+    pub fn textures(&self) -> impl Iterator<Item = &Texture> {
+        self.texture.iter().chain(self.texture_v.iter())
+    }
+
+    /// Its alpha_v in the parameter block (a scalar texture slot): -0.0 where it is isotropic
+    /// (the kernel then takes alpha_u; the sign bit tells it from a textured alpha_v that is 0
+    /// somewhere, which Mitsuba clamps to 1e-4), -(start + 1) of a texture's record, or alpha_v.
+    pub fn pack_v(&self, data: &mut BsdfData) -> f32 {
+        match (&self.texture_v, self.alpha_v) {
+            (Some(t), _) => -(t.pack(data) as f32) - 1.0,
+            (None, Some(v)) => v as f32,
+            (None, None) => -0.0,
+        }
     }
 
     /// Its number in the parameter block: alpha, or -(start + 1) of its texture's record (a
@@ -67,10 +80,18 @@ impl Roughness {
     /// Its value in the scene hash: alpha, and a texture's line after it, or alpha_u and
     /// alpha_v (an isotropic roughness hashes as before alpha_v existed).
     pub fn hash_value(&self) -> String {
-        match (&self.texture, self.alpha_v) {
-            (_, Some(v)) => format!("{} v {}", real(self.alpha), real(v)),
-            (None, None) => real(self.alpha),
-            (Some(t), None) => format!("{} {}", real(self.alpha), t.hash_value(crate::scene::hash::vec3)),
+        let texture = |t: &Texture| t.hash_value(crate::scene::hash::vec3);
+        match (&self.texture, self.alpha_v, &self.texture_v) {
+            (None, Some(v), None) => format!("{} v {}", real(self.alpha), real(v)),
+            (u, Some(v), tv) => format!(
+                "{}{} v {}{}",
+                real(self.alpha),
+                u.as_ref().map_or(String::new(), |t| format!(" {}", texture(t))),
+                real(v),
+                tv.as_ref().map_or(String::new(), |t| format!(" {}", texture(t)))
+            ),
+            (None, None, _) => real(self.alpha),
+            (Some(t), None, _) => format!("{} {}", real(self.alpha), texture(t)),
         }
     }
 }
@@ -106,16 +127,25 @@ pub(crate) fn read_fields(f: &mut Fields, smooth: &str, textured: bool, anisotro
         if f.has("alpha") {
             f.error(span.clone(), "alpha_u", "give either `alpha` or `alpha_u` and `alpha_v`, not both (as Mitsuba requires)".to_string());
         }
-        for name in ["alpha_u", "alpha_v"] {
+        // Each a number or, where `textured`, a texture (Mitsuba's eval_1 of it; its mean for
+        // what the host computes).
+        let one = |f: &mut Fields, name: &str| -> Option<(f64, Option<Texture>)> {
             if f.is_table(name) {
-                let at = f.span_of(name);
-                f.error(at, name, format!("{name} must be a number: textured anisotropic roughness is not supported yet"));
-                return (distribution, Roughness::isotropic(DEFAULT_ALPHA));
+                if !textured {
+                    let at = f.span_of(name);
+                    f.error(at, name, format!("{name} of this kind must be a number"));
+                    return Some((DEFAULT_ALPHA, None));
+                }
+                let (_, texture) = f.color_or_texture(name, glam::DVec3::splat(DEFAULT_ALPHA));
+                let texture = texture.map(Texture::scalar);
+                let mean = texture.as_ref().map_or(DEFAULT_ALPHA, |t| crate::scene::emitters::luminance(t.mean())).max(MIN_ALPHA);
+                return Some((mean, texture));
             }
-        }
-        let (u, v) = (read_alpha(f, "alpha_u", smooth), read_alpha(f, "alpha_v", smooth));
+            read_alpha(f, name, smooth).map(|a| (a, None))
+        };
+        let (u, v) = (one(f, "alpha_u"), one(f, "alpha_v"));
         return match (u, v) {
-            (Some(u), Some(v)) => (distribution, Roughness { alpha: u, texture: None, alpha_v: Some(v) }),
+            (Some((u, texture)), Some((v, texture_v))) => (distribution, Roughness { alpha: u, texture, alpha_v: Some(v), texture_v }),
             _ => {
                 f.error(span, "alpha_u", "give both `alpha_u` and `alpha_v` (as Mitsuba requires)".to_string());
                 (distribution, Roughness::isotropic(DEFAULT_ALPHA))
@@ -131,7 +161,7 @@ pub(crate) fn read_fields(f: &mut Fields, smooth: &str, textured: bool, anisotro
         let (_, texture) = f.color_or_texture("alpha", glam::DVec3::splat(DEFAULT_ALPHA));
         let texture = texture.map(Texture::scalar);
         let alpha = texture.as_ref().map_or(DEFAULT_ALPHA, |t| crate::scene::emitters::luminance(t.mean())).max(MIN_ALPHA);
-        return (distribution, Roughness { alpha, texture, alpha_v: None });
+        return (distribution, Roughness { alpha, texture, alpha_v: None, texture_v: None });
     }
     (distribution, Roughness::isotropic(read_alpha(f, "alpha", smooth).unwrap_or(DEFAULT_ALPHA)))
 }
@@ -171,8 +201,14 @@ pub(crate) fn read_mitsuba(p: &mut dyn PluginProps, textured: bool, anisotropic:
         let mut values = Vec::new();
         for name in ["alpha_u", "alpha_v"] {
             if p.has_texture(name) {
-                p.error(p.at(), name, format!("a textured `{name}` is not supported yet (give a <float>)"));
-                let _ = p.color_or_texture(name);
+                if textured {
+                    if let Some(t) = p.color_or_texture(name) {
+                        values.push((name, t));
+                    }
+                } else {
+                    p.error(p.at(), name, format!("a textured `{name}` of <bsdf type=\"{plugin}\"> is not supported (give a <float>)"));
+                    let _ = p.color_or_texture(name);
+                }
                 continue;
             }
             match p.float(name) {

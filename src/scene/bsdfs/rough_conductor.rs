@@ -3,7 +3,7 @@
 //! the conductor's `eta`, `k` or `material`, `specular_reflectance`, and `distribution` (`beckmann`, Mitsuba's
 //! default, or `ggx`) and `alpha` (default 0.1; below 1e-4 clamped to it, as Mitsuba does; or a
 //! texture, Mitsuba's `eval_1` of it at the hit: `distribution::Roughness`), or `alpha_u` and
-//! `alpha_v` (numbers): anisotropic, along the surface's dp/du and across it.
+//! `alpha_v` (numbers or textures): anisotropic, along the surface's dp/du and across it.
 
 use super::conductor::Conductor;
 use super::distribution::{self, Distribution, Roughness};
@@ -25,11 +25,11 @@ impl BsdfPlugin for RoughConductor {
     const IS_DELTA: bool = false;
     const MICROFACETS: bool = true;
     const TEXTURE_SLOTS: &'static [usize] = &[0, 1, 2];
-    const SCALAR_TEXTURE_SLOTS: &'static [(usize, usize)] = &[(0, 3)];
+    const SCALAR_TEXTURE_SLOTS: &'static [(usize, usize)] = &[(0, 3), (2, 3)];
 
     fn textures(&self) -> Vec<&crate::scene::Texture> {
         let mut t = self.fresnel.fresnel_textures();
-        t.extend(self.roughness.texture.iter());
+        t.extend(self.roughness.textures());
         t
     }
 
@@ -57,8 +57,8 @@ impl BsdfPlugin for RoughConductor {
     fn pack(&self, data: &mut BsdfData) -> BsdfParams {
         let alpha = self.roughness.pack(data);
         let mut block = self.fresnel.pack_with(alpha, self.distribution, data);
-        // p2.w: alpha_v, 0 where isotropic (WGSL's conductor_of).
-        block[2][3] = self.roughness.pack_v();
+        // p2.w: alpha_v, -0.0 where isotropic (WGSL's conductor_of).
+        block[2][3] = self.roughness.pack_v(data);
         block
     }
 }

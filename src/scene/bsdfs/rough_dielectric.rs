@@ -12,8 +12,8 @@
 //! `sample_visible`), then reflects with probability F or refracts. Both sides scatter. TOML and
 //! Mitsuba: `int_ior`, `ext_ior` (defaults bk7 and air; numbers or names of `ior.rs`; they must
 //! differ), `specular_reflectance`, `specular_transmittance`, `distribution`, `alpha` (a number or
-//! a texture: `distribution::Roughness`) or `alpha_u` and `alpha_v` (numbers; anisotropic along
-//! the surface's dp/du and across it).
+//! a texture: `distribution::Roughness`) or `alpha_u` and `alpha_v` (numbers or textures;
+//! anisotropic along the surface's dp/du and across it).
 
 use glam::DVec3;
 
@@ -51,12 +51,12 @@ impl BsdfPlugin for RoughDielectric {
     const TRANSMITS: bool = true;
     const BOTH_SIDES: bool = true;
     const MICROFACETS: bool = true;
-    const SCALAR_TEXTURE_SLOTS: &'static [(usize, usize)] = &[(1, 3)];
+    const SCALAR_TEXTURE_SLOTS: &'static [(usize, usize)] = &[(1, 3), (2, 1)];
     const TEXTURE_SLOTS: &'static [usize] = &InterfaceTextures::SLOTS;
 
     fn textures(&self) -> Vec<&crate::scene::Texture> {
         let mut all = self.textures.all();
-        all.extend(&self.roughness.texture);
+        all.extend(self.roughness.textures());
         all
     }
 
@@ -89,9 +89,9 @@ impl BsdfPlugin for RoughDielectric {
     }
 
     /// `p0 = (reflectance, eta)`, `p1 = (transmittance, alpha)`, `p2 = (distribution, alpha_v
-    /// or 0 where isotropic, 0, 0)`: the layout of WGSL's `rough_dielectric_of`.
+    /// (a number or a texture's reference) or -0.0 where isotropic, 0, 0)`: the layout of WGSL's `rough_dielectric_of`.
     fn pack(&self, data: &mut BsdfData) -> BsdfParams {
         let [r, t] = self.textures.pack(self.reflectance, self.transmittance, data);
-        [[r.x, r.y, r.z, self.eta() as f32], [t.x, t.y, t.z, self.roughness.pack(data)], [self.distribution.constant() as f32, self.roughness.pack_v(), 0.0, 0.0]]
+        [[r.x, r.y, r.z, self.eta() as f32], [t.x, t.y, t.z, self.roughness.pack(data)], [self.distribution.constant() as f32, self.roughness.pack_v(data), 0.0, 0.0]]
     }
 }
