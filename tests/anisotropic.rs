@@ -16,7 +16,7 @@
 //! as scalar texture slots): tests/fixtures/textured_anisotropy/textured_anisotropy.xml (carbon
 //! fibre of two inverted checkerboards on a sphere, as mitsuba-data's documentation scene; gold
 //! whose alpha_v is 0 on half its squares, which Mitsuba clamps to 1e-4; rough glass with a
-//! textured alpha_u) is z-tested against Mitsuba 3.9.1 the same way (64x48, 65536 spp; `mis`
+//! textured alpha_u; a principled metal whose `anisotropic` is a checkerboard) is z-tested against Mitsuba 3.9.1 the same way (64x48, 65536 spp; `mis`
 //! and `best`), and the same scene with each material's alpha_u and alpha_v swapped is
 //! rejected.
 
@@ -68,7 +68,7 @@ fn anisotropic_roughness_is_read_and_refused_where_mitsuba_refuses_it() {
     assert_eq!((r.alpha, r.alpha_v), (0.05, Some(0.4)));
     assert!(r.is_anisotropic());
     // The principled sphere's anisotropic specular lobe.
-    assert!(scene.materials.iter().any(|m| matches!(&m.bsdf, Bsdf::Principled(p) if p.anisotropic == 0.85)));
+    assert!(scene.materials.iter().any(|m| matches!(&m.bsdf, Bsdf::Principled(p) if p.anisotropic.value == 0.85)));
     // Tangent frames and the anisotropic formulas only where a material needs them.
     assert!(pathlab::gpu::SceneFeatures::of(&scene).anisotropic_roughness);
     assert!(!pathlab::gpu::SceneFeatures::of(&study_scene()).anisotropic_roughness);
@@ -163,8 +163,12 @@ fn textured_anisotropic_roughness_is_read_and_written() {
     assert_eq!(roughness.iter().map(|r| (r.texture.is_some(), r.texture_v.is_some())).collect::<Vec<_>>(), [(true, true), (false, true), (true, false)]);
     assert!(roughness.iter().all(|r| r.is_anisotropic()));
     assert!((roughness[0].alpha - 0.175).abs() < 1e-12 && roughness[1].alpha == 0.3, "{roughness:?}");
+    assert!(scene.materials.iter().any(|m| matches!(&m.bsdf, Bsdf::Principled(p) if p.anisotropic.texture.is_some() && (p.anisotropic.value - 0.5).abs() < 1e-12)));
     let f = pathlab::gpu::SceneFeatures::of(&scene);
     assert!(f.anisotropic_roughness && f.has_uvs);
+    // Principled's `anisotropic` is its ninth scalar texture slot (bit 8, after base_color and
+    // the seven weights): more than the 8 bits a kind had in the features before.
+    assert_eq!(f.textured_slots[pathlab::scene::BsdfKind::Principled.constant() as usize], 1 << 8);
     // The conductor's alpha_v slot is textured on both conductors (bit 4: after its three colour
     // slots and alpha).
     assert!(scene.materials.iter().all(|m| !matches!(m.bsdf, Bsdf::RoughConductor(_)) || m.bsdf.textured_slots() & 16 != 0));

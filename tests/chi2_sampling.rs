@@ -317,7 +317,7 @@ fn anisotropic_routines() -> Vec<Routine> {
     // other lobes, both microfacet strategies.
     for microfacets in ["vndf", "ndf"] {
         for (anisotropic, roughness, theta) in [(0.85, 0.45, 45.0), (0.5, 0.2, 70.0)] {
-            let p = Principled { anisotropic, ..Principled::mitsuba_default().with("metallic", 0.7).with("roughness", roughness).with("clearcoat", 0.3) };
+            let p = Principled { anisotropic: pathlab::scene::PrincipledWeight { value: anisotropic, texture: None }, ..Principled::mitsuba_default().with("metallic", 0.7).with("roughness", roughness).with("clearcoat", 0.3) };
             let mut routine = principled(p, BsdfSampling::Phong, microfacets, theta);
             routine.wgsl = routine.wgsl.replace("1.0, vec3f(1.0, 0.0, 0.0), vec3f(0.0)); }}", &format!("1.0, {tangent}, vec3f(0.0)); }}"));
             routine.name = format!("anisotropic {} anisotropic={anisotropic} tangent {tangent}", routine.name);

@@ -94,7 +94,7 @@ fn principled_parameters_are_read_and_bad_ones_refused() {
         ("specular = 0.5\neta = 1.5", "materials.m.eta", "not both"),
         ("eta = 0", "materials.m.eta", "> 0"),
         ("anisotropic = 1.5", "materials.m.anisotropic", "must be in [0, 1]"),
-        ("anisotropic = { texture = \"checkerboard\" }", "materials.m.anisotropic", "textured `anisotropic`"),
+        ("flatness = { texture = \"checkerboard\" }", "materials.m.flatness", "textured `flatness`"),
         ("spec_trans = 0.2", "materials.m.spec_trans", "transmission"),
         ("clearcoat_sampling_rate = 0", "materials.m.clearcoat_sampling_rate", "> 0"),
         ("alpha = 0.1", "materials.m.alpha", "belongs to"),
@@ -114,9 +114,13 @@ fn principled_parameters_are_read_and_bad_ones_refused() {
     let xml = |props: &str| xml_with_bsdf(&format!("<bsdf type=\"principled\" id=\"p\">{props}</bsdf>"), "p");
     let s = load_xml(&xml("<float name=\"metallic\" value=\"0.745455\"/><float name=\"anisotropic\" value=\"0\"/><float name=\"spec_trans\" value=\"0.0\"/>"), "p.xml").unwrap();
     assert!(matches!(&s.materials[0].bsdf, Bsdf::Principled(p) if (p.weight("metallic") - 0.745455).abs() < 1e-12));
+    // A textured `anisotropic` (Mitsuba's eval_1 at the hit): its mean is the host's value.
+    let s = load_xml(&xml("<texture type=\"checkerboard\" name=\"anisotropic\"><float name=\"color0\" value=\"0.2\"/><float name=\"color1\" value=\"0.6\"/></texture>"), "p.xml").unwrap();
+    assert!(matches!(&s.materials[0].bsdf, Bsdf::Principled(p) if p.anisotropic.texture.is_some() && (p.anisotropic.value - 0.4).abs() < 1e-12));
+    assert!(s.materials[0].bsdf.is_anisotropic());
     for (props, message) in [
         ("<float name=\"anisotropic\" value=\"1.3\"/>", "must be in [0, 1]"),
-        ("<texture type=\"checkerboard\" name=\"anisotropic\"/>", "textured `anisotropic`"),
+        ("<texture type=\"checkerboard\" name=\"flatness\"/>", "textured `flatness`"),
         ("<float name=\"spec_trans\" value=\"1\"/>", "transmission"),
         ("<float name=\"metallic\" value=\"2\"/>", "must be in [0, 1]"),
         ("<float name=\"eta\" value=\"1.5\"/><float name=\"specular\" value=\"0.5\"/>", "not both"),

@@ -61,7 +61,7 @@ fn textured_roughness_is_read_and_refused_where_mitsuba_refuses_it() {
     // alpha (its third, after specular_reflectance and specular_transmittance); the diffuse
     // wall's reflectance.
     let f = pathlab::gpu::SceneFeatures::of(&scene);
-    let slots = |k: pathlab::scene::BsdfKind| (f.textured_slots >> (8 * k.constant())) & 0xff;
+    let slots = |k: pathlab::scene::BsdfKind| f.textured_slots[k.constant() as usize];
     assert_eq!(slots(pathlab::scene::BsdfKind::RoughConductor), 0b1000);
     assert_eq!(slots(pathlab::scene::BsdfKind::RoughDielectric), 0b100);
     assert_eq!(slots(pathlab::scene::BsdfKind::Phong), 0b1);

@@ -107,7 +107,7 @@ fn overrides_set_by_the_host_are_those_the_module_declares() {
         textured_opacity: true,
         texture_kinds: 7,
         microfacet_distributions: 3,
-        textured_slots: u64::MAX,
+        textured_slots: [u16::MAX; pathlab::scene::BsdfKind::ALL.len()],
         has_back_bsdfs: true,
         rr_depth: 3,
         thin_lens: true,

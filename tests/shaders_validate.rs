@@ -84,7 +84,7 @@ fn every_override_permutation_validates() {
                                     // Each distribution alone, both, or none.
                                     microfacet_distributions: (checked % 4) as u32,
                                     // Every slot of every kind looked up, or none.
-                                    textured_slots: if (checked / 7) % 2 == 0 { u64::MAX } else { 0 },
+                                    textured_slots: [if (checked / 7) % 2 == 0 { u16::MAX } else { 0 }; pathlab::scene::BsdfKind::ALL.len()],
                                     // Back BSDFs on and off, with several kinds and with Phong alone.
                                     has_back_bsdfs: (checked / 5) % 2 == 0,
                                     // Tangent frames and anisotropic microfacets on and off.

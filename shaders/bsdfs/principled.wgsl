@@ -33,16 +33,16 @@ struct Principled {
 }
 
 // The parameter block as src/scene/bsdfs/principled.rs packs it: p0 = (base_color, roughness),
-// p1 = (metallic, spec_tint, sheen, sheen_tint), p2 = (clearcoat, clearcoat_gloss, eta, data);
-// the data: flatness, the three sampling rates and anisotropic (read only where some material
-// has anisotropic roughness).
+// p1 = (metallic, spec_tint, sheen, sheen_tint), p2 = (clearcoat, clearcoat_gloss, anisotropic
+// (read only where some material has anisotropic roughness), data), each number that may be a
+// texture resolved by bsdf_apply_textures; the data: flatness, the three sampling rates, eta.
 fn principled_of(b: Bsdf) -> Principled {
     let d = u32(b.p2.w);
     var anisotropic = 0.0;
     if (ANISOTROPIC_ROUGHNESS) {
-        anisotropic = bsdf_data[d + 4u];
+        anisotropic = b.p2.z;
     }
-    return Principled(b.p0.xyz, b.p0.w, b.p1.x, b.p1.y, b.p1.z, b.p1.w, b.p2.x, b.p2.y, b.p2.z,
+    return Principled(b.p0.xyz, b.p0.w, b.p1.x, b.p1.y, b.p1.z, b.p1.w, b.p2.x, b.p2.y, bsdf_data[d + 4u],
                       bsdf_data[d], bsdf_data[d + 1u], bsdf_data[d + 2u], bsdf_data[d + 3u], anisotropic);
 }
 

@@ -42,11 +42,11 @@ pub struct SceneFeatures {
     pub has_masks: bool,
     /// Some material's opacity is a texture.
     pub textured_opacity: bool,
-    /// Per BSDF kind (8 bits from bit 8 k, k its number), the texture slots some material of the
-    /// kind gives a texture (`Bsdf::textured_slots`): each kind's `TEXTURED_<KIND>` override.
-    /// On SIMD CPU drivers, which run both sides of every branch, a slot looked up for nothing
-    /// costs a whole texture lookup.
-    pub textured_slots: u64,
+    /// Per BSDF kind (indexed by its number), the texture slots some material of the kind gives
+    /// a texture (`Bsdf::textured_slots`): each kind's `TEXTURED_<KIND>` override. On SIMD CPU
+    /// drivers, which run both sides of every branch, a slot looked up for nothing costs a whole
+    /// texture lookup.
+    pub textured_slots: [u16; crate::scene::BsdfKind::ALL.len()],
     /// The kinds of texture some material uses (bit k: `Texture::kind_number` k): the kernel's
     /// `TEXTURE_KINDS`, so that a scene without grid volumes, say, compiles no grid lookup.
     pub texture_kinds: u32,
@@ -148,7 +148,10 @@ impl SceneFeatures {
             has_uvs: scene.materials.iter().any(|m| m.reads_uv()),
             has_masks: scene.materials.iter().any(|m| m.opacity.is_some()),
             textured_opacity: scene.materials.iter().any(|m| m.opacity.as_ref().is_some_and(|o| o.texture().is_some())),
-            textured_slots: scene.materials.iter().fold(0, |bits, m| bits | (m.bsdf.textured_slots() as u64) << (8 * m.bsdf_kind().constant())),
+            textured_slots: scene.materials.iter().fold([0; crate::scene::BsdfKind::ALL.len()], |mut bits, m| {
+                bits[m.bsdf_kind().constant() as usize] |= m.bsdf.textured_slots();
+                bits
+            }),
             texture_kinds: scene
                 .materials
                 .iter()

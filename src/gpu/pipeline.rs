@@ -97,7 +97,7 @@ pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
     constants.extend(kinds);
     // One TEXTURED_<KIND> per kind with texture slots.
     for k in BsdfKind::ALL.into_iter().filter(|k| !k.texture_slots().is_empty() || !k.scalar_texture_slots().is_empty()) {
-        constants.push((k.textured_override(), ((f.textured_slots >> (8 * k.constant())) & 0xff) as f64));
+        constants.push((k.textured_override(), f.textured_slots[k.constant() as usize] as f64));
     }
     // The small scene's distinct vertices and each triangle's corners among them.
     constants.extend(shaders::small_vertex_constants(&f.small_vertices));

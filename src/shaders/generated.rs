@@ -160,7 +160,7 @@ pub fn bsdf_dispatch() -> String {
         .to_string();
     let textured: Vec<&BsdfKind> = BsdfKind::ALL.iter().filter(|k| !k.texture_slots().is_empty() || !k.scalar_texture_slots().is_empty()).collect();
     for k in &textured {
-        f = format!("// Which of the kind {}'s texture slots some material gives a texture (bit i: the i-th).\noverride {}: u32 = 255u;\n", k.name(), k.textured_override()) + &f;
+        f = format!("// Which of the kind {}'s texture slots some material gives a texture (bit i: the i-th).\noverride {}: u32 = 65535u;\n", k.name(), k.textured_override()) + &f;
     }
     for k in textured {
         f += &format!("    if ({}) {{\n", is(k));

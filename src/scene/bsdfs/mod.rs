@@ -240,7 +240,7 @@ impl Bsdf {
     /// Which of its kind's texture slots hold a texture (bit i: the i-th of the kind's
     /// `texture_slots` then `scalar_texture_slots`): read off its packed block, where a texture
     /// is a negative reference.
-    pub fn textured_slots(&self) -> u8 {
+    pub fn textured_slots(&self) -> u16 {
         if !self.reads_uv() {
             return 0;
         }
@@ -248,7 +248,7 @@ impl Bsdf {
         let kind = self.kind();
         let colour = kind.texture_slots().iter().map(|&s| block[s][0] < 0.0);
         let scalar = kind.scalar_texture_slots().iter().map(|&(s, c)| block[s][c] < 0.0);
-        colour.chain(scalar).enumerate().fold(0, |bits, (i, textured)| bits | ((textured as u8) << i))
+        colour.chain(scalar).enumerate().fold(0, |bits, (i, textured)| bits | ((textured as u16) << i))
     }
 
     /// The distribution of microfacet normals it draws, for a rough kind (principled: GGX).
@@ -269,7 +269,7 @@ impl Bsdf {
         match self {
             Bsdf::RoughConductor(c) => c.roughness.is_anisotropic(),
             Bsdf::RoughDielectric(d) => d.roughness.is_anisotropic(),
-            Bsdf::Principled(p) => p.anisotropic > 0.0,
+            Bsdf::Principled(p) => p.anisotropic.value > 0.0 || p.anisotropic.texture.is_some(),
             _ => false,
         }
     }

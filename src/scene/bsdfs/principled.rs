@@ -49,6 +49,8 @@ const DEFAULT_SPECULAR: f64 = 0.5;
 const WEIGHTS: [&str; 7] = ["roughness", "metallic", "spec_tint", "sheen", "sheen_tint", "clearcoat", "clearcoat_gloss"];
 /// Where each of `WEIGHTS` lives in the parameter block (slot, component).
 const WEIGHT_SLOTS: [(usize, usize); 7] = [(0, 3), (1, 0), (1, 1), (1, 2), (1, 3), (2, 0), (2, 1)];
+/// The scalar texture slots: the weights', then `anisotropic`'s (p2.z).
+const SCALAR_SLOTS: [(usize, usize); 8] = [WEIGHT_SLOTS[0], WEIGHT_SLOTS[1], WEIGHT_SLOTS[2], WEIGHT_SLOTS[3], WEIGHT_SLOTS[4], WEIGHT_SLOTS[5], WEIGHT_SLOTS[6], (2, 2)];
 /// The numbers that must be constants: the fake subsurface blend and the sampling rates.
 const RATES: [&str; 3] = ["main_specular_sampling_rate", "clearcoat_sampling_rate", "diffuse_reflectance_sampling_rate"];
 /// The lobes pathlab refuses unless 0, with why.
@@ -96,10 +98,10 @@ pub struct Principled {
     pub eta: f64,
     /// The fake subsurface blend.
     pub flatness: f64,
-    /// Mitsuba's `anisotropic` in [0, 1]: the main specular lobe's GGX of alpha (max(0.001,
-    /// r^2 / aspect), max(0.001, r^2 aspect)) along dp/du and across it, aspect = sqrt(1 - 0.9
-    /// anisotropic); 0: isotropic.
-    pub anisotropic: f64,
+    /// Mitsuba's `anisotropic` in [0, 1] (a number or a texture): the main specular lobe's GGX
+    /// of alpha (max(0.001, r^2 / aspect), max(0.001, r^2 aspect)) along dp/du and across it,
+    /// aspect = sqrt(1 - 0.9 anisotropic); 0: isotropic.
+    pub anisotropic: Weight,
     /// main_specular, clearcoat, diffuse_reflectance sampling rates.
     pub rates: [f64; 3],
 }
@@ -164,7 +166,7 @@ impl BsdfPlugin for Principled {
     const IS_DELTA: bool = false;
     const MICROFACETS: bool = true;
     const TEXTURE_SLOTS: &'static [usize] = &[0];
-    const SCALAR_TEXTURE_SLOTS: &'static [(usize, usize)] = &WEIGHT_SLOTS;
+    const SCALAR_TEXTURE_SLOTS: &'static [(usize, usize)] = &SCALAR_SLOTS;
 
     fn from_fields(f: &mut Fields) -> Principled {
         let (base_color, base_color_texture) =
@@ -208,22 +210,30 @@ impl BsdfPlugin for Principled {
             }
             (None, None) => eta_from_specular(DEFAULT_SPECULAR),
         };
+        // `anisotropic` may be a texture (Mitsuba's eval_1 at the hit); `flatness` is a number.
         let [flatness, anisotropic] = ["flatness", "anisotropic"].map(|name| {
             if f.is_table(name) {
+                if name == "anisotropic" {
+                    let (_, t) = f.color_or_texture(name, DVec3::ZERO);
+                    let t = t.map(Texture::scalar);
+                    let value = t.as_ref().map_or(0.0, |t| luminance(t.mean()));
+                    return Weight { value, texture: t };
+                }
                 let span = f.span_of(name);
                 f.error(span, name, format!("a textured `{name}` is not supported: give a number in [0, 1]"));
-                return 0.0;
+                return Weight::constant(0.0);
             }
             match f.number(name) {
-                None => 0.0,
+                None => Weight::constant(0.0),
                 Some(v) => {
                     if let Some(problem) = weight_problem(name, *v.get_ref()) {
                         f.error(v.span(), name, problem);
                     }
-                    *v.get_ref()
+                    Weight::constant(*v.get_ref())
                 }
             }
         });
+        let flatness = flatness.value;
         for (name, why) in REFUSED {
             if f.is_table(name) {
                 let span = f.span_of(name);
@@ -255,7 +265,7 @@ impl BsdfPlugin for Principled {
         // A number in [0, 1], or a texture (its value at the hit, Mitsuba's eval_1).
         for name in WEIGHTS.into_iter().chain(["flatness", "anisotropic"]) {
             if p.has_texture(name) {
-                if name == "flatness" || name == "anisotropic" {
+                if name == "flatness" {
                     p.error(p.at(), name, format!("a textured `{name}` is not supported (give a <float>)"));
                     ok = false;
                 } else if let Some(t) = p.color_or_texture(name) {
@@ -334,27 +344,29 @@ impl BsdfPlugin for Principled {
         line("principled.eta", real(self.eta));
         line("principled.flatness", real(self.flatness));
         // Only an anisotropic one adds a line: isotropic scenes keep their hash.
-        if self.anisotropic != 0.0 {
-            line("principled.anisotropic", real(self.anisotropic));
+        if self.anisotropic.value != 0.0 || self.anisotropic.texture.is_some() {
+            line("principled.anisotropic", self.anisotropic.hash_value());
         }
         line("principled.rates", self.rates.map(real).join(" "));
     }
 
     fn textures(&self) -> Vec<&Texture> {
-        self.base_color_texture.iter().chain(self.weights.iter().filter_map(|w| w.texture.as_ref())).collect()
+        self.base_color_texture.iter().chain(self.weights.iter().chain([&self.anisotropic]).filter_map(|w| w.texture.as_ref())).collect()
     }
 
     /// `p0 = (base_color, roughness)`, `p1 = (metallic, spec_tint, sheen, sheen_tint)`, `p2 =
-    /// (clearcoat, clearcoat_gloss, eta, first BSDF datum)`: the layout of WGSL's
-    /// `principled_of`; the data: flatness, the three sampling rates, anisotropic.
+    /// (clearcoat, clearcoat_gloss, anisotropic, first BSDF datum)`: the layout of WGSL's
+    /// `principled_of` (every number that may be a texture in the block, where the kernel
+    /// resolves it); the data: flatness, the three sampling rates, eta.
     fn pack(&self, data: &mut BsdfData) -> BsdfParams {
         let c = match &self.base_color_texture {
             Some(t) => glam::Vec3::new(-(t.pack(data) as f32) - 1.0, 0.0, 0.0),
             None => self.base_color.as_vec3(),
         };
         let w = self.weights.clone().map(|w| w.pack(data));
-        let first = data.push(&[self.flatness as f32, self.rates[0] as f32, self.rates[1] as f32, self.rates[2] as f32, self.anisotropic as f32]);
-        [[c.x, c.y, c.z, w[0]], [w[1], w[2], w[3], w[4]], [w[5], w[6], self.eta as f32, first as f32]]
+        let anisotropic = self.anisotropic.pack(data);
+        let first = data.push(&[self.flatness as f32, self.rates[0] as f32, self.rates[1] as f32, self.rates[2] as f32, self.eta as f32]);
+        [[c.x, c.y, c.z, w[0]], [w[1], w[2], w[3], w[4]], [w[5], w[6], anisotropic, first as f32]]
     }
 }
 
@@ -373,7 +385,7 @@ impl Principled {
             weights: WEIGHTS.map(|name| Weight::constant(default_weight(name))),
             eta: eta_from_specular(DEFAULT_SPECULAR),
             flatness: 0.0,
-            anisotropic: 0.0,
+            anisotropic: Weight::constant(0.0),
             rates: [1.0; 3],
         }
     }
