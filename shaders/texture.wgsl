@@ -19,6 +19,7 @@
 //   world-to-grid map (12: three rows of an affine map), then the cells, x fastest, `channels`
 //   numbers each (src/scene/textures/volume.rs, `GridVolume::eval` its host twin): looked up at
 //   the hit's world position p, not its uvs (Mitsuba's `volume` texture around a `gridvolume`).
+//   rawconstant (3): the value (3): Mitsuba's rawconstant, the same everywhere.
 
 fn eval_checkerboard_texture(at: u32, uv: vec2f) -> vec3f {
     let scaled = uv * vec2f(bsdf_data[at + 7u], bsdf_data[at + 8u]);
@@ -164,7 +165,7 @@ fn mix_exact(a: vec3f, b: vec3f, t: f32) -> vec3f {
 // The kinds of texture some material uses (bit k: kind k; SceneFeatures::texture_kinds): the
 // others' lookups are compiled out (lavapipe runs both sides of every branch: a grid lookup
 // compiled into every textured scene cost those a quarter of their speed).
-override TEXTURE_KINDS: u32 = 7u;
+override TEXTURE_KINDS: u32 = 15u;
 
 fn uses_texture_kind(kind: f32) -> bool {
     return (TEXTURE_KINDS & (1u << u32(kind))) != 0u;
@@ -178,6 +179,9 @@ fn eval_texture(at: u32, uv: vec2f, p: vec3f) -> vec3f {
     }
     if (uses_texture_kind(TEXTURE_VOLUME) && kind == TEXTURE_VOLUME) {
         return eval_volume_texture(at, p);
+    }
+    if (uses_texture_kind(TEXTURE_RAW_CONSTANT) && kind == TEXTURE_RAW_CONSTANT) {
+        return vec3f(bsdf_data[at + 1u], bsdf_data[at + 2u], bsdf_data[at + 3u]);
     }
     if (uses_texture_kind(TEXTURE_CHECKERBOARD)) {
         return eval_checkerboard_texture(at, uv);

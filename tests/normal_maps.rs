@@ -93,3 +93,42 @@ fn normal_maps_are_read_and_refused_where_mitsuba_refuses_them() {
     toml_refused("normal_map = { texture = \"checkerboard\" }", &["must be a bitmap"]);
     toml_refused("bsdf = \"dielectric\"\nnormal_map = { texture = \"checkerboard\" }", &["transmits"]);
 }
+
+/// Mitsuba's `rawconstant` as a normal map (its test scene `test_normalmap_identity_*`): the
+/// identity normal (0.5, 0.5, 1) leaves every frame as it was, so the anisotropic fixture with
+/// one around each reflecting material (the frames that matter most: the lobes follow dp/du)
+/// must still agree with Mitsuba's render of the fixture without them
+/// (tests/fixtures/anisotropic/, `mis` at 2048 spp, 2x2 blocks, as tests/anisotropic.rs).
+#[test]
+fn an_identity_rawconstant_normal_map_changes_nothing() {
+    use pathlab::scene::{NormalMap, Texture};
+    let reference = mitsuba_fixture("anisotropic");
+    let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/anisotropic/anisotropic.xml");
+    let defines = [("resx".to_string(), reference.width.to_string()), ("resy".to_string(), reference.height.to_string())];
+    let mut scene = Scene::load_with(&file, &defines).unwrap();
+    let mut mapped = 0;
+    for m in &mut scene.materials {
+        if !m.bsdf.kind().transmits() && !m.is_emissive() {
+            m.normal_map = Some(NormalMap { texture: Texture::RawConstant { value: glam::DVec3::new(0.5, 0.5, 1.0) } });
+            mapped += 1;
+        }
+    }
+    assert!(mapped >= 6, "{mapped}");
+    assert!(pathlab::gpu::SceneFeatures::of(&scene).has_normal_maps);
+    agrees_with_reference(&reference, &scene, &[Preset::Mis.method()], |_| (2048, 2), 3900, Preset::Mis.method());
+
+    // Read from Mitsuba XML (a <vector> or a <float>) and TOML; bad values refused.
+    let normal = |value: &str| format!("<bsdf type=\"normalmap\" id=\"b\"><texture name=\"normalmap\" type=\"rawconstant\">{value}</texture><bsdf type=\"diffuse\"/></bsdf>");
+    let s = load_xml(&xml_with_bsdf(&normal("<vector name=\"value\" value=\"0.5, 0.5, 1\"/>"), "b"), "r.xml").unwrap();
+    assert_eq!(s.materials[0].normal_map.as_ref().map(|n| n.texture.clone()), Some(Texture::RawConstant { value: glam::DVec3::new(0.5, 0.5, 1.0) }));
+    let s = load_xml(&xml_with_bsdf(&normal("<float name=\"value\" value=\"0.5\"/>"), "b"), "r.xml").unwrap();
+    assert_eq!(s.materials[0].normal_map.as_ref().map(|n| n.texture.clone()), Some(Texture::RawConstant { value: glam::DVec3::splat(0.5) }));
+    for (value, wants) in [("", "needs its `value`"), ("<string name=\"value\" value=\"up\"/>", "a <float> or a <vector>"), ("<float name=\"value\" value=\"inf\"/>", "finite")] {
+        let e = load_xml(&xml_with_bsdf(&normal(value), "b"), "r.xml").unwrap_err().to_string();
+        assert!(e.contains("r.xml:3:") && e.contains(wants), "{value}: {e}");
+    }
+    let toml = Scene::parse(&toml_with_material("normal_map = { texture = \"rawconstant\", value = [0.5, 0.5, 1] }"), "r.toml").unwrap();
+    assert!(toml.materials[0].normal_map.is_some());
+    let e = Scene::parse(&toml_with_material("normal_map = { texture = \"rawconstant\", value = [0.5, 1] }"), "r.toml").unwrap_err().to_string();
+    assert!(e.contains("materials.m.normal_map") && e.contains("one finite number or three"), "{e}");
+}

@@ -275,7 +275,7 @@ fn textures_are_read_from_toml_and_xml_and_bad_ones_refused() {
     assert_eq!(p.diffuse_texture.as_ref(), Some(&expected));
     assert_eq!(p.diffuse, expected.mean(), "the mean stands for the texture on the host");
     let cases = [
-        ("diffuse = { texture = \"bricks\" }", "unknown texture \"bricks\" (pathlab has checkerboard, bitmap, volume)"),
+        ("diffuse = { texture = \"bricks\" }", "unknown texture \"bricks\" (pathlab has checkerboard, bitmap, volume, rawconstant)"),
         ("diffuse = { color0 = 0.5 }", "needs `texture = \"checkerboard\"`, `\"bitmap\"` or `\"volume\"`"),
         ("diffuse = { texture = \"checkerboard\", color0 = -1 }", "`color0` of a checkerboard must be a colour >= 0"),
         ("diffuse = { texture = \"checkerboard\", to_uv_scale = [0, 1] }", "two finite non-zero numbers"),
@@ -296,7 +296,7 @@ fn textures_are_read_from_toml_and_xml_and_bad_ones_refused() {
     let expected = Texture::Checkerboard { color0: DVec3::splat(0.4), color1: DVec3::new(0.1, 0.2, 0.3), to_uv_scale: DVec2::new(10.0, 5.0) };
     assert!(matches!(&s.materials[0].bsdf, Bsdf::Phong(p) if p.diffuse_texture.as_ref() == Some(&expected)), "{:?}", s.materials[0].bsdf);
     for (bsdf, message) in [
-        ("<bsdf type=\"diffuse\" id=\"t\"><texture type=\"bricks\" name=\"reflectance\"/></bsdf>", "<texture type=\"bricks\"> is not supported (pathlab has checkerboard, bitmap, volume)"),
+        ("<bsdf type=\"diffuse\" id=\"t\"><texture type=\"bricks\" name=\"reflectance\"/></bsdf>", "<texture type=\"bricks\"> is not supported (pathlab has checkerboard, bitmap, volume, rawconstant)"),
         ("<bsdf type=\"diffuse\" id=\"t\"><texture type=\"checkerboard\" name=\"reflectance\"><transform name=\"to_uv\"><rotate z=\"1\" angle=\"30\"/></transform></texture></bsdf>", "only a scale of u and v is supported"),
         ("<bsdf type=\"roughplastic\" id=\"t\"><texture type=\"checkerboard\" name=\"specular_reflectance\"/></bsdf>", "a textured parameter other than diffuse_reflectance is not supported"),
         ("<bsdf type=\"conductor\" id=\"t\"><texture type=\"checkerboard\" name=\"alpha\"/></bsdf>", "a textured parameter other than eta, k, specular_reflectance (and a roughconductor's alpha) is not supported"),

@@ -50,10 +50,11 @@ impl NormalMap {
             toml::Value::Table(table) => {
                 let mut errors = Vec::new();
                 match Texture::from_toml(table, span.clone(), base, &mut errors) {
-                    Some(texture @ Texture::Bitmap(_)) if errors.is_empty() => Ok(NormalMap { texture }),
-                    // Mitsuba's normalmap reads eval_3, which only its bitmap has (its
-                    // checkerboard fails at render time: "Texture::eval_3(): not implemented!").
-                    Some(t) if errors.is_empty() => Err(vec![(span, format!("a normal map must be a bitmap (Mitsuba's {} texture has no eval_3, which its normalmap reads)", t.name()))]),
+                    Some(texture @ (Texture::Bitmap(_) | Texture::RawConstant { .. })) if errors.is_empty() => Ok(NormalMap { texture }),
+                    // Mitsuba's normalmap reads eval_3, which only its bitmap and rawconstant
+                    // have (its checkerboard fails at render time: "Texture::eval_3(): not
+                    // implemented!").
+                    Some(t) if errors.is_empty() => Err(vec![(span, format!("a normal map must be a bitmap or a rawconstant (Mitsuba's {} texture has no eval_3, which its normalmap reads)", t.name()))]),
                     _ => Err(errors),
                 }
             }

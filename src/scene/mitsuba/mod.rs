@@ -243,6 +243,28 @@ impl PluginReader<'_, '_, '_> {
 }
 
 impl PluginReader<'_, '_, '_> {
+    /// A nested `<texture type="rawconstant">` (Mitsuba's src/spectra/rawconstant.cpp) as its
+    /// TOML inline table: `value`, a `<float>` or a `<vector>`, finite, taken as given.
+    fn raw_constant(&mut self, t: &Object) -> Option<toml::Value> {
+        let mut p = Props::of(t);
+        let value = self.t.get::<RawValue>(&mut p, "value");
+        self.t.finish(p, "value");
+        let Some((RawValue(v), prop)) = value else {
+            if !t.props.iter().any(|p| p.name == "value") {
+                self.t.error(t.at, "value", "<texture type=\"rawconstant\"> needs its `value` (a <float> or a <vector>)");
+            }
+            return None;
+        };
+        if !v.is_finite() {
+            self.t.error(prop.value_at, "value", format!("`value` of <texture type=\"rawconstant\"> must be finite (got {v})"));
+            return None;
+        }
+        let mut table = toml::Table::new();
+        table.insert("texture".into(), toml::Value::String("rawconstant".into()));
+        table.insert("value".into(), toml::Value::Array(v.to_array().iter().map(|x| toml::Value::Float(*x)).collect()));
+        Some(toml::Value::Table(table))
+    }
+
     /// A nested `<texture type="bitmap">` as its TOML inline table, the file found by
     /// Mitsuba's resolver (an error names every folder searched).
     fn bitmap(&mut self, t: &Object) -> Option<toml::Value> {
@@ -388,8 +410,11 @@ impl PluginProps for PluginReader<'_, '_, '_> {
         if t.plugin == "volume" {
             return self.volume(t);
         }
+        if t.plugin == "rawconstant" {
+            return self.raw_constant(t);
+        }
         if t.plugin != "checkerboard" {
-            self.t.error(t.at, "type", format!("<texture type=\"{}\"> is not supported (pathlab has checkerboard, bitmap, volume)", t.plugin));
+            self.t.error(t.at, "type", format!("<texture type=\"{}\"> is not supported (pathlab has checkerboard, bitmap, volume, rawconstant)", t.plugin));
             return None;
         }
         let mut p = Props::of(t);
@@ -539,6 +564,9 @@ enum ColorValue {
 /// A property that is a number or a name (an index of refraction: `<float>` or `<string>`).
 struct FloatOrString(Result<f64, String>);
 
+/// A `rawconstant`'s `value`: one number (for all three channels) or a `<vector>`.
+struct RawValue(DVec3);
+
 /// `PropKind` for `$t`: the element kinds (patterns of `Value`) it accepts, and the value each
 /// gives.
 macro_rules! prop_kind {
@@ -562,6 +590,7 @@ prop_kind!(String, "a <string>", Value::String(v) => v);
 prop_kind!(FloatOrString, "a <float> or a <string>", Value::Float(v) => FloatOrString(Ok(v)), Value::Integer(v) => FloatOrString(Ok(v as f64)), Value::String(v) => FloatOrString(Err(v)));
 prop_kind!(ColorValue, "an <rgb>, a <spectrum> or a <float>", Value::Color(c) => ColorValue::Rgb(c), Value::Float(v) => ColorValue::Rgb([v; 3]), Value::Spectrum(s) => ColorValue::Spectrum(s));
 prop_kind!(DVec3, "a <point>", Value::Point(v) | Value::Vector(v) => v);
+prop_kind!(RawValue, "a <float> or a <vector>", Value::Float(v) => RawValue(DVec3::splat(v)), Value::Integer(v) => RawValue(DVec3::splat(v as f64)), Value::Point(v) | Value::Vector(v) => RawValue(v));
 prop_kind!(Vec<TransformOp>, "a <transform>", Value::Transform(ops) => ops);
 
 impl Findings for Translator<'_> {
@@ -1271,12 +1300,12 @@ impl Translator<'_> {
     /// the `normalmap` texture; `flip_invalid_normals` and `use_shadowing_function` true, as
     /// Mitsuba's defaults (false is refused).
     fn normal_map(&mut self, o: &Object) -> Option<Bsdf> {
-        // Mitsuba's normalmap reads eval_3, which only its bitmap has (its checkerboard fails at
-        // render time: "Texture::eval_3(): not implemented!").
-        let other = o.children.iter().find(|c| c.tag == "texture" && c.name.as_deref() == Some("normalmap") && c.plugin != "bitmap");
+        // Mitsuba's normalmap reads eval_3, which only its bitmap and rawconstant have (its
+        // checkerboard fails at render time: "Texture::eval_3(): not implemented!").
+        let other = o.children.iter().find(|c| c.tag == "texture" && c.name.as_deref() == Some("normalmap") && c.plugin != "bitmap" && c.plugin != "rawconstant");
         if let Some(t) = other {
             let why = if t.plugin == "checkerboard" { "Mitsuba's checkerboard has no eval_3, which its normalmap reads".to_string() } else { format!("<texture type=\"{}\"> is not supported as one", t.plugin) };
-            self.error(t.at, "normalmap", format!("a normal map must be a bitmap ({why})"));
+            self.error(t.at, "normalmap", format!("a normal map must be a bitmap or a rawconstant ({why})"));
             return None;
         }
         let mut reader = PluginReader { t: self, p: Some(Props::of(o)), o, taken: Vec::new() };

@@ -36,6 +36,8 @@ const DEFAULT_COLOR1: f64 = 0.2;
 
 /// The kinds' numbers in the BSDF data (`TEXTURE_*` in texture.wgsl).
 pub const TEXTURE_CHECKERBOARD: u32 = 0;
+/// Mitsuba's `rawconstant` (bitmap 1, volume 2 in their files).
+pub const TEXTURE_RAW_CONSTANT: u32 = 3;
 
 /// A texture and its parameters.
 #[derive(Debug, Clone, PartialEq)]
@@ -48,6 +50,10 @@ pub enum Texture {
     /// Mitsuba's `volume` around a `gridvolume`: a 3D grid looked up at the hit's world
     /// position (`volume.rs`).
     Volume(GridVolume),
+    /// Mitsuba's `rawconstant` (src/spectra/rawconstant.cpp): one value everywhere, taken as
+    /// given, without colour conversion or range checks (a normal map's constant normal, say);
+    /// one number stands for three equal ones.
+    RawConstant { value: DVec3 },
 }
 
 impl Texture {
@@ -57,6 +63,7 @@ impl Texture {
             Texture::Checkerboard { .. } => "checkerboard",
             Texture::Bitmap(_) => "bitmap",
             Texture::Volume(_) => "volume",
+            Texture::RawConstant { .. } => "rawconstant",
         }
     }
 
@@ -67,6 +74,7 @@ impl Texture {
             Texture::Checkerboard { .. } => TEXTURE_CHECKERBOARD,
             Texture::Bitmap(_) => bitmap::TEXTURE_BITMAP,
             Texture::Volume(_) => volume::TEXTURE_VOLUME,
+            Texture::RawConstant { .. } => TEXTURE_RAW_CONSTANT,
         }
     }
 
@@ -77,6 +85,7 @@ impl Texture {
             Texture::Checkerboard { color0, color1, .. } => 0.5 * (*color0 + *color1),
             Texture::Bitmap(b) => DVec3::from(b.image.mean()),
             Texture::Volume(v) => DVec3::from(v.mean()),
+            Texture::RawConstant { value } => *value,
         }
     }
 
@@ -88,6 +97,8 @@ impl Texture {
             Texture::Checkerboard { color0, color1, .. } => 0.5 * (color0.element_sum() + color1.element_sum()) / 3.0,
             Texture::Bitmap(b) => crate::scene::emitters::luminance(DVec3::from(b.image.mean())),
             Texture::Volume(v) => crate::scene::emitters::luminance(DVec3::from(v.mean())),
+            // Mitsuba's dr::mean of the value.
+            Texture::RawConstant { value } => value.element_sum() / 3.0,
         }
     }
 
@@ -128,6 +139,7 @@ impl Texture {
             }
             Texture::Bitmap(b) => b.eval(uv),
             Texture::Volume(v) => v.eval(p),
+            Texture::RawConstant { value } => value.as_vec3().to_array(),
         }
     }
 
@@ -140,6 +152,10 @@ impl Texture {
             }
             Texture::Bitmap(b) => b.pack(data),
             Texture::Volume(v) => v.pack(data),
+            Texture::RawConstant { value } => {
+                let v = value.as_vec3();
+                data.push(&[TEXTURE_RAW_CONSTANT as f32, v.x, v.y, v.z])
+            }
         }
     }
 
@@ -161,6 +177,7 @@ impl Texture {
                 let colour = if v.channels == 1 { "grey" } else { "RGB" };
                 format!("volume {name} {}x{}x{} {colour}, {}, {}", v.res[0], v.res[1], v.res[2], if v.trilinear { "trilinear" } else { "nearest" }, v.wrap.name())
             }
+            Texture::RawConstant { value } => format!("rawconstant ({}, {}, {})", value.x, value.y, value.z),
         }
     }
 
@@ -170,6 +187,7 @@ impl Texture {
             Texture::Checkerboard { .. } => 9,
             Texture::Bitmap(b) => b.record_len(),
             Texture::Volume(v) => v.record_len(),
+            Texture::RawConstant { .. } => 4,
         }
     }
 
@@ -197,6 +215,7 @@ impl Texture {
                 let row = |r: [f64; 4]| format!("{} {}", vec3(DVec3::new(r[0], r[1], r[2])), r[3]);
                 format!("volume {} {} {} {} {} {} {}", v.content_hash, v.trilinear, v.wrap.name(), v.raw, row(m[0]), row(m[1]), row(m[2]))
             }
+            Texture::RawConstant { value } => format!("rawconstant {}", vec3(*value)),
         }
     }
 
@@ -215,8 +234,38 @@ impl Texture {
             "checkerboard" => Texture::checkerboard_from_toml(table, span, errors),
             "bitmap" => Texture::bitmap_from_toml(table, span, base, errors),
             "volume" => Texture::volume_from_toml(table, span, base, errors),
+            "rawconstant" => Texture::raw_constant_from_toml(table, span, errors),
             _ => {
-                errors.push((span, format!("unknown texture \"{kind}\" (pathlab has checkerboard, bitmap, volume)")));
+                errors.push((span, format!("unknown texture \"{kind}\" (pathlab has checkerboard, bitmap, volume, rawconstant)")));
+                None
+            }
+        }
+    }
+
+    /// `{ texture = "rawconstant", value = 0.5 }` or `value = [x, y, z]`: finite numbers, no
+    /// range (Mitsuba checks none).
+    fn raw_constant_from_toml(table: &toml::Table, span: Range<usize>, errors: &mut Vec<(Range<usize>, String)>) -> Option<Texture> {
+        for key in table.keys() {
+            if !["texture", "value"].contains(&key.as_str()) {
+                errors.push((span.clone(), format!("unknown key `{key}` of a rawconstant (its key: value)")));
+                return None;
+            }
+        }
+        let number = |v: &toml::Value| v.as_float().or_else(|| v.as_integer().map(|i| i as f64)).filter(|x| x.is_finite());
+        let value = match table.get("value") {
+            None => {
+                errors.push((span, "a rawconstant needs its `value` (a number or three)".into()));
+                return None;
+            }
+            Some(v) => match v {
+                toml::Value::Array(a) if a.len() == 3 => a.iter().map(number).collect::<Option<Vec<f64>>>().map(|a| DVec3::new(a[0], a[1], a[2])),
+                v => number(v).map(DVec3::splat),
+            },
+        };
+        match value {
+            Some(value) => Some(Texture::RawConstant { value }),
+            None => {
+                errors.push((span, format!("`value` of a rawconstant must be one finite number or three (got {})", table["value"])));
                 None
             }
         }
@@ -390,6 +439,12 @@ impl Texture {
                 let w = local.inverse().transpose().to_cols_array_2d();
                 let row = |r: [f64; 4]| toml::Value::Array(r.iter().map(|x| toml::Value::Float(*x)).collect());
                 t.insert("to_world".into(), toml::Value::Array(vec![row(w[0]), row(w[1]), row(w[2])]));
+                toml::Value::Table(t)
+            }
+            Texture::RawConstant { value } => {
+                let mut t = toml::Table::new();
+                t.insert("texture".into(), toml::Value::String("rawconstant".into()));
+                t.insert("value".into(), toml::Value::Array(value.to_array().iter().map(|x| toml::Value::Float(*x)).collect()));
                 toml::Value::Table(t)
             }
         }
