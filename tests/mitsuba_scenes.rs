@@ -338,6 +338,15 @@ fn paths_focal_lengths_and_published_camera_matrices_are_read_as_mitsuba_reads_t
     let part = format!("<scene version=\"3.0.0\"><shape type=\"obj\"><string name=\"filename\" value=\"meshes/tri.obj\"/></shape></scene>");
     let dir = dir_with(&[("s.xml", &main), ("parts/shapes.xml", &part), ("meshes/tri.obj", TRIANGLE_OBJ)]);
     assert_eq!(Scene::load(dir.path().join("s.xml")).unwrap().meshes.len(), 2);
+    // An include's own <path> and <include> name folders and files of the main file's folder
+    // (Mitsuba 3.9.1's parser tries beside the including file, then its resolver, which holds
+    // the main file's folder: mitsuba-data's docs scenes' include/ files say
+    // <path value="../../common"/>, its participating-media test scenes' include
+    // "include/preamble.xml"). Before 2026-12-05 pathlab looked beside the included file only.
+    let part = "<scene version=\"3.0.0\"><path value=\"assets\"/><include filename=\"parts/more.xml\"/></scene>";
+    let more = "<scene version=\"3.0.0\"><shape type=\"obj\"><string name=\"filename\" value=\"tri.obj\"/></shape></scene>";
+    let dir = dir_with(&[("s.xml", &main), ("parts/shapes.xml", part), ("parts/more.xml", more), ("assets/tri.obj", TRIANGLE_OBJ)]);
+    assert_eq!(Scene::load(dir.path().join("s.xml")).unwrap().meshes.len(), 2);
     // Missing: every folder searched is named.
     let dir = dir_with(&[("s.xml", &with_path.replace("tri.obj", "gone.obj")), ("assets/tri.obj", TRIANGLE_OBJ)]);
     let e = Scene::load(dir.path().join("s.xml")).unwrap_err().to_string();

@@ -178,6 +178,14 @@ struct Loader<'a> {
     main_dir: PathBuf,
 }
 
+impl Loader<'_> {
+    /// The folders of Mitsuba's file resolver while reading: the `<path>` folders so far (the
+    /// latest first), then the main file's.
+    fn resolver(&self) -> impl Iterator<Item = &PathBuf> {
+        self.paths.iter().chain(std::iter::once(&self.main_dir))
+    }
+}
+
 /// Reads `path` and everything it includes. Errors are collected in `diagnostics` (reading
 /// goes on past them where it can); the objects are what could be read.
 pub(crate) fn load(path: &Path, defines: &[(String, String)]) -> Result<Loaded, std::io::Error> {
@@ -295,22 +303,29 @@ impl Loader<'_> {
             match node.tag_name().name() {
                 "default" => self.default(node, base),
                 // Mitsuba's `<path value>`: a folder put in front of the file resolver's
-                // (relative: to this file's folder).
+                // (relative: to this file's folder, else where the resolver finds it: Mitsuba
+                // 3.9.1's parser.cpp, so that an included file's `<path>` may name a folder of
+                // the main file's).
                 "path" => {
                     let Some(value) = self.attr(node, "value", base) else { continue };
                     let folder = dir.join(&value);
-                    if folder.is_dir() {
-                        self.paths.insert(0, folder);
-                    } else {
-                        self.error(at(node), "value", format!("<path>: folder {} not found", folder.display()));
+                    let found = if folder.is_dir() { Some(folder.clone()) } else { self.resolver().map(|f| f.join(&value)).find(|c| c.is_dir()) };
+                    match found {
+                        Some(f) => self.paths.insert(0, f),
+                        None => {
+                            let searched: Vec<String> = std::iter::once(folder).chain(self.resolver().map(|f| f.join(&value))).map(|f| f.display().to_string()).collect();
+                            self.error(at(node), "value", format!("<path>: folder \"{value}\" not found (searched {})", searched.join(", ")));
+                        }
                     }
                 }
                 "include" => {
                     let Some(name) = self.attr(node, "filename", base) else { continue };
-                    // Beside the including file, else where Mitsuba's resolver finds it.
+                    // Beside the including file, else where Mitsuba's resolver finds it (the
+                    // `<path>` folders, then the main file's: an included file's include may
+                    // name a file beside the main one, as Mitsuba 3.9.1's parser.cpp allows).
                     let mut file = dir.join(&name);
                     if !file.exists() {
-                        if let Some(found) = self.paths.iter().map(|f| f.join(&name)).find(|c| c.exists()) {
+                        if let Some(found) = self.resolver().map(|f| f.join(&name)).find(|c| c.exists()) {
                             file = found;
                         }
                     }
