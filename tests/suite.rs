@@ -22,6 +22,7 @@ mod cornell_conductors;
 mod deploy;
 mod delta_lights;
 mod dielectrics;
+mod direct_integrator;
 mod environment_light;
 mod environment_map;
 mod hide_emitters;

@@ -349,7 +349,7 @@ fn bitmaps_are_read_from_toml_and_xml_and_bad_ones_refused() {
         }
     }
 
-    // XML: the file found by Mitsuba's resolver; `to_uv` the 4x4's upper-left 3x3.
+    // XML: the file found by Mitsuba's resolver; `to_uv` the 4x4's 2D affine part.
     let xml_path = dir.path().join("t.xml");
     let bitmap = |inner: &str| xml_with_bsdf(&format!("<bsdf type=\"diffuse\" id=\"t\"><texture type=\"bitmap\" name=\"reflectance\">{inner}</texture></bsdf>"), "t");
     std::fs::write(&xml_path, bitmap("<string name=\"filename\" value=\"grid.png\"/><string name=\"wrap_mode\" value=\"clamp\"/><boolean name=\"raw\" value=\"true\"/><transform name=\"to_uv\"><scale x=\"4\" y=\"2\"/></transform><boolean name=\"accel\" value=\"false\"/><string name=\"format\" value=\"uint8\"/>")).unwrap();
@@ -359,6 +359,23 @@ fn bitmaps_are_read_from_toml_and_xml_and_bad_ones_refused() {
     let Bsdf::Phong(p) = &s.materials[0].bsdf else { panic!("not phong") };
     let Some(Texture::Bitmap(b)) = &p.diffuse_texture else { panic!("{:?}", p.diffuse_texture) };
     assert_eq!((b.file.clone(), b.wrap, b.raw, b.to_uv), (dir.path().join("grid.png"), Wrap::Clamp, true, [[4.0, 0.0, 0.0], [0.0, 2.0, 0.0]]));
+    // The 2D affine part, translation included, as Mitsuba 3.9.1 keeps it (its own `to_uv`,
+    // read back with mi.traverse after loading these transforms: [[2, 0, -0.5], [0, 2, -0.5]]
+    // and [[1, 2, 7], [3, 4, 8]]; mitsuba-data's texture_interp test scene shifts its tiles so).
+    for (transform, expected) in [
+        ("<scale value=\"2\"/><translate value=\"-.5,-.5, 0\"/>", [[2.0, 0.0, -0.5], [0.0, 2.0, -0.5]]),
+        ("<matrix value=\"1 2 5 7  3 4 6 8  9 9 9 9  0 0 0 1\"/>", [[1.0, 2.0, 7.0], [3.0, 4.0, 8.0]]),
+    ] {
+        std::fs::write(&xml_path, bitmap(&format!("<string name=\"filename\" value=\"grid.png\"/><transform name=\"to_uv\">{transform}</transform>"))).unwrap();
+        let s = Scene::load(&xml_path).unwrap();
+        let Bsdf::Phong(p) = &s.materials[0].bsdf else { panic!("not phong") };
+        let Some(Texture::Bitmap(b)) = &p.diffuse_texture else { panic!("{:?}", p.diffuse_texture) };
+        assert_eq!(b.to_uv, expected, "{transform}");
+    }
+    // A checkerboard's `to_uv` is a scale: a translation is refused, not dropped.
+    std::fs::write(&xml_path, xml_with_bsdf("<bsdf type=\"diffuse\" id=\"t\"><texture type=\"checkerboard\" name=\"reflectance\"><transform name=\"to_uv\"><translate x=\"0.5\"/></transform></texture></bsdf>", "t")).unwrap();
+    let e = Scene::load(&xml_path).unwrap_err().to_string();
+    assert!(e.contains("only a scale of u and v"), "{e}");
     // A texture defined at the top level and taken by `<ref name id>`, before or after it.
     let wood = "<texture type=\"bitmap\" id=\"wood\"><string name=\"filename\" value=\"grid.png\"/><string name=\"filter_type\" value=\"nearest\"/></texture>";
     let user = "<bsdf type=\"roughplastic\" id=\"t\"><ref name=\"diffuse_reflectance\" id=\"wood\"/></bsdf>";

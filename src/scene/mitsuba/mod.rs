@@ -273,11 +273,14 @@ impl PluginReader<'_, '_, '_> {
         table.insert("texture".into(), toml::Value::String("bitmap".into()));
         let file = self.t.string(&mut p, "filename");
         self.filter_wrap_flags(&mut p, "bitmap", &["bilinear", "nearest"], &["raw"], &mut table);
-        // `to_uv`: Mitsuba keeps the upper-left 3x3 of the 4x4 transform (`extract()`), an
-        // affine map of uv whose translation is the matrix's third column.
+        // `to_uv`: Mitsuba 3.9.1 keeps the 2D affine part of the 4x4 transform: rows and
+        // columns x, y and the translation (measured: <matrix value="1 2 5 7 3 4 6 8 9 9 9 9 0 0
+        // 0 1"/> gives [[1, 2, 7], [3, 4, 8]], and <scale value="2"/><translate value="-.5,
+        // -.5, 0"/> gives [[2, 0, -0.5], [0, 2, -0.5]]). Until 2026-12-05 pathlab took the
+        // upper-left 3x3, which drops a translation.
         if let Some((ops, _)) = self.t.transform(&mut p, "to_uv") {
             let m = compose(&ops).transpose().to_cols_array_2d();
-            let row = |r: usize| toml::Value::Array((0..3).map(|c| toml::Value::Float(m[r][c])).collect());
+            let row = |r: usize| toml::Value::Array([0, 1, 3].iter().map(|&c| toml::Value::Float(m[r][c])).collect());
             table.insert("to_uv".into(), toml::Value::Array(vec![row(0), row(1)]));
         }
         // Storage choices without effect on the values: `accel` (CUDA's hardware textures),
@@ -425,13 +428,13 @@ impl PluginProps for PluginReader<'_, '_, '_> {
                 table.insert(key.into(), color_value(c.0));
             }
         }
-        // `to_uv`: a scale (Mitsuba keeps the upper-left 3x3 of the 4x4 transform, which holds
-        // no translation; published scenes give scales).
+        // `to_uv`: a scale (Mitsuba keeps the 2D affine part of the 4x4 transform, as for a
+        // bitmap; published scenes give scales).
         if let Some((ops, at)) = self.t.transform(&mut p, "to_uv") {
-            // Any operations whose upper-left 3x3 (what Mitsuba keeps) scales u and v alone:
-            // <scale>, or a <matrix> of a scale.
+            // Any operations whose 2D affine part (what Mitsuba keeps) scales u and v alone:
+            // <scale>, or a <matrix> of a scale; a translation or a rotation is refused.
             let m = compose(&ops).transpose().to_cols_array_2d();
-            if [m[0][1], m[0][2], m[1][0], m[1][2]].iter().all(|x| *x == 0.0) {
+            if [m[0][1], m[0][3], m[1][0], m[1][3]].iter().all(|x| *x == 0.0) {
                 table.insert("to_uv_scale".into(), toml::Value::Array(vec![toml::Value::Float(m[0][0]), toml::Value::Float(m[1][1])]));
             } else {
                 self.t.error(at, "to_uv", "`to_uv` of a checkerboard: only a scale of u and v is supported (give <scale>)".to_string());
@@ -1148,6 +1151,31 @@ impl Translator<'_> {
                 self.error(o.at, "type", format!("<integrator type=\"moment\"> must wrap exactly one <integrator> (it wraps {})", nested.len()));
             }
             "path" => {}
+            // Mitsuba's `direct` (src/integrators/direct.cpp): what the camera sees emitted,
+            // plus one bounce of direct light from light and BSDF sampling weighed by the power
+            // heuristic: the same expectation as `path` with max_depth 2 (its first vertex's
+            // next event estimation and BSDF sample, the hit's emission). Its sample counts
+            // change only the noise.
+            "direct" => {
+                self.warn(
+                    o.at,
+                    "type",
+                    "<integrator type=\"direct\"> is read as path with max_depth 2: the same expected image (emitted light and one bounce of direct light); emitter_samples, bsdf_samples and shading_samples change only the noise and are not used".to_string(),
+                );
+                let mut p = Props::of(o);
+                for name in ["emitter_samples", "bsdf_samples", "shading_samples"] {
+                    if let Some((n, at)) = self.integer(&mut p, name) {
+                        if n < 0 {
+                            self.error(at, name, format!("{name} must be at least 0 (got {n})"));
+                        }
+                    }
+                }
+                let hide_emitters = self.get::<bool>(&mut p, "hide_emitters").map(|(v, prop)| (v, prop.value_at));
+                self.finish(p, "emitter_samples, bsdf_samples, shading_samples, hide_emitters");
+                // hide_emitters: Mitsuba's direct skips every area emitter the camera ray meets
+                // (skip_area_emitters), as pathlab's path does (render.hide_emitters).
+                return (2, DEFAULT_RR_DEPTH, o.at, hide_emitters);
+            }
             "volpath" | "volpathmis" => {
                 self.warn(o.at, "type", format!("<integrator type=\"{}\"> without media is a path tracer: pathlab renders it with its own", o.plugin));
                 self.volumetric = Some((o.plugin.clone(), o.at));
@@ -1155,7 +1183,7 @@ impl Translator<'_> {
             other => self.error(
                 o.at,
                 "type",
-                format!("<integrator type=\"{other}\"> is not supported (pathlab is a unidirectional path tracer: path, or volpath without media)"),
+                format!("<integrator type=\"{other}\"> is not supported (pathlab is a unidirectional path tracer: path, direct (path with max_depth 2), or volpath without media)"),
             ),
         }
         let mut p = Props::of(o);
