@@ -135,20 +135,12 @@ fn triangle_uv(i: u32, tri: Triangle, bary: vec2f) -> vec2f {
 // axis of the arbitrary frame of n, Mitsuba's coordinate_system); else p1 - p0 (the barycentric
 // parametrisation).
 fn triangle_tangent(i: u32, tri: Triangle, n: vec3f) -> vec3f {
-    let dp0 = tri.p1 - tri.p0;
-    if ((tri.flags & TRIANGLE_HAS_UVS) != 0u) {
-        let t = triangle_uvs[i];
-        let duv0 = t.uv1 - t.uv0;
-        let duv1 = t.uv2 - t.uv0;
-        let det = duv0.x * duv1.y - duv0.y * duv1.x;
-        let dp1 = tri.p2 - tri.p0;
-        return select(frame_from_normal(n).t, (duv1.y * dp0 - duv0.y * dp1) / det, det != 0.0);
-    }
-    return dp0;
+    return triangle_partials(i, tri, n).du;
 }
 
 // dp/du and dp/dv of triangle i, whose unit winding normal is n, as Mitsuba's meshes have them
-// (mesh.cpp), for bump maps: from its texture coordinates where it has them,
+// (mesh.cpp), for bump maps and tangent frames (triangle_tangent): from its texture coordinates
+// where it has them,
 //   dp/du = (duv1.y dp0 - duv0.y dp1) / det,  dp/dv = (duv0.x dp1 - duv1.x dp0) / det,
 // (where det is 0, the arbitrary frame of n, Mitsuba's coordinate_system); else p1 - p0 and
 // p2 - p0 (the barycentric parametrisation).
@@ -164,8 +156,7 @@ fn triangle_partials(i: u32, tri: Triangle, n: vec3f) -> Partials {
             let f = frame_from_normal(n);
             return Partials(f.t, f.b);
         }
-        let inv_det = 1.0 / det;
-        return Partials((duv1.y * dp0 - duv0.y * dp1) * inv_det, (duv0.x * dp1 - duv1.x * dp0) * inv_det);
+        return Partials((duv1.y * dp0 - duv0.y * dp1) / det, (duv0.x * dp1 - duv1.x * dp0) / det);
     }
     return Partials(dp0, dp1);
 }

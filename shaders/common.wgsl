@@ -49,6 +49,14 @@ fn plane_barycentrics(p0: vec3f, p1: vec3f, p2: vec3f, p: vec3f) -> vec2f {
 }
 
 // Orthonormal basis around a unit vector n (Duff et al. 2017, branchless).
+// The partial derivatives of a surface's position along its uv parametrisation, with their
+// lengths (Mitsuba's si.dp_du, si.dp_dv): surface_partials (intersect.wgsl), triangle_partials
+// (bvh.wgsl).
+struct Partials {
+    du: vec3f,
+    dv: vec3f,
+}
+
 struct Frame {
     t: vec3f,
     b: vec3f,

@@ -118,13 +118,6 @@ fn plane_uv(normal: vec3f, x: vec3f) -> vec2f {
     return vec2f(dot(x, f.t), dot(x, f.b));
 }
 
-// The partial derivatives of a surface's position along its uv parametrisation, with their
-// lengths (Mitsuba's si.dp_du, si.dp_dv), where a bump map needs them (surface_partials).
-struct Partials {
-    du: vec3f,
-    dv: vec3f,
-}
-
 // dp/du and dp/dv of sphere i at the point whose outward unit normal is n, l = n in its object
 // axes (Mitsuba's sphere.cpp: to_world of 2 pi (-l.y, l.x, 0) and of pi (l.z cos phi, l.z sin
 // phi, -r_xy), r_xy = sqrt(l.x^2 + l.y^2); to_world scales by the radius; at the poles dp/dv is

@@ -1353,30 +1353,38 @@ impl Translator<'_> {
         if !has_map {
             self.error(o.at, "normalmap", "<bsdf type=\"normalmap\"> needs its normals as a <texture name=\"normalmap\">");
         }
+        let b = self.perturbed_bsdf(o, "normal map", "normal-map")?;
+        Some(Bsdf { normal_map: Some(map?), name: o.id.clone().or(b.name.clone()), ..b })
+    }
+
+    /// The one nested BSDF of a `normalmap` or `bumpmap` `o` (its `noun` and `verb` for the
+    /// messages): plain and reflecting (a mask or twosided may wrap the map, not the other way
+    /// round), as Mitsuba's "Only a single BSDF child object can be specified."
+    fn perturbed_bsdf(&mut self, o: &Object, noun: &str, verb: &str) -> Option<Bsdf> {
+        let kind = &o.plugin;
         let inner: Vec<&Object> = o.children.iter().filter(|c| c.tag == "bsdf").collect();
-        let b = match inner.as_slice() {
+        match inner.as_slice() {
             [one] => {
                 let b = self.bsdf(one)?;
                 if b.opacity.is_some() || b.two_sided || b.back.is_some() || b.normal_map.is_some() || b.bump_map.is_some() {
-                    self.error(one.at, "type", "the BSDF inside a <bsdf type=\"normalmap\"> must be one plain BSDF (a mask or twosided may wrap the normal map instead)");
+                    self.error(one.at, "type", format!("the BSDF inside a <bsdf type=\"{kind}\"> must be one plain BSDF (a mask or twosided may wrap the {noun} instead)"));
                     return None;
                 }
                 if b.kind.transmits() || b.kind.both_sides() {
-                    self.error(one.at, "type", format!("a normal map around a <bsdf type=\"{}\">, which transmits, is not supported (normal-map a BSDF that reflects)", one.plugin));
+                    self.error(one.at, "type", format!("a {noun} around a <bsdf type=\"{}\">, which transmits, is not supported ({verb} a BSDF that reflects)", one.plugin));
                     return None;
                 }
-                b
+                Some(b)
             }
             [] => {
-                self.error(o.at, "", "<bsdf type=\"normalmap\"> needs the <bsdf> it perturbs");
-                return None;
+                self.error(o.at, "", format!("<bsdf type=\"{kind}\"> needs the <bsdf> it perturbs"));
+                None
             }
             [_, second, ..] => {
-                self.error(second.at, "", "<bsdf type=\"normalmap\"> takes one nested <bsdf> (Mitsuba: \"Only a single BSDF child object can be specified.\")");
-                return None;
+                self.error(second.at, "", format!("<bsdf type=\"{kind}\"> takes one nested <bsdf> (Mitsuba: \"Only a single BSDF child object can be specified.\")"));
+                None
             }
-        };
-        Some(Bsdf { normal_map: Some(map?), name: o.id.clone().or(b.name.clone()), ..b })
+        }
     }
 
     /// `<bsdf type="bumpmap">` (Mitsuba's bumpmap.cpp): its one nested BSDF, plain and
@@ -1412,29 +1420,7 @@ impl Translator<'_> {
                 self.error(at, name, format!("`{name}` = false is not supported (pathlab follows Mitsuba's default, true)"));
             }
         }
-        let inner: Vec<&Object> = o.children.iter().filter(|c| c.tag == "bsdf").collect();
-        let b = match inner.as_slice() {
-            [one] => {
-                let b = self.bsdf(one)?;
-                if b.opacity.is_some() || b.two_sided || b.back.is_some() || b.normal_map.is_some() || b.bump_map.is_some() {
-                    self.error(one.at, "type", "the BSDF inside a <bsdf type=\"bumpmap\"> must be one plain BSDF (a mask or twosided may wrap the bump map instead)");
-                    return None;
-                }
-                if b.kind.transmits() || b.kind.both_sides() {
-                    self.error(one.at, "type", format!("a bump map around a <bsdf type=\"{}\">, which transmits, is not supported (bump-map a BSDF that reflects)", one.plugin));
-                    return None;
-                }
-                b
-            }
-            [] => {
-                self.error(o.at, "", "<bsdf type=\"bumpmap\"> needs the <bsdf> it perturbs");
-                return None;
-            }
-            [_, second, ..] => {
-                self.error(second.at, "", "<bsdf type=\"bumpmap\"> takes one nested <bsdf> (Mitsuba: \"Only a single BSDF child object can be specified.\")");
-                return None;
-            }
-        };
+        let b = self.perturbed_bsdf(o, "bump map", "bump-map")?;
         let mut map = heights?;
         if let (toml::Value::Table(t), Some((s, _))) = (&mut map, scale) {
             t.insert("scale".into(), toml::Value::Float(s));
