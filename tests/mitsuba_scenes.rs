@@ -241,6 +241,19 @@ fn settings_that_keep_the_expected_image_are_accepted_with_a_warning() {
         assert!(said.iter().any(|m| m.contains(expected)), "no warning `{expected}` in {said:#?}");
     }
     assert_eq!(s.render.spp, Some(4));
+
+    // A sampler defined at the top level with an id and taken by <ref> in the sensor (mitsuba-data's
+    // sampler documentation scenes), and a film `banner` (Mitsuba 3 reads and ignores it).
+    let text = small("<sampler type=\"independent\" id=\"s16\"><integer name=\"sample_count\" value=\"16\"/></sampler>")
+        .replace("<float name=\"fov\" value=\"45\"/>", "<float name=\"fov\" value=\"45\"/><ref id=\"s16\"/>")
+        .replace("<integer name=\"width\" value=\"8\"/>", "<integer name=\"width\" value=\"8\"/><boolean name=\"banner\" value=\"false\"/>");
+    let dir = dir_with(&[("s.xml", &text)]);
+    let s = Scene::load(dir.path().join("s.xml")).unwrap();
+    assert_eq!(s.render.spp, Some(16));
+    assert!(s.warnings.iter().any(|w| w.field == "banner" && w.message.contains("ignored")), "{:?}", s.warnings);
+    // Without an id it is still misplaced.
+    let (d, _) = refused(&small("<sampler type=\"independent\"/>"));
+    assert!(d.message.contains("<sampler> belongs inside the <sensor>"), "{d}");
 }
 
 /// Seeded mutations of the Cornell box's XML: characters deleted, duplicated or replaced,

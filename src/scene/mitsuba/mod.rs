@@ -806,7 +806,10 @@ impl Translator<'_> {
                 // A named texture is a definition that BSDFs take by <ref name="…" id="…"/>.
                 "texture" if o.id.is_some() => {}
                 "texture" => self.error(o.at, "", "a <texture> outside a <bsdf> needs an id, for a <ref name=\"…\" id=\"…\"/> in one".to_string()),
-                "film" | "sampler" | "rfilter" => self.error(o.at, "", format!("<{}> belongs inside the <sensor>", o.tag)),
+                // A named one is a definition that a sensor (or film) takes by <ref id="…"/>
+                // (mitsuba-data's sampler documentation scenes).
+                "film" | "sampler" | "rfilter" if o.id.is_some() => {}
+                "film" | "sampler" | "rfilter" => self.error(o.at, "", format!("<{}> belongs inside the <sensor> (or, with an id, is taken by a <ref> in it)", o.tag)),
                 // A named medium is a definition that shapes take by <ref name="interior" …/>.
                 "medium" => self.media.push(o.at),
                 other => self.error(o.at, "", format!("{} is not supported at the top level of a scene", describe(other, &o.plugin))),
@@ -1075,12 +1078,16 @@ impl Translator<'_> {
                 self.error(prop.at, name, format!("`{name}` is not supported (pathlab renders the whole film)"));
             }
         }
+        // Mitsuba 3's hdrfilm marks `banner` as read and ignores it ("no banner in Mitsuba 3").
+        if let Some(prop) = p.take("banner") {
+            self.warn(prop.at, "banner", "`banner` is ignored, as Mitsuba 3 ignores it (the image is the same)");
+        }
         if let Some(prop) = p.take("sample_border") {
             if prop.value == Value::Boolean(true) {
                 self.warn(prop.at, "sample_border", "`sample_border` is ignored: with pathlab's box filter no sample crosses a pixel border");
             }
         }
-        self.finish(p, "width, height (and, with a warning, pixel_format, component_format, file_format, sample_border)");
+        self.finish(p, "width, height (and, with a warning, pixel_format, component_format, file_format, sample_border, banner)");
         let mut filter = None;
         for child in &o.children {
             match child.tag.as_str() {
