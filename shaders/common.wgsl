@@ -48,7 +48,6 @@ fn plane_barycentrics(p0: vec3f, p1: vec3f, p2: vec3f, p: vec3f) -> vec2f {
     return vec2f(d22 * d1 - d12 * d2, d11 * d2 - d12 * d1) / (d11 * d22 - d12 * d12);
 }
 
-// Orthonormal basis around a unit vector n (Duff et al. 2017, branchless).
 // The partial derivatives of a surface's position along its uv parametrisation, with their
 // lengths (Mitsuba's si.dp_du, si.dp_dv): surface_partials (intersect.wgsl), triangle_partials
 // (bvh.wgsl).
@@ -57,6 +56,7 @@ struct Partials {
     dv: vec3f,
 }
 
+// Orthonormal basis around a unit vector n (Duff et al. 2017, branchless).
 struct Frame {
     t: vec3f,
     b: vec3f,

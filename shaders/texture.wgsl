@@ -55,26 +55,40 @@ fn bitmap_texel(at: u32, x: i32, y: i32) -> vec3f {
     return vec3f(bsdf_data[table + (codes & 255u)], bsdf_data[table + ((codes >> 8u) & 255u)], bsdf_data[table + (codes >> 16u)]);
 }
 
+// The bitmap at `at`'s uv after its to_uv.
+fn bitmap_uv(at: u32, uv_in: vec2f) -> vec2f {
+    return vec2f(bsdf_data[at + 6u] * uv_in.x + bsdf_data[at + 7u] * uv_in.y + bsdf_data[at + 8u],
+                 bsdf_data[at + 9u] * uv_in.x + bsdf_data[at + 10u] * uv_in.y + bsdf_data[at + 11u]);
+}
+
+// The cell of a bilinear lookup at uv of an image of `size` texels: texel centres at integers
+// after subtracting 1/2; the lower-left texel and the fractions towards the next ones.
+struct BilinearCell {
+    x0: i32,
+    y0: i32,
+    f: vec2f,
+}
+
+fn bilinear_cell(uv: vec2f, size: vec2f) -> BilinearCell {
+    let p = uv * size - vec2f(0.5);
+    let base = floor(p);
+    return BilinearCell(i32(base.x), i32(base.y), p - base);
+}
+
 fn eval_bitmap_texture(at: u32, uv_in: vec2f) -> vec3f {
     // to_uv, then the image's pixel coordinates.
-    let uv = vec2f(bsdf_data[at + 6u] * uv_in.x + bsdf_data[at + 7u] * uv_in.y + bsdf_data[at + 8u],
-                   bsdf_data[at + 9u] * uv_in.x + bsdf_data[at + 10u] * uv_in.y + bsdf_data[at + 11u]);
+    let uv = bitmap_uv(at, uv_in);
     let size = vec2f(bsdf_data[at + 1u], bsdf_data[at + 2u]);
     if (bsdf_data[at + 3u] == 0.0) {
         let p = floor(uv * size);
         return bitmap_texel(at, i32(p.x), i32(p.y));
     }
-    // Bilinear: texel centres at integers after subtracting 1/2; the lower-left texel and the
-    // fractions towards the next ones.
-    let p = uv * size - vec2f(0.5);
-    let base = floor(p);
-    let f = p - base;
-    let x0 = i32(base.x);
-    let y0 = i32(base.y);
-    let t00 = bitmap_texel(at, x0, y0);
-    let t10 = bitmap_texel(at, x0 + 1, y0);
-    let t01 = bitmap_texel(at, x0, y0 + 1);
-    let t11 = bitmap_texel(at, x0 + 1, y0 + 1);
+    let c = bilinear_cell(uv, size);
+    let f = c.f;
+    let t00 = bitmap_texel(at, c.x0, c.y0);
+    let t10 = bitmap_texel(at, c.x0 + 1, c.y0);
+    let t01 = bitmap_texel(at, c.x0, c.y0 + 1);
+    let t11 = bitmap_texel(at, c.x0 + 1, c.y0 + 1);
     let top = t00 + f.x * (t10 - t00);
     let bottom = t01 + f.x * (t11 - t01);
     return top + f.y * (bottom - top);
@@ -90,22 +104,18 @@ fn bitmap_gradient(at: u32, uv_in: vec2f) -> vec2f {
     if (bsdf_data[at + 3u] == 0.0) {
         return vec2f(0.0);
     }
+    let size = vec2f(bsdf_data[at + 1u], bsdf_data[at + 2u]);
+    let c = bilinear_cell(bitmap_uv(at, uv_in), size);
+    let f = c.f;
+    let f00 = texture_value_1(bitmap_texel(at, c.x0, c.y0));
+    let f10 = texture_value_1(bitmap_texel(at, c.x0 + 1, c.y0));
+    let f01 = texture_value_1(bitmap_texel(at, c.x0, c.y0 + 1));
+    let f11 = texture_value_1(bitmap_texel(at, c.x0 + 1, c.y0 + 1));
+    // to_uv's linear part, for the transpose.
     let m00 = bsdf_data[at + 6u];
     let m01 = bsdf_data[at + 7u];
     let m10 = bsdf_data[at + 9u];
     let m11 = bsdf_data[at + 10u];
-    let uv = vec2f(m00 * uv_in.x + m01 * uv_in.y + bsdf_data[at + 8u],
-                   m10 * uv_in.x + m11 * uv_in.y + bsdf_data[at + 11u]);
-    let size = vec2f(bsdf_data[at + 1u], bsdf_data[at + 2u]);
-    let p = uv * size - vec2f(0.5);
-    let base = floor(p);
-    let f = p - base;
-    let x0 = i32(base.x);
-    let y0 = i32(base.y);
-    let f00 = texture_value_1(bitmap_texel(at, x0, y0));
-    let f10 = texture_value_1(bitmap_texel(at, x0 + 1, y0));
-    let f01 = texture_value_1(bitmap_texel(at, x0, y0 + 1));
-    let f11 = texture_value_1(bitmap_texel(at, x0 + 1, y0 + 1));
     let dx = (1.0 - f.y) * (f10 - f00) + f.y * (f11 - f01);
     let dy = (1.0 - f.x) * (f01 - f00) + f.x * (f11 - f10);
     return vec2f((m00 * dx + m10 * dy) * size.x, (m01 * dx + m11 * dy) * size.y);

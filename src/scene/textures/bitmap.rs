@@ -123,19 +123,29 @@ impl Bitmap {
         self.image.texel(self.wrap.apply(x, w) as u32, self.wrap.apply(y, h) as u32)
     }
 
+    /// `uv` after `to_uv`, in f32 as the kernel computes it (`bitmap_uv`).
+    fn apply_to_uv(&self, uv: [f32; 2]) -> (f32, f32) {
+        let m = self.to_uv_f32();
+        (m[0] * uv[0] + m[1] * uv[1] + m[2], m[3] * uv[0] + m[4] * uv[1] + m[5])
+    }
+
+    /// The cell of a bilinear lookup at (u, v) after `to_uv` (`bilinear_cell`): texel centres at
+    /// integers, position - 1/2, its floor the lower-left texel; that texel and the fractions.
+    fn bilinear_cell(&self, u: f32, v: f32) -> (i32, i32, f32, f32) {
+        let (w, h) = (self.image.width as f32, self.image.height as f32);
+        let (px, py) = (u * w - 0.5, v * h - 0.5);
+        let (x0, y0) = (px.floor(), py.floor());
+        (x0 as i32, y0 as i32, px - x0, py - y0)
+    }
+
     /// Its value at `uv`, in f32 as the kernel computes it (`eval_bitmap_texture`).
     pub fn eval(&self, uv: [f32; 2]) -> [f32; 3] {
-        let m = self.to_uv_f32();
-        let (u, v) = (m[0] * uv[0] + m[1] * uv[1] + m[2], m[3] * uv[0] + m[4] * uv[1] + m[5]);
+        let (u, v) = self.apply_to_uv(uv);
         let (w, h) = (self.image.width as f32, self.image.height as f32);
         match self.filter {
             Filter::Nearest => self.texel((u * w).floor() as i32, (v * h).floor() as i32),
             Filter::Bilinear => {
-                // Texel centres at integers: position - 1/2, its floor the lower-left texel.
-                let (px, py) = (u * w - 0.5, v * h - 0.5);
-                let (x0, y0) = (px.floor(), py.floor());
-                let (fx, fy) = (px - x0, py - y0);
-                let (x0, y0) = (x0 as i32, y0 as i32);
+                let (x0, y0, fx, fy) = self.bilinear_cell(u, v);
                 let (t00, t10, t01, t11) = (self.texel(x0, y0), self.texel(x0 + 1, y0), self.texel(x0, y0 + 1), self.texel(x0 + 1, y0 + 1));
                 std::array::from_fn(|c| {
                     let top = t00[c] + fx * (t10[c] - t00[c]);
@@ -156,20 +166,14 @@ impl Bitmap {
         if self.filter == Filter::Nearest {
             return [0.0; 2];
         }
-        let m = self.to_uv_f32();
-        let (u, v) = (m[0] * uv[0] + m[1] * uv[1] + m[2], m[3] * uv[0] + m[4] * uv[1] + m[5]);
-        let (w, h) = (self.image.width as f32, self.image.height as f32);
-        let (px, py) = (u * w - 0.5, v * h - 0.5);
-        let (x0, y0) = (px.floor(), py.floor());
-        let (fx, fy) = (px - x0, py - y0);
-        let (x0, y0) = (x0 as i32, y0 as i32);
-        let lum = |t: [f32; 3]| {
-            let l = crate::scene::emitters::LUMINANCE_WEIGHTS.map(|w| w as f32);
-            l[0] * t[0] + l[1] * t[1] + l[2] * t[2]
-        };
+        let (u, v) = self.apply_to_uv(uv);
+        let (x0, y0, fx, fy) = self.bilinear_cell(u, v);
+        let lum = super::luminance_f32;
         let (f00, f10, f01, f11) = (lum(self.texel(x0, y0)), lum(self.texel(x0 + 1, y0)), lum(self.texel(x0, y0 + 1)), lum(self.texel(x0 + 1, y0 + 1)));
         let dx = (1.0 - fy) * (f10 - f00) + fy * (f11 - f01);
         let dy = (1.0 - fx) * (f01 - f00) + fx * (f11 - f10);
+        let m = self.to_uv_f32();
+        let (w, h) = (self.image.width as f32, self.image.height as f32);
         [(m[0] * dx + m[3] * dy) * w, (m[1] * dx + m[4] * dy) * h]
     }
 

@@ -123,8 +123,7 @@ impl Texture {
     /// Its scalar value at `uv` and world position `p` (a texture made by `scalar`): the
     /// luminance of its value, in f32 as the kernel's `texture_value_1`.
     pub fn eval_1(&self, uv: [f32; 2], p: [f32; 3]) -> f32 {
-        let (c, w) = (self.eval(uv, p), crate::scene::emitters::LUMINANCE_WEIGHTS.map(|w| w as f32));
-        w[0] * c[0] + w[1] * c[1] + w[2] * c[2]
+        luminance_f32(self.eval(uv, p))
     }
 
     /// Its value at `uv` (surface textures) or world position `p` (a volume), in f32 as the
@@ -449,6 +448,12 @@ impl Texture {
             }
         }
     }
+}
+
+/// The luminance of a linear RGB value in f32, as the kernel's `texture_value_1` takes it.
+pub(crate) fn luminance_f32(c: [f32; 3]) -> f32 {
+    let w = crate::scene::emitters::LUMINANCE_WEIGHTS.map(|w| w as f32);
+    w[0] * c[0] + w[1] * c[1] + w[2] * c[2]
 }
 
 /// `[[m00, m01, m02, m03], [..], [..]]` of finite numbers: the rows of an affine map.
