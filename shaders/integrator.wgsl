@@ -89,10 +89,16 @@ struct SampleId {
     seed: u32,
 }
 
-fn camera_ray_direction(px: u32, py: u32, jitter: vec2f) -> vec3f {
+// The jittered pixel's point of the image in [-1, 1]^2: x rightwards, y upwards.
+fn image_point(px: u32, py: u32, jitter: vec2f) -> vec2f {
     let sx = 2.0 * (f32(px) + jitter.x) / f32(frame.width) - 1.0;
     let sy = 1.0 - 2.0 * (f32(py) + jitter.y) / f32(frame.height);
-    return normalize(frame.camera_forward + sx * frame.camera_right + sy * frame.camera_up);
+    return vec2f(sx, sy);
+}
+
+fn camera_ray_direction(px: u32, py: u32, jitter: vec2f) -> vec3f {
+    let s = image_point(px, py, jitter);
+    return normalize(frame.camera_forward + s.x * frame.camera_right + s.y * frame.camera_up);
 }
 
 struct CameraRay {
@@ -105,7 +111,13 @@ struct CameraRay {
 // d focus_distance / cos(theta) from the centre, seen from a point uniform on the aperture's
 // disk (Shirley-Chiu concentric map of u_lens, in the plane of the image's right and up axes).
 // Every ray through one point of the plane in focus carries the same weight 1.
+// (ORTHOGRAPHIC) As Mitsuba's orthographic: the pixel's point of the rectangle about the
+// camera's origin, along the view direction; weight 1.
 fn camera_ray(px: u32, py: u32, jitter: vec2f, u_lens: vec2f) -> CameraRay {
+    if (ORTHOGRAPHIC) {
+        let s = image_point(px, py, jitter);
+        return CameraRay(frame.camera_origin + s.x * frame.camera_right + s.y * frame.camera_up, frame.camera_forward);
+    }
     let d = camera_ray_direction(px, py, jitter);
     if (!THIN_LENS) {
         return CameraRay(frame.camera_origin, d);

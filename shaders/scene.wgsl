@@ -27,6 +27,9 @@ override HAS_UVS: bool = false;
 // True when the camera has a thin lens (an aperture radius > 0): camera rays leave from a point
 // of the lens, which takes sample dimensions 2 and 3 (integrator.wgsl).
 override THIN_LENS: bool = false;
+// True when the camera is orthographic (Camera::projection): camera rays are parallel, along
+// camera_forward, from the rectangle camera_right x camera_up about camera_origin.
+override ORTHOGRAPHIC: bool = false;
 
 struct Sphere {
     center: vec3f,

@@ -118,8 +118,8 @@ fn includes_defaults_defines_and_refs_work_as_in_mitsuba_and_convert_keeps_the_s
     assert!((s.camera.look_at - glam::DVec3::new(0.0, 0.0, 3.0)).length() < 1e-12);
     // The rule is kept (another size reframes as Mitsuba would); at the film's size it is this
     // horizontal angle.
-    assert_eq!(s.camera.fov, pathlab::scene::Fov::Diagonal(50.0));
-    let pathlab::scene::Fov::X(fx) = s.camera.fov.resolve(24, 16) else { panic!("{:?}", s.camera.fov) };
+    assert_eq!(s.camera.fov().unwrap(), pathlab::scene::Fov::Diagonal(50.0));
+    let pathlab::scene::Fov::X(fx) = s.camera.fov().unwrap().resolve(24, 16) else { panic!("{:?}", s.camera.fov().unwrap()) };
     let expected = 2.0 * ((25f64.to_radians()).tan() * 24.0 / (24f64 * 24.0 + 16.0 * 16.0).sqrt()).atan().to_degrees();
     assert!((fx - expected).abs() < 1e-9, "{fx} vs {expected}");
     // --define overrides a default, like Mitsuba's -D.
@@ -372,11 +372,11 @@ fn paths_focal_lengths_and_published_camera_matrices_are_read_as_mitsuba_reads_t
     let dir = dir_with(&[("s.xml", &no_fov)]);
     let s = Scene::load(dir.path().join("s.xml")).unwrap();
     let diagonal = |mm: f64| 2.0 * (36.0f64.hypot(24.0) / (2.0 * mm)).atan().to_degrees();
-    assert!(matches!(s.camera.fov, Fov::Diagonal(d) if (d - diagonal(50.0)).abs() < 1e-12), "{:?}", s.camera.fov);
+    assert!(matches!(s.camera.fov().unwrap(), Fov::Diagonal(d) if (d - diagonal(50.0)).abs() < 1e-12), "{:?}", s.camera.fov().unwrap());
     assert!(s.warnings.iter().any(|w| w.field == "focus_distance" && w.message.contains("pinhole")), "{:?}", s.warnings);
     let dir = dir_with(&[("s.xml", &small("").replace("<float name=\"fov\" value=\"45\"/>", "<string name=\"focal_length\" value=\"35mm\"/>"))]);
     let s = Scene::load(dir.path().join("s.xml")).unwrap();
-    assert!(matches!(s.camera.fov, Fov::Diagonal(d) if (d - diagonal(35.0)).abs() < 1e-12), "{:?}", s.camera.fov);
+    assert!(matches!(s.camera.fov().unwrap(), Fov::Diagonal(d) if (d - diagonal(35.0)).abs() < 1e-12), "{:?}", s.camera.fov().unwrap());
     let (d, _) = refused(&small("").replace("<float name=\"fov\" value=\"45\"/>", "<float name=\"fov\" value=\"45\"/><string name=\"focal_length\" value=\"35mm\"/>"));
     assert!(d.message.contains("either `fov` or `focal_length`"), "{d}");
     let (d, _) = refused(&small("").replace("<float name=\"fov\" value=\"45\"/>", "<string name=\"focal_length\" value=\"wide\"/>"));

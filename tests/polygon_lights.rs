@@ -277,7 +277,7 @@ fn exact_image(scene: &Scene) -> Vec<Option<f64>> {
     let forward = (cam.look_at - cam.position).normalize();
     let right = forward.cross(cam.up).normalize();
     let up = right.cross(forward);
-    let Fov::X(deg) = cam.fov else { panic!("fov_x expected") };
+    let Some(Fov::X(deg)) = cam.fov() else { panic!("fov_x expected") };
     let half_w = (deg.to_radians() / 2.0).tan();
     let half_h = half_w * h as f64 / w as f64;
     let tris = world_triangles(scene);

@@ -111,6 +111,7 @@ fn overrides_set_by_the_host_are_those_the_module_declares() {
         has_back_bsdfs: true,
         rr_depth: 3,
         thin_lens: true,
+        orthographic: true,
         num_occluding_planes: 1,
         has_specular: true,
         bsdf_kinds: u32::MAX,

@@ -94,6 +94,8 @@ fn every_override_permutation_validates() {
                                     has_bump_maps: (checked / 17) % 2 == 0,
                                     rr_depth: if on { 2 } else { 0 },
                                     thin_lens: on,
+                                    // Orthographic cameras on and off, with and without a lens.
+                                    orthographic: (checked / 19) % 2 == 0,
                                     hide_emitters: on,
                                     num_occluding_planes: if on { num_planes } else { 0 },
                                     has_specular: on,

@@ -35,6 +35,7 @@ mod file_mutations;
 mod lamps;
 mod masks;
 mod normal_maps;
+mod orthographic;
 mod mesh_scenes;
 mod metrics_fixtures;
 mod mitsuba_scenes;

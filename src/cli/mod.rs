@@ -249,6 +249,10 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
     if !backs.is_empty() {
         println!("two BSDFs: {} material(s) scatter by another BSDF on their back (Mitsuba's twosided with two): {}", backs.len(), backs.join(", "));
     }
+    if let pathlab::scene::Projection::Orthographic { width } = scene.camera.projection {
+        let (_, half_height) = scene.camera.projection.half_extents(scene.render.width, scene.render.height);
+        println!("camera: orthographic, parallel rays from a {} x {} rectangle (scene units)", width, 2.0 * half_height);
+    }
     if scene.camera.aperture_radius > 0.0 {
         println!(
             "camera: thin lens, aperture radius {}, in focus at distance {} (depth of field; the lens takes sample dimensions 2 and 3)",

@@ -73,6 +73,8 @@ pub struct SceneFeatures {
     pub rr_depth: u32,
     /// The camera has a thin lens (`Camera::aperture_radius` > 0).
     pub thin_lens: bool,
+    /// The camera is orthographic (`Projection::Orthographic`): parallel camera rays.
+    pub orthographic: bool,
     /// Mitsuba's `hide_emitters` (`RenderSettings::hide_emitters`).
     pub hide_emitters: bool,
     /// Planes that shadow rays must test (the first ones in kernel order).
@@ -164,6 +166,7 @@ impl SceneFeatures {
             has_back_bsdfs: scene.materials.iter().any(|m| m.back.is_some()),
             rr_depth: scene.render.rr_depth.unwrap_or(0),
             thin_lens: scene.camera.aperture_radius > 0.0,
+            orthographic: matches!(scene.camera.projection, crate::scene::Projection::Orthographic { .. }),
             hide_emitters: scene.render.hide_emitters,
             has_specular: scene.materials.iter().any(|m| m.bsdf.as_phong().is_some_and(|p| p.specular.max_element() > 0.0)),
             bsdf_kinds: scene.materials.iter().fold(0, |kinds, m| kinds | m.bsdf_kind().bit()),

@@ -44,8 +44,9 @@ impl FrameParams {
         let forward = (cam.look_at - cam.position).normalize();
         let right = forward.cross(cam.up).normalize();
         let up = right.cross(forward);
-        // Half-extents of the image plane at distance 1 along `forward`.
-        let (half_w, half_h) = cam.fov.half_extents(scene.render.width, scene.render.height);
+        // Half-extents of the image plane at distance 1 along `forward` (perspective), or of the
+        // rectangle the rays leave (orthographic).
+        let (half_w, half_h) = cam.projection.half_extents(scene.render.width, scene.render.height);
         FrameParams {
             camera_origin: f3(cam.position),
             width: scene.render.width,

@@ -6,7 +6,8 @@
 //!
 //! ```text
 //! pathlab-scene-hash=1
-//! camera.position=X,Y,Z        camera.look_at=…   camera.up=…   camera.fov_x=F (or camera.fov_y=F)
+//! camera.position=X,Y,Z        camera.look_at=…   camera.up=…   camera.fov_x=F (or camera.fov_y=F,
+//!   or, for an orthographic camera, camera.orthographic_width=W)
 //! render.width=W  render.height=H  render.max_depth=D  render.environment=R,G,B
 //! materials=N, then per material i: material.i.diffuse=… .specular=… .glossiness=… .emission=…
 //!   (then .two_sided=0 where one-sided, its kind's own lines, .opacity=… where masked, .back=INDEX
@@ -55,7 +56,7 @@ use std::fmt::Write as _;
 use glam::DVec3;
 
 use super::bsdfs::BsdfPlugin;
-use super::{Bsdf, BsdfKind, Fov, Phong, Scene};
+use super::{Bsdf, BsdfKind, Fov, Phong, Projection, Scene};
 
 /// Version of the encoding, recorded beside the hash in accumulator files.
 pub const SCENE_HASH_ENCODING: u32 = 1;
@@ -81,9 +82,12 @@ pub fn canonical_encoding(scene: &Scene) -> String {
     line("camera.up", vec3(c.up));
     // The field of view at the render's size: what the image depends on (a scene written with
     // `fov_axis` hashes as its resolved angle).
-    match c.fov.resolve(scene.render.width, scene.render.height) {
-        Fov::Y(deg) => line("camera.fov_y", real(deg)),
-        fov => line("camera.fov_x", real(fov.degrees())),
+    match c.projection {
+        Projection::Perspective(fov) => match fov.resolve(scene.render.width, scene.render.height) {
+            Fov::Y(deg) => line("camera.fov_y", real(deg)),
+            fov => line("camera.fov_x", real(fov.degrees())),
+        },
+        Projection::Orthographic { width } => line("camera.orthographic_width", real(width)),
     }
     let r = &scene.render;
     line("render.width", r.width.to_string());

@@ -8,6 +8,7 @@
 //! dropped. Nothing here touches the GPU.
 
 pub mod bsdfs;
+pub mod camera;
 mod checker;
 mod diagnostic;
 pub mod emitters;
@@ -36,6 +37,7 @@ pub use bsdfs::{
     Bsdf, BsdfData, BsdfKind, CoatingTables, Conductor, Dielectric, Distribution, Phong, Plastic, Principled, PrincipledWeight, RoughConductor, RoughDielectric, RoughPlastic,
     ThinDielectric, NAMED_CONDUCTORS, ROUGH_PLASTIC_TABLE_RES, NormalMap, BumpMap, Opacity, Roughness,
 };
+pub use camera::{Camera, Fov, Projection};
 pub use diagnostic::{Diagnostic, SceneError, Severity};
 pub use emitters::{AliasTable, DirectionalLight, EmitterKind, EnvDistribution, EnvironmentMap, Light, PointLight, SpotLight};
 pub use mesh::Mesh;
@@ -61,92 +63,6 @@ pub const MAX_DELTA_LIGHTS: usize = 256;
 /// that survive roulette this long are cut: the energy lost is that of light bounced more than
 /// 64 times (under 1e-6 of the image at albedo 0.8), and the kernel's loop stays bounded.
 pub const UNBOUNDED_DEPTH: u32 = 64;
-
-/// Pinhole camera.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Camera {
-    pub position: DVec3,
-    pub look_at: DVec3,
-    pub up: DVec3,
-    pub fov: Fov,
-    /// A thin lens (Mitsuba's `thinlens`): rays leave from a disk of this radius about
-    /// `position`, across the image plane, and meet again on the plane at `focus_distance` along
-    /// the view direction, so only that plane is sharp. 0: a pinhole, in focus everywhere.
-    pub aperture_radius: f64,
-    pub focus_distance: f64,
-}
-
-/// Field of view in degrees along one image axis, or by one of Mitsuba's other `fov_axis`
-/// rules; the other angle follows from the image's aspect ratio. The rule is kept, not resolved
-/// at load, so that a new image size frames the scene as Mitsuba would frame it at that size.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Fov {
-    X(f64),
-    Y(f64),
-    /// Along the shorter side (`fov_axis="smaller"`; the horizontal one on a square image).
-    Smaller(f64),
-    /// Along the longer side (`fov_axis="larger"`; the horizontal one on a square image).
-    Larger(f64),
-    /// Along the image diagonal (`fov_axis="diagonal"`).
-    Diagonal(f64),
-}
-
-impl Fov {
-    /// The same field of view at a `width` x `height` image, as an angle along x or along y.
-    pub fn resolve(self, width: u32, height: u32) -> Fov {
-        let (w, h) = (width.max(1) as f64, height.max(1) as f64);
-        match self {
-            Fov::X(_) | Fov::Y(_) => self,
-            Fov::Smaller(deg) => if w <= h { Fov::X(deg) } else { Fov::Y(deg) },
-            Fov::Larger(deg) => if w >= h { Fov::X(deg) } else { Fov::Y(deg) },
-            // tan(fov_x / 2) = tan(fov_d / 2) w / sqrt(w^2 + h^2).
-            Fov::Diagonal(deg) => {
-                let half = (deg.to_radians() / 2.0).tan();
-                Fov::X(2.0 * (half * w / (w * w + h * h).sqrt()).atan().to_degrees())
-            }
-        }
-    }
-
-    /// Half-extents (horizontal, vertical) of the image plane at distance 1, at `width` x `height`.
-    pub fn half_extents(self, width: u32, height: u32) -> (f64, f64) {
-        let (w, h) = (width as f64, height as f64);
-        match self.resolve(width, height) {
-            Fov::X(deg) => {
-                let hw = (deg.to_radians() / 2.0).tan();
-                (hw, hw * h / w)
-            }
-            Fov::Y(deg) => {
-                let hh = (deg.to_radians() / 2.0).tan();
-                (hh * w / h, hh)
-            }
-            _ => unreachable!("resolve gives an angle along x or y"),
-        }
-    }
-
-    /// The full angles (horizontal, vertical) in degrees at `width` x `height`.
-    pub fn angles(self, width: u32, height: u32) -> (f64, f64) {
-        let (hw, hh) = self.half_extents(width, height);
-        (2.0 * hw.atan().to_degrees(), 2.0 * hh.atan().to_degrees())
-    }
-
-    /// The angle as written, in degrees.
-    pub fn degrees(self) -> f64 {
-        match self {
-            Fov::X(d) | Fov::Y(d) | Fov::Smaller(d) | Fov::Larger(d) | Fov::Diagonal(d) => d,
-        }
-    }
-
-    /// The scene-file key that gives this field of view (`fov_x`, ..., `fov_diagonal`).
-    pub fn key(self) -> &'static str {
-        match self {
-            Fov::X(_) => "fov_x",
-            Fov::Y(_) => "fov_y",
-            Fov::Smaller(_) => "fov_smaller",
-            Fov::Larger(_) => "fov_larger",
-            Fov::Diagonal(_) => "fov_diagonal",
-        }
-    }
-}
 
 /// The `[render]` table.
 #[derive(Debug, Clone, PartialEq)]
@@ -415,7 +331,10 @@ impl Scene {
                 let side = |x: DVec3| p.normal.dot(x - p.point);
                 let camera = side(self.camera.position);
                 let scale = self.camera.position.abs().max_element().max(p.point.abs().max_element()).max(1.0);
+                // Camera rays leave from a lens or an orthographic rectangle: all of it on one side.
+                let origins = self.camera.ray_origin_corners(self.render.width, self.render.height);
                 camera.abs() <= MARGIN * scale
+                    || origins.iter().any(|&o| side(o) * camera <= 0.0 || side(o).abs() <= MARGIN * scale.max(o.abs().max_element()))
                     || lights.iter().any(|&l| {
                         let s = &self.spheres[l];
                         let d = side(s.center);
@@ -456,7 +375,11 @@ impl Scene {
         self.light_spheres().into_iter().any(|l| {
             let light = &self.spheres[l];
             let reach = light.radius * (1.0 + MARGIN);
-            let camera_inside = self.camera.position.distance(light.center) <= reach;
+            // Some camera ray leaves from within the light (the box about the origins, by its
+            // half-diagonal).
+            let origins = self.camera.ray_origin_corners(self.render.width, self.render.height);
+            let spread = origins.iter().map(|o| o.distance(self.camera.position)).fold(0.0, f64::max);
+            let camera_inside = self.camera.position.distance(light.center) <= reach + spread;
             let sphere_overlaps = self.spheres.iter().enumerate().any(|(i, s)| {
                 i != l && s.center.distance(light.center) <= (s.radius + light.radius) * (1.0 + MARGIN)
             });

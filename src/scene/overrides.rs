@@ -6,7 +6,7 @@
 
 use std::fmt;
 
-use super::{Fov, Scene};
+use super::{Fov, Projection, Scene};
 
 /// Render settings to replace; `None` keeps the scene's.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -50,35 +50,40 @@ impl Overrides {
         r.max_depth = self.max_depth.unwrap_or(r.max_depth);
         r.rr_depth = self.rr_depth.unwrap_or(r.rr_depth);
         r.spp = self.spp.or(r.spp);
-        Ok(Reframing::of(from, (r.width, r.height), scene.camera.fov))
+        Ok(Reframing::of(from, (r.width, r.height), scene.camera.projection))
     }
 }
 
 /// A new image size whose aspect ratio is not the scene's (to a pixel's rounding): the camera
-/// keeps the field of view its `fov_axis` names (Mitsuba's rule, applied at the new size), so
-/// the other angle changes and the image shows more or less of the scene.
+/// keeps the field of view its `fov_axis` names (Mitsuba's rule, applied at the new size), or an
+/// orthographic camera its width, so the other extent changes and the image shows more or less
+/// of the scene.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Reframing {
     pub from: (u32, u32),
     pub to: (u32, u32),
-    pub fov: Fov,
+    pub projection: Projection,
 }
 
 impl Reframing {
     /// The change from `from` to `to`, or `None` where `to` is `from`'s aspect ratio rounded to
     /// whole pixels (`--quick`'s 128x72 for 1920x1080 keeps the framing).
-    pub fn of(from: (u32, u32), to: (u32, u32), fov: Fov) -> Option<Reframing> {
+    pub fn of(from: (u32, u32), to: (u32, u32), projection: Projection) -> Option<Reframing> {
         let (fw, fh) = (from.0 as f64, from.1 as f64);
         let (tw, th) = (to.0 as f64, to.1 as f64);
         let same = (tw * fh / fw - th).abs() <= 0.5 || (th * fw / fh - tw).abs() <= 0.5;
-        (!same).then_some(Reframing { from, to, fov })
+        (!same).then_some(Reframing { from, to, projection })
     }
 
     /// What the rule keeps, in words.
     fn kept(&self) -> String {
-        let resolved = self.fov.resolve(self.to.0, self.to.1);
+        let fov = match self.projection {
+            Projection::Perspective(fov) => fov,
+            Projection::Orthographic { .. } => return "the orthographic view's width".into(),
+        };
+        let resolved = fov.resolve(self.to.0, self.to.1);
         let side = if matches!(resolved, Fov::X(_)) { "horizontal" } else { "vertical" };
-        match self.fov {
+        match fov {
             Fov::X(_) => "the horizontal field of view (fov_x)".into(),
             Fov::Y(_) => "the vertical field of view (fov_y)".into(),
             Fov::Smaller(_) => format!("the shorter side's field of view (fov_axis \"smaller\", now the {side} one)"),
@@ -90,10 +95,22 @@ impl Reframing {
 
 impl fmt::Display for Reframing {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let (h0, v0) = self.fov.angles(self.from.0, self.from.1);
-        let (h1, v1) = self.fov.angles(self.to.0, self.to.1);
+        // Angles of a perspective camera's view, in degrees; extents of an orthographic one's.
+        let (extents, unit, digits) = match self.projection {
+            Projection::Perspective(fov) => ((fov.angles(self.from.0, self.from.1), fov.angles(self.to.0, self.to.1)), "°", 1),
+            Projection::Orthographic { .. } => {
+                let full = |(w, h): (u32, u32)| {
+                    let (hw, hh) = self.projection.half_extents(w, h);
+                    (2.0 * hw, 2.0 * hh)
+                };
+                ((full(self.from), full(self.to)), " scene units", 3)
+            }
+        };
+        let ((h0, v0), (h1, v1)) = extents;
+        // Changes too small to print at the precision shown are no change.
+        let tol = if digits == 1 { 0.05 } else { 5e-4 };
         let change = |a: f64, b: f64, where_: &str| {
-            if (a - b).abs() < 0.05 {
+            if (a - b).abs() < tol {
                 None
             } else {
                 Some(format!("{} is seen {where_}", if b > a { "more" } else { "less" }))
@@ -104,7 +121,7 @@ impl fmt::Display for Reframing {
         write!(
             f,
             "{}x{} has another aspect ratio than the scene's {}x{}, so the framing changes: the camera keeps {}, \
-             and sees {h1:.1}° x {v1:.1}° instead of {h0:.1}° x {v0:.1}°",
+             and sees {h1:.digits$}{unit} x {v1:.digits$}{unit} instead of {h0:.digits$}{unit} x {v0:.digits$}{unit}",
             self.to.0,
             self.to.1,
             self.from.0,
@@ -143,9 +160,9 @@ mod tests {
         assert_eq!(resized("fov_x = 40", 128, 128).1, None);
         assert_eq!(resized("fov_x = 40", 1, 1).1, None);
         // A 1920x1080 scene at 128x72 (exact) and at 100x56 (56.25 rounded) keeps its framing.
-        assert_eq!(Reframing::of((1920, 1080), (128, 72), Fov::X(40.0)), None);
-        assert_eq!(Reframing::of((1920, 1080), (100, 56), Fov::X(40.0)), None);
-        assert!(Reframing::of((1920, 1080), (100, 50), Fov::X(40.0)).is_some());
+        assert_eq!(Reframing::of((1920, 1080), (128, 72), Projection::Perspective(Fov::X(40.0))), None);
+        assert_eq!(Reframing::of((1920, 1080), (100, 56), Projection::Perspective(Fov::X(40.0))), None);
+        assert!(Reframing::of((1920, 1080), (100, 50), Projection::Perspective(Fov::X(40.0))).is_some());
     }
 
     #[test]
@@ -153,7 +170,7 @@ mod tests {
         // fov_x: the horizontal 40 degrees stay; the vertical narrows.
         let (s, r) = resized("fov_x = 40", 128, 64);
         let r = r.expect("a reframing");
-        let (h, v) = s.camera.fov.angles(128, 64);
+        let (h, v) = s.camera.fov().unwrap().angles(128, 64);
         assert!((h - 40.0).abs() < 1e-9 && v < 40.0, "{h} {v}");
         let text = r.to_string();
         assert!(text.contains("128x64 has another aspect ratio than the scene's 256x256"), "{text}");
@@ -165,14 +182,14 @@ mod tests {
         // smaller: on a wide image the shorter side is the vertical one, which keeps the angle
         // (on the square original it was the horizontal one, by Mitsuba's rule).
         let (s, r) = resized("fov_smaller = 40", 128, 64);
-        let (_, v) = s.camera.fov.angles(128, 64);
+        let (_, v) = s.camera.fov().unwrap().angles(128, 64);
         assert!((v - 40.0).abs() < 1e-9, "{v}");
         assert!(r.unwrap().to_string().contains("now the vertical one"));
         let (s, _) = resized("fov_larger = 40", 64, 128);
-        assert!((s.camera.fov.angles(64, 128).1 - 40.0).abs() < 1e-9);
+        assert!((s.camera.fov().unwrap().angles(64, 128).1 - 40.0).abs() < 1e-9);
         // diagonal: the diagonal's angle stays, both sides change.
         let (s, r) = resized("fov_diagonal = 60", 200, 100);
-        let (hw, hh) = s.camera.fov.half_extents(200, 100);
+        let (hw, hh) = s.camera.fov().unwrap().half_extents(200, 100);
         assert!(((hw * hw + hh * hh).sqrt() - 30f64.to_radians().tan()).abs() < 1e-12);
         let text = r.unwrap().to_string();
         assert!(text.contains("more is seen left and right") && text.contains("less is seen above and below"), "{text}");

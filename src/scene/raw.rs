@@ -202,6 +202,9 @@ pub(crate) struct RawCamera {
     pub fov_smaller: Option<Spanned<f64>>,
     pub fov_larger: Option<Spanned<f64>>,
     pub fov_diagonal: Option<Spanned<f64>>,
+    /// An orthographic camera, instead of a field of view: the width of the view in scene units.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub orthographic_width: Option<Spanned<f64>>,
     /// A thin lens: the aperture's radius (default 0, a pinhole) and the distance of the plane
     /// in focus (default the distance to `look_at`).
     #[serde(default, skip_serializing_if = "Option::is_none")]

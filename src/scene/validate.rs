@@ -18,7 +18,7 @@ use super::raw::{RawEnvironmentMap, RawMaterial, RawRotations, RawScale, RawScen
 use super::quadrics::{self, Quadric, QuadricKind, MAX_QUADRICS};
 use super::transform::Transform;
 use super::{
-    Camera, Diagnostic, Fov, Material, Opacity, Plane, RenderSettings, Scene, SceneError, Severity, Sphere, MAX_DELTA_LIGHTS,
+    Camera, Diagnostic, Fov, Material, Projection, Opacity, Plane, RenderSettings, Scene, SceneError, Severity, Sphere, MAX_DELTA_LIGHTS,
     MAX_MATERIALS, MAX_PLANES, MAX_SPHERES,
 };
 
@@ -615,15 +615,27 @@ fn check_camera(ck: &mut Checker, raw: &RawScene) -> Camera {
     .into_iter()
     .filter_map(|(key, v, make)| v.as_ref().map(|v| (key, v, make)))
     .collect();
-    let fov = match given.as_slice() {
-        [(key, v, make)] => make(check_fov(ck, v, &format!("camera.{key}"))),
-        [] => {
-            ck.error(raw.camera.span(), "camera", "missing field of view: give exactly one of fov_x and fov_y (or fov_smaller, fov_larger, fov_diagonal)");
-            Fov::X(90.0)
+    // An orthographic camera: a width instead of a field of view.
+    let projection = match (&c.orthographic_width, given.as_slice()) {
+        (Some(w), []) => {
+            let v = ck.number(w, "camera.orthographic_width");
+            if !(v > 0.0) && w.get_ref().is_finite() {
+                ck.error(w.span(), "camera.orthographic_width", format!("orthographic_width must be > 0 (got {v})"));
+            }
+            Projection::Orthographic { width: v }
         }
-        [(first, ..), (second, v, _), ..] => {
+        (Some(_), [(key, v, _), ..]) => {
+            ck.error(v.span(), &format!("camera.{key}"), format!("give either a field of view or orthographic_width, not both ({key} and orthographic_width)"));
+            Projection::Orthographic { width: 1.0 }
+        }
+        (None, [(key, v, make)]) => Projection::Perspective(make(check_fov(ck, v, &format!("camera.{key}")))),
+        (None, []) => {
+            ck.error(raw.camera.span(), "camera", "missing field of view: give exactly one of fov_x and fov_y (or fov_smaller, fov_larger, fov_diagonal, or orthographic_width)");
+            Projection::Perspective(Fov::X(90.0))
+        }
+        (None, [(first, ..), (second, v, _), ..]) => {
             ck.error(v.span(), &format!("camera.{second}"), format!("give exactly one field of view, not both {first} and {second}"));
-            Fov::Y(90.0)
+            Projection::Perspective(Fov::Y(90.0))
         }
     };
     // A thin lens: an aperture radius >= 0 (0: a pinhole) and a focus distance > 0 (default the
@@ -634,6 +646,9 @@ fn check_camera(ck: &mut Checker, raw: &RawScene) -> Camera {
             let v = ck.number(a, "camera.aperture_radius");
             if v < 0.0 {
                 ck.error(a.span(), "camera.aperture_radius", format!("aperture_radius must be >= 0 (got {v}; 0 is a pinhole)"));
+            }
+            if v > 0.0 && matches!(projection, Projection::Orthographic { .. }) {
+                ck.error(a.span(), "camera.aperture_radius", "an orthographic camera has no lens: give aperture_radius with a field of view");
             }
             v.max(0.0)
         }
@@ -651,7 +666,7 @@ fn check_camera(ck: &mut Checker, raw: &RawScene) -> Camera {
             v
         }
     };
-    Camera { position, look_at, up, fov, aperture_radius, focus_distance }
+    Camera { position, look_at, up, projection, aperture_radius, focus_distance }
 }
 
 fn check_render(ck: &mut Checker, raw: &RawScene) -> RenderSettings {

@@ -205,7 +205,7 @@ impl ViewerApp {
                 self.size = Some(size);
                 self.apply_overrides();
                 let after = (self.driver.scene.render.width, self.driver.scene.render.height);
-                if let Some(reframing) = crate::scene::Reframing::of(before, after, self.driver.scene.camera.fov) {
+                if let Some(reframing) = crate::scene::Reframing::of(before, after, self.driver.scene.camera.projection) {
                     self.notify(reframing.to_string(), false);
                 }
             }

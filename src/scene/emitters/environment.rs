@@ -33,6 +33,10 @@ pub(super) fn power(scene: &Scene) -> f64 {
 pub(super) fn bounding_radius(scene: &Scene) -> f64 {
     let mut lo = scene.camera.position;
     let mut hi = scene.camera.position;
+    for o in scene.camera.ray_origin_corners(scene.render.width, scene.render.height) {
+        lo = lo.min(o);
+        hi = hi.max(o);
+    }
     for s in &scene.spheres {
         lo = lo.min(s.center - DVec3::splat(s.radius));
         hi = hi.max(s.center + DVec3::splat(s.radius));

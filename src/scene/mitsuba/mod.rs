@@ -32,6 +32,8 @@ use xml::{describe, compose, Object, OpKind, Prop, TransformOp, Value};
 const DEFAULT_FILM_SIZE: (i64, i64) = (768, 576);
 /// Mitsuba's default far clip distance, which is also a thin lens's default focus distance.
 const MITSUBA_FAR_CLIP: f64 = 1e4;
+/// Mitsuba's default `near_clip` (where an orthographic sensor's rays begin).
+const MITSUBA_NEAR_CLIP: f64 = 1e-2;
 const DEFAULT_MAX_DEPTH: i64 = -1;
 const DEFAULT_RR_DEPTH: i64 = 5;
 
@@ -883,12 +885,13 @@ impl Translator<'_> {
         self.diagnostics.iter().any(|d| d.severity == Severity::Error)
     }
 
-    /// `<sensor type="perspective">`: the camera, the film size and the sample count.
+    /// `<sensor type="perspective">` (or `thinlens`, `orthographic`): the camera, the film size
+    /// and the sample count.
     fn sensor(&mut self, o: &Object) -> (Option<(RawCamera, usize)>, (i64, i64, usize), Option<(i64, usize)>) {
         let mut film = (DEFAULT_FILM_SIZE.0, DEFAULT_FILM_SIZE.1, o.at);
         let mut spp = None;
-        if o.plugin != "perspective" && o.plugin != "thinlens" {
-            self.error(o.at, "type", format!("{} is not supported (pathlab has perspective, thinlens)", describe(&o.tag, &o.plugin)));
+        if !["perspective", "thinlens", "orthographic"].contains(&o.plugin.as_str()) {
+            self.error(o.at, "type", format!("{} is not supported (pathlab has perspective, thinlens, orthographic)", describe(&o.tag, &o.plugin)));
             return (None, film, spp);
         }
         let thin_lens = o.plugin == "thinlens";
@@ -901,6 +904,9 @@ impl Translator<'_> {
             }
         }
         let mut p = Props::of(o);
+        if o.plugin == "orthographic" {
+            return (self.orthographic(o, p), film, spp);
+        }
         // The field of view, an angle in (0, 180) degrees; `written`: where its value is, if any.
         let written = p.props.iter().find(|q| q.name == "fov").map(|q| q.value_at);
         let fov = match (self.float(&mut p, "fov"), written) {
@@ -1027,21 +1033,12 @@ impl Translator<'_> {
                     self.error(at, "to_world", "the sensor's to_world must be a rotation and translation (with at most a uniform scale)");
                 } else if left.dot(up.cross(dir)) <= 0.0 {
                     self.error(at, "to_world", "the sensor's to_world mirrors the image, which pathlab's camera cannot");
+                } else if (left.length() - dir.length()).abs() > 1e-4 * dir.length() || (up.length() - dir.length()).abs() > 1e-4 * dir.length() {
+                    // Mitsuba normalises to_world times the image plane's point: scaling the
+                    // axes unequally changes the field of view, which pathlab would not see.
+                    self.error(at, "to_world", format!("the sensor's to_world scales its axes unequally ({}, {}, {}), which changes the field of view; give a rotation and translation (with at most a uniform scale)", left.length(), up.length(), dir.length()));
                 } else {
-                    // The camera's frame: the view direction kept, up made perpendicular to it,
-                    // left their cross product; how far each matrix axis moved (the angle
-                    // between unit vectors, by atan2 for accuracy near zero).
-                    let d = dir.normalize();
-                    let u = (up - d * d.dot(up)).normalize();
-                    let l = u.cross(d);
-                    let angle = |a: DVec3, b: DVec3| {
-                        let a = a.normalize();
-                        a.cross(b).length().atan2(a.dot(b))
-                    };
-                    let moved = angle(up, u).max(angle(left, l));
-                    if moved > 0.0 {
-                        self.sensor_correction = Some(moved);
-                    }
+                    self.note_sensor_correction(up, left, dir);
                 }
                 (position, position + dir.normalize(), up.normalize())
             }
@@ -1055,10 +1052,86 @@ impl Translator<'_> {
             fov_smaller: given(fov, "fov_smaller"),
             fov_larger: given(fov, "fov_larger"),
             fov_diagonal: given(fov, "fov_diagonal"),
+            orthographic_width: None,
             aperture_radius: lens.0,
             focus_distance: lens.1,
         };
         (Some((camera, fov_at)), film, spp)
+    }
+
+    /// Mitsuba 3.9.1's `orthographic` sensor (`src/sensors/orthographic.cpp`): its sample-to-camera
+    /// map sends the film to camera x in [-1, 1] (x to the left) and y in [-1/aspect, 1/aspect]
+    /// at depth `near_clip`, and rays leave there along +z, all through `to_world`. So the view is
+    /// twice to_world's x scale across, and its rectangle's centre is to_world's origin moved by
+    /// `near_clip` along its z axis.
+    fn orthographic(&mut self, o: &Object, mut p: Props) -> Option<(RawCamera, usize)> {
+        let near = match self.get::<f64>(&mut p, "near_clip") {
+            Some((v, _)) if v.is_finite() && v >= 0.0 => v,
+            Some((v, prop)) => {
+                self.error(prop.value_at, "near_clip", format!("`near_clip` must be a finite number >= 0 (got {v})"));
+                0.0
+            }
+            None => MITSUBA_NEAR_CLIP,
+        };
+        if let Some(prop) = p.take("far_clip") {
+            self.warn(prop.at, "far_clip", "`far_clip` is ignored: pathlab does not clip (the image differs only where geometry lies beyond it)".to_string());
+        }
+        let to_world = self.transform(&mut p, "to_world");
+        self.finish(p, "to_world, near_clip (and, with a warning, far_clip)");
+        let m = match &to_world {
+            None => glam::DMat4::IDENTITY,
+            Some((ops, _)) => compose(ops),
+        };
+        let at = to_world.as_ref().map_or(o.at, |(_, at)| *at);
+        let (left, up, dir) = (m.x_axis.truncate(), m.y_axis.truncate(), m.z_axis.truncate());
+        let scale = left.length().max(up.length()).max(dir.length());
+        let orthogonal = [left.dot(up), up.dot(dir), dir.dot(left)].iter().all(|d| d.abs() <= 1e-4 * scale * scale);
+        if !m.is_finite() || left.length() == 0.0 || dir.length() == 0.0 || up.length() == 0.0 || !orthogonal {
+            self.error(at, "to_world", "an orthographic sensor's to_world must be a rotation, a scale and a translation");
+            return None;
+        }
+        if (left.length() - up.length()).abs() > 1e-4 * scale {
+            self.error(at, "to_world", format!("an orthographic sensor's to_world scales x and y unequally ({} and {}), which stretches the image; pathlab's view keeps the pixels square", left.length(), up.length()));
+            return None;
+        }
+        if left.dot(up.cross(dir)) <= 0.0 {
+            self.error(at, "to_world", "the sensor's to_world mirrors the image, which pathlab's camera cannot");
+            return None;
+        }
+        self.note_sensor_correction(up, left, dir);
+        let position = m.w_axis.truncate() + near * dir;
+        let width = 2.0 * left.length();
+        let camera = RawCamera {
+            position: spanned(o.at, position.to_array()),
+            look_at: spanned(o.at, (position + dir.normalize()).to_array()),
+            up: spanned(o.at, up.normalize().to_array()),
+            fov_x: None,
+            fov_y: None,
+            fov_smaller: None,
+            fov_larger: None,
+            fov_diagonal: None,
+            orthographic_width: Some(spanned(at, width)),
+            aperture_radius: None,
+            focus_distance: None,
+        };
+        Some((camera, at))
+    }
+
+    /// Records how far the camera frame built from a sensor matrix's axes (the view direction
+    /// kept, up made perpendicular to it, left their cross product) moved each axis: the angle
+    /// between unit vectors, by atan2 for accuracy near zero (`Translation::sensor_correction`).
+    fn note_sensor_correction(&mut self, up: DVec3, left: DVec3, dir: DVec3) {
+        let d = dir.normalize();
+        let u = (up - d * d.dot(up)).normalize();
+        let l = u.cross(d);
+        let angle = |a: DVec3, b: DVec3| {
+            let a = a.normalize();
+            a.cross(b).length().atan2(a.dot(b))
+        };
+        let moved = angle(up, u).max(angle(left, l));
+        if moved > 0.0 {
+            self.sensor_correction = Some(moved);
+        }
     }
 
     fn film(&mut self, o: &Object) -> (i64, i64, usize) {
