@@ -442,6 +442,18 @@ fn an_area_light_without_a_bsdf_reflects_nothing_as_in_mitsuba() {
     };
     assert_eq!(diffuse(true), [0.0; 3], "the emitting rectangle");
     assert_eq!(diffuse(false), [0.5; 3], "the plain cube");
+
+    // An area emitter without `radiance` emits Mitsuba 3.9.1's default, 1 (`mi.traverse` of
+    // one gives `emitter.radiance.value` [1]); a textured radiance is refused where it is written.
+    let text = small("<shape type=\"cube\"><emitter type=\"area\"/></shape>");
+    let dir = dir_with(&[("s.xml", &text)]);
+    let s = Scene::load(dir.path().join("s.xml")).unwrap();
+    assert!(s.materials.iter().filter(|m| m.is_emissive()).all(|m| m.emission.to_array() == [1.0; 3]), "{:?}", s.materials);
+    assert!(s.meshes.len() == 2 && s.meshes.iter().all(|m| s.materials[m.material].is_emissive()), "both the rectangle and the cube emit");
+    let text = small("<shape type=\"cube\"><emitter type=\"area\"><texture type=\"checkerboard\" name=\"radiance\"/></emitter></shape>");
+    let (d, _) = refused(&text);
+    assert!(d.message.contains("a textured `radiance` (<texture type=\"checkerboard\">) of an area emitter is not supported"), "{d}");
+    assert_eq!((d.line, d.column), position_of(&text, "<texture type=\"checkerboard\""), "{d}");
 }
 
 /// Mitsuba's `instance`s of a `shapegroup` are flattened into world-space shapes, each with

@@ -1614,10 +1614,16 @@ impl Translator<'_> {
                 ("bsdf", _) => bsdf = Some(self.bsdf(c)),
                 ("emitter", "area") => {
                     let mut ep = Props::of(c);
-                    match self.color(&mut ep, "radiance", SpectrumRole::Emission) {
-                        Some((r, _)) => emission = Some(r),
-                        None if ep.props.iter().any(|q| q.name == "radiance") || self.has_errors() => {}
-                        None => self.error(c.at, "radiance", "<emitter type=\"area\"> needs `radiance`"),
+                    if let Some(t) = c.children.iter().find(|t| t.tag == "texture") {
+                        let name = t.name.as_deref().unwrap_or("radiance");
+                        self.error(t.at, name, format!("a textured `{name}` (<texture type=\"{}\">) of an area emitter is not supported (pathlab's area lights emit one colour across their surface)", t.plugin));
+                    } else {
+                        match self.color(&mut ep, "radiance", SpectrumRole::Emission) {
+                            Some((r, _)) => emission = Some(r),
+                            None if ep.props.iter().any(|q| q.name == "radiance") || self.has_errors() => {}
+                            // Mitsuba 3.9.1's default radiance (area.cpp: get_emissive_texture("radiance", 1.f)).
+                            None => emission = Some([1.0; 3]),
+                        }
                     }
                     self.finish(ep, "radiance");
                 }
