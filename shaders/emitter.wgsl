@@ -36,8 +36,9 @@ struct EmitterSample {
     delta: bool,
 }
 
-// A point, spot or directional light (src/gpu/scene_buffers.rs GpuDeltaLight): the point
-// lights, then the spot lights, then the directional lights; light_table[l].object names one.
+// A point, spot, directional or projector light (src/gpu/scene_buffers.rs GpuDeltaLight): the
+// point lights, the spot lights, the directional lights, then the projectors;
+// light_table[l].object names one.
 struct DeltaLight {
     // Point and spot: the position.
     position: vec3f,
@@ -49,9 +50,34 @@ struct DeltaLight {
     cos_beam: f32,
     // Point and spot: the intensity (W/sr); directional: the irradiance.
     intensity: vec3f,
-    // Spot: the cutoff angle (radians) and 1 / (cutoff - beam width).
+    // Spot: the cutoff angle (radians).
     cutoff: f32,
+    // The light's frame x axis (a projected texture's u direction).
+    x_axis: vec3f,
+    // Spot: 1 / (cutoff - beam width).
     inv_transition: f32,
+    // The light's frame y axis (a projected texture's v direction).
+    y_axis: vec3f,
+    // The projected texture's record in bsdf_data (NO_LIGHT_TEXTURE: none).
+    texture: u32,
+    // uv of direction d in the light's frame: 1/2 + uv_scale (d_x, d_y) / d_z.
+    uv_scale: vec2f,
+}
+
+// The image point of direction d from a light that projects a texture: d in the light's frame
+// (x_axis, y_axis, direction), 1/2 + uv_scale (d_x, d_y) / d_z.
+fn projected_uv(light: DeltaLight, d: vec3f) -> vec2f {
+    let local = vec3f(dot(d, light.x_axis), dot(d, light.y_axis), dot(d, light.direction));
+    return vec2f(0.5) + light.uv_scale * local.xy / local.z;
+}
+
+// The value of light's projected texture at image point uv, looked up as a surface texture
+// (HAS_LIGHT_TEXTURES; 1 where it projects none).
+fn projected_texture(light: DeltaLight, uv: vec2f) -> vec3f {
+    if (!HAS_LIGHT_TEXTURES || light.texture == NO_LIGHT_TEXTURE) {
+        return vec3f(1.0);
+    }
+    return eval_texture(light.texture, uv, vec3f(0.0));
 }
 
 @group(0) @binding(BINDING_DELTA_LIGHTS) var<uniform> delta_lights: array<DeltaLight, MAX_DELTA_LIGHTS>;

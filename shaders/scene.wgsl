@@ -30,6 +30,9 @@ override THIN_LENS: bool = false;
 // True when the camera is orthographic (Camera::projection): camera rays are parallel, along
 // camera_forward, from the rectangle camera_right x camera_up about camera_origin.
 override ORTHOGRAPHIC: bool = false;
+// True when some delta light projects a texture (a spot's `texture`): only then is it looked up
+// (emitter.wgsl's projected_texture).
+override HAS_LIGHT_TEXTURES: bool = false;
 
 struct Sphere {
     center: vec3f,

@@ -64,7 +64,7 @@ fn shared_structs_match_the_wgsl() {
     check_struct(&pt, "SphereAxes", size_of::<GpuSphereAxes>(), fields!(GpuSphereAxes: x, y, z));
     check_struct(&pt, "BvhNode", size_of::<BvhNode>(), fields!(BvhNode: lo, first, hi, count));
     check_struct(&pt, "LightEntry", size_of::<GpuLight>(), fields!(GpuLight: object, power_prob, alias_index, threshold, kind));
-    check_struct(&pt, "DeltaLight", size_of::<GpuDeltaLight>(), fields!(GpuDeltaLight: position, cos_cutoff, direction, cos_beam, intensity, cutoff, inv_transition));
+    check_struct(&pt, "DeltaLight", size_of::<GpuDeltaLight>(), fields!(GpuDeltaLight: position, cos_cutoff, direction, cos_beam, intensity, cutoff, x_axis, inv_transition, y_axis, texture, uv_scale));
     let display = module(&shaders::display_source());
     check_struct(&display, "AccumPixel", size_of::<AccumPixel>(), fields!(AccumPixel: sum, count, sum_err, rays_lo, sum_sq, rays_hi, sum_sq_err, faults));
 }
@@ -96,6 +96,7 @@ fn overrides_set_by_the_host_are_those_the_module_declares() {
         num_point_lights: 1,
         num_spot_lights: 1,
         num_directional_lights: 1,
+        num_projector_lights: 1,
         num_triangles: 4,
         small_vertices: Default::default(),
         has_shading_normals: true,
@@ -112,6 +113,7 @@ fn overrides_set_by_the_host_are_those_the_module_declares() {
         rr_depth: 3,
         thin_lens: true,
         orthographic: true,
+        has_light_textures: true,
         num_occluding_planes: 1,
         has_specular: true,
         bsdf_kinds: u32::MAX,

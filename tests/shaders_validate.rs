@@ -72,6 +72,7 @@ fn every_override_permutation_validates() {
                                     num_point_lights: on as u32,
                                     num_spot_lights: on as u32,
                                     num_directional_lights: on as u32,
+                                    num_projector_lights: on as u32,
                                     num_triangles,
                                     small_vertices: Default::default(),
                                     has_shading_normals,
@@ -96,6 +97,8 @@ fn every_override_permutation_validates() {
                                     thin_lens: on,
                                     // Orthographic cameras on and off, with and without a lens.
                                     orthographic: (checked / 19) % 2 == 0,
+                                    // Projected light textures on and off.
+                                    has_light_textures: (checked / 23) % 2 == 0,
                                     hide_emitters: on,
                                     num_occluding_planes: if on { num_planes } else { 0 },
                                     has_specular: on,

@@ -42,6 +42,7 @@ mod mitsuba_scenes;
 mod noise_floor;
 mod plastics;
 mod polygon_lights;
+mod projected_lights;
 mod principled;
 mod quadrics;
 mod render_presets;

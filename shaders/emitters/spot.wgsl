@@ -11,11 +11,16 @@ fn spot_falloff(light: DeltaLight, cos_theta: f32) -> f32 {
 }
 
 // The direction from ctx towards spot light l: I falloff(theta) / d^2, theta the angle between
-// the light's axis and the direction from the light to x.
+// the light's axis and the direction from the light to x, times its projected texture in that
+// direction (Mitsuba's spot `texture`, looked up only where the falloff is not 0).
 fn sample_spot_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> EmitterSample {
     let light = delta_lights[light_table[l].object];
     var es = sample_point_source(light.position, light.intensity, ctx.x);
-    es.emission *= spot_falloff(light, dot(light.direction, -es.wi));
+    let falloff = spot_falloff(light, dot(light.direction, -es.wi));
+    es.emission *= falloff;
+    if (falloff > 0.0) {
+        es.emission *= projected_texture(light, projected_uv(light, -es.wi));
+    }
     return es;
 }
 

@@ -265,16 +265,29 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
     }
     for (i, l) in scene.spot_lights.iter().enumerate() {
         println!(
-            "spot light {i}: at {:?} along {:?}, intensity {:?} W/sr, cutoff {} deg, beam width {} deg",
+            "spot light {i}: at {:?} along {:?}, intensity {:?} W/sr, cutoff {} deg, beam width {} deg{}",
             l.position.to_array(),
             l.direction.to_array(),
             l.intensity.to_array(),
             l.cutoff_angle,
-            l.beam_width
+            l.beam_width,
+            l.texture.as_ref().map_or(String::new(), |t| format!(", projecting {} (up {:?})", t.texture.describe(), t.up.to_array()))
         );
     }
     for (i, l) in scene.directional_lights.iter().enumerate() {
         println!("directional light {i}: along {:?}, irradiance {:?}", l.direction.to_array(), l.irradiance.to_array());
+    }
+    for (i, l) in scene.projector_lights.iter().enumerate() {
+        let (w, h) = l.resolution();
+        let (fx, fy) = l.fov.angles(w, h);
+        println!(
+            "projector {i}: at {:?} along {:?}, up {:?}, field of view {fx:.3} x {fy:.3} deg, irradiance {}, scale {}",
+            l.position.to_array(),
+            l.direction.to_array(),
+            l.up.to_array(),
+            l.irradiance.describe(),
+            l.scale
+        );
     }
     if scene.num_delta_lights() > 0 {
         println!("delta lights: {}; only methods with next event estimation see them (not lights=none)", scene.num_delta_lights());

@@ -26,6 +26,7 @@ pub struct SceneFeatures {
     pub num_point_lights: u32,
     pub num_spot_lights: u32,
     pub num_directional_lights: u32,
+    pub num_projector_lights: u32,
     pub num_triangles: u32,
     /// A small scene's distinct vertex positions and each triangle's corners among them
     /// (`accel::SharedVertices`; the default where the scene traverses the BVH): the
@@ -75,6 +76,9 @@ pub struct SceneFeatures {
     pub thin_lens: bool,
     /// The camera is orthographic (`Projection::Orthographic`): parallel camera rays.
     pub orthographic: bool,
+    /// Some delta light projects a texture (`SpotLight::texture`): the kernel's
+    /// `HAS_LIGHT_TEXTURES`; its kinds count in `texture_kinds`.
+    pub has_light_textures: bool,
     /// Mitsuba's `hide_emitters` (`RenderSettings::hide_emitters`).
     pub hide_emitters: bool,
     /// Planes that shadow rays must test (the first ones in kernel order).
@@ -120,6 +124,7 @@ impl SceneFeatures {
             EmitterKind::Point => self.num_point_lights,
             EmitterKind::Spot => self.num_spot_lights,
             EmitterKind::Directional => self.num_directional_lights,
+            EmitterKind::Projector => self.num_projector_lights,
             EmitterKind::Environment => self.num_environment_lights,
         }
     }
@@ -139,6 +144,7 @@ impl SceneFeatures {
             num_point_lights: scene.point_lights.len() as u32,
             num_spot_lights: scene.spot_lights.len() as u32,
             num_directional_lights: scene.directional_lights.len() as u32,
+            num_projector_lights: scene.projector_lights.len() as u32,
             num_triangles: scene.num_triangles() as u32,
             small_vertices: if scene.num_triangles() <= crate::accel::BRUTE_FORCE_TRIANGLES as usize {
                 // The kernel's order of the triangles (the BVH's leaves): cheap at this size.
@@ -158,6 +164,7 @@ impl SceneFeatures {
                 .materials
                 .iter()
                 .flat_map(|m| m.textures())
+                .chain(scene.light_textures())
                 .fold(0, |kinds, t| kinds | 1 << t.kind_number()),
             microfacet_distributions: scene.materials.iter().filter_map(|m| m.bsdf.microfacet_distribution()).fold(0, |bits, d| bits | 1 << d.constant()),
             anisotropic_roughness: scene.materials.iter().any(|m| m.bsdf.is_anisotropic()),
@@ -167,6 +174,7 @@ impl SceneFeatures {
             rr_depth: scene.render.rr_depth.unwrap_or(0),
             thin_lens: scene.camera.aperture_radius > 0.0,
             orthographic: matches!(scene.camera.projection, crate::scene::Projection::Orthographic { .. }),
+            has_light_textures: !scene.light_textures().is_empty(),
             hide_emitters: scene.render.hide_emitters,
             has_specular: scene.materials.iter().any(|m| m.bsdf.as_phong().is_some_and(|p| p.specular.max_element() > 0.0)),
             bsdf_kinds: scene.materials.iter().fold(0, |kinds, m| kinds | m.bsdf_kind().bit()),

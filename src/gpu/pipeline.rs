@@ -82,6 +82,7 @@ pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
         ("HAS_TANGENT_FRAMES", (f.anisotropic_roughness || f.has_normal_maps) as u32 as f64),
         ("THIN_LENS", f.thin_lens as u32 as f64),
         ("ORTHOGRAPHIC", f.orthographic as u32 as f64),
+        ("HAS_LIGHT_TEXTURES", f.has_light_textures as u32 as f64),
         ("HIDE_EMITTERS", f.hide_emitters as u32 as f64),
         ("EMITTER_SKIPS", f.emitter_skips() as f64),
         ("RR_DEPTH", f.rr_depth as f64),

@@ -14,7 +14,7 @@ use wgpu::util::DeviceExt;
 use crate::accel::{Bvh, BvhNode};
 use crate::scene::{AliasTable, BsdfData, EmitterKind, Light, Scene, MAX_DELTA_LIGHTS, MAX_MATERIALS, MAX_PLANES, MAX_QUADRICS, MAX_SPHERES};
 use crate::shaders::bindings::{self, Binding};
-use crate::shaders::flags::{MATERIAL_EMISSIVE, MATERIAL_ONE_SIDED, NO_BACK, NO_BUMP_MAP, NO_NORMAL_MAP, TRIANGLE_HAS_NORMALS, TRIANGLE_HAS_UVS, TRIANGLE_TWO_SIDED};
+use crate::shaders::flags::{MATERIAL_EMISSIVE, MATERIAL_ONE_SIDED, NO_BACK, NO_BUMP_MAP, NO_LIGHT_TEXTURE, NO_NORMAL_MAP, TRIANGLE_HAS_NORMALS, TRIANGLE_HAS_UVS, TRIANGLE_TWO_SIDED};
 
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
@@ -151,9 +151,17 @@ pub struct GpuDeltaLight {
     pub intensity: [f32; 3],
     /// Spot: the cutoff angle in radians.
     pub cutoff: f32,
+    /// The light's frame x axis (a projected texture's u direction, Mitsuba's "left").
+    pub x_axis: [f32; 3],
     /// Spot: 1 / (cutoff - beam width) in radians (infinite where they meet: a hard edge).
     pub inv_transition: f32,
-    pub _pad: [u32; 3],
+    /// The light's frame y axis (a projected texture's v direction).
+    pub y_axis: [f32; 3],
+    /// The projected texture's record in the BSDF data, `NO_LIGHT_TEXTURE` where none.
+    pub texture: u32,
+    /// uv of direction d in the light's frame: 1/2 + uv_scale (d_x, d_y) / d_z.
+    pub uv_scale: [f32; 2],
+    pub _pad: [u32; 2],
 }
 
 /// One entry of the light table (`LightEntry`, light_table.wgsl).
@@ -271,10 +279,11 @@ impl PackedTriangles {
                     Light::Disk(i) | Light::Cylinder(i) => super::features::quadric_order(scene).iter().position(|&q| q == i).unwrap_or(0) as u32,
                     Light::Triangle { mesh, triangle } => gpu_index[first[mesh] + triangle],
                     // Index into `delta_lights`: the point lights, the spot lights, the
-                    // directional lights (`SceneBuffers::pack_delta_lights`).
+                    // directional lights, the projectors (`SceneBuffers::pack_delta_lights`).
                     Light::Point(i) => i as u32,
                     Light::Spot(i) => (scene.point_lights.len() + i) as u32,
                     Light::Directional(i) => (scene.point_lights.len() + scene.spot_lights.len() + i) as u32,
+                    Light::Projector(i) => (scene.point_lights.len() + scene.spot_lights.len() + scene.directional_lights.len() + i) as u32,
                     Light::Environment => 0,
                 },
                 power_prob: alias.prob[l] as f32,
@@ -322,12 +331,13 @@ impl SceneBuffers {
     pub fn contents(scene: &Scene, packed: &PackedTriangles) -> Vec<SceneBufferContents> {
         let small = packed.triangles.len().min(crate::accel::BRUTE_FORCE_TRIANGLES as usize);
         let contents = |binding: Binding, label: &'static str, bytes: Vec<u8>| SceneBufferContents { binding, label, bytes };
-        let (materials, bsdf_data) = Self::pack_materials(scene);
+        let (materials, mut bsdf_data) = Self::pack_materials(scene);
+        let delta_lights = Self::pack_delta_lights(scene, &mut bsdf_data);
         vec![
             contents(bindings::SPHERES, "spheres", uniform_array(&Self::pack_spheres(scene), MAX_SPHERES)),
             contents(bindings::SURFACES, "planes and quadrics", Self::pack_surfaces(scene)),
             contents(bindings::MATERIALS, "materials", uniform_array(&materials, MAX_MATERIALS)),
-            contents(bindings::DELTA_LIGHTS, "delta lights", uniform_array(&Self::pack_delta_lights(scene), MAX_DELTA_LIGHTS)),
+            contents(bindings::DELTA_LIGHTS, "delta lights", uniform_array(&delta_lights, MAX_DELTA_LIGHTS)),
             contents(bindings::BSDF_DATA, "bsdf data", storage_array(&bsdf_data.0)),
             contents(bindings::ENVIRONMENT_MAP, "environment map", storage_array(&scene.environment_map.as_ref().map_or(Vec::new(), |m| m.pack()))),
             contents(bindings::TRIANGLES, "triangles", storage_array(&packed.triangles)),
@@ -429,26 +439,59 @@ impl SceneBuffers {
     }
 
     /// The delta lights as `delta_lights` holds them: the point lights, then the spot lights,
-    /// then the directional lights, each in scene order (the light table names them by this
-    /// index).
-    pub fn pack_delta_lights(scene: &Scene) -> Vec<GpuDeltaLight> {
-        let zero = GpuDeltaLight::zeroed();
+    /// then the directional lights, then the projectors, each in scene order (the light table names them by this
+    /// index); the textures they project are appended to `data`.
+    pub fn pack_delta_lights(scene: &Scene, data: &mut BsdfData) -> Vec<GpuDeltaLight> {
+        let zero = GpuDeltaLight { texture: NO_LIGHT_TEXTURE, ..GpuDeltaLight::zeroed() };
         let points = scene.point_lights.iter().map(|l| GpuDeltaLight { position: f3(l.position), intensity: f3(l.intensity), ..zero });
-        let spots = scene.spot_lights.iter().map(|l| {
-            let (cutoff, beam) = (l.cutoff_angle.to_radians(), l.beam_width.to_radians());
-            GpuDeltaLight {
-                position: f3(l.position),
-                direction: f3(l.direction),
-                intensity: f3(l.intensity),
-                cos_cutoff: cutoff.cos() as f32,
-                cos_beam: beam.cos() as f32,
-                cutoff: cutoff as f32,
-                inv_transition: (1.0 / (cutoff - beam)) as f32,
-                ..zero
-            }
-        });
+        let spots: Vec<GpuDeltaLight> = scene
+            .spot_lights
+            .iter()
+            .map(|l| {
+                let (cutoff, beam) = (l.cutoff_angle.to_radians(), l.beam_width.to_radians());
+                let mut g = GpuDeltaLight {
+                    position: f3(l.position),
+                    direction: f3(l.direction),
+                    intensity: f3(l.intensity),
+                    cos_cutoff: cutoff.cos() as f32,
+                    cos_beam: beam.cos() as f32,
+                    cutoff: cutoff as f32,
+                    inv_transition: (1.0 / (cutoff - beam)) as f32,
+                    ..zero
+                };
+                if let Some(t) = &l.texture {
+                    // spot.cpp's direction_to_uv: 1/2 + d_xy / (2 d_z tan(cutoff)).
+                    let (x, y) = crate::scene::emitters::light_frame(l.direction, t.up);
+                    g.x_axis = f3(x);
+                    g.y_axis = f3(y);
+                    g.texture = t.texture.pack(data);
+                    g.uv_scale = [(0.5 / cutoff.tan()) as f32; 2];
+                }
+                g
+            })
+            .collect();
         let directionals = scene.directional_lights.iter().map(|l| GpuDeltaLight { direction: f3(l.direction), intensity: f3(l.irradiance), ..zero });
-        points.chain(spots).chain(directionals).collect()
+        // A projector: pi scale as its intensity, which the image's value at uv times
+        // 1 / cos^3(theta) makes the intensity towards the point (`ProjectorLight`).
+        let projectors: Vec<GpuDeltaLight> = scene
+            .projector_lights
+            .iter()
+            .map(|l| {
+                let (x, y) = crate::scene::emitters::light_frame(l.direction, l.up);
+                let (su, sv) = l.uv_scale();
+                GpuDeltaLight {
+                    position: f3(l.position),
+                    direction: f3(l.direction),
+                    intensity: [(std::f64::consts::PI * l.scale) as f32; 3],
+                    x_axis: f3(x),
+                    y_axis: f3(y),
+                    texture: l.irradiance.pack(data),
+                    uv_scale: [su as f32, sv as f32],
+                    ..zero
+                }
+            })
+            .collect();
+        points.chain(spots).chain(directionals).chain(projectors).collect()
     }
 
     /// The spheres' object axes, in kernel order.

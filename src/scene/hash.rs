@@ -31,7 +31,10 @@
 //! ```text
 //! point_lights=N, then point_light.i.position=… .intensity=…
 //! spot_lights=N, then spot_light.i.position=… .direction=… .intensity=… .cutoff_angle=… .beam_width=…
+//!   (then .up=… .texture=… where it projects a texture)
 //! directional_lights=N, then directional_light.i.direction=… .irradiance=…
+//! projector_lights=N, then projector_light.i.position=… .direction=… .up=… .half_extents=TX,TY
+//!   (tan of the half field of view at the image's aspect) .irradiance=… .scale=…
 //! ```
 //!
 //! and, only where the scene has disks or cylinders:
@@ -188,6 +191,11 @@ pub fn canonical_encoding(scene: &Scene) -> String {
             line(&format!("spot_light.{i}.intensity"), vec3(l.intensity));
             line(&format!("spot_light.{i}.cutoff_angle"), real(l.cutoff_angle));
             line(&format!("spot_light.{i}.beam_width"), real(l.beam_width));
+            // Only a textured spot adds lines, so that scenes written before keep their hash.
+            if let Some(t) = &l.texture {
+                line(&format!("spot_light.{i}.up"), vec3(t.up));
+                line(&format!("spot_light.{i}.texture"), t.texture.hash_value(vec3));
+            }
         }
     }
     if !scene.directional_lights.is_empty() {
@@ -195,6 +203,19 @@ pub fn canonical_encoding(scene: &Scene) -> String {
         for (i, l) in scene.directional_lights.iter().enumerate() {
             line(&format!("directional_light.{i}.direction"), vec3(l.direction));
             line(&format!("directional_light.{i}.irradiance"), vec3(l.irradiance));
+        }
+    }
+    // Only a scene with projectors adds lines, so that scenes written before keep their hash.
+    if !scene.projector_lights.is_empty() {
+        line("projector_lights", scene.projector_lights.len().to_string());
+        for (i, l) in scene.projector_lights.iter().enumerate() {
+            line(&format!("projector_light.{i}.position"), vec3(l.position));
+            line(&format!("projector_light.{i}.direction"), vec3(l.direction));
+            line(&format!("projector_light.{i}.up"), vec3(l.up));
+            let (tx, ty) = l.half_extents();
+            line(&format!("projector_light.{i}.half_extents"), format!("{},{}", real(tx), real(ty)));
+            line(&format!("projector_light.{i}.irradiance"), l.irradiance.hash_value(vec3));
+            line(&format!("projector_light.{i}.scale"), real(l.scale));
         }
     }
     // Only a scene with quadrics adds lines, so that scenes written before keep their hash.

@@ -1,4 +1,4 @@
-//! Image files as textures and environment maps read them (Mitsuba 3's `Bitmap`): PNG and JPEG
+//! Image files as textures and environment maps read them (Mitsuba 3's `Bitmap`): PNG, JPEG and BMP
 //! (8 or 16 bits per channel, sRGB-encoded), Radiance HDR and OpenEXR (linear floats). Grey
 //! images become grey RGB, alpha is dropped (as Mitsuba's bitmap texture drops it).
 //!
@@ -107,14 +107,14 @@ impl Image {
     }
 }
 
-/// Reads an image file by its extension (png, jpg/jpeg, hdr, exr). `raw`: 8- and 16-bit channels
+/// Reads an image file by its extension (png, jpg/jpeg, bmp, hdr, exr). `raw`: 8- and 16-bit channels
 /// are linear (code / max), not sRGB. Errors say what is wrong (the caller names the file).
 pub fn read_image(path: &Path, raw: bool) -> Result<Image, String> {
     let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
     let image = match ext.as_str() {
         "exr" => read_exr(path)?,
-        "png" | "jpg" | "jpeg" | "hdr" => read_with_image_crate(path, raw)?,
-        _ => return Err(format!("unsupported image format \".{ext}\" (pathlab reads .png, .jpg, .jpeg, .hdr and .exr)")),
+        "png" | "jpg" | "jpeg" | "bmp" | "hdr" => read_with_image_crate(path, raw)?,
+        _ => return Err(format!("unsupported image format \".{ext}\" (pathlab reads .png, .jpg, .jpeg, .bmp, .hdr and .exr)")),
     };
     if image.width == 0 || image.height == 0 {
         return Err("the image has no pixels".into());
@@ -210,5 +210,19 @@ mod tests {
         assert!((t[10] as f64 - 10.0 / 255.0 / 12.92).abs() < 1e-9);
         assert!((t[128] as f64 - 0.2158605).abs() < 1e-6);
         assert!((decode_table(false)[51] - 0.2).abs() < 1e-7);
+    }
+
+    /// A BMP (mitsuba-data's projector scenes use one) reads as the same 8-bit sRGB texels as a
+    /// PNG of the same pixels.
+    #[test]
+    fn a_bmp_reads_as_the_png_of_its_pixels() {
+        let dir = tempfile::tempdir().unwrap();
+        let pixels = image::RgbImage::from_fn(3, 2, |x, y| image::Rgb([(40 * x + 7) as u8, (90 * y + 3) as u8, 200]));
+        for ext in ["bmp", "png"] {
+            pixels.save(dir.path().join(format!("p.{ext}"))).unwrap();
+        }
+        let bmp = read_image(&dir.path().join("p.bmp"), false).unwrap();
+        assert_eq!(bmp, read_image(&dir.path().join("p.png"), false).unwrap());
+        assert!(bmp.srgb && matches!(&bmp.texels, Texels::Bytes(t) if t[4] == [47, 93, 200]), "{bmp:?}");
     }
 }

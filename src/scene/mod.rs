@@ -39,7 +39,7 @@ pub use bsdfs::{
 };
 pub use camera::{Camera, Fov, Projection};
 pub use diagnostic::{Diagnostic, SceneError, Severity};
-pub use emitters::{AliasTable, DirectionalLight, EmitterKind, EnvDistribution, EnvironmentMap, Light, PointLight, SpotLight};
+pub use emitters::{AliasTable, DirectionalLight, EmitterKind, EnvDistribution, EnvironmentMap, Light, PointLight, ProjectorLight, SpotLight, SpotTexture};
 pub use mesh::Mesh;
 pub use quadrics::{Quadric, QuadricKind, MAX_QUADRICS};
 pub use overrides::{OverrideError, Overrides, Reframing};
@@ -56,7 +56,7 @@ pub const MAX_SPHERES: usize = 1024;
 pub const MAX_PLANES: usize = 1024;
 /// Most materials (80 bytes each).
 pub const MAX_MATERIALS: usize = 512;
-/// Most point, spot and directional lights together (64 bytes each).
+/// Most point, spot, directional and projector lights together (96 bytes each).
 pub const MAX_DELTA_LIGHTS: usize = 256;
 
 /// The depth `max_depth = -1` (unbounded, allowed only with Russian roulette) stands for. Paths
@@ -209,6 +209,8 @@ pub struct Scene {
     pub point_lights: Vec<PointLight>,
     pub spot_lights: Vec<SpotLight>,
     pub directional_lights: Vec<DirectionalLight>,
+    /// Projectors (`[[projector_lights]]`, Mitsuba's `projector`): delta lights too.
+    pub projector_lights: Vec<ProjectorLight>,
     /// How images of this scene are shown and scored on screen (`[display]`, default sRGB):
     /// PNG previews, figures and the display-referred metrics. Not part of `content_hash`.
     pub display: crate::display::DisplayTransform,
@@ -354,8 +356,8 @@ impl Scene {
                             d * camera <= 0.0 || d.abs() <= MARGIN * scale.max(x.abs().max_element())
                         })
                     })
-                    // A point or spot light as a sphere of radius 0.
-                    || self.point_lights.iter().map(|l| l.position).chain(self.spot_lights.iter().map(|l| l.position)).any(|x| {
+                    // A point, spot or projector light as a sphere of radius 0.
+                    || self.point_lights.iter().map(|l| l.position).chain(self.spot_lights.iter().map(|l| l.position)).chain(self.projector_lights.iter().map(|l| l.position)).any(|x| {
                         let d = side(x);
                         d * camera <= 0.0 || d.abs() <= MARGIN * scale.max(x.abs().max_element())
                     })

@@ -41,6 +41,9 @@ pub(crate) struct RawScene {
     pub spot_lights: Vec<Spanned<RawSpotLight>>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub directional_lights: Vec<Spanned<RawDirectionalLight>>,
+    /// Mitsuba's `projector`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub projector_lights: Vec<Spanned<RawProjectorLight>>,
 }
 
 /// `[[point_lights]]`: a point light of `intensity` (W/sr) at `position`.
@@ -63,6 +66,12 @@ pub(crate) struct RawSpotLight {
     pub cutoff_angle: Option<Spanned<f64>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub beam_width: Option<Spanned<f64>>,
+    /// A texture projected along the cone (Mitsuba's `texture`), oriented by `up` (the light
+    /// frame's y axis; required with a texture).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub texture: Option<Spanned<toml::Value>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub up: Option<Spanned<[f64; 3]>>,
 }
 
 /// `[[directional_lights]]`: `irradiance` arriving along `direction` (the way the light
@@ -72,6 +81,30 @@ pub(crate) struct RawSpotLight {
 pub(crate) struct RawDirectionalLight {
     pub direction: Spanned<[f64; 3]>,
     pub irradiance: Spanned<RawColor>,
+}
+
+/// `[[projector_lights]]`: a projector at `position` projecting along `direction`, the image's
+/// up towards `up`, with one field of view (as the camera's keys give it, resolved at the
+/// image's aspect ratio), its `irradiance` (a colour or a texture table) and `scale`.
+#[derive(Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawProjectorLight {
+    pub position: Spanned<[f64; 3]>,
+    pub direction: Spanned<[f64; 3]>,
+    pub up: Spanned<[f64; 3]>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fov_x: Option<Spanned<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fov_y: Option<Spanned<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fov_smaller: Option<Spanned<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fov_larger: Option<Spanned<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fov_diagonal: Option<Spanned<f64>>,
+    pub irradiance: Spanned<toml::Value>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scale: Option<Spanned<f64>>,
 }
 
 /// `[techniques]`: WGSL files by kind (relative to the scene's folder), as `--technique

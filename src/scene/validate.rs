@@ -13,8 +13,9 @@ use crate::display::{DisplayTransform, Transfer};
 use super::checker::Checker;
 use super::diagnostic::SourceMap;
 use super::mesh::{self, shapes, Mesh, MeshData, Shading};
-use super::emitters::{DirectionalLight, PointLight, SpotLight, BEAM_WIDTH_OF_CUTOFF, DEFAULT_CUTOFF_ANGLE};
-use super::raw::{RawEnvironmentMap, RawMaterial, RawRotations, RawScale, RawScene, RawTransform};
+use super::emitters::{DirectionalLight, PointLight, ProjectorLight, SpotLight, SpotTexture, BEAM_WIDTH_OF_CUTOFF, DEFAULT_CUTOFF_ANGLE};
+use super::textures::Texture;
+use super::raw::{RawColor, RawEnvironmentMap, RawMaterial, RawRotations, RawScale, RawScene, RawTransform};
 use super::quadrics::{self, Quadric, QuadricKind, MAX_QUADRICS};
 use super::transform::Transform;
 use super::{
@@ -39,7 +40,7 @@ fn unit_direction(ck: &mut Checker, value: &Spanned<[f64; 3]>, field: &str) -> D
 /// finite (directions non-zero), intensities finite and >= 0, a spot's angles in degrees with
 /// 0 < beam_width <= cutoff_angle <= 180 (Mitsuba's defaults 20 and 3/4 of the cutoff), at most
 /// `MAX_DELTA_LIGHTS` of them together.
-fn check_delta_lights(ck: &mut Checker, raw: &RawScene) -> (Vec<PointLight>, Vec<SpotLight>, Vec<DirectionalLight>) {
+fn check_delta_lights(ck: &mut Checker, raw: &RawScene) -> (Vec<PointLight>, Vec<SpotLight>, Vec<DirectionalLight>, Vec<ProjectorLight>) {
     let mut points = Vec::new();
     for (i, l) in raw.point_lights.iter().enumerate() {
         let l = l.get_ref();
@@ -70,7 +71,45 @@ fn check_delta_lights(ck: &mut Checker, raw: &RawScene) -> (Vec<PointLight>, Vec
             let span = l.beam_width.as_ref().map_or(l.position.span(), Spanned::span);
             ck.error(span, &format!("spot_lights[{i}].beam_width"), format!("`beam_width` ({beam_width}) must not exceed `cutoff_angle` ({cutoff_angle})"));
         }
-        spots.push(SpotLight { position, direction, intensity, cutoff_angle, beam_width });
+        let texture = match (&l.texture, &l.up) {
+            (None, None) => None,
+            (None, Some(up)) => {
+                ck.warn(up.span(), &format!("spot_lights[{i}].up"), "`up` has no effect without a `texture`: the spot's falloff is the same about its axis");
+                None
+            }
+            (Some(t), up) => {
+                let field = format!("spot_lights[{i}].texture");
+                let base = ck.file.parent().map(Path::to_path_buf).unwrap_or_default();
+                let mut errors = Vec::new();
+                let texture = match t.get_ref() {
+                    toml::Value::Table(table) => Texture::from_toml(table, t.span(), &base, &mut errors),
+                    v => {
+                        errors.push((t.span(), format!("`texture` must be a texture table, e.g. {{ texture = \"bitmap\", filename = \"pattern.png\" }} (got {v})")));
+                        None
+                    }
+                };
+                for (span, message) in errors {
+                    ck.error(span, &field, message);
+                }
+                let up = match up {
+                    Some(up) => {
+                        let u = unit_direction(ck, up, &format!("spot_lights[{i}].up"));
+                        if u.cross(direction).length() < 1e-9 && u.length() > 0.0 {
+                            ck.error(up.span(), &format!("spot_lights[{i}].up"), "`up` must not be parallel to the direction");
+                        }
+                        u
+                    }
+                    None => {
+                        ck.error(t.span(), &format!("spot_lights[{i}].up"), "a spot light's `texture` needs `up`, the direction its v runs along (the light frame's y axis)");
+                        DVec3::Y
+                    }
+                };
+                // The frame's y axis, made orthogonal to the direction.
+                let (_, y) = super::emitters::light_frame(direction, up);
+                texture.map(|texture| SpotTexture { texture, up: y })
+            }
+        };
+        spots.push(SpotLight { position, direction, intensity, cutoff_angle, beam_width, texture });
     }
     let mut directionals = Vec::new();
     for (i, l) in raw.directional_lights.iter().enumerate() {
@@ -79,12 +118,90 @@ fn check_delta_lights(ck: &mut Checker, raw: &RawScene) -> (Vec<PointLight>, Vec
         let irradiance = ck.color(Some(&l.irradiance), &format!("directional_lights[{i}].irradiance"));
         directionals.push(DirectionalLight { direction, irradiance });
     }
-    let total = points.len() + spots.len() + directionals.len();
-    if total > MAX_DELTA_LIGHTS {
-        let span = raw.point_lights.iter().map(Spanned::span).chain(raw.spot_lights.iter().map(Spanned::span)).chain(raw.directional_lights.iter().map(Spanned::span)).nth(MAX_DELTA_LIGHTS).unwrap_or(0..0);
-        ck.error(span, "point_lights", format!("the scene has {total} point, spot and directional lights, more than the {MAX_DELTA_LIGHTS} the kernel holds"));
+    let mut projectors = Vec::new();
+    for (i, l) in raw.projector_lights.iter().enumerate() {
+        let whole = l.span();
+        let l = l.get_ref();
+        let field = |name: &str| format!("projector_lights[{i}].{name}");
+        let position = ck.vector(&l.position, &field("position"));
+        let direction = unit_direction(ck, &l.direction, &field("direction"));
+        let up = unit_direction(ck, &l.up, &field("up"));
+        if up.cross(direction).length() < 1e-9 && up.length() > 0.0 && direction.length() > 0.0 {
+            ck.error(l.up.span(), &field("up"), "`up` must not be parallel to the direction");
+        }
+        let (_, up) = super::emitters::light_frame(direction, up);
+        let given: Vec<(&str, &Spanned<f64>, fn(f64) -> Fov)> = [
+            ("fov_x", &l.fov_x, Fov::X as fn(f64) -> Fov),
+            ("fov_y", &l.fov_y, Fov::Y),
+            ("fov_smaller", &l.fov_smaller, Fov::Smaller),
+            ("fov_larger", &l.fov_larger, Fov::Larger),
+            ("fov_diagonal", &l.fov_diagonal, Fov::Diagonal),
+        ]
+        .into_iter()
+        .filter_map(|(key, v, make)| v.as_ref().map(|v| (key, v, make)))
+        .collect();
+        let fov = match given.as_slice() {
+            [(key, v, make)] => {
+                let a = ck.number(v, &field(key));
+                if !(a > 0.0 && a < 180.0) && v.get_ref().is_finite() {
+                    ck.error(v.span(), &field(key), format!("field of view must be strictly between 0 and 180 degrees (got {a})"));
+                }
+                make(a)
+            }
+            [] => {
+                ck.error(whole.clone(), &format!("projector_lights[{i}]"), "missing field of view: give exactly one of fov_x, fov_y, fov_smaller, fov_larger, fov_diagonal");
+                Fov::X(90.0)
+            }
+            [(first, ..), (second, v, _), ..] => {
+                ck.error(v.span(), &field(second), format!("give exactly one field of view, not both {first} and {second}"));
+                Fov::X(90.0)
+            }
+        };
+        // The irradiance: a colour (a rawconstant texture, one value) or a texture table.
+        let irradiance = match l.irradiance.get_ref() {
+            toml::Value::Table(table) => {
+                let base = ck.file.parent().map(Path::to_path_buf).unwrap_or_default();
+                let mut errors = Vec::new();
+                let t = Texture::from_toml(table, l.irradiance.span(), &base, &mut errors);
+                for (span, message) in errors {
+                    ck.error(span, &field("irradiance"), message);
+                }
+                t.unwrap_or(Texture::RawConstant { value: DVec3::ZERO })
+            }
+            _ => match toml::Value::try_into::<RawColor>(l.irradiance.get_ref().clone()) {
+                Ok(c) => Texture::RawConstant { value: ck.color(Some(&Spanned::new(l.irradiance.span(), c)), &field("irradiance")) },
+                Err(_) => {
+                    ck.error(l.irradiance.span(), &field("irradiance"), "`irradiance` must be a colour >= 0 (a number or [r, g, b]) or a texture table");
+                    Texture::RawConstant { value: DVec3::ZERO }
+                }
+            },
+        };
+        let scale = match &l.scale {
+            None => 1.0,
+            Some(v) => {
+                let x = ck.number(v, &field("scale"));
+                if x < 0.0 {
+                    ck.error(v.span(), &field("scale"), format!("`scale` must be >= 0 (got {x})"));
+                }
+                x
+            }
+        };
+        projectors.push(ProjectorLight { position, direction, up, fov, irradiance, scale });
     }
-    (points, spots, directionals)
+    let total = points.len() + spots.len() + directionals.len() + projectors.len();
+    if total > MAX_DELTA_LIGHTS {
+        let span = raw
+            .point_lights
+            .iter()
+            .map(Spanned::span)
+            .chain(raw.spot_lights.iter().map(Spanned::span))
+            .chain(raw.directional_lights.iter().map(Spanned::span))
+            .chain(raw.projector_lights.iter().map(Spanned::span))
+            .nth(MAX_DELTA_LIGHTS)
+            .unwrap_or(0..0);
+        ck.error(span, "point_lights", format!("the scene has {total} point, spot, directional and projector lights, more than the {MAX_DELTA_LIGHTS} the kernel holds"));
+    }
+    (points, spots, directionals, projectors)
 }
 
 /// Largest accepted width, height or max_depth: beyond this the GPU buffers cannot be sized.
@@ -202,12 +319,13 @@ pub(super) fn validate(raw: &RawScene, file: &Path, sources: SourceMap, diagnost
     if environment_map.is_some() && render.environment.max_element() > 0.0 {
         ck.error(raw.render.span(), "render.environment", "give either a constant environment or an environment map, not both (Mitsuba has one infinite emitter)");
     }
-    let (point_lights, spot_lights, directional_lights) = check_delta_lights(&mut ck, raw);
+    let (point_lights, spot_lights, directional_lights, projector_lights) = check_delta_lights(&mut ck, raw);
     let any_emitter = spheres.iter().map(|s| s.material).chain(meshes.iter().map(|m| m.material)).chain(quadrics.iter().map(|q| q.material))
         .any(|m| materials.get(m).is_some_and(Material::is_emissive))
         || point_lights.iter().any(|l| l.intensity.max_element() > 0.0)
         || spot_lights.iter().any(|l| l.intensity.max_element() > 0.0)
-        || directional_lights.iter().any(|l| l.irradiance.max_element() > 0.0);
+        || directional_lights.iter().any(|l| l.irradiance.max_element() > 0.0)
+        || projector_lights.iter().any(|l| l.scale > 0.0 && l.irradiance.mean().max_element() > 0.0);
     if !any_emitter && render.environment.max_element() <= 0.0 && environment_map.is_none() {
         ck.warn(raw.render.span(), "render.environment", "the scene has no emitter and a black environment: the image will be black");
     }
@@ -230,6 +348,7 @@ pub(super) fn validate(raw: &RawScene, file: &Path, sources: SourceMap, diagnost
         point_lights,
         spot_lights,
         directional_lights,
+        projector_lights,
         display,
         warnings: ck.diagnostics,
         techniques,

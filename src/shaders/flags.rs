@@ -15,6 +15,9 @@ pub const NO_NORMAL_MAP: u32 = u32::MAX;
 /// `Material.bump_map` of a material without a bump map.
 pub const NO_BUMP_MAP: u32 = u32::MAX;
 
+/// `DeltaLight.texture` of a delta light that projects no texture.
+pub const NO_LIGHT_TEXTURE: u32 = u32::MAX;
+
 /// Triangle flag: emits on both sides.
 pub const TRIANGLE_TWO_SIDED: u32 = 1;
 /// Triangle flag: has vertex normals (`GpuTriangleNormals` at the same index).
@@ -37,6 +40,7 @@ pub fn wgsl() -> String {
         ("NO_BACK", NO_BACK),
         ("NO_NORMAL_MAP", NO_NORMAL_MAP),
         ("NO_BUMP_MAP", NO_BUMP_MAP),
+        ("NO_LIGHT_TEXTURE", NO_LIGHT_TEXTURE),
         ("TRIANGLE_TWO_SIDED", TRIANGLE_TWO_SIDED),
         ("TRIANGLE_HAS_NORMALS", TRIANGLE_HAS_NORMALS),
         ("TRIANGLE_HAS_UVS", TRIANGLE_HAS_UVS),

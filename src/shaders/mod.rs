@@ -71,7 +71,7 @@ pub mod files {
     pub const NO_ENV_TECHNIQUE: (&str, &str) = ("techniques/none_env.wgsl", include_str!("../../shaders/techniques/none_env.wgsl"));
     pub const EMITTER: (&str, &str) = ("emitter.wgsl", include_str!("../../shaders/emitter.wgsl"));
     /// One file per kind of the emitter registry (`scene::EmitterKind`), in its order.
-    pub const EMITTER_KINDS: [(&str, &str); 8] = [
+    pub const EMITTER_KINDS: [(&str, &str); 9] = [
         ("emitters/sphere.wgsl", include_str!("../../shaders/emitters/sphere.wgsl")),
         ("emitters/triangle.wgsl", include_str!("../../shaders/emitters/triangle.wgsl")),
         ("emitters/disk.wgsl", include_str!("../../shaders/emitters/disk.wgsl")),
@@ -79,6 +79,7 @@ pub mod files {
         ("emitters/point.wgsl", include_str!("../../shaders/emitters/point.wgsl")),
         ("emitters/spot.wgsl", include_str!("../../shaders/emitters/spot.wgsl")),
         ("emitters/directional.wgsl", include_str!("../../shaders/emitters/directional.wgsl")),
+        ("emitters/projector.wgsl", include_str!("../../shaders/emitters/projector.wgsl")),
         ("emitters/environment.wgsl", include_str!("../../shaders/emitters/environment.wgsl")),
     ];
     pub const SCENE: (&str, &str) = ("scene.wgsl", include_str!("../../shaders/scene.wgsl"));

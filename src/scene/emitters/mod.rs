@@ -1,6 +1,6 @@
 //! Emitters, one file per kind, as Mitsuba 3 lays out `src/emitters/`: an emissive sphere
 //! (`sphere.rs`), an emissive triangle of a mesh (`triangle.rs`), an emissive disk (`disk.rs`) or cylinder (`cylinder.rs`), the delta lights `point.rs`,
-//! `spot.rs` and `directional.rs`, and the environment (`environment.rs`). A kind's Rust file lists its lights in a scene and gives their emitted
+//! `spot.rs`, `directional.rs` and `projector.rs`, and the environment (`environment.rs`). A kind's Rust file lists its lights in a scene and gives their emitted
 //! power; its WGSL file, `shaders/emitters/<kind>.wgsl`, has `sample_<kind>_emitter`,
 //! `pdf_<kind>_emitter` and `eval_<kind>_emitter`, and is listed in
 //! `shaders::files::EMITTER_KINDS`.
@@ -16,6 +16,7 @@ mod directional;
 mod disk;
 mod environment;
 mod point;
+mod projector;
 mod selection;
 mod sphere;
 mod spot;
@@ -24,7 +25,8 @@ mod triangle;
 pub use directional::DirectionalLight;
 pub use environment::{EnvDistribution, EnvironmentMap, ENVIRONMENT_MAP_HEADER};
 pub use point::PointLight;
-pub use spot::{SpotLight, BEAM_WIDTH_OF_CUTOFF, DEFAULT_CUTOFF_ANGLE};
+pub use projector::ProjectorLight;
+pub use spot::{light_frame, SpotLight, SpotTexture, BEAM_WIDTH_OF_CUTOFF, DEFAULT_CUTOFF_ANGLE};
 pub use selection::{luminance, AliasTable, LUMINANCE_WEIGHTS};
 
 use super::Scene;
@@ -47,6 +49,8 @@ named_enum! {
         Spot = "spot",
         /// A directional light (Mitsuba's `directional`): a delta light at infinity.
         Directional = "directional",
+        /// A projector (Mitsuba's `projector`): a delta light projecting an image.
+        Projector = "projector",
         /// The constant environment (Mitsuba's `constant`): radiance from every direction at
         /// infinity.
         Environment = "environment",
@@ -79,6 +83,8 @@ pub enum Light {
     Spot(usize),
     /// Index into `Scene::directional_lights`.
     Directional(usize),
+    /// Index into `Scene::projector_lights`.
+    Projector(usize),
     /// The constant environment (`RenderSettings::environment`).
     Environment,
 }
@@ -94,6 +100,7 @@ impl Light {
             Light::Point(_) => EmitterKind::Point,
             Light::Spot(_) => EmitterKind::Spot,
             Light::Directional(_) => EmitterKind::Directional,
+            Light::Projector(_) => EmitterKind::Projector,
             Light::Environment => EmitterKind::Environment,
         }
     }
@@ -103,7 +110,7 @@ impl EmitterKind {
     /// Whether its lights are deltas (a point, a direction): BSDF-sampled rays never find them,
     /// so only methods with next event estimation see them.
     pub fn is_delta(self) -> bool {
-        matches!(self, EmitterKind::Point | EmitterKind::Spot | EmitterKind::Directional)
+        matches!(self, EmitterKind::Point | EmitterKind::Spot | EmitterKind::Directional | EmitterKind::Projector)
     }
 }
 
@@ -132,6 +139,7 @@ impl Scene {
             EmitterKind::Point => point::lights(self),
             EmitterKind::Spot => spot::lights(self),
             EmitterKind::Directional => directional::lights(self),
+            EmitterKind::Projector => projector::lights(self),
             EmitterKind::Environment => environment::lights(self),
         }
     }
@@ -142,6 +150,13 @@ impl Scene {
     /// when every light is sampled.
     pub fn lights(&self) -> Vec<Light> {
         EmitterKind::ALL.into_iter().filter(|k| *k != EmitterKind::Environment).flat_map(|k| self.lights_of(k)).collect()
+    }
+
+    /// The textures its delta lights project (a spot's `texture`, a projector's
+    /// `irradiance`), in the order they are packed.
+    pub fn light_textures(&self) -> Vec<&crate::scene::Texture> {
+        let spots = self.spot_lights.iter().filter_map(|l| l.texture.as_ref().map(|t| &t.texture));
+        spots.chain(self.projector_lights.iter().map(|l| &l.irradiance)).collect()
     }
 
     /// How many delta lights (of the kinds `EmitterKind::is_delta`) the scene has.
@@ -210,6 +225,7 @@ impl Scene {
             Light::Point(i) => point::power(self, i),
             Light::Spot(i) => spot::power(self, i),
             Light::Directional(i) => directional::power(self, i),
+            Light::Projector(i) => projector::power(self, i),
             Light::Environment => environment::power(self),
         }
     }

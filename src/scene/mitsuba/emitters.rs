@@ -1,15 +1,17 @@
-//! Mitsuba's delta emitters, `point`, `spot` and `directional`, read into `[[point_lights]]`,
-//! `[[spot_lights]]` and `[[directional_lights]]` (`scene::emitters::{point, spot,
-//! directional}`), with their parameters, defaults and frames as Mitsuba 3.9.1 reads them
-//! (`src/emitters/point.cpp`, `spot.cpp`, `directional.cpp`).
+//! Mitsuba's delta emitters, `point`, `spot`, `directional` and `projector`, read into
+//! `[[point_lights]]`, `[[spot_lights]]`, `[[directional_lights]]` and `[[projector_lights]]`
+//! (`scene::emitters::{point, spot, directional, projector}`), with their parameters, defaults
+//! and frames as Mitsuba 3.9.1 reads them (`src/emitters/point.cpp`, `spot.cpp`,
+//! `directional.cpp`, `projector.cpp`).
 
 use glam::{DMat3, DVec3};
 
-use super::super::raw::{RawColor, RawDirectionalLight, RawPointLight, RawSpotLight};
+use super::super::raw::{RawColor, RawDirectionalLight, RawPointLight, RawProjectorLight, RawSpotLight};
 use super::super::diagnostic::Findings;
 use super::super::spectrum::SpectrumRole;
 use super::xml::{compose, Object};
-use super::{spanned, Props, Translator};
+use super::{spanned, PluginReader, Props, Translator};
+use crate::scene::bsdfs::PluginProps as _;
 use toml::Spanned;
 
 /// Mitsuba's default intensity (and irradiance): 1.
@@ -50,20 +52,17 @@ impl Translator<'_> {
         Some(spanned(o.at, RawPointLight { position: spanned(o.at, position.to_array()), intensity }))
     }
 
-    /// `<emitter type="spot">`: `to_world` (its translation the position, its +z the axis; a
-    /// rotation with a uniform scale, as `lookat` gives), `intensity`, `cutoff_angle` and
-    /// `beam_width` in degrees. A projected `texture` is refused.
+    /// `<emitter type="spot">`: `to_world` (its translation the position, its +z the axis, its
+    /// +y the projected texture's up; a rotation with a uniform scale, as `lookat` gives),
+    /// `intensity`, `cutoff_angle` and `beam_width` in degrees, and a projected `texture`
+    /// (Mitsuba requires one that varies: a bitmap or a checkerboard).
     pub(super) fn spot_emitter(&mut self, o: &Object) -> Option<Spanned<RawSpotLight>> {
         let mut p = Props::of(o);
         let frame = self.frame(&mut p);
         let intensity = self.delta_emission(&mut p, "intensity", o);
         let cutoff = self.get::<f64>(&mut p, "cutoff_angle").map(|(v, prop)| spanned(prop.value_at, v));
         let beam = self.get::<f64>(&mut p, "beam_width").map(|(v, prop)| spanned(prop.value_at, v));
-        self.finish(p, "to_world, intensity, cutoff_angle, beam_width");
-        for c in &o.children {
-            let what = if c.name.as_deref() == Some("texture") { "a projected `texture`".to_string() } else { super::describe(&c.tag, &c.plugin) };
-            self.error(c.at, c.name.as_deref().unwrap_or(""), format!("{what} of a spot emitter is not supported"));
-        }
+        let texture = self.projected_texture(o, p, "texture", "to_world, intensity, cutoff_angle, beam_width, texture");
         let (linear, position) = match frame {
             None => (DMat3::IDENTITY, DVec3::ZERO),
             Some((linear, t, at)) => {
@@ -75,6 +74,7 @@ impl Translator<'_> {
             }
         };
         let direction = (linear * DVec3::Z).normalize();
+        let up = texture.as_ref().map(|_| spanned(o.at, (linear * DVec3::Y).normalize().to_array()));
         Some(spanned(
             o.at,
             RawSpotLight {
@@ -83,8 +83,94 @@ impl Translator<'_> {
                 intensity,
                 cutoff_angle: cutoff,
                 beam_width: beam,
+                texture,
+                up,
             },
         ))
+    }
+
+    /// `<emitter type="projector">`: `to_world` (its translation the pinhole, its +z the axis,
+    /// its +y the image's up; a rotation with a uniform scale s, which scales the irradiance by
+    /// s as Mitsuba's formula does: see below), the field of
+    /// view as a perspective sensor's (`fov`, `fov_axis` or `focal_length`, default 50mm),
+    /// resolved at the irradiance image's aspect ratio, `irradiance` (a texture, or a colour:
+    /// Mitsuba's default 1) and `scale` (default 1).
+    pub(super) fn projector_emitter(&mut self, o: &Object) -> Option<Spanned<RawProjectorLight>> {
+        let mut p = Props::of(o);
+        let frame = self.frame(&mut p);
+        let fov = self.field_of_view(o, &mut p);
+        let scale = self.get::<f64>(&mut p, "scale").map(|(v, prop)| spanned(prop.value_at, v));
+        let colour = self.color(&mut p, "irradiance", SpectrumRole::Emission);
+        let texture = self.projected_texture(o, p, "irradiance", "to_world, fov, fov_axis, focal_length, irradiance, scale");
+        let irradiance = match (texture, colour) {
+            (Some(t), _) => t,
+            (None, Some((c, at))) => spanned(at, super::super::bsdfs::color_value(c)),
+            (None, None) => spanned(o.at, super::super::bsdfs::color_value(DEFAULT_EMISSION)),
+        };
+        let (linear, position) = match frame {
+            None => (DMat3::IDENTITY, DVec3::ZERO),
+            Some((linear, t, at)) => {
+                if !is_similarity(linear) {
+                    self.error(at, "to_world", "the `to_world` of a projector must be a rotation with a uniform scale (its image is projected in angles about its axis)".to_string());
+                    return None;
+                }
+                (linear, t)
+            }
+        };
+        // Mitsuba divides by the depth in the local frame squared (z / s)^2 and by
+        // -dot(n, d) with n = to_world (0, 0, 1) left unnormalised (s cos(theta)): s in all.
+        let s = linear.x_axis.length();
+        let scale = match scale {
+            Some(v) if s != 1.0 => Some(spanned(v.span().start, *v.get_ref() * s)),
+            Some(v) => Some(v),
+            None if s != 1.0 => Some(spanned(o.at, s)),
+            None => None,
+        };
+        let (fov, at) = fov?;
+        let given = |key: &str| (fov.key() == key).then(|| spanned(at, fov.degrees()));
+        Some(spanned(
+            o.at,
+            RawProjectorLight {
+                position: spanned(o.at, position.to_array()),
+                direction: spanned(o.at, (linear * DVec3::Z).normalize().to_array()),
+                up: spanned(o.at, (linear * DVec3::Y).normalize().to_array()),
+                fov_x: given("fov_x"),
+                fov_y: given("fov_y"),
+                fov_smaller: given("fov_smaller"),
+                fov_larger: given("fov_larger"),
+                fov_diagonal: given("fov_diagonal"),
+                irradiance,
+                scale,
+            },
+        ))
+    }
+
+    /// The texture a delta emitter projects (`name`: a spot's `texture`, a projector's
+    /// `irradiance`), read as a BSDF's textures are, as its TOML value; `reads` lists what the
+    /// emitter reads. Mitsuba's spot refuses a texture that does not vary ("must be spatially
+    /// varying"): so does pathlab.
+    fn projected_texture(&mut self, o: &Object, p: Props, name: &str, reads: &str) -> Option<Spanned<toml::Value>> {
+        let nested = o.children.iter().position(|c| c.tag == "texture" && c.name.as_deref() == Some(name));
+        let mut reader = PluginReader { t: self, p: Some(p), o, taken: Vec::new() };
+        let value = match nested {
+            Some(_) => reader.color_or_texture(name),
+            None => None,
+        };
+        reader.finish(reads);
+        for (i, c) in o.children.iter().enumerate() {
+            if Some(i) != nested {
+                self.error(c.at, c.name.as_deref().unwrap_or(""), format!("{} inside an <emitter type=\"{}\"> is not supported", super::describe(&c.tag, &c.plugin), o.plugin));
+            }
+        }
+        let at = nested.map_or(o.at, |i| o.children[i].at);
+        match value {
+            Some(v @ toml::Value::Table(_)) if o.plugin == "spot" && v.get("texture").and_then(toml::Value::as_str) == Some("rawconstant") => {
+                self.error(at, name, "the `texture` of a spot emitter must vary over it (Mitsuba: \"must be spatially varying (e.g. bitmap type)\"); give a bitmap or a checkerboard".to_string());
+                None
+            }
+            Some(v) => Some(spanned(at, v)),
+            None => None,
+        }
     }
 
     /// `<emitter type="directional">`: `direction` (the way the light travels) or `to_world`

@@ -752,7 +752,7 @@ impl Translator<'_> {
         let mut environment: Option<([f64; 3], usize)> = None;
         let mut environment_map = None;
         let mut shapes = Shapes::default();
-        let (mut point_lights, mut spot_lights, mut directional_lights) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut point_lights, mut spot_lights, mut directional_lights, mut projector_lights) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         let mut sensors = 0;
         let mut integrators = 0;
         for o in objects {
@@ -803,7 +803,8 @@ impl Translator<'_> {
                     "point" => point_lights.extend(self.point_emitter(o)),
                     "spot" => spot_lights.extend(self.spot_emitter(o)),
                     "directional" => directional_lights.extend(self.directional_emitter(o)),
-                    other => self.error(o.at, "type", format!("<emitter type=\"{other}\"> is not supported (pathlab has area, constant, envmap, point, spot, directional)")),
+                    "projector" => projector_lights.extend(self.projector_emitter(o)),
+                    other => self.error(o.at, "type", format!("<emitter type=\"{other}\"> is not supported (pathlab has area, constant, envmap, point, spot, directional, projector)")),
                 },
                 // A named texture is a definition that BSDFs take by <ref name="…" id="…"/>.
                 "texture" if o.id.is_some() => {}
@@ -856,6 +857,7 @@ impl Translator<'_> {
             point_lights,
             spot_lights,
             directional_lights,
+            projector_lights,
         })
     }
 
@@ -907,41 +909,7 @@ impl Translator<'_> {
         if o.plugin == "orthographic" {
             return (self.orthographic(o, p), film, spp);
         }
-        // The field of view, an angle in (0, 180) degrees; `written`: where its value is, if any.
-        let written = p.props.iter().find(|q| q.name == "fov").map(|q| q.value_at);
-        let fov = match (self.float(&mut p, "fov"), written) {
-            (Some(v), Some(at)) if v.is_finite() && v > 0.0 && v < 180.0 => Some((v, at)),
-            (Some(v), Some(at)) => {
-                self.error(at, "fov", format!("`fov` must be a finite angle in (0, 180) degrees (got {v})"));
-                None
-            }
-            _ => None,
-        };
-        let axis = self.string(&mut p, "fov_axis");
-        // Mitsuba's `focal_length` ("<x>mm" on a 36 x 24 mm film, 50mm by default): the
-        // diagonal field of view 2 atan(sqrt(36^2 + 24^2) / (2 x)).
-        let focal = match p.take("focal_length") {
-            Some(prop) if written.is_some() => {
-                self.error(prop.at, "focal_length", "give either `fov` or `focal_length`, not both (as Mitsuba requires)");
-                None
-            }
-            Some(prop) => {
-                let text = match &prop.value {
-                    Value::String(t) => Some(t.clone()),
-                    Value::Float(v) => Some(v.to_string()),
-                    _ => None,
-                };
-                match text.as_deref().map(|t| t.trim().trim_end_matches("mm").trim().parse::<f64>()) {
-                    Some(Ok(mm)) if mm.is_finite() && mm > 0.0 => Some((mm, prop.value_at)),
-                    _ => {
-                        self.error(prop.value_at, "focal_length", "`focal_length` must be of the form <x>mm with x > 0 (Mitsuba's)".to_string());
-                        None
-                    }
-                }
-            }
-            None if written.is_none() => Some((50.0, o.at)),
-            None => None,
-        };
+        let fov = self.field_of_view(o, &mut p);
         // A thin lens: `aperture_radius` (required, as Mitsuba) and `focus_distance` (Mitsuba's
         // default: far_clip, 1e4 unless given).
         let mut lens = (None, None);
@@ -990,29 +958,7 @@ impl Translator<'_> {
             p,
             if thin_lens { "fov, fov_axis, focal_length, to_world, aperture_radius, focus_distance, near_clip, far_clip" } else { "fov, fov_axis, focal_length, to_world, near_clip, far_clip (and, with a warning, focus_distance)" },
         );
-        let (fov, fov_at, axis_name) = match (fov, focal) {
-            (Some((fov, at)), _) => (fov, at, axis.as_ref().map_or("x", |(a, _)| a.as_str()).to_string()),
-            (None, Some((mm, at))) => {
-                if let Some((_, axis_at)) = &axis {
-                    self.warn(*axis_at, "fov_axis", "`fov_axis` is ignored with a focal length: Mitsuba's is then the diagonal".to_string());
-                }
-                (2.0 * (36.0f64.hypot(24.0) / (2.0 * mm)).atan().to_degrees(), at, "diagonal".to_string())
-            }
-            (None, None) => return (None, film, spp),
-        };
-        // The field of view by its rule, kept as Mitsuba's: resolved at whatever size renders.
-        let fov = match axis_name.as_str() {
-            "x" => Fov::X(fov),
-            "y" => Fov::Y(fov),
-            "smaller" => Fov::Smaller(fov),
-            "larger" => Fov::Larger(fov),
-            "diagonal" => Fov::Diagonal(fov),
-            other => {
-                let at = axis.as_ref().map_or(o.at, |(_, at)| *at);
-                self.error(at, "fov_axis", format!("unknown fov_axis \"{other}\" (x, y, smaller, larger, diagonal)"));
-                Fov::X(fov)
-            }
-        };
+        let Some((fov, fov_at)) = fov else { return (None, film, spp) };
         let given = |f: Fov, key: &str| (f.key() == key).then(|| spanned(fov_at, f.degrees()));
         let (position, look_at, up) = match to_world {
             None => (DVec3::ZERO, DVec3::Z, DVec3::Y),
@@ -1057,6 +1003,73 @@ impl Translator<'_> {
             focus_distance: lens.1,
         };
         (Some((camera, fov_at)), film, spp)
+    }
+
+    /// Mitsuba's field of view of a perspective sensor or a projector (`parse_fov` in
+    /// src/render/sensor.cpp): `fov` with `fov_axis`, or `focal_length` ("<x>mm" on a 36 x 24
+    /// mm film, 50mm where neither is given: the diagonal field of view). The rule is kept, to
+    /// be resolved at the size that renders (or, for a projector, its texture's); with where
+    /// its value is written.
+    fn field_of_view(&mut self, o: &Object, p: &mut Props) -> Option<(Fov, usize)> {
+        // The field of view, an angle in (0, 180) degrees; `written`: where its value is, if any.
+        let written = p.props.iter().find(|q| q.name == "fov").map(|q| q.value_at);
+        let fov = match (self.float(p, "fov"), written) {
+            (Some(v), Some(at)) if v.is_finite() && v > 0.0 && v < 180.0 => Some((v, at)),
+            (Some(v), Some(at)) => {
+                self.error(at, "fov", format!("`fov` must be a finite angle in (0, 180) degrees (got {v})"));
+                None
+            }
+            _ => None,
+        };
+        let axis = self.string(p, "fov_axis");
+        // Mitsuba's `focal_length` ("<x>mm" on a 36 x 24 mm film, 50mm by default): the
+        // diagonal field of view 2 atan(sqrt(36^2 + 24^2) / (2 x)).
+        let focal = match p.take("focal_length") {
+            Some(prop) if written.is_some() => {
+                self.error(prop.at, "focal_length", "give either `fov` or `focal_length`, not both (as Mitsuba requires)");
+                None
+            }
+            Some(prop) => {
+                let text = match &prop.value {
+                    Value::String(t) => Some(t.clone()),
+                    Value::Float(v) => Some(v.to_string()),
+                    _ => None,
+                };
+                match text.as_deref().map(|t| t.trim().trim_end_matches("mm").trim().parse::<f64>()) {
+                    Some(Ok(mm)) if mm.is_finite() && mm > 0.0 => Some((mm, prop.value_at)),
+                    _ => {
+                        self.error(prop.value_at, "focal_length", "`focal_length` must be of the form <x>mm with x > 0 (Mitsuba's)".to_string());
+                        None
+                    }
+                }
+            }
+            None if written.is_none() => Some((50.0, o.at)),
+            None => None,
+        };
+        let (fov, fov_at, axis_name) = match (fov, focal) {
+            (Some((fov, at)), _) => (fov, at, axis.as_ref().map_or("x", |(a, _)| a.as_str()).to_string()),
+            (None, Some((mm, at))) => {
+                if let Some((_, axis_at)) = &axis {
+                    self.warn(*axis_at, "fov_axis", "`fov_axis` is ignored with a focal length: Mitsuba's is then the diagonal".to_string());
+                }
+                (2.0 * (36.0f64.hypot(24.0) / (2.0 * mm)).atan().to_degrees(), at, "diagonal".to_string())
+            }
+            (None, None) => return None,
+        };
+        // The field of view by its rule, kept as Mitsuba's: resolved at whatever size renders.
+        let fov = match axis_name.as_str() {
+            "x" => Fov::X(fov),
+            "y" => Fov::Y(fov),
+            "smaller" => Fov::Smaller(fov),
+            "larger" => Fov::Larger(fov),
+            "diagonal" => Fov::Diagonal(fov),
+            other => {
+                let at = axis.as_ref().map_or(o.at, |(_, at)| *at);
+                self.error(at, "fov_axis", format!("unknown fov_axis \"{other}\" (x, y, smaller, larger, diagonal)"));
+                Fov::X(fov)
+            }
+        };
+        Some((fov, fov_at))
     }
 
     /// Mitsuba 3.9.1's `orthographic` sensor (`src/sensors/orthographic.cpp`): its sample-to-camera
