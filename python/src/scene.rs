@@ -155,8 +155,8 @@ impl PyScene {
     fn display(&self) -> (String, f32) {
         (self.scene.display.transfer.to_string(), self.scene.display.exposure)
     }
-    /// The emitters: one dict per emissive sphere, per emissive disk or cylinder, per emissive mesh and per point, spot or
-    /// directional light, with its radiance (intensity, irradiance) and emitted power
+    /// The emitters: one dict per emissive sphere, per emissive disk or cylinder, per emissive mesh and per point, spot,
+    /// directional or projector light, with its radiance (intensity, irradiance) and emitted power
     /// (luminance, the weight of power light selection).
     #[getter]
     fn lights<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
@@ -221,6 +221,7 @@ impl PyScene {
                     d.set_item("intensity", vec3(l.intensity))?;
                     d.set_item("cutoff_angle", l.cutoff_angle)?;
                     d.set_item("beam_width", l.beam_width)?;
+                    d.set_item("textured", l.texture.is_some())?;
                     d.set_item("power", s.light_power(light))?;
                     out.push(d);
                 }
@@ -231,6 +232,21 @@ impl PyScene {
                     d.set_item("index", i)?;
                     d.set_item("direction", vec3(l.direction))?;
                     d.set_item("irradiance", vec3(l.irradiance))?;
+                    d.set_item("power", s.light_power(light))?;
+                    out.push(d);
+                }
+                Light::Projector(i) => {
+                    let d = PyDict::new(py);
+                    let l = &s.projector_lights[i];
+                    d.set_item("kind", "projector")?;
+                    d.set_item("index", i)?;
+                    d.set_item("position", vec3(l.position))?;
+                    d.set_item("direction", vec3(l.direction))?;
+                    d.set_item("up", vec3(l.up))?;
+                    let (w, h) = l.resolution();
+                    let (fx, fy) = l.fov.angles(w, h);
+                    d.set_item("fov", (fx, fy))?;
+                    d.set_item("scale", l.scale)?;
                     d.set_item("power", s.light_power(light))?;
                     out.push(d);
                 }
