@@ -130,10 +130,10 @@ fn camera_ray(px: u32, py: u32, jitter: vec2f, u_lens: vec2f) -> CameraRay {
 
 // The contribution of one light sample, picked with probability `prob`: f |cos| / (prob pdf)
 // times the emission, unless shadowed, weighted against BSDF sampling under MIS. x: the shading
-// point, origin: x offset off its surface on wo's side; n_s: shading normal, n_g: geometric
+// point (p_error: Hit.p_error), origin: x offset off its surface on wo's side; n_s: shading normal, n_g: geometric
 // normal, both on wo's side. Where a BSDF may transmit, a light behind the surface is sampled
 // too, its shadow ray leaving from the other side.
-fn direct_light(es: EmitterSample, prob: f32, x: vec3f, origin_wo_side: vec3f, n_s: vec3f, n_g: vec3f, wo: vec3f, m: Bsdf) -> vec3f {
+fn direct_light(es: EmitterSample, prob: f32, x: vec3f, p_error: f32, origin_wo_side: vec3f, n_s: vec3f, n_g: vec3f, wo: vec3f, m: Bsdf) -> vec3f {
     // Density of the light strategy: selection times the light's own.
     let pdf = prob * es.pdf;
     let cos_i = dot(es.wi, n_s);
@@ -142,7 +142,7 @@ fn direct_light(es: EmitterSample, prob: f32, x: vec3f, origin_wo_side: vec3f, n
     var origin = origin_wo_side;
     if (bsdf_may_transmit()) {
         contributes = pdf > 0.0 && cos_i != 0.0 && max3(e.f) > 0.0 && max3(es.emission) > 0.0;
-        origin = offset_ray_origin(x, transmission_side(n_g, es.wi));
+        origin = offset_ray_origin(x, transmission_side(n_g, es.wi), p_error);
     }
     if (HAS_SHADING_NORMALS) {
         // Directions on the other side of the geometric surface than of the shading one do not
@@ -187,22 +187,22 @@ fn same_side_of_both(wi: vec3f, n_s: vec3f, n_g: vec3f) -> bool {
 // Next event estimation at vertex x: one shadow ray to each light (LIGHT_SELECT all), or to one
 // light picked by uniform or power selection. Each light is sampled by its kind
 // (sample_emitter, generated).
-fn estimate_direct(id: SampleId, dim_base: u32, ctx: LightSampleContext, n_s: vec3f, n_g: vec3f, wo: vec3f, m: Bsdf) -> vec3f {
+fn estimate_direct(id: SampleId, dim_base: u32, ctx: LightSampleContext, p_error: f32, n_s: vec3f, n_g: vec3f, wo: vec3f, m: Bsdf) -> vec3f {
     var radiance = vec3f(0.0);
     let x = ctx.x;
-    let origin = offset_ray_origin(x, n_g);
+    let origin = offset_ray_origin(x, n_g, p_error);
     if (LIGHT_SELECT == LIGHT_SELECT_ALL) {
         // With the loop unrolled over a scene's few lights, their kinds and the shadow ray's
         // test of a sphere light itself fold away. No `continue`: the loop stays a simple
         // counted one.
         for (var l = 0u; l < NUM_LIGHTS; l++) {
             let u = sample_2d(id.pixel, id.index, dim_base + 4u + 2u * l, id.seed);
-            radiance += direct_light(sample_emitter(l, ctx, u), 1.0, x, origin, n_s, n_g, wo, m);
+            radiance += direct_light(sample_emitter(l, ctx, u), 1.0, x, p_error, origin, n_s, n_g, wo, m);
         }
     } else {
         let chosen = select_light(sample_1d(id.pixel, id.index, dim_base + 4u, id.seed));
         let u = sample_2d(id.pixel, id.index, dim_base + 5u, id.seed);
-        radiance += direct_light(sample_emitter(chosen.index, ctx, u), chosen.prob, x, origin, n_s, n_g, wo, m);
+        radiance += direct_light(sample_emitter(chosen.index, ctx, u), chosen.prob, x, p_error, origin, n_s, n_g, wo, m);
     }
     return radiance;
 }
@@ -298,7 +298,7 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
         var skips = 0u;
         while (skips < EMITTER_SKIPS && hit.object != INVALID && light_of(hit.object) != INVALID) {
             let x = ray_o + ray_d * hit.t;
-            ray_o = offset_ray_origin(x, select(-hit.normal, hit.normal, dot(hit.normal, ray_d) > 0.0));
+            ray_o = offset_ray_origin(x, select(-hit.normal, hit.normal, dot(hit.normal, ray_d) > 0.0), hit.p_error);
             hit = intersect_scene(ray_o, ray_d);
             skips++;
         }
@@ -364,7 +364,7 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
         let scatters = !from_inside || (materials[hit.material].flags & MATERIAL_ONE_SIDED) == 0u;
 
         if (LIGHT_SAMPLING != LIGHTS_NONE && NUM_LIGHTS > 0u && scatters && !bsdf_is_delta(m)) {
-            radiance += throughput * estimate_direct(id, dim_base, LightSampleContext(x, hit.object, from_inside, n_s), n_s, n_g, wo, m);
+            radiance += throughput * estimate_direct(id, dim_base, LightSampleContext(x, hit.object, from_inside, n_s), hit.p_error, n_s, n_g, wo, m);
         }
 
         let u_dir = sample_2d(id.pixel, id.index, dim_base, id.seed);
@@ -401,16 +401,16 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
             }
         }
         let prev = PrevVertex(x, hit.object, from_inside, bs.pdf, bs.delta, n_s);
-        ray_o = offset_ray_origin(x, n_g);
+        ray_o = offset_ray_origin(x, n_g, hit.p_error);
         if (bsdf_may_transmit()) {
-            ray_o = offset_ray_origin(x, transmission_side(n_g, bs.wi));
+            ray_o = offset_ray_origin(x, transmission_side(n_g, bs.wi), hit.p_error);
         }
         if (passes) {
-            ray_o = offset_ray_origin(x, -n_g);
+            ray_o = offset_ray_origin(x, -n_g, hit.p_error);
         }
         ray_d = bs.wi;
         // A sample that cannot scatter (below the surface) ends the path untraced.
-        hit = Hit(0.0, vec3f(0.0, 0.0, 1.0), 0u, INVALID, vec3f(0.0, 0.0, 1.0), vec2f(0.0), vec3f(0.0));
+        hit = Hit(0.0, vec3f(0.0, 0.0, 1.0), 0u, INVALID, vec3f(0.0, 0.0, 1.0), vec2f(0.0), vec3f(0.0), 0.0);
         if (scattered) {
             hit = intersect_scene(ray_o, ray_d);
         }

@@ -19,6 +19,13 @@ struct Hit {
     // triangle_tangent; not normalised, 0 where the parametrisation is singular), where
     // HAS_TANGENT_FRAMES; else 0.
     tangent: vec3f,
+    // A bound on the error of the hit point o + t d and of later tests against its surface,
+    // where it exceeds what offset_ray_origin allows for by the point's own magnitude: on a
+    // triangle gamma(7) times its largest vertex coordinate (the sheared test's t errs by the
+    // vertices' magnitude, as pbrt-v4's bounds say), so that rays leaving a triangle whose
+    // vertices are far larger than the point (a floor 2000 wide) do not find it again; 0
+    // elsewhere.
+    p_error: f32,
 }
 
 // The first object index of the quadrics (disks, then cylinders).
@@ -208,7 +215,7 @@ fn intersect_scene(o: vec3f, d: vec3f) -> Hit {
     if (HAS_TANGENT_FRAMES && object != INVALID) {
         tangent = select(plane_tangent(plane_normal), sphere_tangent(object, sphere_normal), object < NUM_SPHERES);
     }
-    var hit = Hit(t_hit, normal, material, object, normal, uv, tangent);
+    var hit = Hit(t_hit, normal, material, object, normal, uv, tangent, 0.0);
     if (NUM_DISKS + NUM_CYLINDERS > 0u) {
         // Quadrics in loops of their own, as spheres: a lane-uniform index, read as broadcasts.
         var quadric = INVALID;
@@ -236,7 +243,7 @@ fn intersect_scene(o: vec3f, d: vec3f) -> Hit {
             if (HAS_TANGENT_FRAMES) {
                 q_tangent = quadric_tangent(quadric, q, x);
             }
-            hit = Hit(hit.t, n, q.material, first_quadric_object() + quadric, n, q_uv, q_tangent);
+            hit = Hit(hit.t, n, q.material, first_quadric_object() + quadric, n, q_uv, q_tangent, 0.0);
         }
     }
     if (NUM_TRIANGLES > 0u) {
@@ -253,7 +260,8 @@ fn intersect_scene(o: vec3f, d: vec3f) -> Hit {
             if (HAS_TANGENT_FRAMES) {
                 tri_tangent = triangle_tangent(th.index, tri, n);
             }
-            hit = Hit(th.t, n, tri.material, first_triangle_object() + th.index, shading_normal, tri_uv, tri_tangent);
+            let p_error = GAMMA_7 * max(max3(abs(tri.p0)), max(max3(abs(tri.p1)), max3(abs(tri.p2))));
+            hit = Hit(th.t, n, tri.material, first_triangle_object() + th.index, shading_normal, tri_uv, tri_tangent, p_error);
         }
     }
     return hit;
@@ -286,9 +294,14 @@ fn occluded(o: vec3f, d: vec3f, t_max: f32, skip: u32) -> bool {
     return blocked;
 }
 
+// gamma(7) = 7 u / (1 - 7 u), u = 2^-24 the f32 unit roundoff (pbrt-v4's error bounds).
+const GAMMA_7: f32 = 4.1723e-7;
+
 // Origin for a ray leaving surface point p on the side of unit normal n_side: offset by a
-// distance proportional to the point's magnitude, above the f32 error of p and of the hit.
-fn offset_ray_origin(p: vec3f, n_side: vec3f) -> vec3f {
+// distance proportional to the point's magnitude, above the f32 error of p and of the hit,
+// or by four times p_error (Hit.p_error) where that is more: the error of a triangle's hit
+// and of later tests against it grow with its vertices' magnitude, not the point's.
+fn offset_ray_origin(p: vec3f, n_side: vec3f, p_error: f32) -> vec3f {
     let scale = max(max3(abs(p)), 1.0);
-    return p + n_side * (scale * 2e-5);
+    return p + n_side * max(scale * 2e-5, 4.0 * p_error);
 }
