@@ -58,4 +58,17 @@ fn the_direct_integrators_settings_are_read_or_refused() {
     // Mitsuba's `moment` around it, as its test scenes write it.
     let s = scene("<integrator type=\"moment\"><integrator type=\"direct\"/></integrator>").unwrap();
     assert_eq!(s.render.max_depth, 2);
+
+    // Mitsuba's `aov` renders its first nested integrator's image (its AOVs go to channels
+    // pathlab does not write); `ptracer` has path's expectation at its depth.
+    let s = scene("<integrator type=\"aov\"><string name=\"aovs\" value=\"dd.y:depth,nn:sh_normal\"/><integrator type=\"path\"><integer name=\"max_depth\" value=\"3\"/></integrator></integrator>").unwrap();
+    assert_eq!(s.render.max_depth, 3);
+    assert!(s.warnings.iter().any(|w| w.message.contains("read as its first nested integrator")), "{:?}", s.warnings);
+    let e = scene("<integrator type=\"aov\"><string name=\"aovs\" value=\"dd.y:depth\"/></integrator>").unwrap_err().to_string();
+    assert!(e.contains("without a nested integrator"), "{e}");
+    let s = scene("<integrator type=\"ptracer\"><integer name=\"max_depth\" value=\"4\"/><integer name=\"samples_per_pass\" value=\"8\"/></integrator>").unwrap();
+    assert_eq!((s.render.max_depth, s.render.rr_depth), (4, None));
+    assert!(s.warnings.iter().any(|w| w.message.contains("ptracer") && w.message.contains("specular")), "{:?}", s.warnings);
+    let e = scene("<integrator type=\"ptracer\"><integer name=\"max_depth\" value=\"0\"/></integrator>").unwrap_err().to_string();
+    assert!(e.contains("max_depth must be -1"), "{e}");
 }

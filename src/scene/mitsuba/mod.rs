@@ -1243,6 +1243,45 @@ impl Translator<'_> {
                 }
                 self.error(o.at, "type", format!("<integrator type=\"moment\"> must wrap exactly one <integrator> (it wraps {})", nested.len()));
             }
+            // Mitsuba's `aov` renders its first nested integrator's image and writes the AOVs
+            // it names as extra channels (src/integrators/aov.cpp: `result` is inner integrator
+            // 0's): the image is that integrator's.
+            "aov" => {
+                let nested: Vec<&Object> = o.children.iter().filter(|c| c.tag == "integrator").collect();
+                if let Some(first) = nested.first() {
+                    self.warn(
+                        o.at,
+                        "type",
+                        "<integrator type=\"aov\"> is read as its first nested integrator (the image is the same; pathlab writes no AOV channels)".to_string(),
+                    );
+                    let mut p = Props::of(o);
+                    let _ = self.string(&mut p, "aovs");
+                    self.finish(p, "aovs");
+                    for extra in &nested[1..] {
+                        self.warn(extra.at, "", "a second integrator inside <integrator type=\"aov\"> is ignored: its image goes to AOV channels, which pathlab does not write".to_string());
+                    }
+                    return self.integrator(first);
+                }
+                self.error(o.at, "type", "<integrator type=\"aov\"> without a nested integrator renders AOVs only, which pathlab does not write".to_string());
+            }
+            // Mitsuba's `ptracer` (src/integrators/ptracer.cpp) traces light from the emitters
+            // to the sensor: the same expected image as `path` at the same depth, except light
+            // that reaches the sensor through a specular (delta) surface, which a particle
+            // tracer cannot connect and `path` renders. `samples_per_pass` changes nothing.
+            "ptracer" => {
+                self.warn(
+                    o.at,
+                    "type",
+                    "<integrator type=\"ptracer\"> is read as path with its max_depth, rr_depth and hide_emitters: the same expected image, except light reaching the camera through a specular surface, which Mitsuba's particle tracer cannot render and path does".to_string(),
+                );
+                let mut p = Props::of(o);
+                let _ = self.integer(&mut p, "samples_per_pass");
+                let max_depth = self.integer(&mut p, "max_depth");
+                let rr_depth = self.integer(&mut p, "rr_depth");
+                let hide_emitters = self.get::<bool>(&mut p, "hide_emitters").map(|(v, prop)| (v, prop.value_at));
+                self.finish(p, "max_depth, rr_depth, hide_emitters, samples_per_pass");
+                return self.depths(o, max_depth, rr_depth, hide_emitters);
+            }
             "path" => {}
             // Mitsuba's `direct` (src/integrators/direct.cpp): what the camera sees emitted,
             // plus one bounce of direct light from light and BSDF sampling weighed by the power
@@ -1276,7 +1315,7 @@ impl Translator<'_> {
             other => self.error(
                 o.at,
                 "type",
-                format!("<integrator type=\"{other}\"> is not supported (pathlab is a unidirectional path tracer: path, direct (path with max_depth 2), or volpath without media)"),
+                format!("<integrator type=\"{other}\"> is not supported (pathlab is a unidirectional path tracer: path, direct (path with max_depth 2), ptracer and aov (read as path and their nested integrator), or volpath without media)"),
             ),
         }
         let mut p = Props::of(o);
@@ -1284,6 +1323,12 @@ impl Translator<'_> {
         let rr_depth = self.integer(&mut p, "rr_depth");
         let hide_emitters = self.get::<bool>(&mut p, "hide_emitters").map(|(v, prop)| (v, prop.value_at));
         self.finish(p, "max_depth, rr_depth, hide_emitters");
+        self.depths(o, max_depth, rr_depth, hide_emitters)
+    }
+
+    /// A path tracer's depths as read (`max_depth`, `rr_depth`, Mitsuba's defaults where not
+    /// given), checked.
+    fn depths(&mut self, o: &Object, max_depth: Option<(i64, usize)>, rr_depth: Option<(i64, usize)>, hide_emitters: Option<(bool, usize)>) -> (i64, i64, usize, Option<(bool, usize)>) {
         if let Some((d, at)) = max_depth {
             if d == 0 || d < -1 {
                 self.error(at, "max_depth", format!("max_depth must be -1 (unbounded) or at least 1 (got {d})"));
