@@ -8,8 +8,9 @@
 // textures compile all of it out. Records: the kind (src/scene/textures.rs numbers them), then
 // its parameters.
 //
-//   checkerboard (0): color0 (3), color1 (3), to_uv scale (2): color0 where the fractional parts
-//   of the scaled u and v are both above 1/2 or both not (Mitsuba's checkerboard.cpp).
+//   checkerboard (0): color0 (3), color1 (3), to_uv (6: two rows of a 2D affine map): color0
+//   where the fractional parts of the mapped u and v are both above 1/2 or both not (Mitsuba's
+//   checkerboard.cpp).
 //   bitmap (1): width, height, filter (0 nearest, 1 bilinear), wrap (0 repeat, 1 mirror,
 //   2 clamp), storage (0 float RGB, 1 bytes), to_uv (6: two rows of a 2D affine map); then for
 //   bytes a 256-entry decode table (sRGB or code/255) and one number per texel holding its
@@ -22,7 +23,11 @@
 //   rawconstant (3): the value (3): Mitsuba's rawconstant, the same everywhere.
 
 fn eval_checkerboard_texture(at: u32, uv: vec2f) -> vec3f {
-    let scaled = uv * vec2f(bsdf_data[at + 7u], bsdf_data[at + 8u]);
+    // m00 u + m01 v + m02 (a pure scale gives exactly the scaled u, as before 2026-12-05).
+    let scaled = vec2f(
+        bsdf_data[at + 7u] * uv.x + bsdf_data[at + 8u] * uv.y + bsdf_data[at + 9u],
+        bsdf_data[at + 10u] * uv.x + bsdf_data[at + 11u] * uv.y + bsdf_data[at + 12u],
+    );
     let above = (scaled - floor(scaled)) > vec2f(0.5);
     let first = 1u + select(3u, 0u, above.x == above.y);
     return vec3f(bsdf_data[at + first], bsdf_data[at + first + 1u], bsdf_data[at + first + 2u]);

@@ -25,11 +25,16 @@
 //!    Mitsuba 3.9.1's at the uvs and configurations of 4 (scripts/bitmap_evals.py), and the
 //!    kernel's `texture_gradient` against the host's, away from texel centres (where the
 //!    gradient jumps): equal to f32 rounding.
+//! 7. Checkerboards with `to_uv` that translates, rotates and shears, read from XML as Mitsuba
+//!    reads them (the transform's 2D affine part), against Mitsuba 3.9.1's own `checkerboard`
+//!    at 64 uvs each (tests/fixtures/textures/checkerboard_evals.json, made by
+//!    scripts/checkerboard_evals.py): the same colour but within 1e-5 of a cell edge, where the
+//!    rounding of the map decides.
 
 use crate::common;
 
 use common::*;
-use glam::{DVec2, DVec3};
+use glam::DVec3;
 use pathlab::method::Preset;
 use pathlab::scene::image_file::read_image;
 use pathlab::scene::textures::{Bitmap, Filter, Wrap};
@@ -60,9 +65,11 @@ fn lookups(queries: &[[f32; 4]], data: &BsdfData) -> Vec<[f32; 4]> {
 #[test]
 fn the_kernels_checkerboard_is_the_hosts() {
     let textures = [
-        Texture::Checkerboard { color0: DVec3::new(0.9, 0.5, 0.1), color1: DVec3::new(0.05, 0.2, 0.7), to_uv_scale: DVec2::new(4.0, 4.0) },
-        Texture::Checkerboard { color0: DVec3::splat(0.4), color1: DVec3::splat(0.2), to_uv_scale: DVec2::new(20.0, 80.0) },
-        Texture::Checkerboard { color0: DVec3::ONE, color1: DVec3::ZERO, to_uv_scale: DVec2::new(-3.0, 0.5) },
+        Texture::Checkerboard { color0: DVec3::new(0.9, 0.5, 0.1), color1: DVec3::new(0.05, 0.2, 0.7), to_uv: [[4.0, 0.0, 0.0], [0.0, 4.0, 0.0]] },
+        Texture::Checkerboard { color0: DVec3::splat(0.4), color1: DVec3::splat(0.2), to_uv: [[20.0, 0.0, 0.0], [0.0, 80.0, 0.0]] },
+        Texture::Checkerboard { color0: DVec3::ONE, color1: DVec3::ZERO, to_uv: [[-3.0, 0.0, 0.0], [0.0, 0.5, 0.0]] },
+        // A turned, sheared and shifted one (Mitsuba's full to_uv).
+        Texture::Checkerboard { color0: DVec3::new(0.3, 0.6, 0.9), color1: DVec3::splat(0.05), to_uv: [[3.0, 1.5, -0.25], [-2.0, 4.0, 0.6]] },
     ];
     let mut data = BsdfData::default();
     // Something before the textures, as other materials' data would be.
@@ -142,6 +149,45 @@ fn bitmap_lookups_are_mitsubas() {
         }
     }
     assert!(checked > 2000, "{checked} lookups");
+}
+
+#[test]
+fn checkerboards_with_any_to_uv_are_mitsubas() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/textures/checkerboard_evals.json");
+    let json: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let f = |v: &serde_json::Value| v.as_f64().unwrap();
+    let (mut checked, mut edges) = (0, 0);
+    for c in json["configs"].as_array().unwrap() {
+        let rgb = |v: &serde_json::Value| format!("{}, {}, {}", f(&v[0]), f(&v[1]), f(&v[2]));
+        let bsdf = format!(
+            "<bsdf type=\"diffuse\" id=\"b\"><texture type=\"checkerboard\" name=\"reflectance\"><rgb name=\"color0\" value=\"{}\"/><rgb name=\"color1\" value=\"{}\"/><transform name=\"to_uv\">{}</transform></texture></bsdf>",
+            rgb(&c["color0"]),
+            rgb(&c["color1"]),
+            c["to_uv"].as_str().unwrap()
+        );
+        let scene = load_xml(&xml_with_bsdf(&bsdf, "b"), "c.xml").unwrap();
+        let texture = scene.materials.iter().flat_map(|m| m.textures()).next().expect("the checkerboard").clone();
+        let Texture::Checkerboard { to_uv: m, .. } = &texture else { panic!("{texture:?}") };
+        for (uv, e) in c["uvs"].as_array().unwrap().iter().zip(c["values"].as_array().unwrap()) {
+            let uv = [f(&uv[0]) as f32, f(&uv[1]) as f32];
+            let got = texture.eval(uv, [0.0; 3]);
+            let e = [f(&e[0]) as f32, f(&e[1]) as f32, f(&e[2]) as f32];
+            // Within 1e-5 of a cell edge (of the doubled map: cells are half a unit wide), the
+            // last bits of the map's rounding pick the side.
+            let at_edge = (0..2).any(|r| {
+                let x = 2.0 * (m[r][0] * uv[0] as f64 + m[r][1] * uv[1] as f64 + m[r][2]);
+                (x - x.round()).abs() < 2e-5
+            });
+            if at_edge {
+                edges += 1;
+            } else {
+                assert_eq!(got, e, "to_uv {} {m:?} at {uv:?}", c["to_uv"]);
+                checked += 1;
+            }
+        }
+    }
+    println!("{checked} lookups equal Mitsuba's; {edges} within 1e-5 of a cell edge left out");
+    assert!(checked >= 250 && edges <= 6, "{checked} checked, {edges} at edges");
 }
 
 /// Whether uv lies within 1e-3 texel of a texel centre along x or y of the bitmap: where the
@@ -271,7 +317,7 @@ fn textures_are_read_from_toml_and_xml_and_bad_ones_refused() {
     let with = toml_with_material;
     let s = scene(&with("diffuse = { texture = \"checkerboard\", color0 = [0.8, 0.6, 0.4], to_uv_scale = [20, 80] }"));
     let Bsdf::Phong(p) = &s.materials[0].bsdf else { panic!("not phong") };
-    let expected = Texture::Checkerboard { color0: DVec3::new(0.8, 0.6, 0.4), color1: DVec3::splat(0.2), to_uv_scale: DVec2::new(20.0, 80.0) };
+    let expected = Texture::Checkerboard { color0: DVec3::new(0.8, 0.6, 0.4), color1: DVec3::splat(0.2), to_uv: [[20.0, 0.0, 0.0], [0.0, 80.0, 0.0]] };
     assert_eq!(p.diffuse_texture.as_ref(), Some(&expected));
     assert_eq!(p.diffuse, expected.mean(), "the mean stands for the texture on the host");
     let cases = [
@@ -279,6 +325,8 @@ fn textures_are_read_from_toml_and_xml_and_bad_ones_refused() {
         ("diffuse = { color0 = 0.5 }", "needs `texture = \"checkerboard\"`, `\"bitmap\"` or `\"volume\"`"),
         ("diffuse = { texture = \"checkerboard\", color0 = -1 }", "`color0` of a checkerboard must be a colour >= 0"),
         ("diffuse = { texture = \"checkerboard\", to_uv_scale = [0, 1] }", "two finite non-zero numbers"),
+        ("diffuse = { texture = \"checkerboard\", to_uv_scale = [2, 1], to_uv = [[1, 0, 0], [0, 1, 0]] }", "either `to_uv_scale` or `to_uv`"),
+        ("diffuse = { texture = \"checkerboard\", to_uv = [[1, 0], [0, 1]] }", "two rows of three finite numbers"),
         ("diffuse = { texture = \"checkerboard\", colour0 = 1 }", "unknown key `colour0`"),
     ];
     for (material, message) in cases {
@@ -293,11 +341,10 @@ fn textures_are_read_from_toml_and_xml_and_bad_ones_refused() {
     let path = dir.path().join("t.xml");
     std::fs::write(&path, xml("<bsdf type=\"diffuse\" id=\"t\"><texture type=\"checkerboard\" name=\"reflectance\"><rgb name=\"color1\" value=\"0.1, 0.2, 0.3\"/><transform name=\"to_uv\"><scale x=\"10\" y=\"5\"/></transform></texture></bsdf>")).unwrap();
     let s = Scene::load(&path).unwrap();
-    let expected = Texture::Checkerboard { color0: DVec3::splat(0.4), color1: DVec3::new(0.1, 0.2, 0.3), to_uv_scale: DVec2::new(10.0, 5.0) };
+    let expected = Texture::Checkerboard { color0: DVec3::splat(0.4), color1: DVec3::new(0.1, 0.2, 0.3), to_uv: [[10.0, 0.0, 0.0], [0.0, 5.0, 0.0]] };
     assert!(matches!(&s.materials[0].bsdf, Bsdf::Phong(p) if p.diffuse_texture.as_ref() == Some(&expected)), "{:?}", s.materials[0].bsdf);
     for (bsdf, message) in [
         ("<bsdf type=\"diffuse\" id=\"t\"><texture type=\"bricks\" name=\"reflectance\"/></bsdf>", "<texture type=\"bricks\"> is not supported (pathlab has checkerboard, bitmap, volume, rawconstant)"),
-        ("<bsdf type=\"diffuse\" id=\"t\"><texture type=\"checkerboard\" name=\"reflectance\"><transform name=\"to_uv\"><rotate z=\"1\" angle=\"30\"/></transform></texture></bsdf>", "only a scale of u and v is supported"),
         ("<bsdf type=\"roughplastic\" id=\"t\"><texture type=\"checkerboard\" name=\"specular_reflectance\"/></bsdf>", "a textured parameter other than diffuse_reflectance is not supported"),
         ("<bsdf type=\"conductor\" id=\"t\"><texture type=\"checkerboard\" name=\"alpha\"/></bsdf>", "a textured parameter other than eta, k, specular_reflectance (and a roughconductor's alpha) is not supported"),
         ("<bsdf type=\"dielectric\" id=\"t\"><texture type=\"checkerboard\" name=\"int_ior\"/></bsdf>", "a textured parameter other than specular_reflectance and specular_transmittance (and a roughdielectric's alpha) is not supported"),
@@ -372,10 +419,17 @@ fn bitmaps_are_read_from_toml_and_xml_and_bad_ones_refused() {
         let Some(Texture::Bitmap(b)) = &p.diffuse_texture else { panic!("{:?}", p.diffuse_texture) };
         assert_eq!(b.to_uv, expected, "{transform}");
     }
-    // A checkerboard's `to_uv` is a scale: a translation is refused, not dropped.
+    // A checkerboard's `to_uv` keeps its translation too (as Mitsuba's: until 2026-12-05
+    // pathlab refused it), and `convert` writes it as the TOML `to_uv`.
     std::fs::write(&xml_path, xml_with_bsdf("<bsdf type=\"diffuse\" id=\"t\"><texture type=\"checkerboard\" name=\"reflectance\"><transform name=\"to_uv\"><translate x=\"0.5\"/></transform></texture></bsdf>", "t")).unwrap();
-    let e = Scene::load(&xml_path).unwrap_err().to_string();
-    assert!(e.contains("only a scale of u and v"), "{e}");
+    let s = Scene::load(&xml_path).unwrap();
+    let Bsdf::Phong(p) = &s.materials[0].bsdf else { panic!("not phong") };
+    assert!(matches!(&p.diffuse_texture, Some(Texture::Checkerboard { to_uv, .. }) if *to_uv == [[1.0, 0.0, 0.5], [0.0, 1.0, 0.0]]), "{:?}", p.diffuse_texture);
+    let (toml, _) = pathlab::scene::mitsuba::to_toml(&xml_path, &[], dir.path()).unwrap();
+    assert!(toml.contains("to_uv = [[1.0, 0.0, 0.5], [0.0, 1.0, 0.0]]"), "{toml}");
+    let toml_path = dir.path().join("t.toml");
+    std::fs::write(&toml_path, &toml).unwrap();
+    assert_eq!(Scene::load(&toml_path).unwrap().content_hash(), s.content_hash());
     // A texture defined at the top level and taken by `<ref name id>`, before or after it.
     let wood = "<texture type=\"bitmap\" id=\"wood\"><string name=\"filename\" value=\"grid.png\"/><string name=\"filter_type\" value=\"nearest\"/></texture>";
     let user = "<bsdf type=\"roughplastic\" id=\"t\"><ref name=\"diffuse_reflectance\" id=\"wood\"/></bsdf>";

@@ -430,17 +430,13 @@ impl PluginProps for PluginReader<'_, '_, '_> {
                 table.insert(key.into(), color_value(c.0));
             }
         }
-        // `to_uv`: a scale (Mitsuba keeps the 2D affine part of the 4x4 transform, as for a
-        // bitmap; published scenes give scales).
-        if let Some((ops, at)) = self.t.transform(&mut p, "to_uv") {
-            // Any operations whose 2D affine part (what Mitsuba keeps) scales u and v alone:
-            // <scale>, or a <matrix> of a scale; a translation or a rotation is refused.
+        // `to_uv`: the 2D affine part of the 4x4 transform, as for a bitmap (Mitsuba 3.9.1's
+        // checkerboard.cpp: `to_uv` extracted to a 3x3, applied by transform_affine): rows and
+        // columns x, y and the translation. Until 2026-12-05 pathlab read scales alone.
+        if let Some((ops, _)) = self.t.transform(&mut p, "to_uv") {
             let m = compose(&ops).transpose().to_cols_array_2d();
-            if [m[0][1], m[0][3], m[1][0], m[1][3]].iter().all(|x| *x == 0.0) {
-                table.insert("to_uv_scale".into(), toml::Value::Array(vec![toml::Value::Float(m[0][0]), toml::Value::Float(m[1][1])]));
-            } else {
-                self.t.error(at, "to_uv", "`to_uv` of a checkerboard: only a scale of u and v is supported (give <scale>)".to_string());
-            }
+            let row = |r: usize| toml::Value::Array([0, 1, 3].iter().map(|&c| toml::Value::Float(m[r][c])).collect());
+            table.insert("to_uv".into(), toml::Value::Array(vec![row(0), row(1)]));
         }
         self.t.finish(p, "color0, color1, to_uv");
         for c in &t.children {

@@ -8,7 +8,7 @@
 //! lookups of the kinds it uses alone (`TEXTURE_KINDS`).
 //!
 //! Kinds: Mitsuba's `checkerboard` (`color0`, default 0.4; `color1`, default 0.2; `to_uv`, a
-//! scale), `bitmap` (an image file; `bitmap.rs`) and `volume` (a `.vol` grid looked up at the
+//! 2D affine map, `to_uv_scale` where it only scales), `bitmap` (an image file; `bitmap.rs`) and `volume` (a `.vol` grid looked up at the
 //! hit's world position rather than its uvs; `volume.rs`). TOML: a colour field given as an
 //! inline table,
 //! `diffuse = { texture = "checkerboard", color0 = [0.8, 0.8, 0.8], color1 = 0.2, to_uv_scale = [20, 80] }`,
@@ -43,8 +43,9 @@ pub const TEXTURE_RAW_CONSTANT: u32 = 3;
 #[derive(Debug, Clone, PartialEq)]
 pub enum Texture {
     /// Mitsuba's `checkerboard`: `color0` where the fractional parts of u and v (after
-    /// `to_uv`) are both above 1/2 or both not, `color1` elsewhere.
-    Checkerboard { color0: DVec3, color1: DVec3, to_uv_scale: DVec2 },
+    /// `to_uv`, rows of a 2D affine map as a bitmap's: uv' = (m00 u + m01 v + m02, m10 u +
+    /// m11 v + m12)) are both above 1/2 or both not, `color1` elsewhere.
+    Checkerboard { color0: DVec3, color1: DVec3, to_uv: [[f64; 3]; 2] },
     /// Mitsuba's `bitmap`: an image file.
     Bitmap(Bitmap),
     /// Mitsuba's `volume` around a `gridvolume`: a 3D grid looked up at the hit's world
@@ -111,10 +112,10 @@ impl Texture {
     /// render of a masked checkerboard confirms (tests/masks.rs).
     pub fn scalar(self) -> Texture {
         match self {
-            Texture::Checkerboard { color0, color1, to_uv_scale } => Texture::Checkerboard {
+            Texture::Checkerboard { color0, color1, to_uv } => Texture::Checkerboard {
                 color0: DVec3::splat(color1.element_sum() / 3.0),
                 color1: DVec3::splat(color0.element_sum() / 3.0),
-                to_uv_scale,
+                to_uv,
             },
             t => t,
         }
@@ -130,9 +131,10 @@ impl Texture {
     /// kernel computes it: the host's twin of `eval_texture`.
     pub fn eval(&self, uv: [f32; 2], p: [f32; 3]) -> [f32; 3] {
         match self {
-            Texture::Checkerboard { color0, color1, to_uv_scale } => {
-                let s = to_uv_scale.as_vec2();
-                let (u, v) = (uv[0] * s.x, uv[1] * s.y);
+            Texture::Checkerboard { color0, color1, to_uv } => {
+                // As the kernel: m00 u + m01 v + m02, in that order (a pure scale is exact).
+                let m = to_uv.map(|r| r.map(|x| x as f32));
+                let (u, v) = (m[0][0] * uv[0] + m[0][1] * uv[1] + m[0][2], m[1][0] * uv[0] + m[1][1] * uv[1] + m[1][2]);
                 let (mu, mv) = (u - u.floor() > 0.5, v - v.floor() > 0.5);
                 if mu == mv { color0.as_vec3().to_array() } else { color1.as_vec3().to_array() }
             }
@@ -145,9 +147,10 @@ impl Texture {
     /// Its record in the BSDF data: the kind, then its parameters; returns where it starts.
     pub fn pack(&self, data: &mut BsdfData) -> u32 {
         match self {
-            Texture::Checkerboard { color0, color1, to_uv_scale } => {
-                let (c0, c1, s) = (color0.as_vec3(), color1.as_vec3(), to_uv_scale.as_vec2());
-                data.push(&[TEXTURE_CHECKERBOARD as f32, c0.x, c0.y, c0.z, c1.x, c1.y, c1.z, s.x, s.y])
+            Texture::Checkerboard { color0, color1, to_uv } => {
+                let (c0, c1) = (color0.as_vec3(), color1.as_vec3());
+                let m = to_uv.map(|r| r.map(|x| x as f32));
+                data.push(&[TEXTURE_CHECKERBOARD as f32, c0.x, c0.y, c0.z, c1.x, c1.y, c1.z, m[0][0], m[0][1], m[0][2], m[1][0], m[1][1], m[1][2]])
             }
             Texture::Bitmap(b) => b.pack(data),
             Texture::Volume(v) => v.pack(data),
@@ -161,7 +164,10 @@ impl Texture {
     /// One line for `pathlab check`: its kind and parameters, for a bitmap its image.
     pub fn describe(&self) -> String {
         match self {
-            Texture::Checkerboard { to_uv_scale, .. } => format!("checkerboard, to_uv scale ({}, {})", to_uv_scale.x, to_uv_scale.y),
+            Texture::Checkerboard { to_uv, .. } => match scale_of(to_uv) {
+                Some(s) => format!("checkerboard, to_uv scale ({}, {})", s[0], s[1]),
+                None => format!("checkerboard, to_uv {:?}", to_uv),
+            },
             Texture::Bitmap(b) => {
                 let storage = match (&b.image.texels, b.image.srgb) {
                     (crate::scene::image_file::Texels::Bytes(_), true) => "8-bit sRGB",
@@ -183,7 +189,7 @@ impl Texture {
     /// Bytes of its record on the GPU (what `pathlab check` reports as its memory).
     pub fn gpu_bytes(&self) -> u64 {
         4 * match self {
-            Texture::Checkerboard { .. } => 9,
+            Texture::Checkerboard { .. } => 13,
             Texture::Bitmap(b) => b.record_len(),
             Texture::Volume(v) => v.record_len(),
             Texture::RawConstant { .. } => 4,
@@ -193,8 +199,10 @@ impl Texture {
     /// Its line of the scene hash, its vectors written by `vec3` (the hash's own format).
     pub fn hash_value(&self, vec3: impl Fn(DVec3) -> String) -> String {
         match self {
-            Texture::Checkerboard { color0, color1, to_uv_scale } => {
-                format!("checkerboard {} {} {}", vec3(*color0), vec3(*color1), vec3(to_uv_scale.extend(1.0)))
+            Texture::Checkerboard { color0, color1, to_uv } => match scale_of(to_uv) {
+                // A scale hashes as before 2026-12-05, when only scales were read.
+                Some(s) => format!("checkerboard {} {} {}", vec3(*color0), vec3(*color1), vec3(DVec3::new(s[0], s[1], 1.0))),
+                None => format!("checkerboard {} {} {} {}", vec3(*color0), vec3(*color1), vec3(DVec3::from(to_uv[0])), vec3(DVec3::from(to_uv[1]))),
             }
             Texture::Bitmap(b) => {
                 let m = b.to_uv;
@@ -273,8 +281,8 @@ impl Texture {
     fn checkerboard_from_toml(table: &toml::Table, span: Range<usize>, errors: &mut Vec<(Range<usize>, String)>) -> Option<Texture> {
         let mut ok = true;
         for key in table.keys() {
-            if !["texture", "color0", "color1", "to_uv_scale"].contains(&key.as_str()) {
-                errors.push((span.clone(), format!("unknown key `{key}` of a checkerboard (its keys: color0, color1, to_uv_scale)")));
+            if !["texture", "color0", "color1", "to_uv_scale", "to_uv"].contains(&key.as_str()) {
+                errors.push((span.clone(), format!("unknown key `{key}` of a checkerboard (its keys: color0, color1, to_uv_scale or to_uv)")));
                 ok = false;
             }
         }
@@ -312,7 +320,23 @@ impl Texture {
                 DVec2::ONE
             }
         };
-        ok.then_some(Texture::Checkerboard { color0, color1, to_uv_scale })
+        let to_uv = match (table.get("to_uv"), table.contains_key("to_uv_scale")) {
+            (None, _) => [[to_uv_scale.x, 0.0, 0.0], [0.0, to_uv_scale.y, 0.0]],
+            (Some(_), true) => {
+                errors.push((span.clone(), "give either `to_uv_scale` or `to_uv` of a checkerboard, not both".into()));
+                ok = false;
+                bitmap::IDENTITY_UV
+            }
+            (Some(v), false) => match uv_matrix(v) {
+                Some(m) => m,
+                None => {
+                    errors.push((span.clone(), "`to_uv` of a checkerboard must be two rows of three finite numbers, [[m00, m01, m02], [m10, m11, m12]]".into()));
+                    ok = false;
+                    bitmap::IDENTITY_UV
+                }
+            },
+        };
+        ok.then_some(Texture::Checkerboard { color0, color1, to_uv })
     }
 
     fn bitmap_from_toml(table: &toml::Table, span: Range<usize>, base: &Path, errors: &mut Vec<(Range<usize>, String)>) -> Option<Texture> {
@@ -403,13 +427,19 @@ impl Texture {
     /// Its TOML inline table.
     pub fn to_toml(&self) -> toml::Value {
         match self {
-            Texture::Checkerboard { color0, color1, to_uv_scale } => {
+            Texture::Checkerboard { color0, color1, to_uv } => {
                 let mut t = toml::Table::new();
                 t.insert("texture".into(), toml::Value::String("checkerboard".into()));
                 let color = |c: DVec3| toml::Value::try_from(RawColor(c.to_array())).expect("a colour is a TOML value");
                 t.insert("color0".into(), color(*color0));
                 t.insert("color1".into(), color(*color1));
-                t.insert("to_uv_scale".into(), toml::Value::Array(vec![toml::Value::Float(to_uv_scale.x), toml::Value::Float(to_uv_scale.y)]));
+                match scale_of(to_uv) {
+                    Some(s) => t.insert("to_uv_scale".into(), toml::Value::Array(vec![toml::Value::Float(s[0]), toml::Value::Float(s[1])])),
+                    None => {
+                        let row = |r: [f64; 3]| toml::Value::Array(r.iter().map(|&x| toml::Value::Float(x)).collect());
+                        t.insert("to_uv".into(), toml::Value::Array(vec![row(to_uv[0]), row(to_uv[1])]))
+                    }
+                };
                 toml::Value::Table(t)
             }
             Texture::Bitmap(b) => {
@@ -521,6 +551,11 @@ impl<'a> TableReader<'a> {
 }
 
 /// `[[m00, m01, m02], [m10, m11, m12]]` of finite numbers.
+/// The scales (su, sv) of a `to_uv` that only scales u and v.
+fn scale_of(m: &[[f64; 3]; 2]) -> Option<[f64; 2]> {
+    (m[0][1] == 0.0 && m[0][2] == 0.0 && m[1][0] == 0.0 && m[1][2] == 0.0).then_some([m[0][0], m[1][1]])
+}
+
 fn uv_matrix(v: &toml::Value) -> Option<[[f64; 3]; 2]> {
     let rows = v.as_array().filter(|r| r.len() == 2)?;
     let mut m = [[0.0; 3]; 2];
@@ -539,7 +574,7 @@ mod tests {
 
     #[test]
     fn the_checkerboard_is_mitsubas() {
-        let t = Texture::Checkerboard { color0: DVec3::splat(0.8), color1: DVec3::splat(0.2), to_uv_scale: DVec2::new(2.0, 1.0) };
+        let t = Texture::Checkerboard { color0: DVec3::splat(0.8), color1: DVec3::splat(0.2), to_uv: [[2.0, 0.0, 0.0], [0.0, 1.0, 0.0]] };
         // (0.3, 0.2) -> (0.6, 0.2): u above 1/2, v not: color1.
         assert_eq!(t.eval([0.3, 0.2], [0.0; 3]), [0.2; 3]);
         // (0.1, 0.2) -> both below: color0; (0.3, 0.7): both above: color0.
