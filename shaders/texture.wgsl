@@ -8,9 +8,9 @@
 // textures compile all of it out. Records: the kind (src/scene/textures.rs numbers them), then
 // its parameters.
 //
-//   checkerboard (0): color0 (3), color1 (3), to_uv (6: two rows of a 2D affine map): color0
-//   where the fractional parts of the mapped u and v are both above 1/2 or both not (Mitsuba's
-//   checkerboard.cpp).
+//   checkerboard (0): color0 (3), color1 (3), to_uv's scales of u and v (2): color0 where the
+//   fractional parts of the scaled u and v are both above 1/2 or both not (Mitsuba's
+//   checkerboard.cpp); (4) the same with to_uv any 2D affine map (6: its two rows).
 //   bitmap (1): width, height, filter (0 nearest, 1 bilinear), wrap (0 repeat, 1 mirror,
 //   2 clamp), storage (0 float RGB, 1 bytes), to_uv (6: two rows of a 2D affine map); then for
 //   bytes a 256-entry decode table (sRGB or code/255) and one number per texel holding its
@@ -22,12 +22,15 @@
 //   the hit's world position p, not its uvs (Mitsuba's `volume` texture around a `gridvolume`).
 //   rawconstant (3): the value (3): Mitsuba's rawconstant, the same everywhere.
 
-fn eval_checkerboard_texture(at: u32, uv: vec2f) -> vec3f {
-    // m00 u + m01 v + m02 (a pure scale gives exactly the scaled u, as before 2026-12-05).
-    let scaled = vec2f(
-        bsdf_data[at + 7u] * uv.x + bsdf_data[at + 8u] * uv.y + bsdf_data[at + 9u],
-        bsdf_data[at + 10u] * uv.x + bsdf_data[at + 11u] * uv.y + bsdf_data[at + 12u],
-    );
+// A checkerboard at uv mapped by to_uv (a scale, or where `affine` two rows of a 2D affine map).
+fn eval_checkerboard_texture(at: u32, uv: vec2f, affine: bool) -> vec3f {
+    var scaled = uv * vec2f(bsdf_data[at + 7u], bsdf_data[at + 8u]);
+    if (affine) {
+        scaled = vec2f(
+            bsdf_data[at + 7u] * uv.x + bsdf_data[at + 8u] * uv.y + bsdf_data[at + 9u],
+            bsdf_data[at + 10u] * uv.x + bsdf_data[at + 11u] * uv.y + bsdf_data[at + 12u],
+        );
+    }
     let above = (scaled - floor(scaled)) > vec2f(0.5);
     let first = 1u + select(3u, 0u, above.x == above.y);
     return vec3f(bsdf_data[at + first], bsdf_data[at + first + 1u], bsdf_data[at + first + 2u]);
@@ -180,7 +183,7 @@ fn mix_exact(a: vec3f, b: vec3f, t: f32) -> vec3f {
 // The kinds of texture some material uses (bit k: kind k; SceneFeatures::texture_kinds): the
 // others' lookups are compiled out (lavapipe runs both sides of every branch: a grid lookup
 // compiled into every textured scene cost those a quarter of their speed).
-override TEXTURE_KINDS: u32 = 15u;
+override TEXTURE_KINDS: u32 = 31u;
 
 fn uses_texture_kind(kind: f32) -> bool {
     return (TEXTURE_KINDS & (1u << u32(kind))) != 0u;
@@ -198,8 +201,11 @@ fn eval_texture(at: u32, uv: vec2f, p: vec3f) -> vec3f {
     if (uses_texture_kind(TEXTURE_RAW_CONSTANT) && kind == TEXTURE_RAW_CONSTANT) {
         return vec3f(bsdf_data[at + 1u], bsdf_data[at + 2u], bsdf_data[at + 3u]);
     }
+    if (uses_texture_kind(TEXTURE_CHECKERBOARD_AFFINE) && kind == TEXTURE_CHECKERBOARD_AFFINE) {
+        return eval_checkerboard_texture(at, uv, true);
+    }
     if (uses_texture_kind(TEXTURE_CHECKERBOARD)) {
-        return eval_checkerboard_texture(at, uv);
+        return eval_checkerboard_texture(at, uv, false);
     }
     return vec3f(0.0);
 }

@@ -106,7 +106,7 @@ fn overrides_set_by_the_host_are_those_the_module_declares() {
         has_normal_maps: true,
         has_bump_maps: true,
         textured_opacity: true,
-        texture_kinds: 15,
+        texture_kinds: 31,
         microfacet_distributions: 3,
         textured_slots: [u16::MAX; pathlab::scene::BsdfKind::ALL.len()],
         has_back_bsdfs: true,

@@ -81,7 +81,7 @@ fn every_override_permutation_validates() {
                                     has_masks: (checked / 3) % 2 == 0,
                                     textured_opacity: on,
                                     // Every kind of texture, or none.
-                                    texture_kinds: if on { 15 } else { 0 },
+                                    texture_kinds: if on { 31 } else { 0 },
                                     // Each distribution alone, both, or none.
                                     microfacet_distributions: (checked % 4) as u32,
                                     // Every slot of every kind looked up, or none.

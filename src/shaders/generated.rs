@@ -53,6 +53,7 @@ pub fn generated_constants() -> String {
          const TEXTURE_VOLUME: f32 = {}.0;\n\
          const VOLUME_HEADER: u32 = {}u;\n\
          const TEXTURE_RAW_CONSTANT: f32 = {}.0;\n\
+         const TEXTURE_CHECKERBOARD_AFFINE: f32 = {}.0;\n\
          // Numbers of the environment map's record before its texels (src/scene/emitters/environment.rs).\n\
          const ENVIRONMENT_MAP_HEADER: u32 = {}u;\n\
          // Rec. 709 luminance weights of linear sRGB (src/scene/emitters/selection.rs).\n\
@@ -87,6 +88,7 @@ pub fn generated_constants() -> String {
         crate::scene::textures::volume::TEXTURE_VOLUME,
         crate::scene::textures::volume::VOLUME_HEADER,
         crate::scene::textures::TEXTURE_RAW_CONSTANT,
+        crate::scene::textures::TEXTURE_CHECKERBOARD_AFFINE,
         crate::scene::emitters::ENVIRONMENT_MAP_HEADER,
         crate::scene::emitters::LUMINANCE_WEIGHTS[0] as f32,
         crate::scene::emitters::LUMINANCE_WEIGHTS[1] as f32,

@@ -38,6 +38,9 @@ const DEFAULT_COLOR1: f64 = 0.2;
 pub const TEXTURE_CHECKERBOARD: u32 = 0;
 /// Mitsuba's `rawconstant` (bitmap 1, volume 2 in their files).
 pub const TEXTURE_RAW_CONSTANT: u32 = 3;
+/// A checkerboard whose `to_uv` does more than scale: its own kind, so that scenes of scaled
+/// checkerboards (all before 2026-12-05) keep their two-number record and their speed.
+pub const TEXTURE_CHECKERBOARD_AFFINE: u32 = 4;
 
 /// A texture and its parameters.
 #[derive(Debug, Clone, PartialEq)]
@@ -72,6 +75,7 @@ impl Texture {
     /// `TEXTURE_VOLUME`): the bit it sets in the kernel's `TEXTURE_KINDS`.
     pub fn kind_number(&self) -> u32 {
         match self {
+            Texture::Checkerboard { to_uv, .. } if scale_of(to_uv).is_none() => TEXTURE_CHECKERBOARD_AFFINE,
             Texture::Checkerboard { .. } => TEXTURE_CHECKERBOARD,
             Texture::Bitmap(_) => bitmap::TEXTURE_BITMAP,
             Texture::Volume(_) => volume::TEXTURE_VOLUME,
@@ -132,9 +136,12 @@ impl Texture {
     pub fn eval(&self, uv: [f32; 2], p: [f32; 3]) -> [f32; 3] {
         match self {
             Texture::Checkerboard { color0, color1, to_uv } => {
-                // As the kernel: m00 u + m01 v + m02, in that order (a pure scale is exact).
+                // As the kernel: u su for a scale, else m00 u + m01 v + m02, in that order.
                 let m = to_uv.map(|r| r.map(|x| x as f32));
-                let (u, v) = (m[0][0] * uv[0] + m[0][1] * uv[1] + m[0][2], m[1][0] * uv[0] + m[1][1] * uv[1] + m[1][2]);
+                let (u, v) = match scale_of(to_uv) {
+                    Some(_) => (uv[0] * m[0][0], uv[1] * m[1][1]),
+                    None => (m[0][0] * uv[0] + m[0][1] * uv[1] + m[0][2], m[1][0] * uv[0] + m[1][1] * uv[1] + m[1][2]),
+                };
                 let (mu, mv) = (u - u.floor() > 0.5, v - v.floor() > 0.5);
                 if mu == mv { color0.as_vec3().to_array() } else { color1.as_vec3().to_array() }
             }
@@ -150,7 +157,10 @@ impl Texture {
             Texture::Checkerboard { color0, color1, to_uv } => {
                 let (c0, c1) = (color0.as_vec3(), color1.as_vec3());
                 let m = to_uv.map(|r| r.map(|x| x as f32));
-                data.push(&[TEXTURE_CHECKERBOARD as f32, c0.x, c0.y, c0.z, c1.x, c1.y, c1.z, m[0][0], m[0][1], m[0][2], m[1][0], m[1][1], m[1][2]])
+                match scale_of(to_uv) {
+                    Some(_) => data.push(&[TEXTURE_CHECKERBOARD as f32, c0.x, c0.y, c0.z, c1.x, c1.y, c1.z, m[0][0], m[1][1]]),
+                    None => data.push(&[TEXTURE_CHECKERBOARD_AFFINE as f32, c0.x, c0.y, c0.z, c1.x, c1.y, c1.z, m[0][0], m[0][1], m[0][2], m[1][0], m[1][1], m[1][2]]),
+                }
             }
             Texture::Bitmap(b) => b.pack(data),
             Texture::Volume(v) => v.pack(data),
@@ -189,7 +199,7 @@ impl Texture {
     /// Bytes of its record on the GPU (what `pathlab check` reports as its memory).
     pub fn gpu_bytes(&self) -> u64 {
         4 * match self {
-            Texture::Checkerboard { .. } => 13,
+            Texture::Checkerboard { to_uv, .. } => if scale_of(to_uv).is_some() { 9 } else { 13 },
             Texture::Bitmap(b) => b.record_len(),
             Texture::Volume(v) => v.record_len(),
             Texture::RawConstant { .. } => 4,
