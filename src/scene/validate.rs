@@ -23,6 +23,22 @@ use super::{
     MAX_MATERIALS, MAX_PLANES, MAX_SPHERES,
 };
 
+/// The field-of-view keys given (`fov_x`, `fov_y`, `fov_smaller`, `fov_larger`,
+/// `fov_diagonal`, in that order: a camera's or a projector's), each with its rule.
+fn given_fovs(keys: [&Option<Spanned<f64>>; 5]) -> Vec<(&'static str, &Spanned<f64>, fn(f64) -> Fov)> {
+    const RULES: [(&str, fn(f64) -> Fov); 5] = [("fov_x", Fov::X), ("fov_y", Fov::Y), ("fov_smaller", Fov::Smaller), ("fov_larger", Fov::Larger), ("fov_diagonal", Fov::Diagonal)];
+    RULES.into_iter().zip(keys).filter_map(|((key, make), v)| v.as_ref().map(|v| (key, v, make))).collect()
+}
+
+/// A field of view in degrees, strictly between 0 and 180.
+fn checked_fov(ck: &mut Checker, fov: &Spanned<f64>, field: &str) -> f64 {
+    let v = ck.number(fov, field);
+    if !(v > 0.0 && v < 180.0) && fov.get_ref().is_finite() {
+        ck.error(fov.span(), field, format!("field of view must be strictly between 0 and 180 degrees (got {v})"));
+    }
+    v
+}
+
 /// A unit direction from `value`, refusing the zero vector.
 fn unit_direction(ck: &mut Checker, value: &Spanned<[f64; 3]>, field: &str) -> DVec3 {
     let v = ck.vector(value, field);
@@ -130,24 +146,9 @@ fn check_delta_lights(ck: &mut Checker, raw: &RawScene) -> (Vec<PointLight>, Vec
             ck.error(l.up.span(), &field("up"), "`up` must not be parallel to the direction");
         }
         let (_, up) = super::emitters::light_frame(direction, up);
-        let given: Vec<(&str, &Spanned<f64>, fn(f64) -> Fov)> = [
-            ("fov_x", &l.fov_x, Fov::X as fn(f64) -> Fov),
-            ("fov_y", &l.fov_y, Fov::Y),
-            ("fov_smaller", &l.fov_smaller, Fov::Smaller),
-            ("fov_larger", &l.fov_larger, Fov::Larger),
-            ("fov_diagonal", &l.fov_diagonal, Fov::Diagonal),
-        ]
-        .into_iter()
-        .filter_map(|(key, v, make)| v.as_ref().map(|v| (key, v, make)))
-        .collect();
+        let given = given_fovs([&l.fov_x, &l.fov_y, &l.fov_smaller, &l.fov_larger, &l.fov_diagonal]);
         let fov = match given.as_slice() {
-            [(key, v, make)] => {
-                let a = ck.number(v, &field(key));
-                if !(a > 0.0 && a < 180.0) && v.get_ref().is_finite() {
-                    ck.error(v.span(), &field(key), format!("field of view must be strictly between 0 and 180 degrees (got {a})"));
-                }
-                make(a)
-            }
+            [(key, v, make)] => make(checked_fov(ck, v, &field(key))),
             [] => {
                 ck.error(whole.clone(), &format!("projector_lights[{i}]"), "missing field of view: give exactly one of fov_x, fov_y, fov_smaller, fov_larger, fov_diagonal");
                 Fov::X(90.0)
@@ -716,24 +717,8 @@ fn check_camera(ck: &mut Checker, raw: &RawScene) -> Camera {
     } else if forward.normalize().cross(up).length() < 1e-9 {
         ck.error(c.up.span(), "camera.up", "up must be non-zero and not parallel to the view direction");
     }
-    let check_fov = |ck: &mut Checker, fov: &Spanned<f64>, field: &str| {
-        let v = ck.number(fov, field);
-        if !(v > 0.0 && v < 180.0) && fov.get_ref().is_finite() {
-            ck.error(fov.span(), field, format!("field of view must be strictly between 0 and 180 degrees (got {v})"));
-        }
-        v
-    };
     // Exactly one of the keys gives the field of view.
-    let given: Vec<(&str, &Spanned<f64>, fn(f64) -> Fov)> = [
-        ("fov_x", &c.fov_x, Fov::X as fn(f64) -> Fov),
-        ("fov_y", &c.fov_y, Fov::Y),
-        ("fov_smaller", &c.fov_smaller, Fov::Smaller),
-        ("fov_larger", &c.fov_larger, Fov::Larger),
-        ("fov_diagonal", &c.fov_diagonal, Fov::Diagonal),
-    ]
-    .into_iter()
-    .filter_map(|(key, v, make)| v.as_ref().map(|v| (key, v, make)))
-    .collect();
+    let given = given_fovs([&c.fov_x, &c.fov_y, &c.fov_smaller, &c.fov_larger, &c.fov_diagonal]);
     // An orthographic camera: a width instead of a field of view.
     let projection = match (&c.orthographic_width, given.as_slice()) {
         (Some(w), []) => {
@@ -747,7 +732,7 @@ fn check_camera(ck: &mut Checker, raw: &RawScene) -> Camera {
             ck.error(v.span(), &format!("camera.{key}"), format!("give either a field of view or orthographic_width, not both ({key} and orthographic_width)"));
             Projection::Orthographic { width: 1.0 }
         }
-        (None, [(key, v, make)]) => Projection::Perspective(make(check_fov(ck, v, &format!("camera.{key}")))),
+        (None, [(key, v, make)]) => Projection::Perspective(make(checked_fov(ck, v, &format!("camera.{key}")))),
         (None, []) => {
             ck.error(raw.camera.span(), "camera", "missing field of view: give exactly one of fov_x and fov_y (or fov_smaller, fov_larger, fov_diagonal, or orthographic_width)");
             Projection::Perspective(Fov::X(90.0))
