@@ -63,16 +63,15 @@ impl Translator<'_> {
         let cutoff = self.get::<f64>(&mut p, "cutoff_angle").map(|(v, prop)| spanned(prop.value_at, v));
         let beam = self.get::<f64>(&mut p, "beam_width").map(|(v, prop)| spanned(prop.value_at, v));
         let texture = self.projected_texture(o, p, "texture", "to_world, intensity, cutoff_angle, beam_width, texture");
-        let (linear, position) = match frame {
-            None => (DMat3::IDENTITY, DVec3::ZERO),
-            Some((linear, t, at)) => {
-                if !is_similarity(linear) {
-                    self.error(at, "to_world", "the `to_world` of a spot emitter must be a rotation with a uniform scale (its falloff is measured in angles about its axis)".to_string());
-                    return None;
-                }
-                (linear, t)
+        // Mitsuba's spot refuses a texture that does not vary ("must be spatially varying").
+        let texture = match texture {
+            Some(t) if t.get_ref().get("texture").and_then(toml::Value::as_str) == Some("rawconstant") => {
+                self.error(t.span().start, "texture", "the `texture` of a spot emitter must vary over it (Mitsuba: \"must be spatially varying (e.g. bitmap type)\"); give a bitmap or a checkerboard".to_string());
+                None
             }
+            t => t,
         };
+        let (linear, position) = self.similarity_frame(frame, "a spot emitter", "its falloff is measured in angles about its axis")?;
         let direction = (linear * DVec3::Z).normalize();
         let up = texture.as_ref().map(|_| spanned(o.at, (linear * DVec3::Y).normalize().to_array()));
         Some(spanned(
@@ -107,24 +106,13 @@ impl Translator<'_> {
             (None, Some((c, at))) => spanned(at, super::super::bsdfs::color_value(c)),
             (None, None) => spanned(o.at, super::super::bsdfs::color_value(DEFAULT_EMISSION)),
         };
-        let (linear, position) = match frame {
-            None => (DMat3::IDENTITY, DVec3::ZERO),
-            Some((linear, t, at)) => {
-                if !is_similarity(linear) {
-                    self.error(at, "to_world", "the `to_world` of a projector must be a rotation with a uniform scale (its image is projected in angles about its axis)".to_string());
-                    return None;
-                }
-                (linear, t)
-            }
-        };
+        let (linear, position) = self.similarity_frame(frame, "a projector", "its image is projected in angles about its axis")?;
         // Mitsuba divides by the depth in the local frame squared (z / s)^2 and by
         // -dot(n, d) with n = to_world (0, 0, 1) left unnormalised (s cos(theta)): s in all.
         let s = linear.x_axis.length();
         let scale = match scale {
-            Some(v) if s != 1.0 => Some(spanned(v.span().start, *v.get_ref() * s)),
-            Some(v) => Some(v),
-            None if s != 1.0 => Some(spanned(o.at, s)),
-            None => None,
+            Some(v) => Some(spanned(v.span().start, *v.get_ref() * s)),
+            None => (s != 1.0).then(|| spanned(o.at, s)),
         };
         let (fov, at) = fov?;
         let given = |key: &str| (fov.key() == key).then(|| spanned(at, fov.degrees()));
@@ -147,8 +135,7 @@ impl Translator<'_> {
 
     /// The texture a delta emitter projects (`name`: a spot's `texture`, a projector's
     /// `irradiance`), read as a BSDF's textures are, as its TOML value; `reads` lists what the
-    /// emitter reads. Mitsuba's spot refuses a texture that does not vary ("must be spatially
-    /// varying"): so does pathlab.
+    /// emitter reads.
     fn projected_texture(&mut self, o: &Object, p: Props, name: &str, reads: &str) -> Option<Spanned<toml::Value>> {
         let nested = o.children.iter().position(|c| c.tag == "texture" && c.name.as_deref() == Some(name));
         let mut reader = PluginReader { t: self, p: Some(p), o, taken: Vec::new() };
@@ -163,13 +150,19 @@ impl Translator<'_> {
             }
         }
         let at = nested.map_or(o.at, |i| o.children[i].at);
-        match value {
-            Some(v @ toml::Value::Table(_)) if o.plugin == "spot" && v.get("texture").and_then(toml::Value::as_str) == Some("rawconstant") => {
-                self.error(at, name, "the `texture` of a spot emitter must vary over it (Mitsuba: \"must be spatially varying (e.g. bitmap type)\"); give a bitmap or a checkerboard".to_string());
+        value.map(|v| spanned(at, v))
+    }
+
+    /// A delta emitter's `to_world` as (linear part, translation), refused (naming `what`, and
+    /// `why` it must be) unless a rotation with a uniform scale; the identity where not given.
+    fn similarity_frame(&mut self, frame: Option<(DMat3, DVec3, usize)>, what: &str, why: &str) -> Option<(DMat3, DVec3)> {
+        match frame {
+            None => Some((DMat3::IDENTITY, DVec3::ZERO)),
+            Some((linear, t, _)) if is_similarity(linear) => Some((linear, t)),
+            Some((_, _, at)) => {
+                self.error(at, "to_world", format!("the `to_world` of {what} must be a rotation with a uniform scale ({why})"));
                 None
             }
-            Some(v) => Some(spanned(at, v)),
-            None => None,
         }
     }
 
