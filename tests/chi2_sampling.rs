@@ -19,7 +19,7 @@ use common::gpu;
 use pathlab::chi2::{self, Routine, GAUSS_LEGENDRE_4};
 use pathlab::gpu::{GpuLight, KernelRun};
 use pathlab::method::{BsdfSampling, LightSelect, LobeSelection};
-use pathlab::scene::{Bsdf, BsdfData, Distribution, Plastic, Principled, RoughDielectric, RoughPlastic};
+use pathlab::scene::{Bsdf, BsdfData, Distribution, Plastic, PolarizedPlastic, Principled, RoughDielectric, RoughPlastic};
 use pathlab::shaders;
 use pathlab::stats::sidak;
 
@@ -689,6 +689,41 @@ fn rough_plastic_routines() -> Vec<Routine> {
     r
 }
 
+/// Mitsuba's `pplastic` (`sample_bsdf`, `eval_pdf_bsdf`) under BSDF strategy `strategy`: its own
+/// (the specular lobe with the fixed probability w, its normal by microfacet strategy
+/// `microfacets`, else the cosine lobe) or a generic one; a dark base (0.06: w = 0.94, the
+/// cosine lobe drawn 6% of the time) or a grey one (0.5: w = 2/3), roughness
+/// `alpha_u` (and `alpha_v` along tangent (0.6, 0.7, 0.4) where given), incidence `theta_o`
+/// degrees. Binned around the mirror direction where the lobe is narrow.
+fn polarized_plastic(distribution: Distribution, strategy: BsdfSampling, microfacets: &str, diffuse: f64, alpha_u: f64, alpha_v: Option<f64>, theta_o: f64) -> Routine {
+    let roughness = pathlab::scene::Roughness { alpha: alpha_u, texture: None, alpha_v, texture_v: None };
+    let p = PolarizedPlastic { diffuse: glam::DVec3::splat(diffuse), diffuse_texture: None, specular: glam::DVec3::ONE, eta: 1.49, distribution, roughness };
+    let name = format!("pplastic {} {} {microfacets} diffuse={diffuse} alpha_u={alpha_u} alpha_v={alpha_v:?} theta_o={theta_o}", distribution.name(), strategy.name());
+    let mut constants = vec![("BSDF_SAMPLING", strategy.constant() as f64), ("MICROFACET_SAMPLING", if microfacets == "ndf" { 0.0 } else { 1.0 })];
+    let narrow = alpha_u.min(alpha_v.unwrap_or(alpha_u));
+    let mut routine = glossy_routine(name, Bsdf::PolarizedPlastic(p), narrow, alpha_v.is_none() && alpha_u <= 0.05, theta_o, constants.clone());
+    if alpha_v.is_some() {
+        constants.extend([("ANISOTROPIC_ROUGHNESS", 1.0), ("HAS_TANGENT_FRAMES", 1.0)]);
+        routine.constants = constants;
+        routine.wgsl = routine.wgsl.replace("1.0, vec3f(1.0, 0.0, 0.0), vec3f(0.0)); }}", "1.0, vec3f(0.6, 0.7, 0.4), vec3f(0.0)); }}");
+    }
+    routine
+}
+
+/// pplastic: both distributions and microfacet strategies from normal to grazing incidence, a
+/// narrow lobe (alpha 0.02) binned about the mirror, an anisotropic one, and the generic cosine
+/// strategy.
+fn polarized_plastic_routines() -> Vec<Routine> {
+    let own = BsdfSampling::Phong;
+    vec![
+        polarized_plastic(Distribution::Beckmann, own, "vndf", 0.06, 0.1, None, 0.0),
+        polarized_plastic(Distribution::Ggx, own, "ndf", 0.5, 0.5, None, 60.0),
+        polarized_plastic(Distribution::Ggx, own, "vndf", 0.5, 0.02, None, 75.0),
+        polarized_plastic(Distribution::Beckmann, own, "vndf", 0.5, 0.08, Some(0.5), 50.0),
+        polarized_plastic(Distribution::Ggx, BsdfSampling::Cosine, "vndf", 0.5, 0.3, None, 30.0),
+    ]
+}
+
 /// Mitsuba's principled BSDF (`sample_bsdf`, `eval_pdf_bsdf`) under BSDF strategy `strategy`
 /// (its own: diffuse, clearcoat or main specular by their rates, the specular normal by
 /// microfacet strategy `microfacets`; or a generic one), material `p`, for shading normal +z and
@@ -758,6 +793,7 @@ fn all_routines() -> Vec<Routine> {
     r.extend(rough_plastic_routines());
     r.extend(principled_routines());
     r.extend(mask_routines());
+    r.extend(polarized_plastic_routines());
     r
 }
 

@@ -43,6 +43,7 @@ mod noise_floor;
 mod plastics;
 mod polygon_lights;
 mod projected_lights;
+mod polarized_plastics;
 mod principled;
 mod quadrics;
 mod render_presets;

@@ -324,6 +324,7 @@ fn microfacet_configurations(scene: &Scene) -> (Vec<Configuration>, String) {
             Bsdf::RoughPlastic(p) => (p.distribution, p.alpha, false),
             Bsdf::RoughDielectric(d) => (d.distribution, d.roughness.alpha, true),
             Bsdf::Principled(p) => (Distribution::Ggx, p.weight("roughness").powi(2).max(0.001), false),
+            Bsdf::PolarizedPlastic(p) => (p.distribution, p.roughness.alpha, false),
             _ => continue,
         };
         if !materials.contains(&key) && materials.len() < MAX_MICROFACET_MATERIALS {

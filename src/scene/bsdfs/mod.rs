@@ -1,6 +1,7 @@
 //! BSDFs, one file per kind, as Mitsuba 3 lays out `src/bsdfs/`. A kind's Rust file
 //! (`phong.rs`, `conductor.rs`, `rough_conductor.rs`, `dielectric.rs`, `plastic.rs`,
-//! `rough_dielectric.rs`, `thin_dielectric.rs`, `rough_plastic.rs`, `principled.rs`) owns
+//! `rough_dielectric.rs`, `thin_dielectric.rs`, `rough_plastic.rs`, `principled.rs`,
+//! `polarized_plastic.rs`) owns
 //! everything the host knows of it: its validated parameters, the fields of its TOML material,
 //! the properties of its Mitsuba plugins, its lines of the scene hash and its parameter block
 //! for the kernel. Its WGSL file,
@@ -28,6 +29,7 @@ mod named_conductors;
 mod phong;
 mod plastic;
 mod plugin;
+mod polarized_plastic;
 mod principled;
 mod rough_conductor;
 mod rough_dielectric;
@@ -51,6 +53,7 @@ pub use normal_map::NormalMap;
 pub use named_conductors::NAMED_CONDUCTORS;
 pub use phong::Phong;
 pub use plastic::{fresnel_diffuse_reflectance, Plastic};
+pub use polarized_plastic::PolarizedPlastic;
 pub use principled::{Principled, Weight as PrincipledWeight};
 pub use rough_conductor::RoughConductor;
 pub use rough_dielectric::RoughDielectric;
@@ -192,6 +195,9 @@ bsdf_registry! {
     /// Mitsuba's `principled`: the Disney principled BRDF (diffuse with retro-reflection, sheen,
     /// a metallic and tinted GGX specular, a GTR1 clearcoat).
     Principled = "principled" => Principled,
+    /// Mitsuba's `pplastic` as its RGB variants render it: rough specular reflection plus a
+    /// diffuse base behind two smooth refractions, without internal reflections.
+    PolarizedPlastic = "polarized-plastic" => PolarizedPlastic,
 }
 
 impl BsdfKind {
@@ -258,6 +264,7 @@ impl Bsdf {
             Bsdf::RoughDielectric(d) => Some(d.distribution),
             Bsdf::RoughPlastic(p) => Some(p.distribution),
             Bsdf::Principled(_) => Some(Distribution::Ggx),
+            Bsdf::PolarizedPlastic(p) => Some(p.distribution),
             _ => None,
         }
     }
@@ -270,6 +277,7 @@ impl Bsdf {
             Bsdf::RoughConductor(c) => c.roughness.is_anisotropic(),
             Bsdf::RoughDielectric(d) => d.roughness.is_anisotropic(),
             Bsdf::Principled(p) => p.anisotropic.value > 0.0 || p.anisotropic.texture.is_some(),
+            Bsdf::PolarizedPlastic(p) => p.roughness.is_anisotropic(),
             _ => false,
         }
     }
