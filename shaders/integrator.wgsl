@@ -340,7 +340,16 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
             from_inside = dot(hit.shading_normal, wo) < 0.0;
             n_s = select(hit.shading_normal, -hit.shading_normal, from_inside);
         }
-        var m = material_bsdf(hit.material, from_inside, hit.uv, x);
+        let dim_base = first_vertex_dim() + (depth - 1u) * dims_per_vertex();
+        // The lobe sample, drawn first: a blend picks its BSDF with it (and rescales it).
+        var u_lobe = sample_1d(id.pixel, id.index, dim_base + 2u, id.seed);
+        var bsdf_material = hit.material;
+        if (HAS_BLENDS) {
+            let pick = blend_pick(hit.material, hit.uv, x, u_lobe);
+            bsdf_material = pick.material;
+            u_lobe = pick.u;
+        }
+        var m = material_bsdf(hit.material, bsdf_material, from_inside, hit.uv, x);
         m.inside = from_inside;
         if (HAS_TANGENT_FRAMES) {
             m.tangent = hit.tangent;
@@ -358,17 +367,15 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
                 m = bump_mapped(m, bump, hit.uv, dp.du, dp.dv, hit.normal, hit.shading_normal, n_s, wo);
             }
         }
-        let dim_base = first_vertex_dim() + (depth - 1u) * dims_per_vertex();
         // A one-sided BSDF seen from behind (the side its surface normal points away from)
         // scatters nothing: Mitsuba's rule for BSDFs not wrapped in `twosided`.
-        let scatters = !from_inside || (materials[hit.material].flags & MATERIAL_ONE_SIDED) == 0u;
+        let scatters = !from_inside || (materials[bsdf_material].flags & MATERIAL_ONE_SIDED) == 0u;
 
         if (LIGHT_SAMPLING != LIGHTS_NONE && NUM_LIGHTS > 0u && scatters && !bsdf_is_delta(m)) {
             radiance += throughput * estimate_direct(id, dim_base, LightSampleContext(x, hit.object, from_inside, n_s), hit.p_error, n_s, n_g, wo, m);
         }
 
         let u_dir = sample_2d(id.pixel, id.index, dim_base, id.seed);
-        let u_lobe = sample_1d(id.pixel, id.index, dim_base + 2u, id.seed);
         let bs = sample_bsdf(m, n_s, wo, u_dir, u_lobe);
         var scattered = scatters && max3(bs.weight) > 0.0;
         if (HAS_SHADING_NORMALS) {

@@ -82,6 +82,11 @@ struct Material {
     // Mitsuba's bumpmap (shaders/bsdfs/bump_map.wgsl): the start of its record in bsdf_data (the
     // scale, then its texture's record), NO_BUMP_MAP where none.
     bump_map: u32,
+    // Mitsuba's blendbsdf (src/scene/bsdfs/blend.rs, `blend_pick`): the material whose BSDF is
+    // blended with this one's, NO_BLEND where none, and its weight (or, where negative, the
+    // reference -(start + 1) of its texture's record in bsdf_data).
+    blend: u32,
+    blend_weight: f32,
 }
 
 // Flags of a material: MATERIAL_EMISSIVE and MATERIAL_ONE_SIDED, generated from
@@ -134,15 +139,16 @@ struct Surfaces {
 @group(0) @binding(BINDING_SPHERE_AXES) var<storage, read> sphere_axes: array<SphereAxes>;
 
 // The BSDF of material i met from the side given (`from_inside`: its back) at a point of uv
-// parametrisation `uv`: its own, or on its back its back material's where it has one
-// (`material_on_side`), the opacity of its mask always its own (a mask wraps both sides).
+// parametrisation `uv`: that of `bsdf_material` (i itself, or the material a blend picked,
+// `blend_pick`), or on its back its back material's where it has one (`material_on_side`), the
+// opacity of i's mask always (a mask wraps both sides and a blend).
 // Where a parameter slot holds a texture, it is looked up there (texture.wgsl, where some
 // material reads uvs). Its kind and third slot are read only where the pipeline has other
 // kinds than Phong (whose two slots are the rest): a dynamically indexed uniform read costs per
 // byte on SIMD CPU drivers (reading the whole 80-byte Material cost the study scene a quarter of
 // its speed).
-fn material_bsdf(material: u32, from_inside: bool, uv: vec2f, p: vec3f) -> Bsdf {
-    let i = material_on_side(material, from_inside);
+fn material_bsdf(material: u32, bsdf_material: u32, from_inside: bool, uv: vec2f, p: vec3f) -> Bsdf {
+    let i = material_on_side(bsdf_material, from_inside);
     var b = Bsdf(BSDF_KIND_PHONG, materials[i].p0, materials[i].p1, vec4f(0.0), false, 1.0, vec3f(0.0), vec3f(0.0));
     if (bsdf_kinds_vary()) {
         b.kind = materials[i].kind;
@@ -155,6 +161,35 @@ fn material_bsdf(material: u32, from_inside: bool, uv: vec2f, p: vec3f) -> Bsdf 
         b.opacity = material_opacity(material, uv, p);
     }
     return b;
+}
+
+// Some material blends another material's BSDF (SceneFeatures::has_blends).
+override HAS_BLENDS: bool = false;
+
+// Which BSDF scatters at a vertex on material i, given the vertex's lobe sample u: Mitsuba's
+// blendbsdf, f = (1 - w) f_0 + w f_1, by a pick (src/scene/bsdfs/blend.rs). f_1, the blended
+// material's, when u < w, and u rescaled to u / w; else f_0, material i's own, and u rescaled to
+// (u - w) / (1 - w): the picked BSDF's lobe choice then sees a uniform number, independent of
+// the pick. w is the material's weight, or its texture's value at uv (Mitsuba's eval_1, clipped
+// to [0, 1]).
+struct BlendPick {
+    material: u32,
+    u: f32,
+}
+
+fn blend_pick(i: u32, uv: vec2f, p: vec3f, u: f32) -> BlendPick {
+    let other = materials[i].blend;
+    if (!HAS_BLENDS || other == NO_BLEND) {
+        return BlendPick(i, u);
+    }
+    var w = materials[i].blend_weight;
+    if (HAS_UVS && w < 0.0) {
+        w = mask_opacity_of_texel(eval_texture(u32(-w - 1.0), uv, p));
+    }
+    if (u < w) {
+        return BlendPick(other, u / w);
+    }
+    return BlendPick(i, (u - w) / (1.0 - w));
 }
 
 // Some material has another BSDF on its back (SceneFeatures::has_back_bsdfs).

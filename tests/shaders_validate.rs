@@ -88,6 +88,8 @@ fn every_override_permutation_validates() {
                                     textured_slots: [if (checked / 7) % 2 == 0 { u16::MAX } else { 0 }; pathlab::scene::BsdfKind::ALL.len()],
                                     // Back BSDFs on and off, with several kinds and with Phong alone.
                                     has_back_bsdfs: (checked / 5) % 2 == 0,
+                                    // Blends on and off, with and without uvs and masks.
+                                    has_blends: (checked / 29) % 2 == 0,
                                     // Tangent frames and anisotropic microfacets on and off.
                                     anisotropic_roughness: (checked / 11) % 2 == 0,
                                     has_normal_maps: (checked / 13) % 2 == 0,

@@ -9,6 +9,7 @@ mod advise;
 mod anisotropic;
 mod analytic_scenes;
 mod bump_maps;
+mod blends;
 mod bvh;
 mod checkpoint;
 mod chi2_sampling;

@@ -249,6 +249,19 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
     if !backs.is_empty() {
         println!("two BSDFs: {} material(s) scatter by another BSDF on their back (Mitsuba's twosided with two): {}", backs.len(), backs.join(", "));
     }
+    let blends: Vec<String> = scene
+        .materials
+        .iter()
+        .filter_map(|m| {
+            m.blend.as_ref().map(|b| match &b.weight {
+                pathlab::scene::Opacity::Constant(w) => format!("{} (with {}, weight {})", m.name, scene.materials[b.material].name, *w as f32),
+                pathlab::scene::Opacity::Texture(t) => format!("{} (with {}, weight a {}, mean {:.3})", m.name, scene.materials[b.material].name, t.name(), b.weight.mean()),
+            })
+        })
+        .collect();
+    if !blends.is_empty() {
+        println!("blends: {} material(s) blend another BSDF by a weight, one of the two picked per path vertex (Mitsuba's blendbsdf): {}", blends.len(), blends.join(", "));
+    }
     if let pathlab::scene::Projection::Orthographic { width } = scene.camera.projection {
         let (_, half_height) = scene.camera.projection.half_extents(scene.render.width, scene.render.height);
         println!("camera: orthographic, parallel rays from a {} x {} rectangle (scene units)", width, 2.0 * half_height);

@@ -70,6 +70,9 @@ pub struct SceneFeatures {
     /// Some material has another BSDF on its back (`Material::back`, Mitsuba's `twosided` with
     /// two BSDFs).
     pub has_back_bsdfs: bool,
+    /// Some material blends another material's BSDF (`Material::blend`, Mitsuba's `blendbsdf`):
+    /// the kernel picks one of the two per vertex.
+    pub has_blends: bool,
     /// Russian roulette from this vertex on; 0: none.
     pub rr_depth: u32,
     /// The camera has a thin lens (`Camera::aperture_radius` > 0).
@@ -171,6 +174,7 @@ impl SceneFeatures {
             has_normal_maps: scene.materials.iter().any(|m| m.normal_map.is_some()),
             has_bump_maps: scene.materials.iter().any(|m| m.bump_map.is_some()),
             has_back_bsdfs: scene.materials.iter().any(|m| m.back.is_some()),
+            has_blends: scene.materials.iter().any(|m| m.blend.is_some()),
             rr_depth: scene.render.rr_depth.unwrap_or(0),
             thin_lens: scene.camera.aperture_radius > 0.0,
             orthographic: matches!(scene.camera.projection, crate::scene::Projection::Orthographic { .. }),

@@ -14,7 +14,7 @@ use wgpu::util::DeviceExt;
 use crate::accel::{Bvh, BvhNode};
 use crate::scene::{AliasTable, BsdfData, EmitterKind, Light, Scene, MAX_DELTA_LIGHTS, MAX_MATERIALS, MAX_PLANES, MAX_QUADRICS, MAX_SPHERES};
 use crate::shaders::bindings::{self, Binding};
-use crate::shaders::flags::{MATERIAL_EMISSIVE, MATERIAL_ONE_SIDED, NO_BACK, NO_BUMP_MAP, NO_LIGHT_TEXTURE, NO_NORMAL_MAP, TRIANGLE_HAS_NORMALS, TRIANGLE_HAS_UVS, TRIANGLE_TWO_SIDED};
+use crate::shaders::flags::{MATERIAL_EMISSIVE, MATERIAL_ONE_SIDED, NO_BACK, NO_BLEND, NO_BUMP_MAP, NO_LIGHT_TEXTURE, NO_NORMAL_MAP, TRIANGLE_HAS_NORMALS, TRIANGLE_HAS_UVS, TRIANGLE_TWO_SIDED};
 
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
@@ -58,7 +58,12 @@ pub struct GpuMaterial {
     /// Mitsuba's `bumpmap` (`BumpMap::pack`): the start of its record in the BSDF data (the
     /// scale, then the texture's record), `NO_BUMP_MAP` where none.
     pub bump_map: u32,
-    pub _pad: [u32; 3],
+    /// Mitsuba's `blendbsdf` (`Material::blend`): the material whose BSDF is blended with this
+    /// one's, `NO_BLEND` where none, and its weight (`Opacity::pack`: the weight, or -(start +
+    /// 1) of its texture's record in the BSDF data).
+    pub blend: u32,
+    pub blend_weight: f32,
+    pub _pad: u32,
 }
 
 /// A disk or cylinder (`Quadric`, scene.wgsl): its affine maps as rows (object = to_object
@@ -420,7 +425,9 @@ impl SceneBuffers {
                     back: m.back.map_or(NO_BACK, |b| b as u32),
                     normal_map: m.normal_map.as_ref().map_or(NO_NORMAL_MAP, |n| n.pack(&mut data)),
                     bump_map: m.bump_map.as_ref().map_or(NO_BUMP_MAP, |b| b.pack(&mut data)),
-                    _pad: [0; 3],
+                    blend: m.blend.as_ref().map_or(NO_BLEND, |b| b.material as u32),
+                    blend_weight: m.blend.as_ref().map_or(0.0, |b| b.weight.pack(&mut data)),
+                    _pad: 0,
                 }
             })
             .collect();

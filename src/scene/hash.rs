@@ -10,7 +10,7 @@
 //!   or, for an orthographic camera, camera.orthographic_width=W)
 //! render.width=W  render.height=H  render.max_depth=D  render.environment=R,G,B
 //! materials=N, then per material i: material.i.diffuse=… .specular=… .glossiness=… .emission=…
-//!   (then .two_sided=0 where one-sided, its kind's own lines, .opacity=… where masked, .back=INDEX
+//!   (then .two_sided=0 where one-sided, its kind's own lines, .opacity=… where masked, .back=INDEX, .blend=INDEX WEIGHT
 //!   where its back has another BSDF)
 //! spheres=N, then sphere.i.center=… .radius=… .material=INDEX
 //! planes=N, then plane.i.point=… .normal=… .material=INDEX
@@ -143,6 +143,10 @@ pub fn canonical_encoding(scene: &Scene) -> String {
         // Only materials with a back BSDF add a line: the back material's index.
         if let Some(b) = m.back {
             line(&format!("material.{i}.back"), b.to_string());
+        }
+        // Only blended materials add a line: the other material's index and the weight.
+        if let Some(b) = &m.blend {
+            line(&format!("material.{i}.blend"), format!("{} {}", b.material, b.weight.hash_value()));
         }
     }
     line("spheres", scene.spheres.len().to_string());

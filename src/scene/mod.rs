@@ -35,7 +35,7 @@ pub mod textures;
 pub use textures::Texture;
 pub use bsdfs::{
     Bsdf, BsdfData, BsdfKind, CoatingTables, Conductor, Dielectric, Distribution, Phong, Plastic, PolarizedPlastic, Principled, PrincipledWeight, RoughConductor, RoughDielectric, RoughPlastic,
-    ThinDielectric, NAMED_CONDUCTORS, ROUGH_PLASTIC_TABLE_RES, NormalMap, BumpMap, Opacity, Roughness,
+    ThinDielectric, NAMED_CONDUCTORS, ROUGH_PLASTIC_TABLE_RES, NormalMap, BumpMap, Opacity, Roughness, Blend,
 };
 pub use camera::{Camera, Fov, Projection};
 pub use diagnostic::{Diagnostic, SceneError, Severity};
@@ -108,6 +108,9 @@ pub struct Material {
     /// material's own BSDF scatters on its front. `None`: one BSDF for both sides (or for the
     /// front alone, where `two_sided` is false).
     pub back: Option<usize>,
+    /// Mitsuba's `blendbsdf` (`bsdfs::Blend`): another material whose BSDF is blended with this
+    /// one's by a weight, one of the two picked per path vertex; `None`: this BSDF alone.
+    pub blend: Option<Blend>,
 }
 
 impl Material {
@@ -122,12 +125,17 @@ impl Material {
         t.extend(self.opacity.as_ref().and_then(Opacity::texture));
         t.extend(self.normal_map.as_ref().map(|n| &n.texture));
         t.extend(self.bump_map.as_ref().map(|b| &b.texture));
+        t.extend(self.blend.as_ref().and_then(|b| b.weight.texture()));
         t
     }
 
     /// Whether it reads the hit's uv parametrisation (a texture).
     pub fn reads_uv(&self) -> bool {
-        self.bsdf.reads_uv() || self.opacity.as_ref().is_some_and(|o| o.texture().is_some()) || self.normal_map.is_some() || self.bump_map.is_some()
+        self.bsdf.reads_uv()
+            || self.opacity.as_ref().is_some_and(|o| o.texture().is_some())
+            || self.normal_map.is_some()
+            || self.bump_map.is_some()
+            || self.blend.as_ref().is_some_and(|b| b.weight.texture().is_some())
     }
 
     /// The kind of its BSDF (`BsdfKind`, the registry of kinds).

@@ -260,7 +260,7 @@ pub(crate) struct RawRender {
     pub hide_emitters: Option<Spanned<bool>>,
 }
 
-/// `[materials.<name>]`: what every material has (`emission`, `two_sided`, `opacity`, `normal_map`, `bump_map`, `back`, the `bsdf` kind) and
+/// `[materials.<name>]`: what every material has (`emission`, `two_sided`, `opacity`, `normal_map`, `bump_map`, `back`, `blend`, `blend_weight`, the `bsdf` kind) and
 /// the fields of its BSDF kind, kept as written with their spans: the kind's file reads them
 /// (`scene::bsdfs`), so that a new kind adds its fields without touching this file.
 #[derive(Debug, Default)]
@@ -280,6 +280,10 @@ pub(crate) struct RawMaterial {
     /// Mitsuba's `twosided` with two BSDFs: the name of the material whose BSDF scatters on the
     /// back.
     pub back: Option<Spanned<String>>,
+    /// Mitsuba's `blendbsdf`: the name of the material whose BSDF is blended with this one's,
+    /// and its weight (a number in [0, 1] or a texture table, `bsdfs::Blend`).
+    pub blend: Option<Spanned<String>>,
+    pub blend_weight: Option<Spanned<toml::Value>>,
     /// The BSDF's fields, in the order written.
     pub params: Vec<(String, Spanned<toml::Value>)>,
 }
@@ -303,6 +307,8 @@ impl<'de> Deserialize<'de> for RawMaterial {
                         "normal_map" => m.normal_map = Some(map.next_value()?),
                         "bump_map" => m.bump_map = Some(map.next_value()?),
                         "back" => m.back = Some(map.next_value()?),
+                        "blend" => m.blend = Some(map.next_value()?),
+                        "blend_weight" => m.blend_weight = Some(map.next_value()?),
                         _ => {
                             let value = map.next_value()?;
                             m.params.push((key, value));
@@ -344,6 +350,12 @@ impl Serialize for RawMaterial {
         }
         if let Some(b) = &self.back {
             map.serialize_entry("back", b.get_ref())?;
+        }
+        if let Some(b) = &self.blend {
+            map.serialize_entry("blend", b.get_ref())?;
+        }
+        if let Some(w) = &self.blend_weight {
+            map.serialize_entry("blend_weight", w.get_ref())?;
         }
         map.end()
     }

@@ -308,8 +308,13 @@ pub(super) fn validate(raw: &RawScene, file: &Path, sources: SourceMap, diagnost
         ck.error(extra.span(), format!("materials.{name}"), too_many(raw.materials.len(), MAX_MATERIALS, "materials"));
     }
 
-    // A material used on the back of a used one is used.
-    let backs: Vec<usize> = materials.iter().enumerate().filter(|(i, _)| used.contains(i)).filter_map(|(_, m)| m.back).collect();
+    // A material used on the back of a used one, or blended into one, is used.
+    let backs: Vec<usize> = materials
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| used.contains(i))
+        .flat_map(|(_, m)| m.back.into_iter().chain(m.blend.as_ref().map(|b| b.material)))
+        .collect();
     for (name, &i) in &names {
         if !used.contains(&i) && !backs.contains(&i) {
             ck.warn(raw.materials[name].span(), format!("materials.{name}"), "material is defined but never used");
@@ -862,7 +867,7 @@ fn check_materials(ck: &mut Checker, raw: &RawScene) -> (Vec<Material>, BTreeMap
             }
         });
         names.insert(name.clone(), materials.len());
-        materials.push(Material { name: name.clone(), emission, two_sided, bsdf, opacity, normal_map, bump_map, back: None });
+        materials.push(Material { name: name.clone(), emission, two_sided, bsdf, opacity, normal_map, bump_map, back: None, blend: None });
     }
     // Backs, once every material has its index: a back's own BSDF is what scatters, so it must
     // be a plain one-BSDF material that only reflects (Mitsuba's twosided nests no
@@ -893,6 +898,57 @@ fn check_materials(ck: &mut Checker, raw: &RawScene) -> (Vec<Material>, BTreeMap
         match problem {
             Some(p) => ck.error(back.span(), field, p),
             None => materials[i].back = Some(b),
+        }
+    }
+    // Blends, likewise: the other material's BSDF is picked in place of this one's at some
+    // vertices, so it must be a plain one-BSDF material, and this one may add a mask (which
+    // wraps the blend) but no back, normal map or bump map (whose frames the blend does not
+    // pass on).
+    for (name, m) in &raw.materials {
+        let raw_m = m.get_ref();
+        let field = format!("materials.{name}.blend");
+        let (blend, weight) = match (&raw_m.blend, &raw_m.blend_weight) {
+            (None, None) => continue,
+            (Some(b), Some(w)) => (b, w),
+            (Some(b), None) => {
+                ck.error(b.span(), field, "a blend needs its `blend_weight` (the other BSDF's weight in [0, 1], as Mitsuba's blendbsdf requires its `weight`)");
+                continue;
+            }
+            (None, Some(w)) => {
+                ck.error(w.span(), format!("materials.{name}.blend_weight"), "`blend_weight` without `blend` (the material whose BSDF it weighs)");
+                continue;
+            }
+        };
+        let base = ck.file.parent().map(std::path::Path::to_path_buf).unwrap_or_default();
+        let weight = match super::bsdfs::Blend::weight_from_toml(weight.get_ref(), weight.span(), &base) {
+            Ok(w) => w,
+            Err(errors) => {
+                for (span, message) in errors {
+                    ck.error(span, format!("materials.{name}.blend_weight"), message);
+                }
+                continue;
+            }
+        };
+        let Some(&b) = names.get(blend.get_ref()) else {
+            let known: Vec<&str> = names.keys().map(String::as_str).collect();
+            ck.error(blend.span(), field, format!("no material \"{}\" (materials: {})", blend.get_ref(), known.join(", ")));
+            continue;
+        };
+        let i = names[name];
+        let bm = &materials[b];
+        let other_raw = raw.materials.get(blend.get_ref()).map(|r| r.get_ref());
+        let problem = if b == i {
+            Some("a material cannot blend with itself".to_string())
+        } else if other_raw.is_some_and(|r| r.back.is_some() || r.blend.is_some()) || bm.opacity.is_some() || bm.normal_map.is_some() || bm.bump_map.is_some() || bm.is_emissive() {
+            Some(format!("the blended \"{}\" must be a plain material: no back, blend, opacity, normal map, bump map or emission of its own", bm.name))
+        } else if raw_m.back.is_some() || materials[i].normal_map.is_some() || materials[i].bump_map.is_some() {
+            Some("a blend with a back, a normal map or a bump map is not supported (blend plain BSDFs; a mask may wrap the blend)".to_string())
+        } else {
+            None
+        };
+        match problem {
+            Some(p) => ck.error(blend.span(), field, p),
+            None => materials[i].blend = Some(super::bsdfs::Blend { material: b, weight }),
         }
     }
     (materials, names)

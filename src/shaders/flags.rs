@@ -9,6 +9,9 @@ pub const MATERIAL_ONE_SIDED: u32 = 2;
 /// `Material.back` of a material without a back BSDF (Mitsuba's `twosided` with one BSDF).
 pub const NO_BACK: u32 = u32::MAX;
 
+/// `Material.blend` of a material without a blend (Mitsuba's `blendbsdf`).
+pub const NO_BLEND: u32 = u32::MAX;
+
 /// `Material.normal_map` of a material without a normal map.
 pub const NO_NORMAL_MAP: u32 = u32::MAX;
 
@@ -38,6 +41,7 @@ pub fn wgsl() -> String {
         ("MATERIAL_EMISSIVE", MATERIAL_EMISSIVE),
         ("MATERIAL_ONE_SIDED", MATERIAL_ONE_SIDED),
         ("NO_BACK", NO_BACK),
+        ("NO_BLEND", NO_BLEND),
         ("NO_NORMAL_MAP", NO_NORMAL_MAP),
         ("NO_BUMP_MAP", NO_BUMP_MAP),
         ("NO_LIGHT_TEXTURE", NO_LIGHT_TEXTURE),

@@ -15,8 +15,10 @@
 //!
 //! Mitsuba's `mask` (`mask.rs`, `shaders/bsdfs/mask.wgsl`) wraps any kind: it is a material's
 //! opacity, not a kind. Likewise `normalmap` (`normal_map.rs`) and `bumpmap` (`bump_map.rs`):
-//! a material's perturbed shading frame.
+//! a material's perturbed shading frame. And `blendbsdf` (`blend.rs`): a material's blend with
+//! another material's BSDF, one of the two picked per path vertex.
 
+mod blend;
 mod bump_map;
 mod conductor;
 mod dielectric;
@@ -43,6 +45,7 @@ use toml::Spanned;
 
 use super::checker::Checker;
 
+pub use blend::Blend;
 pub use bump_map::{BumpMap, DEFAULT_BUMP_SCALE};
 pub use conductor::Conductor;
 pub use dielectric::Dielectric;

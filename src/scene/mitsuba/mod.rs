@@ -216,6 +216,9 @@ struct Bsdf {
     bump_map: Option<toml::Value>,
     /// A `twosided`'s second BSDF, which scatters on the back (`Material::back`).
     back: Option<Box<Bsdf>>,
+    /// A `blendbsdf`'s second BSDF and its weight as the TOML field's value (`Material::blend`:
+    /// a number, or a texture table); this BSDF is its first.
+    blend: Option<(Box<Bsdf>, toml::Value)>,
 }
 
 impl Bsdf {
@@ -224,7 +227,7 @@ impl Bsdf {
     /// unless given a BSDF).
     fn default_diffuse(emits: bool) -> Bsdf {
         let (reflectance, name) = if emits { (0.0, "default-emitter") } else { (DEFAULT_REFLECTANCE, "default-diffuse") };
-        Bsdf { kind: BsdfKind::Phong, fields: vec![("diffuse", color_value([reflectance; 3]))], two_sided: false, name: Some(name.into()), opacity: None, normal_map: None, bump_map: None, back: None }
+        Bsdf { kind: BsdfKind::Phong, fields: vec![("diffuse", color_value([reflectance; 3]))], two_sided: false, name: Some(name.into()), opacity: None, normal_map: None, bump_map: None, back: None, blend: None }
     }
 }
 
@@ -1366,7 +1369,11 @@ impl Translator<'_> {
                             self.error(one.at, "type", "a mask inside a <bsdf type=\"twosided\"> (Mitsuba refuses it: only materials without a transmission component can be nested; wrap the twosided in the mask)");
                             None
                         }
-                        b => b.map(|b| Bsdf { two_sided: true, name: name.or(b.name.clone()), ..b }),
+                        // Around a blend, both of its BSDFs are two-sided.
+                        b => b.map(|b| {
+                            let blend = b.blend.clone().map(|(other, w)| (Box::new(Bsdf { two_sided: true, ..*other }), w));
+                            Bsdf { two_sided: true, name: name.or(b.name.clone()), blend, ..b }
+                        }),
                     },
                     [] => {
                         self.error(o.at, "", "<bsdf type=\"twosided\"> needs the <bsdf> it makes two-sided");
@@ -1382,7 +1389,7 @@ impl Translator<'_> {
                                 self.error(o.at, "type", format!("the {side} of a <bsdf type=\"twosided\"> with two BSDFs is a {}, which transmits: only BSDFs that reflect can be nested (Mitsuba refuses it too)", o.plugin));
                                 return None;
                             }
-                            if bsdf.opacity.is_some() || bsdf.two_sided || bsdf.normal_map.is_some() || bsdf.bump_map.is_some() {
+                            if bsdf.opacity.is_some() || bsdf.two_sided || bsdf.normal_map.is_some() || bsdf.bump_map.is_some() || bsdf.blend.is_some() {
                                 self.error(o.at, "type", format!("the {side} of a <bsdf type=\"twosided\"> with two BSDFs must be one plain BSDF (a mask, normal map, bump map or twosided inside one side is not supported; a mask may wrap the twosided)"));
                                 return None;
                             }
@@ -1396,6 +1403,7 @@ impl Translator<'_> {
                 }
             }
             "mask" => self.mask(o),
+            "blendbsdf" => self.blend(o),
             "normalmap" => self.normal_map(o),
             "bumpmap" => self.bump_map(o),
             plugin => match BsdfKind::from_mitsuba_plugin(plugin) {
@@ -1403,11 +1411,11 @@ impl Translator<'_> {
                     let mut reader = PluginReader { t: self, p: Some(Props::of(o)), o, taken: Vec::new() };
                     let fields = kind.read_mitsuba(&mut reader);
                     reader.finish("");
-                    fields.map(|fields| Bsdf { kind, fields, two_sided: false, name, opacity: None, normal_map: None, bump_map: None, back: None })
+                    fields.map(|fields| Bsdf { kind, fields, two_sided: false, name, opacity: None, normal_map: None, bump_map: None, back: None, blend: None })
                 }
                 None => {
                     let known = BsdfKind::all_mitsuba_plugins().join(", ");
-                    self.error(o.at, "type", format!("<bsdf type=\"{plugin}\"> is not supported (pathlab has {known}, twosided, mask, normalmap, bumpmap)"));
+                    self.error(o.at, "type", format!("<bsdf type=\"{plugin}\"> is not supported (pathlab has {known}, twosided, mask, blendbsdf, normalmap, bumpmap)"));
                     None
                 }
             },
@@ -1457,6 +1465,46 @@ impl Translator<'_> {
         }
     }
 
+    /// `<bsdf type="blendbsdf">` (Mitsuba's blendbsdf.cpp, `bsdfs::Blend`): its two nested BSDFs,
+    /// plain (each may be `twosided`; a mask or twosided may wrap the blend), and its `weight`
+    /// (required, as Mitsuba's): a float, a colour (its channels' mean, Mitsuba's `eval_1` of a
+    /// constant) or a texture.
+    fn blend(&mut self, o: &Object) -> Option<Bsdf> {
+        let mut reader = PluginReader { t: self, p: Some(Props::of(o)), o, taken: Vec::new() };
+        let weight = reader.color_or_texture("weight");
+        let stray = reader.texture();
+        reader.finish("weight, two nested <bsdf>");
+        if let Some(at) = stray {
+            self.error(at, "", "a <texture> inside a <bsdf type=\"blendbsdf\"> other than its `weight` is not supported");
+        }
+        let weight = match weight {
+            Some(toml::Value::Table(t)) => Some(toml::Value::Table(t)),
+            Some(c) => {
+                let c = <crate::scene::raw::RawColor as serde::Deserialize>::deserialize(c).map(|c| c.0).unwrap_or([0.0; 3]);
+                Some(toml::Value::Float(c.iter().sum::<f64>() / 3.0))
+            }
+            None => {
+                self.error(o.at, "weight", "<bsdf type=\"blendbsdf\"> needs its `weight` (Mitsuba requires it)");
+                None
+            }
+        };
+        let inner: Vec<&Object> = o.children.iter().filter(|c| c.tag == "bsdf").collect();
+        let [first, second] = inner.as_slice() else {
+            let at = inner.get(2).map_or(o.at, |c| c.at);
+            self.error(at, "", "<bsdf type=\"blendbsdf\"> takes two nested BSDFs (Mitsuba: \"BlendBSDF: Two child BSDFs must be specified!\")");
+            return None;
+        };
+        let (f, s) = (self.bsdf(first), self.bsdf(second));
+        let (f, s) = (f?, s?);
+        for (o, b) in [(first, &f), (second, &s)] {
+            if b.opacity.is_some() || b.back.is_some() || b.normal_map.is_some() || b.bump_map.is_some() || b.blend.is_some() {
+                self.error(o.at, "type", "each BSDF inside a <bsdf type=\"blendbsdf\"> must be one plain BSDF, or a twosided one (a mask or twosided may wrap the blend)");
+                return None;
+            }
+        }
+        Some(Bsdf { name: o.id.clone().or(f.name.clone()), blend: Some((Box::new(s), weight?)), ..f })
+    }
+
     /// `<bsdf type="normalmap">` (Mitsuba's normalmap.cpp): its one nested BSDF, plain and
     /// reflecting (a mask or twosided may wrap the normal map, not the other way round), with
     /// the `normalmap` texture; `flip_invalid_normals` and `use_shadowing_function` true, as
@@ -1500,7 +1548,7 @@ impl Translator<'_> {
         match inner.as_slice() {
             [one] => {
                 let b = self.bsdf(one)?;
-                if b.opacity.is_some() || b.two_sided || b.back.is_some() || b.normal_map.is_some() || b.bump_map.is_some() {
+                if b.opacity.is_some() || b.two_sided || b.back.is_some() || b.normal_map.is_some() || b.bump_map.is_some() || b.blend.is_some() {
                     self.error(one.at, "type", format!("the BSDF inside a <bsdf type=\"{kind}\"> must be one plain BSDF (a mask or twosided may wrap the {noun} instead)"));
                     return None;
                 }
@@ -1583,7 +1631,19 @@ impl Translator<'_> {
             let back = Bsdf { name: Some(back_name), ..(**b).clone() };
             self.material(&back, None, shape_name, at)
         });
+        // A blend's second BSDF: a material of its own, which this one names with the weight.
+        let blend = bsdf.blend.as_ref().map(|(b, weight)| {
+            let blend_name = format!("{}-blend", bsdf.name.clone().unwrap_or_else(|| shape_name.to_string()));
+            let other = Bsdf { name: Some(blend_name), ..(**b).clone() };
+            (self.material(&other, None, shape_name, at), spanned(at, weight.clone()))
+        });
+        let (blend, blend_weight) = match blend {
+            Some((b, w)) => (Some(b), Some(w)),
+            None => (None, None),
+        };
         let m = RawMaterial {
+            blend,
+            blend_weight,
             back,
             emission: emission.map(|c| spanned(at, RawColor(c))),
             // A kind that scatters on both sides by its nature is two-sided unwrapped.
