@@ -33,6 +33,18 @@ fn is_isotropic_sentinel(alpha_v: f32) -> bool {
     return bitcast<u32>(alpha_v) == 0x80000000u;
 }
 
+// A rough kind's roughness (alpha_u, alpha_v) from its parameter block's two slots: each at least
+// 1e-4 (Mitsuba's MicrofacetDistribution clamps a textured one so), alpha_v alpha_u's where its
+// slot holds the isotropic sentinel or the pipeline has no anisotropy.
+fn alpha_uv_of(alpha_u_slot: f32, alpha_v_slot: f32) -> vec2f {
+    let alpha_u = max(alpha_u_slot, 1e-4);
+    var alpha_v = alpha_u;
+    if (ANISOTROPIC_ROUGHNESS && !is_isotropic_sentinel(alpha_v_slot)) {
+        alpha_v = max(alpha_v_slot, 1e-4);
+    }
+    return vec2f(alpha_u, alpha_v);
+}
+
 // Whether `distribution` is Beckmann's: a constant where the scene has one distribution only.
 fn is_beckmann(distribution: u32) -> bool {
     if (MICROFACET_DISTRIBUTIONS == (1u << DISTRIBUTION_BECKMANN)) {

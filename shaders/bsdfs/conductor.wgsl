@@ -26,13 +26,7 @@ fn sample_conductor(c: Conductor, n_s: vec3f, wo: vec3f) -> BsdfSample {
 // src/scene/bsdfs/rough_conductor.rs); the smooth conductor has alpha 0 (its distribution is
 // unused).
 fn conductor_of(b: Bsdf) -> Conductor {
-    // The roughness at least 1e-4 (Mitsuba's MicrofacetDistribution), for a textured one.
-    let alpha_u = max(b.p0.w, 1e-4);
-    var alpha_v = alpha_u;
-    if (ANISOTROPIC_ROUGHNESS && !is_isotropic_sentinel(b.p2.w)) {
-        alpha_v = max(b.p2.w, 1e-4);
-    }
-    return Conductor(b.p0.xyz, b.p1.xyz, b.p2.xyz, vec2f(alpha_u, alpha_v), u32(b.p1.w));
+    return Conductor(b.p0.xyz, b.p1.xyz, b.p2.xyz, alpha_uv_of(b.p0.w, b.p2.w), u32(b.p1.w));
 }
 
 // The dispatcher's entry points (generated from src/scene/bsdfs/mod.rs): no direction but the

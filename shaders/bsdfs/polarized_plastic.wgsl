@@ -21,15 +21,9 @@ struct PolarizedPlastic {
 
 // The parameter block as src/scene/bsdfs/polarized_plastic.rs packs it: p0 = (diffuse, eta),
 // p1 = (specular, specular_sampling_weight), p2 = (alpha_u, distribution, 0, alpha_v), alpha_v
-// the isotropic sentinel -0.0 where alpha_u serves both; a textured roughness at least 1e-4
-// (Mitsuba's MicrofacetDistribution).
+// the isotropic sentinel -0.0 where alpha_u serves both (microfacet.wgsl's alpha_uv_of).
 fn polarized_plastic_of(b: Bsdf) -> PolarizedPlastic {
-    let alpha_u = max(b.p2.x, 1e-4);
-    var alpha_v = alpha_u;
-    if (ANISOTROPIC_ROUGHNESS && !is_isotropic_sentinel(b.p2.w)) {
-        alpha_v = max(b.p2.w, 1e-4);
-    }
-    return PolarizedPlastic(b.p0.xyz, b.p0.w, b.p1.xyz, b.p1.w, vec2f(alpha_u, alpha_v), u32(b.p2.y));
+    return PolarizedPlastic(b.p0.xyz, b.p0.w, b.p1.xyz, b.p1.w, alpha_uv_of(b.p2.x, b.p2.w), u32(b.p2.y));
 }
 
 // f(wi, wo) (both lobes) and the own strategy's density at wi, in the local frame (+z the

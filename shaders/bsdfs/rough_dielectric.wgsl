@@ -26,13 +26,7 @@ struct RoughDielectric {
 // The parameter block as src/scene/bsdfs/rough_dielectric.rs packs it: p0 = (reflectance, eta),
 // p1 = (transmittance, alpha), p2 = (distribution, alpha_v: -0.0 where isotropic, 0, 0).
 fn rough_dielectric_of(b: Bsdf) -> RoughDielectric {
-    // The roughness at least 1e-4 (Mitsuba's MicrofacetDistribution), for a textured one.
-    let alpha_u = max(b.p1.w, 1e-4);
-    var alpha_v = alpha_u;
-    if (ANISOTROPIC_ROUGHNESS && !is_isotropic_sentinel(b.p2.y)) {
-        alpha_v = max(b.p2.y, 1e-4);
-    }
-    return RoughDielectric(b.p0.w, b.p0.xyz, b.p1.xyz, vec2f(alpha_u, alpha_v), u32(b.p2.x));
+    return RoughDielectric(b.p0.w, b.p0.xyz, b.p1.xyz, alpha_uv_of(b.p1.w, b.p2.y), u32(b.p2.x));
 }
 
 // The roughness normals are sampled with: Walter's widening of both alphas for the ndf strategy
