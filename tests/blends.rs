@@ -137,6 +137,12 @@ fn blends_are_read_as_mitsuba_reads_them_and_bad_ones_refused() {
         ("blend = \"m\"\nblend_weight = 0.5", "materials.m.blend", "itself"),
         ("blend = \"gold\"\nblend_weight = 0.5\nback = \"gold\"", "materials.m.blend", "not supported"),
     ];
+    // A back with a blend of its own is refused too (the pick is made on the front material).
+    let back_blends = toml("back = \"gold\"").replace("material = \"Au\"\n", "material = \"Au\"\nblend = \"m\"\nblend_weight = 0.5\n");
+    match Scene::parse(&back_blends, "b.toml") {
+        Err(SceneError::Invalid(d)) => assert!(d.iter().any(|d| d.field == "materials.m.back" && d.message.contains("no back, blend")), "{d:?}"),
+        other => panic!("a back with a blend accepted ({:?})", other.map(|s| s.materials.clone())),
+    }
     for (extra, field, message) in cases {
         match Scene::parse(&toml(extra), "b.toml") {
             Err(SceneError::Invalid(d)) => {

@@ -886,8 +886,8 @@ fn check_materials(ck: &mut Checker, raw: &RawScene) -> (Vec<Material>, BTreeMap
             Some("a material cannot be its own back".to_string())
         } else if bm.bsdf_kind().transmits() {
             Some(format!("the back \"{}\" is a {}, which transmits: Mitsuba's twosided nests only BSDFs that reflect", bm.name, bm.bsdf_kind().toml_name()))
-        } else if raw.materials.get(back.get_ref()).is_some_and(|r| r.get_ref().back.is_some()) || bm.opacity.is_some() || bm.normal_map.is_some() || bm.bump_map.is_some() || bm.is_emissive() {
-            Some(format!("the back \"{}\" must be a plain material: no back, opacity, normal map, bump map or emission of its own", bm.name))
+        } else if raw.materials.get(back.get_ref()).is_some_and(|r| r.get_ref().back.is_some() || r.get_ref().blend.is_some()) || bm.opacity.is_some() || bm.normal_map.is_some() || bm.bump_map.is_some() || bm.is_emissive() {
+            Some(format!("the back \"{}\" must be a plain material: no back, blend, opacity, normal map, bump map or emission of its own", bm.name))
         } else if !materials[i].two_sided {
             Some("a material with a back is two-sided: two_sided = false does not apply".to_string())
         } else if materials[i].bsdf_kind().transmits() {
