@@ -920,7 +920,7 @@ fn check_materials(ck: &mut Checker, raw: &RawScene) -> (Vec<Material>, BTreeMap
             }
         };
         let base = ck.file.parent().map(std::path::Path::to_path_buf).unwrap_or_default();
-        let weight = match super::bsdfs::Blend::weight_from_toml(weight.get_ref(), weight.span(), &base) {
+        let weight = match Opacity::weight_from_toml(weight.get_ref(), weight.span(), &base, "blend_weight") {
             Ok(w) => w,
             Err(errors) => {
                 for (span, message) in errors {

@@ -21,11 +21,7 @@
 //! `weight` (required, as Mitsuba's: a float, an `<rgb>` taken as its channels' mean, or a
 //! texture) and two nested BSDFs.
 
-use std::ops::Range;
-use std::path::Path;
-
 use super::mask::Opacity;
-use crate::scene::textures::Texture;
 
 /// A material's blend with another material's BSDF.
 #[derive(Debug, Clone, PartialEq)]
@@ -35,24 +31,4 @@ pub struct Blend {
     /// w, the weight of f_1: a number in [0, 1] or a texture, read and clipped as a mask's
     /// opacity is (`Opacity`: Mitsuba's `eval_1`, clipped to [0, 1]).
     pub weight: Opacity,
-}
-
-impl Blend {
-    /// A material's `blend_weight` field (a number in [0, 1] or a texture table, image files
-    /// relative to `base`), errors as (span, message).
-    pub(crate) fn weight_from_toml(value: &toml::Value, span: Range<usize>, base: &Path) -> Result<Opacity, Vec<(Range<usize>, String)>> {
-        match value {
-            toml::Value::Table(table) => {
-                let mut errors = Vec::new();
-                match Texture::from_toml(table, span, base, &mut errors) {
-                    Some(t) if errors.is_empty() => Ok(Opacity::of_texture(t)),
-                    _ => Err(errors),
-                }
-            }
-            v => match v.as_float().or_else(|| v.as_integer().map(|i| i as f64)) {
-                Some(w) if (0.0..=1.0).contains(&w) => Ok(Opacity::Constant(w)),
-                _ => Err(vec![(span, format!("`blend_weight` must be a number in [0, 1] or a texture table (got {v})"))]),
-            },
-        }
-    }
 }

@@ -100,17 +100,23 @@ impl Opacity {
     /// A material's `opacity` field (a number in [0, 1] or a texture table, image files relative
     /// to `base`): `Ok(None)` for 1 (opaque: no mask), errors as (span, message).
     pub(crate) fn from_toml(value: &toml::Value, span: Range<usize>, base: &Path) -> Result<Option<Opacity>, Vec<(Range<usize>, String)>> {
+        Opacity::weight_from_toml(value, span, base, "opacity").map(|o| (o != Opacity::Constant(1.0)).then_some(o))
+    }
+
+    /// A weight in [0, 1] (a mask's `opacity`, a blend's `blend_weight`, the field `name`): a
+    /// number or a texture table (image files relative to `base`), errors as (span, message).
+    pub(crate) fn weight_from_toml(value: &toml::Value, span: Range<usize>, base: &Path, name: &str) -> Result<Opacity, Vec<(Range<usize>, String)>> {
         match value {
             toml::Value::Table(table) => {
                 let mut errors = Vec::new();
                 match Texture::from_toml(table, span, base, &mut errors) {
-                    Some(t) if errors.is_empty() => Ok(Some(Opacity::of_texture(t))),
+                    Some(t) if errors.is_empty() => Ok(Opacity::of_texture(t)),
                     _ => Err(errors),
                 }
             }
             v => match v.as_float().or_else(|| v.as_integer().map(|i| i as f64)) {
-                Some(o) if (0.0..=1.0).contains(&o) => Ok((o < 1.0).then_some(Opacity::Constant(o))),
-                _ => Err(vec![(span, format!("`opacity` must be a number in [0, 1] or a texture table (got {v})"))]),
+                Some(w) if (0.0..=1.0).contains(&w) => Ok(Opacity::Constant(w)),
+                _ => Err(vec![(span, format!("`{name}` must be a number in [0, 1] or a texture table (got {v})"))]),
             },
         }
     }

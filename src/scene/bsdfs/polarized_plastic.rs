@@ -76,13 +76,11 @@ impl BsdfPlugin for PolarizedPlastic {
     const SCALAR_TEXTURE_SLOTS: &'static [(usize, usize)] = &[(2, 0), (2, 3)];
 
     fn from_fields(f: &mut Fields) -> PolarizedPlastic {
-        let (diffuse, diffuse_texture) =
-            if f.has("diffuse_reflectance") { f.color_or_texture("diffuse_reflectance", DVec3::ZERO) } else { (DVec3::splat(0.5), None) };
-        let specular = if f.has("specular_reflectance") { f.color("specular_reflectance", DVec3::ZERO) } else { DVec3::ONE };
-        let int_ior = ior::from_field(f, "int_ior", DEFAULT_INT_IOR);
-        let ext_ior = ior::from_field(f, "ext_ior", DEFAULT_EXT_IOR);
+        // The base, the coating's albedo and the indices as a plastic's (with its defaults and
+        // checks; `nonlinear` is not a field of this kind, so it stays false).
+        let layers = Plastic::from_fields(f);
         let (distribution, roughness) = distribution::read_fields(f, "plastic", true, true);
-        PolarizedPlastic { diffuse, diffuse_texture, specular, eta: int_ior / ext_ior, distribution, roughness }
+        PolarizedPlastic { eta: layers.eta(), diffuse: layers.diffuse, diffuse_texture: layers.diffuse_texture, specular: layers.specular, distribution, roughness }
     }
 
     fn from_mitsuba(p: &mut dyn PluginProps) -> Option<Vec<(&'static str, toml::Value)>> {

@@ -1426,25 +1426,33 @@ impl Translator<'_> {
         b
     }
 
+    /// A BSDF wrapper's one scalar property `name` (a mask's `opacity`, a blend's `weight`) as its
+    /// TOML value: a float, a colour as its channels' mean (Mitsuba's `eval_1` of a constant), or
+    /// a texture's table; any other nested texture refused. `reads` lists what the plugin reads.
+    fn scalar_or_texture(&mut self, o: &Object, name: &str, reads: &str) -> Option<toml::Value> {
+        let mut reader = PluginReader { t: self, p: Some(Props::of(o)), o, taken: Vec::new() };
+        let value = reader.color_or_texture(name);
+        let stray = reader.texture();
+        reader.finish(reads);
+        if let Some(at) = stray {
+            self.error(at, "", format!("a <texture> inside a <bsdf type=\"{}\"> other than its `{name}` is not supported", o.plugin));
+        }
+        value.map(|v| match v {
+            toml::Value::Table(t) => toml::Value::Table(t),
+            c => {
+                let c = <crate::scene::raw::RawColor as serde::Deserialize>::deserialize(c).map(|c| c.0).unwrap_or([0.0; 3]);
+                toml::Value::Float(c.iter().sum::<f64>() / 3.0)
+            }
+        })
+    }
+
     /// `<bsdf type="mask">` (Mitsuba's mask.cpp): its one nested BSDF with the opacity, a float,
     /// a colour (its channels' mean: Mitsuba's `eval_1` of a constant) or a texture; 0.5 when not
     /// given, as Mitsuba's.
     fn mask(&mut self, o: &Object) -> Option<Bsdf> {
-        let mut reader = PluginReader { t: self, p: Some(Props::of(o)), o, taken: Vec::new() };
-        let opacity = reader.color_or_texture("opacity");
-        let stray = reader.texture();
-        reader.finish("opacity, one nested <bsdf>");
-        if let Some(at) = stray {
-            self.error(at, "", "a <texture> inside a <bsdf type=\"mask\"> other than its `opacity` is not supported");
-        }
-        let opacity = match opacity {
-            Some(toml::Value::Table(t)) => toml::Value::Table(t),
-            Some(c) => {
-                let c = <crate::scene::raw::RawColor as serde::Deserialize>::deserialize(c).map(|c| c.0).unwrap_or([0.0; 3]);
-                toml::Value::Float(c.iter().sum::<f64>() / 3.0)
-            }
-            None => toml::Value::Float(crate::scene::bsdfs::DEFAULT_MITSUBA_OPACITY),
-        };
+        let opacity = self
+            .scalar_or_texture(o, "opacity", "opacity, one nested <bsdf>")
+            .unwrap_or(toml::Value::Float(crate::scene::bsdfs::DEFAULT_MITSUBA_OPACITY));
         let inner: Vec<&Object> = o.children.iter().filter(|c| c.tag == "bsdf").collect();
         match inner.as_slice() {
             [one] => match self.bsdf(one) {
@@ -1470,24 +1478,10 @@ impl Translator<'_> {
     /// (required, as Mitsuba's): a float, a colour (its channels' mean, Mitsuba's `eval_1` of a
     /// constant) or a texture.
     fn blend(&mut self, o: &Object) -> Option<Bsdf> {
-        let mut reader = PluginReader { t: self, p: Some(Props::of(o)), o, taken: Vec::new() };
-        let weight = reader.color_or_texture("weight");
-        let stray = reader.texture();
-        reader.finish("weight, two nested <bsdf>");
-        if let Some(at) = stray {
-            self.error(at, "", "a <texture> inside a <bsdf type=\"blendbsdf\"> other than its `weight` is not supported");
+        let weight = self.scalar_or_texture(o, "weight", "weight, two nested <bsdf>");
+        if weight.is_none() {
+            self.error(o.at, "weight", "<bsdf type=\"blendbsdf\"> needs its `weight` (Mitsuba requires it)");
         }
-        let weight = match weight {
-            Some(toml::Value::Table(t)) => Some(toml::Value::Table(t)),
-            Some(c) => {
-                let c = <crate::scene::raw::RawColor as serde::Deserialize>::deserialize(c).map(|c| c.0).unwrap_or([0.0; 3]);
-                Some(toml::Value::Float(c.iter().sum::<f64>() / 3.0))
-            }
-            None => {
-                self.error(o.at, "weight", "<bsdf type=\"blendbsdf\"> needs its `weight` (Mitsuba requires it)");
-                None
-            }
-        };
         let inner: Vec<&Object> = o.children.iter().filter(|c| c.tag == "bsdf").collect();
         let [first, second] = inner.as_slice() else {
             let at = inner.get(2).map_or(o.at, |c| c.at);
