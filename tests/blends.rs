@@ -21,7 +21,6 @@ use crate::common;
 
 use common::*;
 use pathlab::method::{Method, Preset};
-use pathlab::names::Named;
 use pathlab::scene::{Opacity, Scene, SceneError};
 
 fn fixture() -> std::path::PathBuf {

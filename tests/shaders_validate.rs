@@ -1,5 +1,6 @@
 //! naga validates the assembled path tracer for every combination of `override` constants,
-//! after specialisation, exactly as wgpu would at pipeline creation (with the example
+//! after specialisation, exactly as the pipelines give it to wgpu (`shaders::specialise`: the
+//! constants substituted, the branches they decide pruned) (with the example
 //! techniques of `examples/techniques/` spliced in and switched on in half of them).
 
 use pathlab::gpu::{pipeline_constants, PipelineKey, NO_TRAVERSAL_GUARD};
@@ -26,6 +27,10 @@ fn every_override_permutation_validates() {
     let light = Technique::load(TechniqueKind::Light, dir.join("sphere_area.wgsl")).unwrap();
     let env = Technique::load(TechniqueKind::Env, dir.join("env_cosine_mix.wgsl")).unwrap();
     let with_techniques = shaders::path_tracer_source_with(12, shaders::TechniqueFiles { bsdf: Some(&bsdf), light: Some(&light), env: Some(&env) });
+    // Each source parsed and validated once, then specialised per permutation as the pipelines
+    // are (shaders::specialise).
+    let parsed = shaders::specialise::parse(&source).unwrap();
+    let parsed_with_techniques = shaders::specialise::parse(&with_techniques).unwrap();
     let mut checked = 0;
     for sampler in Sampler::ALL {
         for bsdf in BsdfSampling::ALL {
@@ -110,12 +115,12 @@ fn every_override_permutation_validates() {
                                     light_interiors_reachable: on,
                                 };
                                 let key = PipelineKey { method, features, traversal_budget: budget };
-                                let source = if on { &with_techniques } else { &source };
+                                let (source, parsed) = if on { (&with_techniques, &parsed_with_techniques) } else { (&source, &parsed) };
                                 // Both adapters' tunings (the traversal with and without a stack).
                                 let device = if (checked / 16) % 2 == 0 { wgpu::DeviceType::Cpu } else { wgpu::DeviceType::DiscreteGpu };
                                 let mut constants = pipeline_constants(&key);
                                 constants.extend(pathlab::gpu::AdapterTuning::for_device(device).constants());
-                                if let Err(e) = shaders::validate(source, &constants) {
+                                if let Err(e) = shaders::validate_parsed(parsed, source, &constants) {
                                     panic!("{key:?}:\n{e}");
                                 }
                                 checked += 1;

@@ -10,6 +10,7 @@ use wgpu::util::DeviceExt;
 use crate::method::{LightSampling, LightSelect, Method};
 use super::features::SceneFeatures;
 use crate::scene::{BsdfKind, EmitterKind};
+use crate::shaders::specialise::{self, ParsedModule};
 use crate::shaders::{self, bindings};
 
 /// `TRAVERSAL_BUDGET` of a pipeline whose traversal is bounded by the host: no guard.
@@ -247,10 +248,10 @@ type TechniqueKey = (Option<String>, Option<String>, Option<String>);
 
 /// The path tracer's shader modules, bind group layout and a cache of specialised pipelines.
 pub struct PathTracerPipelines {
-    /// One module per count its small-scene triangle tests are unrolled to
-    /// (`shaders::unrolled_triangles`) and researchers' techniques (their SHA-256s), created
-    /// on first use.
-    modules: Mutex<HashMap<(u32, TechniqueKey), wgpu::ShaderModule>>,
+    /// One parsed module per count its small-scene triangle tests are unrolled to
+    /// (`shaders::unrolled_triangles`) and researchers' techniques (their SHA-256s), parsed on
+    /// first use and specialised per pipeline (`shaders::specialise`).
+    modules: Mutex<HashMap<(u32, TechniqueKey), Arc<ParsedModule>>>,
     /// The tuning to the adapter's kind.
     tuning: AdapterTuning,
     /// The Halton bases, bound at `bindings::HALTON_PRIMES`.
@@ -297,20 +298,31 @@ impl PathTracerPipelines {
         constants.extend(self.tuning.constants());
         let start = Instant::now();
         let unrolled = shaders::unrolled_triangles(key.features.num_triangles, self.tuning.brute_force_limit);
-        let mut modules = self.modules.lock().unwrap_or_else(|e| e.into_inner());
-        let module = modules.entry((unrolled, technique_key.clone())).or_insert_with(|| {
-            device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some("path tracer"),
-                source: wgpu::ShaderSource::Wgsl(shaders::path_tracer_source_with(unrolled, techniques).into()),
-            })
+        let parsed = {
+            let mut modules = self.modules.lock().unwrap_or_else(|e| e.into_inner());
+            modules
+                .entry((unrolled, technique_key.clone()))
+                .or_insert_with(|| {
+                    let source = shaders::path_tracer_source_with(unrolled, techniques);
+                    // The assembled kernel and validated techniques: an error here is pathlab's.
+                    Arc::new(specialise::parse(&source).unwrap_or_else(|e| panic!("the path tracer does not parse:\n{e}")))
+                })
+                .clone()
+        };
+        // The kernel reduced to what this key's constants reach: the driver compiles no more.
+        let specialised = specialise::specialise(&parsed, shaders::PATH_TRACER_ENTRY, &constants)
+            .unwrap_or_else(|e| panic!("the path tracer does not specialise to {key:?}:\n{e}"));
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("path tracer"),
+            source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(specialised)),
         });
         let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
             label: Some("path tracer"),
             layout: Some(&self.layout),
-            module,
+            module: &module,
             entry_point: Some(shaders::PATH_TRACER_ENTRY),
             compilation_options: wgpu::PipelineCompilationOptions {
-                constants: &constants,
+                constants: &[],
                 zero_initialize_workgroup_memory: false,
             },
             cache: None,

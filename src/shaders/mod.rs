@@ -10,6 +10,7 @@
 pub mod bindings;
 pub mod flags;
 mod generated;
+pub mod specialise;
 
 use std::fmt::Write as _;
 
@@ -415,22 +416,17 @@ pub fn primes(n: usize) -> Vec<u32> {
     primes
 }
 
-/// Parses and validates `source` with naga, then specialises it with `constants` (as wgpu
-/// does at pipeline creation) and validates the result. Returns a readable error.
+/// Parses and validates `source` with naga, then specialises it with `constants` as the
+/// pipelines do (`specialise::specialise`) and validates the result. Returns a readable error.
 pub fn validate(source: &str, constants: &[(&str, f64)]) -> Result<(), String> {
-    let module = naga::front::wgsl::parse_str(source).map_err(|e| e.emit_to_string(source))?;
-    let flags = naga::valid::ValidationFlags::all();
-    let caps = naga::valid::Capabilities::default();
-    let info = naga::valid::Validator::new(flags, caps)
-        .validate(&module)
-        .map_err(|e| e.emit_to_string(source))?;
-    let mut map = naga::back::PipelineConstants::default();
-    for (name, value) in constants {
-        map.insert((*name).to_string(), *value);
-    }
-    let (specialised, _) = naga::back::pipeline_constants::process_overrides(&module, &info, None, &map)
-        .map_err(|e| format!("specialisation with {constants:?} failed: {e}"))?;
-    naga::valid::Validator::new(flags, caps)
+    validate_parsed(&specialise::parse(source)?, source, constants)
+}
+
+/// `validate` of a module parsed once (`specialise::parse`), for many sets of constants: the
+/// module the pipeline's driver is given (`specialise::specialise`) validated.
+pub fn validate_parsed(parsed: &specialise::ParsedModule, source: &str, constants: &[(&str, f64)]) -> Result<(), String> {
+    let specialised = specialise::specialise(parsed, PATH_TRACER_ENTRY, constants)?;
+    naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::default())
         .validate(&specialised)
         .map_err(|e| format!("specialised module with {constants:?} is invalid: {}", e.emit_to_string(source)))?;
     Ok(())
