@@ -87,6 +87,10 @@ struct Material {
     // reference -(start + 1) of its texture's record in bsdf_data).
     blend: u32,
     blend_weight: f32,
+    // Mitsuba's area emitter with a textured radiance (src/scene/mod.rs, Material::
+    // emission_texture): the start of its texture's record in bsdf_data, NO_EMISSION_TEXTURE
+    // where the emission is one colour.
+    emission_texture: u32,
 }
 
 // Flags of a material: MATERIAL_EMISSIVE and MATERIAL_ONE_SIDED, generated from

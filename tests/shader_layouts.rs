@@ -57,7 +57,7 @@ fn shared_structs_match_the_wgsl() {
     let planes = pathlab::scene::MAX_PLANES * size_of::<GpuPlane>();
     check_struct(&pt, "Surfaces", planes + pathlab::scene::MAX_QUADRICS * size_of::<GpuQuadric>(), &[("planes", 0), ("quadrics", planes)]);
     check_struct(&pt, "Quadric", size_of::<GpuQuadric>(), fields!(GpuQuadric: object_x, object_y, object_z, world_x, world_y, world_z, normal, material, area, normal_sign, light, flags));
-    check_struct(&pt, "Material", size_of::<GpuMaterial>(), fields!(GpuMaterial: emission, flags, p0, p1, p2, kind, opacity, back, normal_map, bump_map, blend, blend_weight));
+    check_struct(&pt, "Material", size_of::<GpuMaterial>(), fields!(GpuMaterial: emission, flags, p0, p1, p2, kind, opacity, back, normal_map, bump_map, blend, blend_weight, emission_texture));
     check_struct(&pt, "Triangle", size_of::<GpuTriangle>(), fields!(GpuTriangle: p0, material, p1, light, p2, flags));
     check_struct(&pt, "TriangleNormals", size_of::<GpuTriangleNormals>(), fields!(GpuTriangleNormals: n0, n1, n2));
     check_struct(&pt, "TriangleUvs", size_of::<GpuTriangleUvs>(), fields!(GpuTriangleUvs: uv0, uv1, uv2));
@@ -111,6 +111,7 @@ fn overrides_set_by_the_host_are_those_the_module_declares() {
         textured_slots: [u16::MAX; pathlab::scene::BsdfKind::ALL.len()],
         has_back_bsdfs: true,
         has_blends: true,
+        has_emission_textures: true,
         rr_depth: 3,
         thin_lens: true,
         orthographic: true,

@@ -95,6 +95,8 @@ fn every_override_permutation_validates() {
                                     has_back_bsdfs: (checked / 5) % 2 == 0,
                                     // Blends on and off, with and without uvs and masks.
                                     has_blends: (checked / 29) % 2 == 0,
+                                    // Emission textures with uvs and every texture kind.
+                                    has_emission_textures: on && (checked / 31) % 2 == 0,
                                     // Tangent frames and anisotropic microfacets on and off.
                                     anisotropic_roughness: (checked / 11) % 2 == 0,
                                     has_normal_maps: (checked / 13) % 2 == 0,

@@ -59,6 +59,7 @@ mod shard_merge;
 mod spectra;
 mod study_reproduction;
 mod techniques;
+mod textured_lights;
 mod textures;
 mod thin_lens;
 mod twosided;

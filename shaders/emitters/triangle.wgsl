@@ -1,5 +1,6 @@
 // emitters/triangle.wgsl — an emissive mesh triangle: a diffuse area light emitting on the side
-// of its winding normal, or on both (src/scene/emitters/triangle.rs). light_table[l].object
+// of its winding normal, or on both (src/scene/emitters/triangle.rs), one colour or a texture
+// over its uv parametrisation (Material::emission_texture). light_table[l].object
 // names the triangle (its index in the BVH's leaf order); it is sampled by area or by solid
 // angle (TRIANGLE_SAMPLING, lights.wgsl), or by a researcher's technique (technique.wgsl).
 
@@ -19,7 +20,12 @@ fn sample_triangle_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> Emitter
     if (HAS_SHADING_NORMALS) {
         n_s = triangle_shading_normal(i, tri, normalize(n_s), triangle_barycentrics(tri, ctx.x + ls.wi * ls.dist));
     }
-    let emission = select(vec3f(0.0), materials[tri.material].emission, triangle_emits_along(tri, n_s, ls.wi));
+    var radiance = materials[tri.material].emission;
+    if (HAS_EMISSION_TEXTURES) {
+        // The sampled point's uv parametrisation, from its barycentrics.
+        radiance = triangle_emission(tri.material, triangle_uv(i, tri, triangle_barycentrics(tri, ctx.x + ls.wi * ls.dist)));
+    }
+    let emission = select(vec3f(0.0), radiance, triangle_emits_along(tri, n_s, ls.wi));
     return EmitterSample(ls.wi, ls.dist, ls.pdf, emission, INVALID, false);
 }
 
@@ -36,5 +42,25 @@ fn pdf_triangle_emitter(l: u32, ctx: LightSampleContext, wi: vec3f) -> f32 {
 // side(s), else none.
 fn eval_triangle_emitter(hit: Hit, ray_d: vec3f) -> vec3f {
     let tri = triangle_at(hit.object - first_triangle_object());
-    return select(vec3f(0.0), materials[hit.material].emission, triangle_emits_along(tri, hit.shading_normal, ray_d));
+    var radiance = materials[hit.material].emission;
+    if (HAS_EMISSION_TEXTURES) {
+        radiance = triangle_emission(hit.material, hit.uv);
+    }
+    return select(vec3f(0.0), radiance, triangle_emits_along(tri, hit.shading_normal, ray_d));
+}
+
+// Some material's emission is a texture (SceneFeatures::has_emission_textures).
+override HAS_EMISSION_TEXTURES: bool = false;
+
+// The radiance material m emits at the point of uv parametrisation uv: its emission texture's
+// value there (Mitsuba's area emitter evaluates its radiance texture at the surface point's uv),
+// else its one colour. Triangles alone carry emission textures (validation refuses them
+// elsewhere).
+fn triangle_emission(m: u32, uv: vec2f) -> vec3f {
+    let t = materials[m].emission_texture;
+    if (HAS_EMISSION_TEXTURES && HAS_UVS && t != NO_EMISSION_TEXTURE) {
+        // No grid volumes here (refused): the point is not needed.
+        return eval_texture(t, uv, vec3f(0.0));
+    }
+    return materials[m].emission;
 }

@@ -262,6 +262,18 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
     if !blends.is_empty() {
         println!("blends: {} material(s) blend another BSDF by a weight, one of the two picked per path vertex (Mitsuba's blendbsdf): {}", blends.len(), blends.join(", "));
     }
+    let textured_lights: Vec<String> = scene
+        .materials
+        .iter()
+        .filter_map(|m| m.emission_texture.as_ref().map(|t| format!("{} (a {}, mean {:?})", m.name, t.name(), m.emission.as_vec3().to_array())))
+        .collect();
+    if !textured_lights.is_empty() {
+        println!(
+            "emission textures: {} material(s) emit a texture over their uv parametrisation (Mitsuba's area emitter with a textured radiance; lights are picked by its mean): {}",
+            textured_lights.len(),
+            textured_lights.join(", ")
+        );
+    }
     if let pathlab::scene::Projection::Orthographic { width } = scene.camera.projection {
         let (_, half_height) = scene.camera.projection.half_extents(scene.render.width, scene.render.height);
         println!("camera: orthographic, parallel rays from a {} x {} rectangle (scene units)", width, 2.0 * half_height);

@@ -73,6 +73,9 @@ pub struct SceneFeatures {
     /// Some material blends another material's BSDF (`Material::blend`, Mitsuba's `blendbsdf`):
     /// the kernel picks one of the two per vertex.
     pub has_blends: bool,
+    /// Some material's emission is a texture (`Material::emission_texture`): the kernel's
+    /// `HAS_EMISSION_TEXTURES`, which looks it up where a triangle light is hit or sampled.
+    pub has_emission_textures: bool,
     /// Russian roulette from this vertex on; 0: none.
     pub rr_depth: u32,
     /// The camera has a thin lens (`Camera::aperture_radius` > 0).
@@ -175,6 +178,7 @@ impl SceneFeatures {
             has_bump_maps: scene.materials.iter().any(|m| m.bump_map.is_some()),
             has_back_bsdfs: scene.materials.iter().any(|m| m.back.is_some()),
             has_blends: scene.materials.iter().any(|m| m.blend.is_some()),
+            has_emission_textures: scene.materials.iter().any(|m| m.emission_texture.is_some()),
             rr_depth: scene.render.rr_depth.unwrap_or(0),
             thin_lens: scene.camera.aperture_radius > 0.0,
             orthographic: matches!(scene.camera.projection, crate::scene::Projection::Orthographic { .. }),

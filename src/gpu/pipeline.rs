@@ -78,6 +78,7 @@ pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
         ("MICROFACET_DISTRIBUTIONS", f.microfacet_distributions as f64),
         ("HAS_BACK_BSDFS", f.has_back_bsdfs as u32 as f64),
         ("HAS_BLENDS", f.has_blends as u32 as f64),
+        ("HAS_EMISSION_TEXTURES", f.has_emission_textures as u32 as f64),
         ("ANISOTROPIC_ROUGHNESS", f.anisotropic_roughness as u32 as f64),
         ("HAS_NORMAL_MAPS", f.has_normal_maps as u32 as f64),
         ("HAS_BUMP_MAPS", f.has_bump_maps as u32 as f64),

@@ -14,7 +14,7 @@ use wgpu::util::DeviceExt;
 use crate::accel::{Bvh, BvhNode};
 use crate::scene::{AliasTable, BsdfData, EmitterKind, Light, Scene, MAX_DELTA_LIGHTS, MAX_MATERIALS, MAX_PLANES, MAX_QUADRICS, MAX_SPHERES};
 use crate::shaders::bindings::{self, Binding};
-use crate::shaders::flags::{MATERIAL_EMISSIVE, MATERIAL_ONE_SIDED, NO_BACK, NO_BLEND, NO_BUMP_MAP, NO_LIGHT_TEXTURE, NO_NORMAL_MAP, TRIANGLE_HAS_NORMALS, TRIANGLE_HAS_UVS, TRIANGLE_TWO_SIDED};
+use crate::shaders::flags::{MATERIAL_EMISSIVE, MATERIAL_ONE_SIDED, NO_BACK, NO_BLEND, NO_BUMP_MAP, NO_EMISSION_TEXTURE, NO_LIGHT_TEXTURE, NO_NORMAL_MAP, TRIANGLE_HAS_NORMALS, TRIANGLE_HAS_UVS, TRIANGLE_TWO_SIDED};
 
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
@@ -63,7 +63,10 @@ pub struct GpuMaterial {
     /// 1) of its texture's record in the BSDF data).
     pub blend: u32,
     pub blend_weight: f32,
-    pub _pad: u32,
+    /// Mitsuba's area emitter with a textured `radiance` (`Material::emission_texture`): the
+    /// start of its texture's record in the BSDF data, `NO_EMISSION_TEXTURE` where its emission
+    /// is one colour.
+    pub emission_texture: u32,
 }
 
 /// A disk or cylinder (`Quadric`, scene.wgsl): its affine maps as rows (object = to_object
@@ -427,7 +430,7 @@ impl SceneBuffers {
                     bump_map: m.bump_map.as_ref().map_or(NO_BUMP_MAP, |b| b.pack(&mut data)),
                     blend: m.blend.as_ref().map_or(NO_BLEND, |b| b.material as u32),
                     blend_weight: m.blend.as_ref().map_or(0.0, |b| b.weight.pack(&mut data)),
-                    _pad: 0,
+                    emission_texture: m.emission_texture.as_ref().map_or(NO_EMISSION_TEXTURE, |t| t.pack(&mut data)),
                 }
             })
             .collect();

@@ -10,6 +10,7 @@
 //!   or, for an orthographic camera, camera.orthographic_width=W)
 //! render.width=W  render.height=H  render.max_depth=D  render.environment=R,G,B
 //! materials=N, then per material i: material.i.diffuse=… .specular=… .glossiness=… .emission=…
+//!   (.emission.texture=… where its emission is a texture)
 //!   (then .two_sided=0 where one-sided, its kind's own lines, .opacity=… where masked, .back=INDEX, .blend=INDEX WEIGHT
 //!   where its back has another BSDF)
 //! spheres=N, then sphere.i.center=… .radius=… .material=INDEX
@@ -121,6 +122,10 @@ pub fn canonical_encoding(scene: &Scene) -> String {
         };
         phong.hash_lines(&mut |key, value| line(&format!("material.{i}.{key}"), value));
         line(&format!("material.{i}.emission"), vec3(m.emission));
+        // Only materials with an emission texture add a line.
+        if let Some(t) = &m.emission_texture {
+            line(&format!("material.{i}.emission.texture"), t.hash_value(vec3));
+        }
         // Only one-sided materials add a line, so that scenes written before keep their hash.
         if !m.two_sided {
             line(&format!("material.{i}.two_sided"), "0".to_string());

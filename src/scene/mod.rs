@@ -88,7 +88,13 @@ pub struct RenderSettings {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Material {
     pub name: String,
+    /// The radiance it emits (a diffuse area light; 0: none), the texture's mean where
+    /// `emission_texture` is given.
     pub emission: DVec3,
+    /// Mitsuba's area emitter with a textured `radiance`: the radiance at each point of the
+    /// surface, looked up at its uv parametrisation. Triangle meshes alone (validation refuses
+    /// it on spheres and quadrics); `None`: `emission` everywhere.
+    pub emission_texture: Option<Texture>,
     /// False: a one-sided BSDF (Mitsuba's default), black seen from behind: from the side its
     /// surface's normal points away from (a sphere's inside, a plane's back, a triangle's back
     /// by its winding). Emission is not affected (see `Mesh::two_sided_emission`).
@@ -119,13 +125,14 @@ impl Material {
     }
 
     /// Its textures: its BSDF's parameters', then its opacity's, then its normal map's or bump
-    /// map's (a back material's are its own).
+    /// map's, its blend weight's, its emission's (a back material's are its own).
     pub fn textures(&self) -> Vec<&Texture> {
         let mut t = self.bsdf.textures();
         t.extend(self.opacity.as_ref().and_then(Opacity::texture));
         t.extend(self.normal_map.as_ref().map(|n| &n.texture));
         t.extend(self.bump_map.as_ref().map(|b| &b.texture));
         t.extend(self.blend.as_ref().and_then(|b| b.weight.texture()));
+        t.extend(self.emission_texture.as_ref());
         t
     }
 
@@ -136,6 +143,7 @@ impl Material {
             || self.normal_map.is_some()
             || self.bump_map.is_some()
             || self.blend.as_ref().is_some_and(|b| b.weight.texture().is_some())
+            || self.emission_texture.is_some()
     }
 
     /// The kind of its BSDF (`BsdfKind`, the registry of kinds).

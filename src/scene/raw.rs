@@ -265,7 +265,7 @@ pub(crate) struct RawRender {
 /// (`scene::bsdfs`), so that a new kind adds its fields without touching this file.
 #[derive(Debug, Default)]
 pub(crate) struct RawMaterial {
-    pub emission: Option<Spanned<RawColor>>,
+    pub emission: Option<Spanned<RawEmission>>,
     /// Whether the back of a surface scatters too (default true); Mitsuba's BSDFs are
     /// one-sided unless wrapped in `twosided`.
     pub two_sided: Option<Spanned<bool>>,
@@ -379,6 +379,51 @@ pub(crate) struct RawPlane {
     pub point: Spanned<[f64; 3]>,
     pub normal: Spanned<[f64; 3]>,
     pub material: Spanned<String>,
+}
+
+/// A material's `emission`: a colour, or a texture table (Mitsuba's area emitter with a
+/// textured `radiance`), `{ texture = "bitmap", filename = "sky.exr" }`.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) enum RawEmission {
+    Color(RawColor),
+    Texture(toml::Table),
+}
+
+impl Serialize for RawEmission {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        match self {
+            RawEmission::Color(c) => c.serialize(serializer),
+            RawEmission::Texture(t) => t.serialize(serializer),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for RawEmission {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct EmissionVisitor;
+        impl<'de> Visitor<'de> for EmissionVisitor {
+            type Value = RawEmission;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a number, an array of 3 numbers [r, g, b] or a texture table { texture = ... }")
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<RawEmission, E> {
+                Ok(RawEmission::Color(RawColor([v; 3])))
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<RawEmission, E> {
+                Ok(RawEmission::Color(RawColor([v as f64; 3])))
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<RawEmission, E> {
+                Ok(RawEmission::Color(RawColor([v as f64; 3])))
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, seq: A) -> Result<RawEmission, A::Error> {
+                RawColor::deserialize(de::value::SeqAccessDeserializer::new(seq)).map(RawEmission::Color)
+            }
+            fn visit_map<A: de::MapAccess<'de>>(self, map: A) -> Result<RawEmission, A::Error> {
+                toml::Table::deserialize(de::value::MapAccessDeserializer::new(map)).map(RawEmission::Texture)
+            }
+        }
+        deserializer.deserialize_any(EmissionVisitor)
+    }
 }
 
 /// An RGB colour written either as `[r, g, b]` or as one number for all three channels.

@@ -15,7 +15,7 @@ use super::diagnostic::SourceMap;
 use super::mesh::{self, shapes, Mesh, MeshData, Shading};
 use super::emitters::{DirectionalLight, PointLight, ProjectorLight, SpotLight, SpotTexture, BEAM_WIDTH_OF_CUTOFF, DEFAULT_CUTOFF_ANGLE};
 use super::textures::Texture;
-use super::raw::{RawColor, RawEnvironmentMap, RawMaterial, RawRotations, RawScale, RawScene, RawTransform};
+use super::raw::{RawColor, RawEmission, RawEnvironmentMap, RawMaterial, RawRotations, RawScale, RawScene, RawTransform};
 use super::quadrics::{self, Quadric, QuadricKind, MAX_QUADRICS};
 use super::transform::Transform;
 use super::{
@@ -261,6 +261,7 @@ pub(super) fn validate(raw: &RawScene, file: &Path, sources: SourceMap, diagnost
             ck.error(s.radius.span(), &field, format!("radius must be > 0 (got {radius})"));
         }
         let material = resolve(&mut ck, &s.material, &format!("spheres[{i}].material"));
+        refuse_textured_emission(&mut ck, &materials, material, &s.material, &format!("spheres[{i}].material"), "sphere");
         let axes = match &s.axes {
             None => Sphere::WORLD_AXES,
             Some(axes) => sphere_axes(&mut ck, axes, &format!("spheres[{i}].axes")),
@@ -509,6 +510,7 @@ fn check_quadrics(ck: &mut Checker, raw: &RawScene, materials: &[Material], reso
         let table = format!("disks[{i}]");
         let s = s.get_ref();
         let material = resolve(ck, &s.material, &format!("{table}.material"));
+        refuse_textured_emission(ck, materials, material, &s.material, &format!("{table}.material"), "disk");
         let to_world = check_transform(ck, s.transform.as_ref(), &format!("{table}.transform"));
         quadrics.push(Quadric {
             kind: QuadricKind::Disk,
@@ -523,6 +525,7 @@ fn check_quadrics(ck: &mut Checker, raw: &RawScene, materials: &[Material], reso
         let span = c.span();
         let c = c.get_ref();
         let material = resolve(ck, &c.material, &format!("{table}.material"));
+        refuse_textured_emission(ck, materials, material, &c.material, &format!("{table}.material"), "cylinder");
         let transform = check_transform(ck, c.transform.as_ref(), &format!("{table}.transform"));
         let p0 = c.p0.as_ref().map_or(DVec3::ZERO, |p| ck.vector(p, &format!("{table}.p0")));
         let p1 = c.p1.as_ref().map_or(DVec3::Z, |p| ck.vector(p, &format!("{table}.p1")));
@@ -800,13 +803,52 @@ fn check_render(ck: &mut Checker, raw: &RawScene) -> RenderSettings {
     }
 }
 
+/// A material's `emission`: a colour, or a texture (its mean, and the texture), looked up at
+/// the uv parametrisation of the emitting surface; a grid volume, looked up in space, is not
+/// supported as an emission.
+fn check_emission(ck: &mut Checker, name: &str, m: &RawMaterial) -> (DVec3, Option<Texture>) {
+    let field = format!("materials.{name}.emission");
+    let Some(e) = m.emission.as_ref() else { return (DVec3::ZERO, None) };
+    match e.get_ref() {
+        RawEmission::Color(c) => (ck.color(Some(&Spanned::new(e.span(), *c)), &field), None),
+        RawEmission::Texture(table) => {
+            let base = ck.file.parent().map(Path::to_path_buf).unwrap_or_default();
+            let mut errors = Vec::new();
+            let texture = Texture::from_toml(table, e.span(), &base, &mut errors);
+            for (span, message) in errors {
+                ck.error(span, &field, message);
+            }
+            match texture {
+                Some(Texture::Volume(_)) => {
+                    ck.error(e.span(), &field, "a volume texture as an emission is not supported (an emission texture is looked up at the surface's uv parametrisation: give a bitmap, a checkerboard or a rawconstant)");
+                    (DVec3::ZERO, None)
+                }
+                Some(t) if t.mean().min_element() < 0.0 => {
+                    ck.error(e.span(), &field, format!("an emission texture must be >= 0 everywhere (its mean is {:?})", t.mean().to_array()));
+                    (DVec3::ZERO, None)
+                }
+                Some(t) => (t.mean(), Some(t)),
+                None => (DVec3::ZERO, None),
+            }
+        }
+    }
+}
+
+/// Refuses a material with a textured emission on a shape other than a triangle mesh: the
+/// kernel looks an emission texture up on triangles alone.
+fn refuse_textured_emission(ck: &mut Checker, materials: &[Material], material: usize, name: &Spanned<String>, field: &str, shape: &str) {
+    if materials.get(material).is_some_and(|m| m.emission_texture.is_some()) {
+        ck.error(name.span(), field, format!("material \"{}\" has a textured emission, which pathlab supports on triangle meshes (meshes, rectangles, cubes) alone, not on a {shape}", name.get_ref()));
+    }
+}
+
 fn check_materials(ck: &mut Checker, raw: &RawScene) -> (Vec<Material>, BTreeMap<String, usize>) {
     let mut materials = Vec::new();
     let mut names = BTreeMap::new();
     for (name, m) in &raw.materials {
         let span = m.span();
         let m: &RawMaterial = m.get_ref();
-        let emission = ck.color(m.emission.as_ref(), &format!("materials.{name}.emission"));
+        let (emission, emission_texture) = check_emission(ck, name, m);
         let mut two_sided = m.two_sided.as_ref().is_none_or(|t| *t.get_ref());
         let bsdf = super::bsdfs::read(ck, name, span, m.bsdf.as_ref(), &m.params);
         if bsdf.kind().both_sides() {
@@ -867,7 +909,7 @@ fn check_materials(ck: &mut Checker, raw: &RawScene) -> (Vec<Material>, BTreeMap
             }
         });
         names.insert(name.clone(), materials.len());
-        materials.push(Material { name: name.clone(), emission, two_sided, bsdf, opacity, normal_map, bump_map, back: None, blend: None });
+        materials.push(Material { name: name.clone(), emission, emission_texture, two_sided, bsdf, opacity, normal_map, bump_map, back: None, blend: None });
     }
     // Backs, once every material has its index: a back's own BSDF is what scatters, so it must
     // be a plain one-BSDF material that only reflects (Mitsuba's twosided nests no

@@ -18,6 +18,9 @@ pub const NO_NORMAL_MAP: u32 = u32::MAX;
 /// `Material.bump_map` of a material without a bump map.
 pub const NO_BUMP_MAP: u32 = u32::MAX;
 
+/// `Material.emission_texture` of a material whose emission is one colour.
+pub const NO_EMISSION_TEXTURE: u32 = u32::MAX;
+
 /// `DeltaLight.texture` of a delta light that projects no texture.
 pub const NO_LIGHT_TEXTURE: u32 = u32::MAX;
 
@@ -44,6 +47,7 @@ pub fn wgsl() -> String {
         ("NO_BLEND", NO_BLEND),
         ("NO_NORMAL_MAP", NO_NORMAL_MAP),
         ("NO_BUMP_MAP", NO_BUMP_MAP),
+        ("NO_EMISSION_TEXTURE", NO_EMISSION_TEXTURE),
         ("NO_LIGHT_TEXTURE", NO_LIGHT_TEXTURE),
         ("TRIANGLE_TWO_SIDED", TRIANGLE_TWO_SIDED),
         ("TRIANGLE_HAS_NORMALS", TRIANGLE_HAS_NORMALS),

@@ -20,7 +20,7 @@ use toml::Spanned;
 
 use super::diagnostic::{Diagnostic, Findings, Severity, SourceMap};
 use super::raw::{
-    RawCamera, RawColor, RawCylinder, RawMaterial, RawMesh, RawRender, RawRotation, RawRotations, RawScale, RawScene, RawShape,
+    RawCamera, RawColor, RawCylinder, RawEmission, RawMaterial, RawMesh, RawRender, RawRotation, RawRotations, RawScale, RawScene, RawShape,
     RawSphere, RawTransform,
 };
 use super::bsdfs::{color_value, PluginProps, DEFAULT_REFLECTANCE};
@@ -504,7 +504,7 @@ struct Translator<'a> {
     diagnostics: Vec<Diagnostic>,
     materials: BTreeMap<String, Spanned<RawMaterial>>,
     /// (BSDF, emission) of each material made, for sharing identical ones.
-    material_keys: Vec<(String, Bsdf, Option<[f64; 3]>)>,
+    material_keys: Vec<(String, Bsdf, Option<RawEmission>)>,
     /// Named BSDFs already interpreted (a `<ref>` is a copy: interpreted once, reported once).
     bsdfs: BTreeMap<String, Option<Bsdf>>,
     shape_count: usize,
@@ -1605,7 +1605,7 @@ impl Translator<'_> {
     }
 
     /// The material of a BSDF with an emission: shared by every shape with the same pair.
-    fn material(&mut self, bsdf: &Bsdf, emission: Option<[f64; 3]>, shape_name: &str, at: usize) -> Spanned<String> {
+    fn material(&mut self, bsdf: &Bsdf, emission: Option<RawEmission>, shape_name: &str, at: usize) -> Spanned<String> {
         if let Some((name, _, _)) = self.material_keys.iter().find(|(_, b, e)| b == bsdf && *e == emission) {
             return spanned(at, name.clone());
         }
@@ -1639,7 +1639,7 @@ impl Translator<'_> {
             blend,
             blend_weight,
             back,
-            emission: emission.map(|c| spanned(at, RawColor(c))),
+            emission: emission.clone().map(|e| spanned(at, e)),
             // A kind that scatters on both sides by its nature is two-sided unwrapped.
             two_sided: if bsdf.two_sided || bsdf.kind.both_sides() { None } else { Some(spanned(at, false)) },
             bsdf: (bsdf.kind != BsdfKind::ALL[0]).then(|| spanned(at, bsdf.kind.toml_name().to_string())),
@@ -1722,15 +1722,34 @@ impl Translator<'_> {
                 ("bsdf", _) => bsdf = Some(self.bsdf(c)),
                 ("emitter", "area") => {
                     let mut ep = Props::of(c);
+                    if c.children.iter().any(|t| t.tag == "texture" && t.name.as_deref() == Some("radiance")) {
+                        // A textured radiance (Mitsuba's area emitter evaluates it at the
+                        // surface point's uv), read as a BSDF's textures are; triangle meshes
+                        // alone take it (validation refuses it on spheres and quadrics).
+                        let mut reader = PluginReader { t: self, p: Some(ep), o: c, taken: Vec::new() };
+                        let texture = reader.color_or_texture("radiance");
+                        reader.finish("radiance");
+                        let taken = std::mem::take(&mut reader.taken);
+                        for (i, t) in c.children.iter().enumerate() {
+                            if !taken.contains(&i) {
+                                self.error(t.at, t.name.as_deref().unwrap_or(""), format!("{} inside an <emitter type=\"area\"> is not supported", describe(&t.tag, &t.plugin)));
+                            }
+                        }
+                        emission = texture.map(|t| match t {
+                            toml::Value::Table(table) => RawEmission::Texture(table),
+                            other => RawEmission::Color(<RawColor as serde::Deserialize>::deserialize(other).unwrap_or(RawColor([0.0; 3]))),
+                        });
+                        continue;
+                    }
                     if let Some(t) = c.children.iter().find(|t| t.tag == "texture") {
-                        let name = t.name.as_deref().unwrap_or("radiance");
-                        self.error(t.at, name, format!("a textured `{name}` (<texture type=\"{}\">) of an area emitter is not supported (pathlab's area lights emit one colour across their surface)", t.plugin));
+                        let name = t.name.as_deref().unwrap_or("");
+                        self.error(t.at, name, format!("a <texture type=\"{}\" name=\"{name}\"> of an area emitter is not supported (its textured property is `radiance`)", t.plugin));
                     } else {
                         match self.color(&mut ep, "radiance", SpectrumRole::Emission) {
-                            Some((r, _)) => emission = Some(r),
+                            Some((r, _)) => emission = Some(RawEmission::Color(RawColor(r))),
                             None if ep.props.iter().any(|q| q.name == "radiance") || self.has_errors() => {}
                             // Mitsuba 3.9.1's default radiance (area.cpp: get_emissive_texture("radiance", 1.f)).
-                            None => emission = Some([1.0; 3]),
+                            None => emission = Some(RawEmission::Color(RawColor([1.0; 3]))),
                         }
                     }
                     self.finish(ep, "radiance");
