@@ -59,7 +59,8 @@ class Scene:
     @property
     def lights(self) -> List[Dict[str, Any]]:
         """One dict per emissive sphere (kind, index, center, radius, emission, power) and per
-        emissive mesh (kind, index, triangles, emission, two_sided, power)."""
+        emissive mesh (kind, index, triangles, emission, textured, two_sided, power; where
+        `textured`, the emission is a texture over the mesh's uvs and `emission` its mean)."""
     @property
     def techniques(self) -> List[Tuple[str, str, str, str]]:
         """The researchers' techniques loaded: (kind, name, path, sha256) each."""

@@ -260,7 +260,9 @@ impl PyScene {
             d.set_item("kind", "mesh")?;
             d.set_item("index", mesh)?;
             d.set_item("triangles", triangles)?;
+            // The emission's mean where it is a texture (`textured`).
             d.set_item("emission", vec3(s.materials[s.meshes[mesh].material].emission))?;
+            d.set_item("textured", s.materials[s.meshes[mesh].material].emission_texture.is_some())?;
             d.set_item("two_sided", s.meshes[mesh].two_sided_emission)?;
             d.set_item("power", power)?;
             out.push(d);

@@ -138,6 +138,17 @@ def test_the_default_method_is_the_clis(cli, tmp_path):
         assert np.array_equal(ours.image, theirs.image)
 
 
+def test_textured_lights_are_listed_with_their_mean_and_render():
+    # Mitsuba's area emitter with a textured radiance (tests/fixtures/textured_lights): a 4 x 3
+    # EXR whose pixel means are (4.5, 3.375, 4.625), and a checkerboard.
+    scene = pathlab.load_scene(FIXTURES / "textured_lights" / "textured_lights.xml", width=8, height=6)
+    meshes = [l for l in scene.lights if l["kind"] == "mesh" and l["textured"]]
+    assert len(meshes) == 2
+    assert any(np.allclose(l["emission"], [4.5, 3.375, 4.625]) for l in meshes)
+    image = pathlab.render(scene, "mis", spp=2, seed=1).image
+    assert np.isfinite(image).all() and image.mean() > 0
+
+
 def test_disk_lights_are_listed_with_their_area_and_power():
     # Mitsuba's disk as an area light (tests/fixtures/quadrics): the overhead disk is the unit
     # disk scaled by 0.7 x 0.35, so its area is pi 0.245; power is pi x area x luminance.
