@@ -398,31 +398,15 @@ impl Serialize for RawEmission {
     }
 }
 
+/// A table is a texture; anything else is read as a colour.
 impl<'de> Deserialize<'de> for RawEmission {
     fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-        struct EmissionVisitor;
-        impl<'de> Visitor<'de> for EmissionVisitor {
-            type Value = RawEmission;
-            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-                f.write_str("a number, an array of 3 numbers [r, g, b] or a texture table { texture = ... }")
-            }
-            fn visit_f64<E: de::Error>(self, v: f64) -> Result<RawEmission, E> {
-                Ok(RawEmission::Color(RawColor([v; 3])))
-            }
-            fn visit_i64<E: de::Error>(self, v: i64) -> Result<RawEmission, E> {
-                Ok(RawEmission::Color(RawColor([v as f64; 3])))
-            }
-            fn visit_u64<E: de::Error>(self, v: u64) -> Result<RawEmission, E> {
-                Ok(RawEmission::Color(RawColor([v as f64; 3])))
-            }
-            fn visit_seq<A: SeqAccess<'de>>(self, seq: A) -> Result<RawEmission, A::Error> {
-                RawColor::deserialize(de::value::SeqAccessDeserializer::new(seq)).map(RawEmission::Color)
-            }
-            fn visit_map<A: de::MapAccess<'de>>(self, map: A) -> Result<RawEmission, A::Error> {
-                toml::Table::deserialize(de::value::MapAccessDeserializer::new(map)).map(RawEmission::Texture)
-            }
+        match toml::Value::deserialize(deserializer)? {
+            toml::Value::Table(table) => Ok(RawEmission::Texture(table)),
+            other => RawColor::deserialize(other)
+                .map(RawEmission::Color)
+                .map_err(|e| de::Error::custom(format!("{} (or a texture table, {{ texture = \"bitmap\", ... }})", e.to_string().trim_end()))),
         }
-        deserializer.deserialize_any(EmissionVisitor)
     }
 }
 

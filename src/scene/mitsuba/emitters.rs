@@ -62,7 +62,7 @@ impl Translator<'_> {
         let intensity = self.delta_emission(&mut p, "intensity", o);
         let cutoff = self.get::<f64>(&mut p, "cutoff_angle").map(|(v, prop)| spanned(prop.value_at, v));
         let beam = self.get::<f64>(&mut p, "beam_width").map(|(v, prop)| spanned(prop.value_at, v));
-        let texture = self.projected_texture(o, p, "texture", "to_world, intensity, cutoff_angle, beam_width, texture");
+        let texture = self.emitter_texture(o, p, "texture", "to_world, intensity, cutoff_angle, beam_width, texture");
         // Mitsuba's spot refuses a texture that does not vary ("must be spatially varying").
         let texture = match texture {
             Some(t) if t.get_ref().get("texture").and_then(toml::Value::as_str) == Some("rawconstant") => {
@@ -100,7 +100,7 @@ impl Translator<'_> {
         let fov = self.field_of_view(o, &mut p);
         let scale = self.get::<f64>(&mut p, "scale").map(|(v, prop)| spanned(prop.value_at, v));
         let colour = self.color(&mut p, "irradiance", SpectrumRole::Emission);
-        let texture = self.projected_texture(o, p, "irradiance", "to_world, fov, fov_axis, focal_length, irradiance, scale");
+        let texture = self.emitter_texture(o, p, "irradiance", "to_world, fov, fov_axis, focal_length, irradiance, scale");
         let irradiance = match (texture, colour) {
             (Some(t), _) => t,
             (None, Some((c, at))) => spanned(at, super::super::bsdfs::color_value(c)),
@@ -133,10 +133,10 @@ impl Translator<'_> {
         ))
     }
 
-    /// The texture a delta emitter projects (`name`: a spot's `texture`, a projector's
-    /// `irradiance`), read as a BSDF's textures are, as its TOML value; `reads` lists what the
-    /// emitter reads.
-    fn projected_texture(&mut self, o: &Object, p: Props, name: &str, reads: &str) -> Option<Spanned<toml::Value>> {
+    /// An emitter's nested texture `name` (a spot's projected `texture`, a projector's
+    /// `irradiance`, an area emitter's `radiance`), read as a BSDF's textures are, as its TOML
+    /// value; `reads` lists what the emitter reads; any other child is refused.
+    pub(super) fn emitter_texture(&mut self, o: &Object, p: Props, name: &str, reads: &str) -> Option<Spanned<toml::Value>> {
         let nested = o.children.iter().position(|c| c.tag == "texture" && c.name.as_deref() == Some(name));
         let mut reader = PluginReader { t: self, p: Some(p), o, taken: Vec::new() };
         let value = match nested {

@@ -1724,21 +1724,12 @@ impl Translator<'_> {
                     let mut ep = Props::of(c);
                     if c.children.iter().any(|t| t.tag == "texture" && t.name.as_deref() == Some("radiance")) {
                         // A textured radiance (Mitsuba's area emitter evaluates it at the
-                        // surface point's uv), read as a BSDF's textures are; triangle meshes
-                        // alone take it (validation refuses it on spheres and quadrics).
-                        let mut reader = PluginReader { t: self, p: Some(ep), o: c, taken: Vec::new() };
-                        let texture = reader.color_or_texture("radiance");
-                        reader.finish("radiance");
-                        let taken = std::mem::take(&mut reader.taken);
-                        for (i, t) in c.children.iter().enumerate() {
-                            if !taken.contains(&i) {
-                                self.error(t.at, t.name.as_deref().unwrap_or(""), format!("{} inside an <emitter type=\"area\"> is not supported", describe(&t.tag, &t.plugin)));
-                            }
-                        }
-                        emission = texture.map(|t| match t {
-                            toml::Value::Table(table) => RawEmission::Texture(table),
-                            other => RawEmission::Color(<RawColor as serde::Deserialize>::deserialize(other).unwrap_or(RawColor([0.0; 3]))),
-                        });
+                        // surface point's uv); triangle meshes alone take it (validation
+                        // refuses it on spheres and quadrics).
+                        emission = match self.emitter_texture(c, ep, "radiance", "radiance").map(Spanned::into_inner) {
+                            Some(toml::Value::Table(table)) => Some(RawEmission::Texture(table)),
+                            _ => None,
+                        };
                         continue;
                     }
                     if let Some(t) = c.children.iter().find(|t| t.tag == "texture") {
