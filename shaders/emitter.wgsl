@@ -77,7 +77,7 @@ fn projected_texture(light: DeltaLight, uv: vec2f) -> vec3f {
     if (!HAS_LIGHT_TEXTURES || light.texture == NO_LIGHT_TEXTURE) {
         return vec3f(1.0);
     }
-    return eval_texture(light.texture, uv, vec3f(0.0));
+    return eval_texture(light.texture, uv_context(uv));
 }
 
 @group(0) @binding(BINDING_DELTA_LIGHTS) var<uniform> delta_lights: array<DeltaLight, MAX_DELTA_LIGHTS>;

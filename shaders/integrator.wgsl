@@ -344,12 +344,13 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
         // The lobe sample, drawn first: a blend picks its BSDF with it (and rescales it).
         var u_lobe = sample_1d(id.pixel, id.index, dim_base + 2u, id.seed);
         var bsdf_material = hit.material;
+        let tex = texture_context(hit, x);
         if (HAS_BLENDS) {
-            let pick = blend_pick(hit.material, hit.uv, x, u_lobe);
+            let pick = blend_pick(hit.material, tex, u_lobe);
             bsdf_material = pick.material;
             u_lobe = pick.u;
         }
-        var m = material_bsdf(hit.material, bsdf_material, from_inside, hit.uv, x);
+        var m = material_bsdf(hit.material, bsdf_material, from_inside, tex);
         m.inside = from_inside;
         if (HAS_TANGENT_FRAMES) {
             m.tangent = hit.tangent;
@@ -357,7 +358,7 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
         if (HAS_NORMAL_MAPS) {
             let map = materials[hit.material].normal_map;
             if (map != NO_NORMAL_MAP) {
-                m = normal_mapped(m, eval_texture(map, hit.uv, x), hit.shading_normal, n_s, wo);
+                m = normal_mapped(m, eval_texture(map, tex), hit.shading_normal, n_s, wo);
             }
         }
         if (HAS_BUMP_MAPS) {
@@ -417,7 +418,7 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
         }
         ray_d = bs.wi;
         // A sample that cannot scatter (below the surface) ends the path untraced.
-        hit = Hit(0.0, vec3f(0.0, 0.0, 1.0), 0u, INVALID, vec3f(0.0, 0.0, 1.0), vec2f(0.0), vec3f(0.0), 0.0);
+        hit = Hit(0.0, vec3f(0.0, 0.0, 1.0), 0u, INVALID, vec3f(0.0, 0.0, 1.0), vec2f(0.0), vec3f(0.0), 0.0, vec2f(0.0));
         if (scattered) {
             hit = intersect_scene(ray_o, ray_d);
         }

@@ -26,6 +26,14 @@ struct Hit {
     // vertices are far larger than the point (a floor 2000 wide) do not find it again; 0
     // elsewhere.
     p_error: f32,
+    // The barycentrics (of p1 and p2) of a triangle hit, for mesh attributes; else 0.
+    bary: vec2f,
+}
+
+// Where the textures of the surface hit are looked up, at its point p (texture.wgsl).
+fn texture_context(hit: Hit, p: vec3f) -> TextureEvalContext {
+    let on_triangle = hit.object != INVALID && hit.object >= first_triangle_object();
+    return TextureEvalContext(hit.uv, p, select(INVALID, hit.object - first_triangle_object(), on_triangle), hit.bary);
 }
 
 // The first object index of the quadrics (disks, then cylinders).
@@ -215,7 +223,7 @@ fn intersect_scene(o: vec3f, d: vec3f) -> Hit {
     if (HAS_TANGENT_FRAMES && object != INVALID) {
         tangent = select(plane_tangent(plane_normal), sphere_tangent(object, sphere_normal), object < NUM_SPHERES);
     }
-    var hit = Hit(t_hit, normal, material, object, normal, uv, tangent, 0.0);
+    var hit = Hit(t_hit, normal, material, object, normal, uv, tangent, 0.0, vec2f(0.0));
     if (NUM_DISKS + NUM_CYLINDERS > 0u) {
         // Quadrics in loops of their own, as spheres: a lane-uniform index, read as broadcasts.
         var quadric = INVALID;
@@ -243,7 +251,7 @@ fn intersect_scene(o: vec3f, d: vec3f) -> Hit {
             if (HAS_TANGENT_FRAMES) {
                 q_tangent = quadric_tangent(quadric, q, x);
             }
-            hit = Hit(hit.t, n, q.material, first_quadric_object() + quadric, n, q_uv, q_tangent, 0.0);
+            hit = Hit(hit.t, n, q.material, first_quadric_object() + quadric, n, q_uv, q_tangent, 0.0, vec2f(0.0));
         }
     }
     if (NUM_TRIANGLES > 0u) {
@@ -261,7 +269,7 @@ fn intersect_scene(o: vec3f, d: vec3f) -> Hit {
                 tri_tangent = triangle_tangent(th.index, tri, n);
             }
             let p_error = GAMMA_7 * max(max3(abs(tri.p0)), max(max3(abs(tri.p1)), max3(abs(tri.p2))));
-            hit = Hit(th.t, n, tri.material, first_triangle_object() + th.index, shading_normal, tri_uv, tri_tangent, p_error);
+            hit = Hit(th.t, n, tri.material, first_triangle_object() + th.index, shading_normal, tri_uv, tri_tangent, p_error, th.bary);
         }
     }
     return hit;

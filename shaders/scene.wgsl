@@ -151,7 +151,7 @@ struct Surfaces {
 // kinds than Phong (whose two slots are the rest): a dynamically indexed uniform read costs per
 // byte on SIMD CPU drivers (reading the whole 80-byte Material cost the study scene a quarter of
 // its speed).
-fn material_bsdf(material: u32, bsdf_material: u32, from_inside: bool, uv: vec2f, p: vec3f) -> Bsdf {
+fn material_bsdf(material: u32, bsdf_material: u32, from_inside: bool, ctx: TextureEvalContext) -> Bsdf {
     let i = material_on_side(bsdf_material, from_inside);
     var b = Bsdf(BSDF_KIND_PHONG, materials[i].p0, materials[i].p1, vec4f(0.0), false, 1.0, vec3f(0.0), vec3f(0.0));
     if (bsdf_kinds_vary()) {
@@ -159,10 +159,10 @@ fn material_bsdf(material: u32, bsdf_material: u32, from_inside: bool, uv: vec2f
         b.p2 = materials[i].p2;
     }
     if (HAS_UVS) {
-        b = bsdf_apply_textures(b, uv, p);
+        b = bsdf_apply_textures(b, ctx);
     }
     if (HAS_MASKS) {
-        b.opacity = material_opacity(material, uv, p);
+        b.opacity = material_opacity(material, ctx);
     }
     return b;
 }
@@ -181,14 +181,14 @@ struct BlendPick {
     u: f32,
 }
 
-fn blend_pick(i: u32, uv: vec2f, p: vec3f, u: f32) -> BlendPick {
+fn blend_pick(i: u32, ctx: TextureEvalContext, u: f32) -> BlendPick {
     let other = materials[i].blend;
     if (!HAS_BLENDS || other == NO_BLEND) {
         return BlendPick(i, u);
     }
     var w = materials[i].blend_weight;
     if (HAS_UVS && w < 0.0) {
-        w = mask_opacity_of_texel(eval_texture(u32(-w - 1.0), uv, p));
+        w = mask_opacity_of_texel(eval_texture(u32(-w - 1.0), ctx));
     }
     if (u < w) {
         return BlendPick(other, u / w);
@@ -214,10 +214,10 @@ override TEXTURED_OPACITY: bool = true;
 
 // The opacity of material i at uv and world position p (Mitsuba's mask): its constant, or its
 // texture's value there.
-fn material_opacity(i: u32, uv: vec2f, p: vec3f) -> f32 {
+fn material_opacity(i: u32, ctx: TextureEvalContext) -> f32 {
     let o = materials[i].opacity;
     if (!HAS_UVS || !TEXTURED_OPACITY || o >= 0.0) {
         return o;
     }
-    return mask_opacity_of_texel(eval_texture(u32(-o - 1.0), uv, p));
+    return mask_opacity_of_texel(eval_texture(u32(-o - 1.0), ctx));
 }

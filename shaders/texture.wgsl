@@ -21,6 +21,44 @@
 //   numbers each (src/scene/textures/volume.rs, `GridVolume::eval` its host twin): looked up at
 //   the hit's world position p, not its uvs (Mitsuba's `volume` texture around a `gridvolume`).
 //   rawconstant (3): the value (3): Mitsuba's rawconstant, the same everywhere.
+//   mesh_attribute (5): the attribute's slot, scale, the number of slots: Mitsuba's
+//   mesh_attribute, the named attribute of the triangle hit (src/scene/mesh/, `MeshAttribute`)
+//   at its barycentrics, times the scale; its values are `mesh_attributes`, not bsdf_data.
+
+// Where a texture is looked up (pbrt-v4's TextureEvalContext; Mitsuba passes its
+// SurfaceInteraction): the uv parametrisation, the world position (a grid volume's), and the
+// triangle hit, its index in the kernel's order (INVALID: no triangle) and barycentrics (of p1
+// and p2), for a mesh attribute (`texture_context`, intersect.wgsl).
+struct TextureEvalContext {
+    uv: vec2f,
+    p: vec3f,
+    triangle: u32,
+    bary: vec2f,
+}
+
+// A lookup at uv alone (an emitter's texture, a projector's image).
+fn uv_context(uv: vec2f) -> TextureEvalContext {
+    return TextureEvalContext(uv, vec3f(0.0), INVALID, vec2f(0.0));
+}
+
+// The mesh attributes that mesh_attribute textures read, at each triangle's three corners as RGB:
+// triangle k's corner c of slot s at (k slots + s) 3 + c (`PackedTriangles::attributes`).
+@group(0) @binding(BINDING_MESH_ATTRIBUTES) var<storage, read> mesh_attributes: array<vec4f>;
+
+// The mesh attribute of the record at `at` at the context's triangle: its corners' values
+// blended by the barycentrics (b0 = 1 - b1 - b2) in Mitsuba's order, fmadd(a0, b0, fmadd(a1, b1,
+// a2 b2)) (Mesh::interpolate_attribute; a face attribute's three corners are equal), times the
+// scale. No triangle (validation refuses the material on other shapes): 0.
+fn eval_mesh_attribute_texture(at: u32, ctx: TextureEvalContext) -> vec3f {
+    if (ctx.triangle == INVALID) {
+        return vec3f(0.0);
+    }
+    let slots = u32(bsdf_data[at + 3u]);
+    let base = (ctx.triangle * slots + u32(bsdf_data[at + 1u])) * 3u;
+    let b0 = 1.0 - ctx.bary.x - ctx.bary.y;
+    let v = mesh_attributes[base].xyz * b0 + (mesh_attributes[base + 1u].xyz * ctx.bary.x + mesh_attributes[base + 2u].xyz * ctx.bary.y);
+    return v * bsdf_data[at + 2u];
+}
 
 // A checkerboard at uv mapped by to_uv (a scale, or where `affine` two rows of a 2D affine map).
 fn eval_checkerboard_texture(at: u32, uv: vec2f, affine: bool) -> vec3f {
@@ -183,20 +221,24 @@ fn mix_exact(a: vec3f, b: vec3f, t: f32) -> vec3f {
 // The kinds of texture some material uses (bit k: kind k; SceneFeatures::texture_kinds): the
 // others' lookups are compiled out (lavapipe runs both sides of every branch: a grid lookup
 // compiled into every textured scene cost those a quarter of their speed).
-override TEXTURE_KINDS: u32 = 31u;
+override TEXTURE_KINDS: u32 = 63u;
 
 fn uses_texture_kind(kind: f32) -> bool {
     return (TEXTURE_KINDS & (1u << u32(kind))) != 0u;
 }
 
-// The texture whose record starts at `at`, at uv and world position p.
-fn eval_texture(at: u32, uv: vec2f, p: vec3f) -> vec3f {
+// The texture whose record starts at `at`, where the context says.
+fn eval_texture(at: u32, ctx: TextureEvalContext) -> vec3f {
     let kind = bsdf_data[at];
+    let uv = ctx.uv;
     if (uses_texture_kind(TEXTURE_BITMAP) && kind == TEXTURE_BITMAP) {
         return eval_bitmap_texture(at, uv);
     }
     if (uses_texture_kind(TEXTURE_VOLUME) && kind == TEXTURE_VOLUME) {
-        return eval_volume_texture(at, p);
+        return eval_volume_texture(at, ctx.p);
+    }
+    if (uses_texture_kind(TEXTURE_MESH_ATTRIBUTE) && kind == TEXTURE_MESH_ATTRIBUTE) {
+        return eval_mesh_attribute_texture(at, ctx);
     }
     if (uses_texture_kind(TEXTURE_RAW_CONSTANT) && kind == TEXTURE_RAW_CONSTANT) {
         return vec3f(bsdf_data[at + 1u], bsdf_data[at + 2u], bsdf_data[at + 3u]);
@@ -217,19 +259,19 @@ fn texture_value_1(c: vec3f) -> f32 {
     return dot(LUMINANCE, c);
 }
 
-// A scalar slot's value at uv and p (a roughness): itself, or, where negative, the value of
-// the texture whose record it references, -(start + 1).
-fn scalar_texture_slot(v: f32, uv: vec2f, p: vec3f) -> f32 {
+// A scalar slot's value where the context says (a roughness): itself, or, where negative, the
+// value of the texture whose record it references, -(start + 1).
+fn scalar_texture_slot(v: f32, ctx: TextureEvalContext) -> f32 {
     if (v >= 0.0) {
         return v;
     }
-    return texture_value_1(eval_texture(u32(-v - 1.0), uv, p));
+    return texture_value_1(eval_texture(u32(-v - 1.0), ctx));
 }
 
-// A colour slot's value at uv and p: itself, or its texture's value.
-fn texture_slot(slot: vec3f, uv: vec2f, p: vec3f) -> vec3f {
+// A colour slot's value where the context says: itself, or its texture's value.
+fn texture_slot(slot: vec3f, ctx: TextureEvalContext) -> vec3f {
     if (slot.x >= 0.0) {
         return slot;
     }
-    return eval_texture(u32(-slot.x - 1.0), uv, p);
+    return eval_texture(u32(-slot.x - 1.0), ctx);
 }

@@ -34,6 +34,7 @@ fn tetrahedron(with_normals: bool, with_uvs: bool) -> MeshData {
         uvs: if with_uvs { vec![[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [0.25, 0.75]] } else { Vec::new() },
         positions,
         triangles: vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]],
+        attributes: Vec::new(),
         notes: Vec::new(),
     }
 }

@@ -35,6 +35,7 @@ mod extremes;
 mod file_mutations;
 mod lamps;
 mod masks;
+mod mesh_attributes;
 mod normal_maps;
 mod orthographic;
 mod mesh_scenes;

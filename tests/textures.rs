@@ -52,7 +52,7 @@ fn lookup_main(@builtin(global_invocation_id) gid: vec3u) {
         return;
     }
     // The slot as a material packs it: x = -(start + 1).
-    test_out[i] = vec4f(texture_slot(vec3f(test_uvs[i].z, 0.0, 0.0), test_uvs[i].xy, vec3f(0.0)), 0.0);
+    test_out[i] = vec4f(texture_slot(vec3f(test_uvs[i].z, 0.0, 0.0), uv_context(test_uvs[i].xy)), 0.0);
 }
 "#;
 
@@ -321,7 +321,7 @@ fn textures_are_read_from_toml_and_xml_and_bad_ones_refused() {
     assert_eq!(p.diffuse_texture.as_ref(), Some(&expected));
     assert_eq!(p.diffuse, expected.mean(), "the mean stands for the texture on the host");
     let cases = [
-        ("diffuse = { texture = \"bricks\" }", "unknown texture \"bricks\" (pathlab has checkerboard, bitmap, volume, rawconstant)"),
+        ("diffuse = { texture = \"bricks\" }", "unknown texture \"bricks\" (pathlab has checkerboard, bitmap, volume, rawconstant, mesh_attribute)"),
         ("diffuse = { color0 = 0.5 }", "needs `texture = \"checkerboard\"`, `\"bitmap\"` or `\"volume\"`"),
         ("diffuse = { texture = \"checkerboard\", color0 = -1 }", "`color0` of a checkerboard must be a colour >= 0"),
         ("diffuse = { texture = \"checkerboard\", to_uv_scale = [0, 1] }", "two finite non-zero numbers"),
@@ -344,7 +344,7 @@ fn textures_are_read_from_toml_and_xml_and_bad_ones_refused() {
     let expected = Texture::Checkerboard { color0: DVec3::splat(0.4), color1: DVec3::new(0.1, 0.2, 0.3), to_uv: [[10.0, 0.0, 0.0], [0.0, 5.0, 0.0]] };
     assert!(matches!(&s.materials[0].bsdf, Bsdf::Phong(p) if p.diffuse_texture.as_ref() == Some(&expected)), "{:?}", s.materials[0].bsdf);
     for (bsdf, message) in [
-        ("<bsdf type=\"diffuse\" id=\"t\"><texture type=\"bricks\" name=\"reflectance\"/></bsdf>", "<texture type=\"bricks\"> is not supported (pathlab has checkerboard, bitmap, volume, rawconstant)"),
+        ("<bsdf type=\"diffuse\" id=\"t\"><texture type=\"bricks\" name=\"reflectance\"/></bsdf>", "<texture type=\"bricks\"> is not supported (pathlab has checkerboard, bitmap, volume, rawconstant, mesh_attribute)"),
         ("<bsdf type=\"roughplastic\" id=\"t\"><texture type=\"checkerboard\" name=\"specular_reflectance\"/></bsdf>", "a textured parameter other than diffuse_reflectance is not supported"),
         ("<bsdf type=\"conductor\" id=\"t\"><texture type=\"checkerboard\" name=\"alpha\"/></bsdf>", "a textured parameter other than eta, k, specular_reflectance (and a roughconductor's alpha) is not supported"),
         ("<bsdf type=\"dielectric\" id=\"t\"><texture type=\"checkerboard\" name=\"int_ior\"/></bsdf>", "a textured parameter other than specular_reflectance and specular_transmittance (and a roughdielectric's alpha) is not supported"),

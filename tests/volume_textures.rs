@@ -107,7 +107,7 @@ fn lookup_main(@builtin(global_invocation_id) gid: vec3u) {
     // The slot as a material packs it: x = -(start + 1); the point in xyz of the query.
     let q = test_points[i];
     let slot = q.w;
-    test_out[i] = vec4f(texture_slot(vec3f(slot, 0.0, 0.0), vec2f(0.0), q.xyz), scalar_texture_slot(slot, vec2f(0.0), q.xyz));
+    test_out[i] = vec4f(texture_slot(vec3f(slot, 0.0, 0.0), TextureEvalContext(vec2f(0.0), q.xyz, INVALID, vec2f(0.0))), scalar_texture_slot(slot, TextureEvalContext(vec2f(0.0), q.xyz, INVALID, vec2f(0.0))));
 }
 "#;
 

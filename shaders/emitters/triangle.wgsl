@@ -60,7 +60,7 @@ fn triangle_emission(m: u32, uv: vec2f) -> vec3f {
     let t = materials[m].emission_texture;
     if (HAS_EMISSION_TEXTURES && HAS_UVS && t != NO_EMISSION_TEXTURE) {
         // No grid volumes here (refused): the point is not needed.
-        return eval_texture(t, uv, vec3f(0.0));
+        return eval_texture(t, uv_context(uv));
     }
     return materials[m].emission;
 }

@@ -226,7 +226,7 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
         .filter_map(|m| {
             m.opacity.as_ref().map(|o| match o {
                 pathlab::scene::Opacity::Constant(c) => format!("{} (opacity {})", m.name, *c as f32),
-                pathlab::scene::Opacity::Texture(t) => format!("{} (opacity a {}, mean {:.3})", m.name, t.name(), o.mean()),
+                pathlab::scene::Opacity::Texture(t) => format!("{} (opacity a {})", m.name, texture_and_mean(t, o.mean())),
             })
         })
         .collect();
@@ -255,7 +255,7 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
         .filter_map(|m| {
             m.blend.as_ref().map(|b| match &b.weight {
                 pathlab::scene::Opacity::Constant(w) => format!("{} (with {}, weight {})", m.name, scene.materials[b.material].name, *w as f32),
-                pathlab::scene::Opacity::Texture(t) => format!("{} (with {}, weight a {}, mean {:.3})", m.name, scene.materials[b.material].name, t.name(), b.weight.mean()),
+                pathlab::scene::Opacity::Texture(t) => format!("{} (with {}, weight a {})", m.name, scene.materials[b.material].name, texture_and_mean(t, b.weight.mean())),
             })
         })
         .collect();
@@ -356,6 +356,19 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
             (packed.normals.len() * 48) as f64 / (1 << 20) as f64,
             (b.nodes.len() * 32) as f64 / (1 << 20) as f64,
         );
+        let names = scene.mesh_attribute_names();
+        if !names.is_empty() {
+            // Which meshes carry each attribute a texture reads, and the table's size.
+            let carried: Vec<String> = names
+                .iter()
+                .map(|n| format!("{n} on {} of {} meshes", scene.meshes.iter().filter(|m| m.attribute(n).is_some()).count(), scene.meshes.len()))
+                .collect();
+            println!(
+                "mesh attributes read by textures: {}; GPU memory {:.2} MiB (each triangle's corners)",
+                carried.join(", "),
+                std::mem::size_of_val(&packed.attributes[..]) as f64 / (1 << 20) as f64
+            );
+        }
         if let Some((shared, _)) = packed.shared_vertices() {
             println!(
                 "Small scene: on a CPU adapter the kernel tests all {} triangles in turn (at most {}), on {} distinct vertices sheared once per ray ({} corners)",
@@ -467,5 +480,14 @@ impl SceneOverrides {
             Some(transfer) => pathlab::display::DisplayTransform { transfer, ..scene.display },
             None => scene.display,
         })
+    }
+}
+
+/// A weight's texture for `check`: its kind and mean, or for a mesh attribute, whose mean the host
+/// does not know, its name.
+fn texture_and_mean(t: &pathlab::scene::Texture, mean: f64) -> String {
+    match t.mesh_attribute() {
+        Some(name) => format!("{} \"{name}\"", t.name()),
+        None => format!("{}, mean {mean:.3}", t.name()),
     }
 }

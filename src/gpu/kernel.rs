@@ -29,15 +29,15 @@ impl KernelRun<'_> {
     /// Compiles, dispatches and returns the output buffer's bytes.
     pub fn run(&self, gpu: &Gpu) -> Result<Vec<u8>, GpuError> {
         let device = &gpu.device;
-        // The BSDF library's one binding, its data, as one zero where the kernel gives none (a
-        // kernel that reaches no kind reading data, or a source without the library).
-        // The same for the environment map.
+        // The BSDF library's one binding, its data, as zeros where the kernel gives none (a
+        // kernel that reaches no kind reading data, or a source without the library). The same
+        // for the environment map and the mesh attributes (16 bytes: one vec4).
         let mut inputs = self.inputs.clone();
-        for binding in [bindings::BSDF_DATA, bindings::ENVIRONMENT_MAP] {
+        for binding in [bindings::BSDF_DATA, bindings::ENVIRONMENT_MAP, bindings::MESH_ATTRIBUTES] {
             let data = binding.number;
             let taken = inputs.iter().chain(&self.uniforms).any(|(b, _)| *b == data) || self.output.0 == data;
             if !taken && self.source.contains(&format!("BINDING_{}) var", binding.name)) {
-                inputs.push((data, vec![0; 4]));
+                inputs.push((data, vec![0; 16]));
             }
         }
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);

@@ -204,6 +204,11 @@ pub struct PackedTriangles {
     pub normals: Vec<GpuTriangleNormals>,
     /// One per triangle where some mesh has texture coordinates, else empty.
     pub uvs: Vec<GpuTriangleUvs>,
+    /// The mesh attributes that textures read (`Scene::mesh_attribute_names`), the values at
+    /// each triangle's three corners as RGB (a grey for one channel; zero where its mesh has no
+    /// such attribute): triangle k (leaf order), slot s, corner c at (k slots + s) 3 + c
+    /// (`mesh_attributes` in texture.wgsl).
+    pub attributes: Vec<[f32; 4]>,
     pub bvh: Bvh,
     pub lights: Vec<GpuLight>,
 }
@@ -215,6 +220,7 @@ impl PackedTriangles {
         std::mem::size_of_val(&self.triangles[..])
             + std::mem::size_of_val(&self.normals[..])
             + std::mem::size_of_val(&self.uvs[..])
+            + std::mem::size_of_val(&self.attributes[..])
             + std::mem::size_of_val(&self.bvh.nodes[..])
             + std::mem::size_of_val(&self.bvh.pair_parents()[..])
             + std::mem::size_of_val(&self.lights[..])
@@ -272,6 +278,18 @@ impl PackedTriangles {
                 uvs.push(GpuTriangleUvs { uv0, uv1, uv2 });
             }
         }
+        let mut attributes = Vec::new();
+        let names = scene.mesh_attribute_names();
+        if !names.is_empty() {
+            for &i in &bvh.order {
+                let (m, t) = refs[i as usize];
+                let mesh = &scene.meshes[m];
+                for name in &names {
+                    let corners = mesh.attribute(name).map_or([[0.0; 3]; 3], |a| a.corners(t, mesh.triangles[t]));
+                    attributes.extend(corners.map(|[r, g, b]| [r, g, b, 0.0]));
+                }
+            }
+        }
         // The light table, each kind's lights one range in `EmitterKind` order: sphere light l
         // is kernel sphere l, a triangle is named by its index in leaf order, the environment
         // by nothing.
@@ -300,7 +318,7 @@ impl PackedTriangles {
                 kind: light.kind().constant(),
             })
             .collect();
-        PackedTriangles { triangles, normals, uvs, bvh, lights }
+        PackedTriangles { triangles, normals, uvs, attributes, bvh, lights }
     }
 }
 
@@ -351,6 +369,7 @@ impl SceneBuffers {
             contents(bindings::TRIANGLES, "triangles", storage_array(&packed.triangles)),
             contents(bindings::TRIANGLE_NORMALS, "triangle normals", storage_array(&packed.normals)),
             contents(bindings::TRIANGLE_UVS, "triangle uvs", storage_array(&packed.uvs)),
+            contents(bindings::MESH_ATTRIBUTES, "mesh attributes", storage_array(&packed.attributes)),
             contents(bindings::BVH_NODES, "bvh nodes", storage_array(&packed.bvh.nodes)),
             contents(bindings::BVH_PARENTS, "bvh parents", storage_array(&packed.bvh.pair_parents())),
             contents(bindings::LIGHTS, "lights", storage_array(&packed.lights)),
@@ -411,7 +430,7 @@ fn uniform_array<T: Pod>(items: &[T], capacity: usize) -> Vec<u8> {
 impl SceneBuffers {
     /// The materials in scene order, and the numbers their BSDFs read beyond their blocks.
     pub fn pack_materials(scene: &Scene) -> (Vec<GpuMaterial>, BsdfData) {
-        let mut data = BsdfData::default();
+        let mut data = BsdfData(Vec::new(), scene.mesh_attribute_names());
         let materials = scene
             .materials
             .iter()

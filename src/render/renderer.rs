@@ -181,7 +181,8 @@ impl Renderer {
         let binding = gpu.limits.max_storage_buffer_binding_size.min(gpu.limits.max_buffer_size);
         let count = scene.num_triangles() as u64;
         let texture_rows = gpu.limits.max_texture_dimension_2d as u64;
-        let limit = max_triangles(binding, texture_rows);
+        // Each attribute slot's table takes as many bytes per triangle as the normals'.
+        let limit = max_triangles(binding / scene.mesh_attribute_names().len().max(1) as u64, texture_rows);
         if count > limit {
             return Err(RenderError::TooManyTriangles { count, limit, binding, texture_rows });
         }

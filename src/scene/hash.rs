@@ -24,6 +24,9 @@
 //! meshes=N, then mesh.i.material=INDEX .two_sided=0|1 (its emission) .triangles=T .data=SHA256
 //! ```
 //!
+//! and after a mesh's `.data`, for each attribute of it that a `mesh_attribute` texture reads,
+//! `mesh.i.attribute.NAME=SHA256` (its channel count and values).
+//!
 //! `render.hide_emitters=true` after `render.environment` only where the scene hides emitters;
 //! and, only where the camera has a thin lens (aperture_radius > 0),
 //! `camera.thin_lens=APERTURE_RADIUS FOCUS_DISTANCE`; and, only where the scene has delta
@@ -172,12 +175,20 @@ pub fn canonical_encoding(scene: &Scene) -> String {
         line(&format!("plane.{i}.material"), p.material.to_string());
     }
     if !scene.meshes.is_empty() {
+        let attribute_names = scene.mesh_attribute_names();
         line("meshes", scene.meshes.len().to_string());
         for (i, m) in scene.meshes.iter().enumerate() {
             line(&format!("mesh.{i}.material"), m.material.to_string());
             line(&format!("mesh.{i}.two_sided"), (m.two_sided_emission as u8).to_string());
             line(&format!("mesh.{i}.triangles"), m.triangles.len().to_string());
             line(&format!("mesh.{i}.data"), mesh_digest(m));
+            // The attributes that textures read, only where some does (every other scene keeps
+            // its hash).
+            for name in &attribute_names {
+                if let Some(a) = m.attribute(name) {
+                    line(&format!("mesh.{i}.attribute.{name}"), attribute_digest(a));
+                }
+            }
         }
     }
     // Only a thin lens adds a line, so that scenes written before keep their hash.
@@ -242,6 +253,17 @@ pub fn canonical_encoding(scene: &Scene) -> String {
 }
 
 /// Hex SHA-256 of a mesh's world-space data (see the module documentation).
+/// The SHA-256 of an attribute's channel count and values.
+fn attribute_digest(a: &crate::scene::mesh::MeshAttribute) -> String {
+    use sha2::{Digest, Sha256};
+    let mut h = Sha256::new();
+    h.update((a.channels as u32).to_le_bytes());
+    for x in &a.values {
+        h.update(x.to_le_bytes());
+    }
+    h.finalize().iter().map(|b| format!("{b:02x}")).collect()
+}
+
 fn mesh_digest(m: &crate::scene::Mesh) -> String {
     use sha2::{Digest, Sha256};
     let mut h = Sha256::new();

@@ -323,6 +323,14 @@ impl Scene {
         }
     }
 
+    /// The names of the mesh attributes that `mesh_attribute` textures read, sorted: the slots
+    /// of the kernel's attribute table (`PackedTriangles::attributes`).
+    pub fn mesh_attribute_names(&self) -> Vec<String> {
+        let names: std::collections::BTreeSet<String> =
+            self.materials.iter().flat_map(|m| m.textures()).filter_map(|t| t.mesh_attribute().map(str::to_string)).collect();
+        names.into_iter().collect()
+    }
+
     /// Triangles of all meshes.
     pub fn num_triangles(&self) -> usize {
         self.meshes.iter().map(|m| m.triangles.len()).sum()

@@ -107,6 +107,7 @@ fn check_delta_lights(ck: &mut Checker, raw: &RawScene) -> (Vec<PointLight>, Vec
                 for (span, message) in errors {
                     ck.error(span, &field, message);
                 }
+                let texture = refuse_light_mesh_attribute(ck, texture, t.span(), &field);
                 let up = match up {
                     Some(up) => {
                         let u = unit_direction(ck, up, &format!("spot_lights[{i}].up"));
@@ -167,7 +168,7 @@ fn check_delta_lights(ck: &mut Checker, raw: &RawScene) -> (Vec<PointLight>, Vec
                 for (span, message) in errors {
                     ck.error(span, &field("irradiance"), message);
                 }
-                t.unwrap_or(Texture::RawConstant { value: DVec3::ZERO })
+                refuse_light_mesh_attribute(ck, t, l.irradiance.span(), &field("irradiance")).unwrap_or(Texture::RawConstant { value: DVec3::ZERO })
             }
             _ => match toml::Value::try_into::<RawColor>(l.irradiance.get_ref().clone()) {
                 Ok(c) => Texture::RawConstant { value: ck.color(Some(&Spanned::new(l.irradiance.span(), c)), &field("irradiance")) },
@@ -281,6 +282,7 @@ pub(super) fn validate(raw: &RawScene, file: &Path, sources: SourceMap, diagnost
         }
         let field = format!("planes[{i}].material");
         let material = resolve(&mut ck, &p.material, &field);
+        refuse_textured_emission(&mut ck, &materials, material, &p.material, &field, "plane");
         if materials.get(material).is_some_and(Material::is_emissive) {
             ck.error(
                 p.material.span(),
@@ -600,7 +602,29 @@ fn check_meshes(ck: &mut Checker, raw: &RawScene, materials: &[Material], resolv
             normals: placed.normals,
             uvs: placed.uvs,
             triangles: placed.triangles,
+            attributes: placed.attributes,
         };
+        // Every attribute its material's textures read, with channels the reading can use.
+        for (name, scalar) in mesh_attribute_reads(materials, material) {
+            let named = |a: &crate::scene::mesh::MeshAttribute| format!("{} ({} channel{})", a.name, a.channels, if a.channels == 1 { "" } else { "s" });
+            let problem = match mesh.attribute(&name) {
+                None => Some(format!(
+                    "has no attribute \"{name}\" (it has {}), which its material's mesh_attribute texture reads",
+                    if mesh.attributes.is_empty() { "none".to_string() } else { mesh.attributes.iter().map(named).collect::<Vec<_>>().join(", ") }
+                )),
+                Some(a) if a.channels != 1 && a.channels != 3 => {
+                    Some(format!("has the attribute {}, where a texture reads 1 or 3 (Mitsuba evaluates other counts as 0)", named(a)))
+                }
+                Some(a) if scalar && a.channels != 1 => Some(format!(
+                    "has the attribute {}, which its material reads as one number (a weight or an opacity, Mitsuba's eval_1, which gives 0 for 3 channels): give a one-channel attribute",
+                    named(a)
+                )),
+                Some(_) => None,
+            };
+            if let Some(problem) = problem {
+                ck.error(span.clone(), format!("{table}.material"), format!("{} {problem}", mesh.source));
+            }
+        }
         let emissive = materials.get(material).is_some_and(Material::is_emissive);
         if emissive && !(mesh.area() > 0.0) {
             ck.error(span, format!("{table}.material"), format!("{} is emissive but its total area is zero: it cannot be sampled as a light", mesh.source));
@@ -823,6 +847,10 @@ fn check_emission(ck: &mut Checker, name: &str, m: &RawMaterial) -> (DVec3, Opti
                     ck.error(e.span(), &field, "a volume texture as an emission is not supported (an emission texture is looked up at the surface's uv parametrisation: give a bitmap, a checkerboard or a rawconstant)");
                     (DVec3::ZERO, None)
                 }
+                Some(Texture::MeshAttribute { .. }) => {
+                    ck.error(e.span(), &field, "a mesh_attribute as an emission is not supported yet (an emission texture is looked up at the surface's uv parametrisation: give a bitmap, a checkerboard or a rawconstant)");
+                    (DVec3::ZERO, None)
+                }
                 Some(t) if t.mean().min_element() < 0.0 => {
                     ck.error(e.span(), &field, format!("an emission texture must be >= 0 everywhere (its mean is {:?})", t.mean().to_array()));
                     (DVec3::ZERO, None)
@@ -834,12 +862,47 @@ fn check_emission(ck: &mut Checker, name: &str, m: &RawMaterial) -> (DVec3, Opti
     }
 }
 
-/// Refuses a material with a textured emission on a shape other than a triangle mesh: the
-/// kernel looks an emission texture up on triangles alone.
+/// A light's texture, refused where it is a mesh attribute: a light's texture is looked up in
+/// its own frame, where no mesh is hit.
+fn refuse_light_mesh_attribute(ck: &mut Checker, texture: Option<Texture>, span: Range<usize>, field: &str) -> Option<Texture> {
+    match texture {
+        Some(Texture::MeshAttribute { .. }) => {
+            ck.error(span, field, "a mesh_attribute cannot texture a light: it is looked up on the mesh a ray hits, and a light's texture in the light's own frame");
+            None
+        }
+        t => t,
+    }
+}
+
+/// Refuses a material with a textured emission, or one that reads a mesh attribute, on a shape
+/// other than a triangle mesh: the kernel looks an emission texture up on triangles alone, and
+/// only meshes have attributes.
 fn refuse_textured_emission(ck: &mut Checker, materials: &[Material], material: usize, name: &Spanned<String>, field: &str, shape: &str) {
     if materials.get(material).is_some_and(|m| m.emission_texture.is_some()) {
         ck.error(name.span(), field, format!("material \"{}\" has a textured emission, which pathlab supports on triangle meshes (meshes, rectangles, cubes) alone, not on a {shape}", name.get_ref()));
     }
+    if let Some((attribute, _)) = mesh_attribute_reads(materials, material).first() {
+        ck.error(name.span(), field, format!("material \"{}\" reads the mesh attribute \"{attribute}\" (a mesh_attribute texture), which only a triangle mesh has, not a {shape}", name.get_ref()));
+    }
+}
+
+/// The mesh attributes that material i's textures read (its own, its back material's and its
+/// blend partner's), each with whether it is read as a scalar (Mitsuba's `eval_1`).
+fn mesh_attribute_reads(materials: &[Material], i: usize) -> Vec<(String, bool)> {
+    let mut reads = Vec::new();
+    let mut visit = vec![i];
+    let mut seen = BTreeSet::new();
+    while let Some(k) = visit.pop() {
+        let Some(m) = materials.get(k).filter(|_| seen.insert(k)) else { continue };
+        for t in m.textures() {
+            if let Texture::MeshAttribute { name, scalar, .. } = t {
+                reads.push((name.clone(), *scalar));
+            }
+        }
+        visit.extend(m.back);
+        visit.extend(m.blend.as_ref().map(|b| b.material));
+    }
+    reads
 }
 
 fn check_materials(ck: &mut Checker, raw: &RawScene) -> (Vec<Material>, BTreeMap<String, usize>) {

@@ -73,6 +73,9 @@ pub const SMALL_VERTICES: Binding = Binding { number: 18, name: "SMALL_VERTICES"
 /// The triangles' texture coordinates (`TriangleUvs`, bvh.wgsl) and the spheres' object axes
 /// (`SphereAxes`, intersect.wgsl): the uv parametrisation, read only where a material does.
 pub const TRIANGLE_UVS: Binding = Binding { number: 12, name: "TRIANGLE_UVS", kind: Kind::Storage { read_only: true } };
+/// The values of the mesh attributes that `mesh_attribute` textures read, at each triangle's
+/// corners (`PackedTriangles::attributes`).
+pub const MESH_ATTRIBUTES: Binding = Binding { number: 19, name: "MESH_ATTRIBUTES", kind: Kind::Storage { read_only: true } };
 pub const SPHERE_AXES: Binding = Binding { number: 13, name: "SPHERE_AXES", kind: Kind::Storage { read_only: true } };
 
 /// The numbers BSDFs read beyond their parameter blocks (`BsdfData`, bsdf.wgsl): roughplastic's
@@ -87,7 +90,7 @@ pub const ENVIRONMENT_MAP: Binding = Binding { number: 15, name: "ENVIRONMENT_MA
 pub const DELTA_LIGHTS: Binding = Binding { number: 16, name: "DELTA_LIGHTS", kind: Kind::Uniform };
 
 /// The path tracer's bind group.
-pub const PATH_TRACER: [Binding; 18] = [
+pub const PATH_TRACER: [Binding; 19] = [
     FRAME,
     SPHERES,
     SURFACES,
@@ -102,6 +105,7 @@ pub const PATH_TRACER: [Binding; 18] = [
     SMALL_TRIANGLES,
     SMALL_VERTICES,
     TRIANGLE_UVS,
+    MESH_ATTRIBUTES,
     SPHERE_AXES,
     BSDF_DATA,
     ENVIRONMENT_MAP,

@@ -54,6 +54,7 @@ pub fn generated_constants() -> String {
          const VOLUME_HEADER: u32 = {}u;\n\
          const TEXTURE_RAW_CONSTANT: f32 = {}.0;\n\
          const TEXTURE_CHECKERBOARD_AFFINE: f32 = {}.0;\n\
+         const TEXTURE_MESH_ATTRIBUTE: f32 = {}.0;\n\
          // Numbers of the environment map's record before its texels (src/scene/emitters/environment.rs).\n\
          const ENVIRONMENT_MAP_HEADER: u32 = {}u;\n\
          // Rec. 709 luminance weights of linear sRGB (src/scene/emitters/selection.rs).\n\
@@ -89,6 +90,7 @@ pub fn generated_constants() -> String {
         crate::scene::textures::volume::VOLUME_HEADER,
         crate::scene::textures::TEXTURE_RAW_CONSTANT,
         crate::scene::textures::TEXTURE_CHECKERBOARD_AFFINE,
+        crate::scene::textures::TEXTURE_MESH_ATTRIBUTE,
         crate::scene::emitters::ENVIRONMENT_MAP_HEADER,
         crate::scene::emitters::LUMINANCE_WEIGHTS[0] as f32,
         crate::scene::emitters::LUMINANCE_WEIGHTS[1] as f32,
@@ -160,7 +162,7 @@ pub fn bsdf_dispatch() -> String {
     // Textures: each kind's colour slots that may hold one (`BsdfPlugin::TEXTURE_SLOTS`), then
     // its scalar ones (`SCALAR_TEXTURE_SLOTS`).
     let mut f = "\n// The material's BSDF with every textured slot of its kind looked up at uv and world position p (texture.wgsl).\n\
-                 fn bsdf_apply_textures(b: Bsdf, uv: vec2f, p: vec3f) -> Bsdf {\n    var t = b;\n"
+                 fn bsdf_apply_textures(b: Bsdf, ctx: TextureEvalContext) -> Bsdf {\n    var t = b;\n"
         .to_string();
     let textured: Vec<&BsdfKind> = BsdfKind::ALL.iter().filter(|k| !k.texture_slots().is_empty() || !k.scalar_texture_slots().is_empty()).collect();
     for k in &textured {
@@ -170,12 +172,12 @@ pub fn bsdf_dispatch() -> String {
         f += &format!("    if ({}) {{\n", is(k));
         let mut i = 0;
         for slot in k.texture_slots() {
-            f += &format!("        if (({} & {}u) != 0u) {{\n            t.p{slot} = vec4f(texture_slot(t.p{slot}.xyz, uv, p), t.p{slot}.w);\n        }}\n", k.textured_override(), 1 << i);
+            f += &format!("        if (({} & {}u) != 0u) {{\n            t.p{slot} = vec4f(texture_slot(t.p{slot}.xyz, ctx), t.p{slot}.w);\n        }}\n", k.textured_override(), 1 << i);
             i += 1;
         }
         for (slot, c) in k.scalar_texture_slots() {
             let c = ["x", "y", "z", "w"][*c];
-            f += &format!("        if (({} & {}u) != 0u) {{\n            t.p{slot}.{c} = scalar_texture_slot(t.p{slot}.{c}, uv, p);\n        }}\n", k.textured_override(), 1 << i);
+            f += &format!("        if (({} & {}u) != 0u) {{\n            t.p{slot}.{c} = scalar_texture_slot(t.p{slot}.{c}, ctx);\n        }}\n", k.textured_override(), 1 << i);
             i += 1;
         }
         f += "    }\n";

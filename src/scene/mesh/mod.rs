@@ -23,8 +23,42 @@ pub struct MeshData {
     /// them (`flip_tex_coords` turns v into 1 - v), or the built-in shape's parametrisation.
     pub uvs: Vec<[f64; 2]>,
     pub triangles: Vec<[u32; 3]>,
+    /// Named per-vertex or per-face values (a PLY file's vertex colours), for Mitsuba's
+    /// `mesh_attribute` texture; a face attribute has one row per triangle.
+    pub attributes: Vec<MeshAttribute>,
     /// Findings that do not stop loading (e.g. ignored OBJ materials), with their line.
     pub notes: Vec<(Option<usize>, String)>,
+}
+
+/// A named attribute of a mesh, as Mitsuba's meshes hold them (`Mesh::add_attribute`): its name
+/// starts with `vertex_` (one row per vertex, interpolated across a triangle by barycentrics)
+/// or `face_` (one row per triangle), and each row has `channels` numbers (1 or 3 are what a
+/// texture reads; Mitsuba's PLY reader also makes 4 from r, g, b, a).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeshAttribute {
+    pub name: String,
+    pub channels: usize,
+    /// Row-major: row i's channels at `channels * i ..`.
+    pub values: Vec<f32>,
+}
+
+impl MeshAttribute {
+    /// Whether it has one row per vertex (else per face).
+    pub fn per_vertex(&self) -> bool {
+        self.name.starts_with("vertex_")
+    }
+
+    /// Row i as RGB: three channels as they are, one as grey.
+    pub fn rgb(&self, i: usize) -> [f32; 3] {
+        let r = &self.values[self.channels * i..self.channels * (i + 1)];
+        if self.channels >= 3 { [r[0], r[1], r[2]] } else { [r[0]; 3] }
+    }
+
+    /// Its value at the three corners of triangle t (vertex indices `corners`): each corner's
+    /// row for a vertex attribute, the face's row thrice for a face attribute.
+    pub fn corners(&self, t: usize, corners: [u32; 3]) -> [[f32; 3]; 3] {
+        if self.per_vertex() { corners.map(|v| self.rgb(v as usize)) } else { [self.rgb(t); 3] }
+    }
 }
 
 /// A validated mesh in world space.
@@ -44,9 +78,16 @@ pub struct Mesh {
     /// (and so are not part of the scene's hash).
     pub uvs: Vec<[f64; 2]>,
     pub triangles: Vec<[u32; 3]>,
+    /// Its named attributes (`MeshData::attributes`; face rows follow `triangles`).
+    pub attributes: Vec<MeshAttribute>,
 }
 
 impl Mesh {
+    /// Its attribute named `name`.
+    pub fn attribute(&self, name: &str) -> Option<&MeshAttribute> {
+        self.attributes.iter().find(|a| a.name == name)
+    }
+
     /// The triangle's vertices.
     pub fn vertices(&self, t: usize) -> [DVec3; 3] {
         self.triangles[t].map(|i| self.positions[i as usize])
@@ -151,23 +192,41 @@ pub fn place(data: &MeshData, transform: &Transform, shading: Shading) -> (MeshD
     let positions: Vec<DVec3> = data.positions.iter().map(|&p| transform.point(p)).collect();
     let flip = transform.swaps_handedness();
     let mut placement = Placement::default();
-    let triangles: Vec<[u32; 3]> = data
+    let kept: Vec<bool> = data
         .triangles
         .iter()
-        .filter(|t| {
+        .map(|t| {
             let [a, b, c] = t.map(|i| positions[i as usize]);
             let keep = (b - a).cross(c - a).length() > 0.0;
             placement.degenerate += !keep as usize;
             keep
         })
-        .map(|&[a, b, c]| if flip { [a, c, b] } else { [a, b, c] })
+        .collect();
+    let triangles: Vec<[u32; 3]> = data
+        .triangles
+        .iter()
+        .zip(&kept)
+        .filter(|(_, keep)| **keep)
+        .map(|(&[a, b, c], _)| if flip { [a, c, b] } else { [a, b, c] })
+        .collect();
+    // A face attribute's rows follow the triangles kept; a vertex attribute's the vertices.
+    let attributes = data
+        .attributes
+        .iter()
+        .map(|a| match a.per_vertex() {
+            true => a.clone(),
+            false => MeshAttribute {
+                values: a.values.chunks_exact(a.channels).zip(&kept).filter(|(_, keep)| **keep).flat_map(|(row, _)| row.iter().copied()).collect(),
+                ..a.clone()
+            },
+        })
         .collect();
     let normals = match shading {
         Shading::Faceted => Vec::new(),
         Shading::Smooth if data.normals.is_empty() => vertex_normals(&positions, &triangles),
         Shading::Smooth => data.normals.iter().map(|&n| transform.normal(n)).collect(),
     };
-    (MeshData { positions, normals, uvs: data.uvs.clone(), triangles, notes: Vec::new() }, placement)
+    (MeshData { positions, normals, uvs: data.uvs.clone(), triangles, attributes, notes: Vec::new() }, placement)
 }
 
 /// Smooth vertex normals for a mesh without any, as Mitsuba's `Mesh::recompute_vertex_normals`

@@ -105,7 +105,7 @@ pub fn read(path: &Path, bytes: &[u8], shape_index: u32) -> Result<MeshData, Mes
     if flags & HAS_COLORS != 0 {
         notes.push((None, format!("shape {shape_index}: its vertex colours are ignored (as Mitsuba's RGB variants do)")));
     }
-    let data = MeshData { positions, normals, uvs, triangles, notes };
+    let data = MeshData { positions, normals, uvs, triangles, attributes: Vec::new(), notes };
     check(path, &data, |_| None, |_| None)?;
     Ok(data)
 }

@@ -12,7 +12,7 @@ use super::MeshData;
 pub fn rectangle() -> MeshData {
     let positions = vec![DVec3::new(-1.0, -1.0, 0.0), DVec3::new(1.0, -1.0, 0.0), DVec3::new(1.0, 1.0, 0.0), DVec3::new(-1.0, 1.0, 0.0)];
     let uvs = positions.iter().map(|p| [(p.x + 1.0) / 2.0, (p.y + 1.0) / 2.0]).collect();
-    MeshData { positions, normals: Vec::new(), uvs, triangles: vec![[0, 1, 2], [2, 3, 0]], notes: Vec::new() }
+    MeshData { positions, normals: Vec::new(), uvs, triangles: vec![[0, 1, 2], [2, 3, 0]], attributes: Vec::new(), notes: Vec::new() }
 }
 
 /// Mitsuba's parametrisation of the cube's face with outward normal `n` at point `p`: every

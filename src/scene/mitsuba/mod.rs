@@ -270,6 +270,37 @@ impl PluginReader<'_, '_, '_> {
         Some(toml::Value::Table(table))
     }
 
+    /// A nested `<texture type="mesh_attribute">` (Mitsuba's src/textures/mesh_attribute.cpp) as
+    /// its TOML inline table: `name` (starting with `vertex_` or `face_`) and `scale`.
+    fn mesh_attribute(&mut self, t: &Object) -> Option<toml::Value> {
+        let mut p = Props::of(t);
+        let name = self.t.string(&mut p, "name");
+        let scale = self.t.get::<f64>(&mut p, "scale");
+        self.t.finish(p, "name, scale");
+        let Some((name, at)) = name else {
+            self.t.error(t.at, "name", "<texture type=\"mesh_attribute\"> needs the attribute's `name` (e.g. \"vertex_color\")");
+            return None;
+        };
+        if !(name.starts_with("vertex_") || name.starts_with("face_")) {
+            self.t.error(at, "name", format!("`name` of <texture type=\"mesh_attribute\"> must start with \"vertex_\" or \"face_\" (got \"{name}\"), as Mitsuba requires"));
+            return None;
+        }
+        let mut table = toml::Table::new();
+        table.insert("texture".into(), toml::Value::String("mesh_attribute".into()));
+        table.insert("name".into(), toml::Value::String(name));
+        if let Some((scale, prop)) = scale {
+            if !scale.is_finite() {
+                self.t.error(prop.value_at, "scale", format!("`scale` of <texture type=\"mesh_attribute\"> must be finite (got {scale})"));
+                return None;
+            }
+            table.insert("scale".into(), toml::Value::Float(scale));
+        }
+        for c in &t.children {
+            self.t.error(c.at, "", format!("{} inside a <texture type=\"mesh_attribute\"> is not supported", describe(&c.tag, &c.plugin)));
+        }
+        Some(toml::Value::Table(table))
+    }
+
     /// A nested `<texture type="bitmap">` as its TOML inline table, the file found by
     /// Mitsuba's resolver (an error names every folder searched).
     fn bitmap(&mut self, t: &Object) -> Option<toml::Value> {
@@ -421,8 +452,11 @@ impl PluginProps for PluginReader<'_, '_, '_> {
         if t.plugin == "rawconstant" {
             return self.raw_constant(t);
         }
+        if t.plugin == "mesh_attribute" {
+            return self.mesh_attribute(t);
+        }
         if t.plugin != "checkerboard" {
-            self.t.error(t.at, "type", format!("<texture type=\"{}\"> is not supported (pathlab has checkerboard, bitmap, volume, rawconstant)", t.plugin));
+            self.t.error(t.at, "type", format!("<texture type=\"{}\"> is not supported (pathlab has checkerboard, bitmap, volume, rawconstant, mesh_attribute)", t.plugin));
             return None;
         }
         let mut p = Props::of(t);

@@ -14,7 +14,10 @@
 //! `diffuse = { texture = "checkerboard", color0 = [0.8, 0.8, 0.8], color1 = 0.2, to_uv_scale = [20, 80] }`,
 //! `diffuse = { texture = "bitmap", filename = "wood.png", filter_type = "bilinear", wrap_mode = "repeat", raw = false, to_uv = [[2, 0, 0], [0, 2, 0]] }`,
 //! `diffuse = { texture = "volume", filename = "marble.vol", filter_type = "trilinear", wrap_mode = "clamp", to_world = [[2, 0, 0, -1], [0, 2, 0, 0], [0, 0, 2, -1]] }`
-//! (the file relative to the scene's folder; the defaults as shown but `to_uv`, the identity).
+//! (the file relative to the scene's folder; the defaults as shown but `to_uv`, the identity),
+//! `diffuse = { texture = "rawconstant", value = [x, y, z] }`, and
+//! `diffuse = { texture = "mesh_attribute", name = "vertex_color", scale = 1.0 }` (a PLY mesh's
+//! named attribute at the hit, `mesh::MeshAttribute`).
 
 pub mod bitmap;
 pub mod volume;
@@ -38,6 +41,8 @@ const DEFAULT_COLOR1: f64 = 0.2;
 pub const TEXTURE_CHECKERBOARD: u32 = 0;
 /// Mitsuba's `rawconstant` (bitmap 1, volume 2 in their files).
 pub const TEXTURE_RAW_CONSTANT: u32 = 3;
+/// Mitsuba's `mesh_attribute`: a named attribute of the mesh that was hit.
+pub const TEXTURE_MESH_ATTRIBUTE: u32 = 5;
 /// A checkerboard whose `to_uv` does more than scale: its own kind, so that scenes of scaled
 /// checkerboards (all before 2026-12-05) keep their two-number record and their speed.
 pub const TEXTURE_CHECKERBOARD_AFFINE: u32 = 4;
@@ -58,6 +63,13 @@ pub enum Texture {
     /// given, without colour conversion or range checks (a normal map's constant normal, say);
     /// one number stands for three equal ones.
     RawConstant { value: DVec3 },
+    /// Mitsuba's `mesh_attribute` (src/textures/mesh_attribute.cpp): the attribute `name`
+    /// (`vertex_color`, `face_weight`: `mesh::MeshAttribute`) of the mesh that was hit, times
+    /// `scale`: a vertex attribute interpolated by the hit's barycentrics, a face attribute the
+    /// face's row. One channel reads as grey. `scalar`: read as Mitsuba's `eval_1` (a weight,
+    /// an opacity), which needs a one-channel attribute (Mitsuba's gives 0 for three).
+    /// Validation checks that every mesh whose material reads it has it (`check_meshes`).
+    MeshAttribute { name: String, scale: f64, scalar: bool },
 }
 
 impl Texture {
@@ -68,6 +80,7 @@ impl Texture {
             Texture::Bitmap(_) => "bitmap",
             Texture::Volume(_) => "volume",
             Texture::RawConstant { .. } => "rawconstant",
+            Texture::MeshAttribute { .. } => "mesh_attribute",
         }
     }
 
@@ -80,6 +93,7 @@ impl Texture {
             Texture::Bitmap(_) => bitmap::TEXTURE_BITMAP,
             Texture::Volume(_) => volume::TEXTURE_VOLUME,
             Texture::RawConstant { .. } => TEXTURE_RAW_CONSTANT,
+            Texture::MeshAttribute { .. } => TEXTURE_MESH_ATTRIBUTE,
         }
     }
 
@@ -91,6 +105,10 @@ impl Texture {
             Texture::Bitmap(b) => DVec3::from(b.image.mean()),
             Texture::Volume(v) => DVec3::from(v.mean()),
             Texture::RawConstant { value } => *value,
+            // A stand-in: the host does not know it (nor does Mitsuba, whose mesh_attribute has
+            // no mean()). Host computations read a textured slot's mean only as a sampling
+            // weight (a lobe's, a light's by power), for which any positive value is unbiased.
+            Texture::MeshAttribute { scale, .. } => DVec3::splat(scale.abs()),
         }
     }
 
@@ -104,6 +122,7 @@ impl Texture {
             Texture::Volume(v) => crate::scene::emitters::luminance(DVec3::from(v.mean())),
             // Mitsuba's dr::mean of the value.
             Texture::RawConstant { value } => value.element_sum() / 3.0,
+            Texture::MeshAttribute { scale, .. } => scale.abs(),
         }
     }
 
@@ -121,6 +140,7 @@ impl Texture {
                 color1: DVec3::splat(color0.element_sum() / 3.0),
                 to_uv,
             },
+            Texture::MeshAttribute { name, scale, .. } => Texture::MeshAttribute { name, scale, scalar: true },
             t => t,
         }
     }
@@ -148,6 +168,9 @@ impl Texture {
             Texture::Bitmap(b) => b.eval(uv),
             Texture::Volume(v) => v.eval(p),
             Texture::RawConstant { value } => value.as_vec3().to_array(),
+            // Its value depends on the mesh hit, which a uv and a point do not name: the host
+            // twin gives its stand-in mean (`mean`).
+            Texture::MeshAttribute { .. } => self.mean().as_vec3().to_array(),
         }
     }
 
@@ -167,6 +190,12 @@ impl Texture {
             Texture::RawConstant { value } => {
                 let v = value.as_vec3();
                 data.push(&[TEXTURE_RAW_CONSTANT as f32, v.x, v.y, v.z])
+            }
+            // The attribute's slot among the scene's (`Scene::mesh_attribute_names`, the order
+            // of the kernel's attribute table), the scale, the number of slots.
+            Texture::MeshAttribute { name, scale, .. } => {
+                let slot = data.attribute_slot(name);
+                data.push(&[TEXTURE_MESH_ATTRIBUTE as f32, slot as f32, *scale as f32, data.1.len() as f32])
             }
         }
     }
@@ -193,6 +222,7 @@ impl Texture {
                 format!("volume {name} {}x{}x{} {colour}, {}, {}", v.res[0], v.res[1], v.res[2], if v.trilinear { "trilinear" } else { "nearest" }, v.wrap.name())
             }
             Texture::RawConstant { value } => format!("rawconstant ({}, {}, {})", value.x, value.y, value.z),
+            Texture::MeshAttribute { name, scale, .. } => format!("mesh_attribute {name}, scale {scale}"),
         }
     }
 
@@ -203,6 +233,8 @@ impl Texture {
             Texture::Bitmap(b) => b.record_len(),
             Texture::Volume(v) => v.record_len(),
             Texture::RawConstant { .. } => 4,
+            // The record; the attribute's table counts with the triangles.
+            Texture::MeshAttribute { .. } => 4,
         }
     }
 
@@ -233,6 +265,8 @@ impl Texture {
                 format!("volume {} {} {} {} {} {} {}", v.content_hash, v.trilinear, v.wrap.name(), v.raw, row(m[0]), row(m[1]), row(m[2]))
             }
             Texture::RawConstant { value } => format!("rawconstant {}", vec3(*value)),
+            // The attribute's values hash with the meshes that carry it (`Scene::hash`).
+            Texture::MeshAttribute { name, scale, scalar } => format!("mesh_attribute {name} {scale} {scalar}"),
         }
     }
 
@@ -252,8 +286,9 @@ impl Texture {
             "bitmap" => Texture::bitmap_from_toml(table, span, base, errors),
             "volume" => Texture::volume_from_toml(table, span, base, errors),
             "rawconstant" => Texture::raw_constant_from_toml(table, span, errors),
+            "mesh_attribute" => Texture::mesh_attribute_from_toml(table, span, errors),
             _ => {
-                errors.push((span, format!("unknown texture \"{kind}\" (pathlab has checkerboard, bitmap, volume, rawconstant)")));
+                errors.push((span, format!("unknown texture \"{kind}\" (pathlab has checkerboard, bitmap, volume, rawconstant, mesh_attribute)")));
                 None
             }
         }
@@ -285,6 +320,44 @@ impl Texture {
                 errors.push((span, format!("`value` of a rawconstant must be one finite number or three (got {})", table["value"])));
                 None
             }
+        }
+    }
+
+    /// `{ texture = "mesh_attribute", name = "vertex_color", scale = 1.0 }`: the name starts
+    /// with `vertex_` or `face_` (Mitsuba's rule), the scale is finite (default 1).
+    fn mesh_attribute_from_toml(table: &toml::Table, span: Range<usize>, errors: &mut Vec<(Range<usize>, String)>) -> Option<Texture> {
+        let r = TableReader::new(table, span.clone(), "mesh_attribute", &["name", "scale"], errors);
+        let mut ok = r.ok;
+        let name = match table.get("name") {
+            Some(toml::Value::String(n)) if n.starts_with("vertex_") || n.starts_with("face_") => n.clone(),
+            Some(v) => {
+                errors.push((span.clone(), format!("`name` of a mesh_attribute must start with \"vertex_\" or \"face_\" (got {v})")));
+                return None;
+            }
+            None => {
+                errors.push((span, "a mesh_attribute needs the attribute's `name` (e.g. \"vertex_color\")".into()));
+                return None;
+            }
+        };
+        let scale = match table.get("scale") {
+            None => 1.0,
+            Some(v) => match v.as_float().or_else(|| v.as_integer().map(|i| i as f64)).filter(|x| x.is_finite()) {
+                Some(x) => x,
+                None => {
+                    errors.push((span, format!("`scale` of a mesh_attribute must be a finite number (got {v})")));
+                    ok = false;
+                    1.0
+                }
+            },
+        };
+        ok.then_some(Texture::MeshAttribute { name, scale, scalar: false })
+    }
+
+    /// The name of the mesh attribute it reads, if it is a `mesh_attribute`.
+    pub fn mesh_attribute(&self) -> Option<&str> {
+        match self {
+            Texture::MeshAttribute { name, .. } => Some(name),
+            _ => None,
         }
     }
 
@@ -484,6 +557,13 @@ impl Texture {
                 let mut t = toml::Table::new();
                 t.insert("texture".into(), toml::Value::String("rawconstant".into()));
                 t.insert("value".into(), toml::Value::Array(value.to_array().iter().map(|x| toml::Value::Float(*x)).collect()));
+                toml::Value::Table(t)
+            }
+            Texture::MeshAttribute { name, scale, .. } => {
+                let mut t = toml::Table::new();
+                t.insert("texture".into(), toml::Value::String("mesh_attribute".into()));
+                t.insert("name".into(), toml::Value::String(name.clone()));
+                t.insert("scale".into(), toml::Value::Float(*scale));
                 toml::Value::Table(t)
             }
         }
