@@ -22,8 +22,10 @@ fn sample_triangle_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> Emitter
     }
     var radiance = materials[tri.material].emission;
     if (HAS_EMISSION_TEXTURES) {
-        // The sampled point's uv parametrisation, from its barycentrics.
-        radiance = triangle_emission(tri.material, triangle_uv(i, tri, triangle_barycentrics(tri, ctx.x + ls.wi * ls.dist)));
+        // The sampled point's barycentrics, and from them its uv parametrisation.
+        let p = ctx.x + ls.wi * ls.dist;
+        let bary = triangle_barycentrics(tri, p);
+        radiance = triangle_emission(tri.material, TextureEvalContext(triangle_uv(i, tri, bary), p, i, bary));
     }
     let emission = select(vec3f(0.0), radiance, triangle_emits_along(tri, n_s, ls.wi));
     return EmitterSample(ls.wi, ls.dist, ls.pdf, emission, INVALID, false);
@@ -44,7 +46,7 @@ fn eval_triangle_emitter(hit: Hit, ray_d: vec3f) -> vec3f {
     let tri = triangle_at(hit.object - first_triangle_object());
     var radiance = materials[hit.material].emission;
     if (HAS_EMISSION_TEXTURES) {
-        radiance = triangle_emission(hit.material, hit.uv);
+        radiance = triangle_emission(hit.material, texture_context(hit, vec3f(0.0)));
     }
     return select(vec3f(0.0), radiance, triangle_emits_along(tri, hit.shading_normal, ray_d));
 }
@@ -52,15 +54,15 @@ fn eval_triangle_emitter(hit: Hit, ray_d: vec3f) -> vec3f {
 // Some material's emission is a texture (SceneFeatures::has_emission_textures).
 override HAS_EMISSION_TEXTURES: bool = false;
 
-// The radiance material m emits at the point of uv parametrisation uv: its emission texture's
-// value there (Mitsuba's area emitter evaluates its radiance texture at the surface point's uv),
-// else its one colour. Triangles alone carry emission textures (validation refuses them
-// elsewhere).
-fn triangle_emission(m: u32, uv: vec2f) -> vec3f {
+// The radiance material m emits at the surface point the context names: its emission texture's
+// value there (Mitsuba's area emitter evaluates its radiance texture at the surface
+// interaction: a bitmap at its uv, a mesh attribute at the triangle's barycentrics), else its
+// one colour. Triangles alone carry emission textures (validation refuses them elsewhere); no
+// grid volumes (refused), so the context's point may be left out.
+fn triangle_emission(m: u32, ctx: TextureEvalContext) -> vec3f {
     let t = materials[m].emission_texture;
     if (HAS_EMISSION_TEXTURES && HAS_UVS && t != NO_EMISSION_TEXTURE) {
-        // No grid volumes here (refused): the point is not needed.
-        return eval_texture(t, uv_context(uv));
+        return eval_texture(t, ctx);
     }
     return materials[m].emission;
 }

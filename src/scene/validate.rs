@@ -619,6 +619,10 @@ fn check_meshes(ck: &mut Checker, raw: &RawScene, materials: &[Material], resolv
                     "has the attribute {}, which its material reads as one number (a weight or an opacity, Mitsuba's eval_1, which gives 0 for 3 channels): give a one-channel attribute",
                     named(a)
                 )),
+                // An emission's values (times its scale, >= 0) must be >= 0 (a radiance).
+                Some(a) if emission_reads(materials, material, &name) && a.values.iter().any(|v| *v < 0.0) => {
+                    Some(format!("has the attribute {} with a negative value, which its material emits (a radiance is >= 0)", named(a)))
+                }
                 Some(_) => None,
             };
             if let Some(problem) = problem {
@@ -847,8 +851,8 @@ fn check_emission(ck: &mut Checker, name: &str, m: &RawMaterial) -> (DVec3, Opti
                     ck.error(e.span(), &field, "a volume texture as an emission is not supported (an emission texture is looked up at the surface's uv parametrisation: give a bitmap, a checkerboard or a rawconstant)");
                     (DVec3::ZERO, None)
                 }
-                Some(Texture::MeshAttribute { .. }) => {
-                    ck.error(e.span(), &field, "a mesh_attribute as an emission is not supported yet (an emission texture is looked up at the surface's uv parametrisation: give a bitmap, a checkerboard or a rawconstant)");
+                Some(Texture::MeshAttribute { scale, .. }) if scale < 0.0 => {
+                    ck.error(e.span(), &field, format!("`scale` of a mesh_attribute emission must be >= 0 (got {scale})"));
                     (DVec3::ZERO, None)
                 }
                 Some(t) if t.mean().min_element() < 0.0 => {
@@ -884,6 +888,11 @@ fn refuse_textured_emission(ck: &mut Checker, materials: &[Material], material: 
     if let Some((attribute, _)) = mesh_attribute_reads(materials, material).first() {
         ck.error(name.span(), field, format!("material \"{}\" reads the mesh attribute \"{attribute}\" (a mesh_attribute texture), which only a triangle mesh has, not a {shape}", name.get_ref()));
     }
+}
+
+/// Whether material i's emission is the mesh attribute `name`.
+fn emission_reads(materials: &[Material], i: usize, name: &str) -> bool {
+    materials.get(i).and_then(|m| m.emission_texture.as_ref()).and_then(Texture::mesh_attribute) == Some(name)
 }
 
 /// The mesh attributes that material i's textures read (its own, its back material's and its
