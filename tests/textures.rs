@@ -449,3 +449,28 @@ fn bitmaps_are_read_from_toml_and_xml_and_bad_ones_refused() {
         assert!(e.contains("t.xml:3:") && e.contains(message), "{inner}: {e}");
     }
 }
+
+/// A mesh's texture coordinates enter the scene's hash where a texture reads them: a textured
+/// quad and the same quad with `flip_tex_coords = false` render different images and must not
+/// hash alike (a checkpoint or shard of one would be taken for the other); untextured, the uvs
+/// change nothing and the hash stays as before.
+#[test]
+fn mesh_texture_coordinates_enter_the_hash_where_a_texture_reads_them() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("quad.ply"),
+        "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nproperty float u\nproperty float v\n\
+         element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0 0 0.1\n1 0 0 1 0.1\n1 1 0 1 0.7\n0 1 0 0 0.7\n4 0 1 2 3\n",
+    )
+    .unwrap();
+    let scene = |diffuse: &str, flip: bool| {
+        let text = format!(
+            "[camera]\nposition = [0.5, 0.5, 2]\nlook_at = [0.5, 0.5, 0]\nup = [0, 1, 0]\nfov_x = 50\n[render]\nwidth = 8\nheight = 8\nmax_depth = 2\n\
+             [materials.m]\ndiffuse = {diffuse}\n[[meshes]]\nfile = \"quad.ply\"\nmaterial = \"m\"\nflip_tex_coords = {flip}\n"
+        );
+        Scene::parse(&text, dir.path().join("s.toml")).unwrap()
+    };
+    let checker = "{ texture = \"checkerboard\", to_uv_scale = [2, 2] }";
+    assert_ne!(scene(checker, true).content_hash(), scene(checker, false).content_hash(), "textured: uvs are hashed");
+    assert_eq!(scene("0.5", true).content_hash(), scene("0.5", false).content_hash(), "untextured: uvs change nothing");
+}

@@ -24,8 +24,10 @@
 //! meshes=N, then mesh.i.material=INDEX .two_sided=0|1 (its emission) .triangles=T .data=SHA256
 //! ```
 //!
-//! and after a mesh's `.data`, for each attribute of it that a `mesh_attribute` texture reads,
-//! `mesh.i.attribute.NAME=SHA256` (its channel count and values).
+//! and after a mesh's `.data`, where the mesh has texture coordinates and some material reads
+//! uvs (a texture) or is anisotropic (its tangent from them), `mesh.i.uvs=SHA256`; then for each
+//! attribute of it that a `mesh_attribute` texture reads, `mesh.i.attribute.NAME=SHA256` (its
+//! channel count and values).
 //!
 //! `render.hide_emitters=true` after `render.environment` only where the scene hides emitters;
 //! and, only where the camera has a thin lens (aperture_radius > 0),
@@ -176,12 +178,20 @@ pub fn canonical_encoding(scene: &Scene) -> String {
     }
     if !scene.meshes.is_empty() {
         let attribute_names = scene.mesh_attribute_names();
+        // Texture coordinates change the image where a texture reads them or an anisotropic
+        // BSDF takes its tangent from them; only then are they hashed (every other scene keeps
+        // its hash). Before 2026-12-05 they never were: two scenes differing only in a mesh's
+        // uvs (or its `flip_tex_coords`) hashed alike, so a checkpoint of one resumed the other.
+        let uvs_matter = scene.materials.iter().any(|m| m.reads_uv() || m.bsdf.is_anisotropic());
         line("meshes", scene.meshes.len().to_string());
         for (i, m) in scene.meshes.iter().enumerate() {
             line(&format!("mesh.{i}.material"), m.material.to_string());
             line(&format!("mesh.{i}.two_sided"), (m.two_sided_emission as u8).to_string());
             line(&format!("mesh.{i}.triangles"), m.triangles.len().to_string());
             line(&format!("mesh.{i}.data"), mesh_digest(m));
+            if uvs_matter && !m.uvs.is_empty() {
+                line(&format!("mesh.{i}.uvs"), uvs_digest(&m.uvs));
+            }
             // The attributes that textures read, only where some does (every other scene keeps
             // its hash).
             for name in &attribute_names {
@@ -253,6 +263,18 @@ pub fn canonical_encoding(scene: &Scene) -> String {
 }
 
 /// Hex SHA-256 of a mesh's world-space data (see the module documentation).
+/// The SHA-256 of a mesh's texture coordinates.
+fn uvs_digest(uvs: &[[f64; 2]]) -> String {
+    use sha2::{Digest, Sha256};
+    let mut h = Sha256::new();
+    for uv in uvs {
+        for x in uv {
+            h.update(x.to_le_bytes());
+        }
+    }
+    h.finalize().iter().map(|b| format!("{b:02x}")).collect()
+}
+
 /// The SHA-256 of an attribute's channel count and values.
 fn attribute_digest(a: &crate::scene::mesh::MeshAttribute) -> String {
     use sha2::{Digest, Sha256};

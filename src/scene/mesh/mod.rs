@@ -74,8 +74,8 @@ pub struct Mesh {
     pub positions: Vec<DVec3>,
     /// Per-vertex shading normals, or empty (face normals).
     pub normals: Vec<DVec3>,
-    /// Per-vertex texture coordinates, or empty; ready for textures, they change no image yet
-    /// (and so are not part of the scene's hash).
+    /// Per-vertex texture coordinates, or empty: where textures are looked up, and the tangent of
+    /// an anisotropic BSDF (part of the scene's hash where some material reads them).
     pub uvs: Vec<[f64; 2]>,
     pub triangles: Vec<[u32; 3]>,
     /// Its named attributes (`MeshData::attributes`; face rows follow `triangles`).
