@@ -14,11 +14,15 @@ use super::triangle::ShearedRay;
 pub const MAX_DEPTH: usize = 48;
 /// Bins of the SAH split search.
 const BINS: usize = 12;
-/// Triangles a leaf holds at most where splitting is possible and pays.
-const MAX_LEAF: usize = 4;
-/// Cost of visiting a node, relative to one triangle test: on a GPU a node visit pays for the
-/// stack and the divergence about as much as a test.
-const NODE_COST: f32 = 1.0;
+/// Triangles a leaf holds at most where splitting is possible and pays: lavapipe's 8 lanes.
+const MAX_LEAF: usize = 8;
+/// Cost of visiting a node, relative to one triangle test, in the SAH. Measured on lavapipe
+/// (2026-12-05, `scripts/triangle_scaling.sh`, M rays/s against leaves of at most 4 at a node
+/// cost of 1): a node step of the stackless traversal (its bounds, the climb, the trail of bits,
+/// under the lanes' mask) costs several triangle tests, so fewer, fuller leaves win: 80
+/// triangles +10-17%, 1,280 +16-20%, 20,480 +3%, 1.3 M +7-15%, with 3.4 times fewer nodes; node
+/// costs 2 and 3 and leaves of 16 gave less (the README's issue-31 table).
+const NODE_COST: f32 = 4.0;
 
 /// One node. `count == 0`: an interior node whose children are nodes `first` and `first + 1`;
 /// else a leaf of triangles `order[first .. first + count]`.
