@@ -262,7 +262,7 @@ pub(super) fn validate(raw: &RawScene, file: &Path, sources: SourceMap, diagnost
             ck.error(s.radius.span(), &field, format!("radius must be > 0 (got {radius})"));
         }
         let material = resolve(&mut ck, &s.material, &format!("spheres[{i}].material"));
-        refuse_textured_emission(&mut ck, &materials, material, &s.material, &format!("spheres[{i}].material"), "sphere");
+        refuse_mesh_only_material(&mut ck, &materials, material, &s.material, &format!("spheres[{i}].material"), "sphere");
         let axes = match &s.axes {
             None => Sphere::WORLD_AXES,
             Some(axes) => sphere_axes(&mut ck, axes, &format!("spheres[{i}].axes")),
@@ -282,7 +282,7 @@ pub(super) fn validate(raw: &RawScene, file: &Path, sources: SourceMap, diagnost
         }
         let field = format!("planes[{i}].material");
         let material = resolve(&mut ck, &p.material, &field);
-        refuse_textured_emission(&mut ck, &materials, material, &p.material, &field, "plane");
+        refuse_mesh_only_material(&mut ck, &materials, material, &p.material, &field, "plane");
         if materials.get(material).is_some_and(Material::is_emissive) {
             ck.error(
                 p.material.span(),
@@ -512,7 +512,7 @@ fn check_quadrics(ck: &mut Checker, raw: &RawScene, materials: &[Material], reso
         let table = format!("disks[{i}]");
         let s = s.get_ref();
         let material = resolve(ck, &s.material, &format!("{table}.material"));
-        refuse_textured_emission(ck, materials, material, &s.material, &format!("{table}.material"), "disk");
+        refuse_mesh_only_material(ck, materials, material, &s.material, &format!("{table}.material"), "disk");
         let to_world = check_transform(ck, s.transform.as_ref(), &format!("{table}.transform"));
         quadrics.push(Quadric {
             kind: QuadricKind::Disk,
@@ -527,7 +527,7 @@ fn check_quadrics(ck: &mut Checker, raw: &RawScene, materials: &[Material], reso
         let span = c.span();
         let c = c.get_ref();
         let material = resolve(ck, &c.material, &format!("{table}.material"));
-        refuse_textured_emission(ck, materials, material, &c.material, &format!("{table}.material"), "cylinder");
+        refuse_mesh_only_material(ck, materials, material, &c.material, &format!("{table}.material"), "cylinder");
         let transform = check_transform(ck, c.transform.as_ref(), &format!("{table}.transform"));
         let p0 = c.p0.as_ref().map_or(DVec3::ZERO, |p| ck.vector(p, &format!("{table}.p0")));
         let p1 = c.p1.as_ref().map_or(DVec3::Z, |p| ck.vector(p, &format!("{table}.p1")));
@@ -881,7 +881,7 @@ fn refuse_light_mesh_attribute(ck: &mut Checker, texture: Option<Texture>, span:
 /// Refuses a material with a textured emission, or one that reads a mesh attribute, on a shape
 /// other than a triangle mesh: the kernel looks an emission texture up on triangles alone, and
 /// only meshes have attributes.
-fn refuse_textured_emission(ck: &mut Checker, materials: &[Material], material: usize, name: &Spanned<String>, field: &str, shape: &str) {
+fn refuse_mesh_only_material(ck: &mut Checker, materials: &[Material], material: usize, name: &Spanned<String>, field: &str, shape: &str) {
     if materials.get(material).is_some_and(|m| m.emission_texture.is_some()) {
         ck.error(name.span(), field, format!("material \"{}\" has a textured emission, which pathlab supports on triangle meshes (meshes, rectangles, cubes) alone, not on a {shape}", name.get_ref()));
     }
