@@ -128,12 +128,24 @@ fn camera_ray(px: u32, py: u32, jitter: vec2f, u_lens: vec2f) -> CameraRay {
     return CameraRay(frame.camera_origin + lens_p, normalize(focus_p - lens_p));
 }
 
+// The camera ray of sample `id` through pixel (px, py): the pixel's jitter in its dimensions,
+// the lens's point in its own where the camera has a thin lens.
+fn sample_camera_ray(id: SampleId, px: u32, py: u32) -> CameraRay {
+    var u_lens = vec2f(0.0);
+    if (THIN_LENS) {
+        u_lens = sample_2d(id.pixel, id.index, DIM_LENS, id.seed);
+    }
+    return camera_ray(px, py, sample_2d(id.pixel, id.index, DIM_PIXEL, id.seed), u_lens);
+}
+
 // The contribution of one light sample, picked with probability `prob`: f |cos| / (prob pdf)
 // times the emission, unless shadowed, weighted against BSDF sampling under MIS. x: the shading
 // point (p_error: Hit.p_error), origin: x offset off its surface on wo's side; n_s: shading normal, n_g: geometric
 // normal, both on wo's side. Where a BSDF may transmit, a light behind the surface is sampled
 // too, its shadow ray leaving from the other side.
-fn direct_light(es: EmitterSample, prob: f32, x: vec3f, p_error: f32, origin_wo_side: vec3f, n_s: vec3f, n_g: vec3f, wo: vec3f, m: Bsdf) -> vec3f {
+// (NUM_MEDIA > 0) The shadow ray crosses media and null surfaces (volpath.wgsl's
+// shadow_transmittance), starting in the medium `media` gives for its direction.
+fn direct_light(es: EmitterSample, prob: f32, x: vec3f, p_error: f32, origin_wo_side: vec3f, n_s: vec3f, n_g: vec3f, wo: vec3f, m: Bsdf, media: ShadowMedia) -> vec3f {
     // Density of the light strategy: selection times the light's own.
     let pdf = prob * es.pdf;
     let cos_i = dot(es.wi, n_s);
@@ -164,6 +176,13 @@ fn direct_light(es: EmitterSample, prob: f32, x: vec3f, p_error: f32, origin_wo_
     }
     // The branch spares GPUs the shadow ray of samples that cannot contribute. A delta light
     // is found by this strategy alone: BSDF sampling's density for it counts 0 (weight 1).
+    if (NUM_MEDIA > 0u) {
+        if (contributes) {
+            let tr = shadow_transmittance(origin, shadow_dir, shadow_max, es.skip, shadow_start_medium(media, shadow_dir));
+            return path_weight(e.f, cos_i, pdf) * es.emission * tr * mis_weight(pdf, select(e.pdf, 0.0, es.delta));
+        }
+        return vec3f(0.0);
+    }
     if (contributes && !occluded(origin, shadow_dir, shadow_max, es.skip)) {
         return path_weight(e.f, cos_i, pdf) * es.emission * mis_weight(pdf, select(e.pdf, 0.0, es.delta));
     }
@@ -187,7 +206,7 @@ fn same_side_of_both(wi: vec3f, n_s: vec3f, n_g: vec3f) -> bool {
 // Next event estimation at vertex x: one shadow ray to each light (LIGHT_SELECT all), or to one
 // light picked by uniform or power selection. Each light is sampled by its kind
 // (sample_emitter, generated).
-fn estimate_direct(id: SampleId, dim_base: u32, ctx: LightSampleContext, p_error: f32, n_s: vec3f, n_g: vec3f, wo: vec3f, m: Bsdf) -> vec3f {
+fn estimate_direct(id: SampleId, dim_base: u32, ctx: LightSampleContext, p_error: f32, n_s: vec3f, n_g: vec3f, wo: vec3f, m: Bsdf, media: ShadowMedia) -> vec3f {
     var radiance = vec3f(0.0);
     let x = ctx.x;
     let origin = offset_ray_origin(x, n_g, p_error);
@@ -197,12 +216,12 @@ fn estimate_direct(id: SampleId, dim_base: u32, ctx: LightSampleContext, p_error
         // counted one.
         for (var l = 0u; l < NUM_LIGHTS; l++) {
             let u = sample_2d(id.pixel, id.index, dim_base + 4u + 2u * l, id.seed);
-            radiance += direct_light(sample_emitter(l, ctx, u), 1.0, x, p_error, origin, n_s, n_g, wo, m);
+            radiance += direct_light(sample_emitter(l, ctx, u), 1.0, x, p_error, origin, n_s, n_g, wo, m, media);
         }
     } else {
         let chosen = select_light(sample_1d(id.pixel, id.index, dim_base + 4u, id.seed));
         let u = sample_2d(id.pixel, id.index, dim_base + 5u, id.seed);
-        radiance += direct_light(sample_emitter(chosen.index, ctx, u), chosen.prob, x, p_error, origin, n_s, n_g, wo, m);
+        radiance += direct_light(sample_emitter(chosen.index, ctx, u), chosen.prob, x, p_error, origin, n_s, n_g, wo, m, media);
     }
     return radiance;
 }
@@ -277,17 +296,88 @@ fn radiance_along(hit: Hit, ray_d: vec3f) -> vec3f {
     return eval_sphere_emitter(hit);
 }
 
+// A surface vertex: where the ray (ray_o, ray_d) meets `hit`, the BSDF that scatters there
+// (textures looked up, a blend picked, normal and bump maps applied), its frame, and whether it
+// scatters at all. dim_base: the vertex's block of sample dimensions (the lobe sample, +2).
+struct SurfaceVertex {
+    x: vec3f,
+    wo: vec3f,
+    from_inside: bool,
+    n_g: vec3f,
+    n_s: vec3f,
+    m: Bsdf,
+    // The lobe sample, rescaled where a blend picked with it.
+    u_lobe: f32,
+    scatters: bool,
+}
+
+fn surface_vertex(id: SampleId, hit: Hit, ray_o: vec3f, ray_d: vec3f, dim_base: u32) -> SurfaceVertex {
+    // Scattering vertex. The side the viewer is on is decided in the shading frame, as
+    // Mitsuba does (Frame3f::cos_theta(si.wi) > 0): `from_inside` (the back of a one-sided
+    // BSDF, which scatters nothing) and the side the shading normal n_s is turned to (a
+    // two-sided BSDF's frame, as Mitsuba's `twosided` flips it). The geometric normal n_g
+    // is turned to the viewer's geometric side: rays leave on that side (on wi's, where a BSDF
+    // transmits), and directions on its other side than the shading normal's do not
+    // scatter.
+    var x = ray_o + ray_d * hit.t;
+    if (bsdf_may_transmit() && hit.object < NUM_SPHERES) {
+        // The hit point projected back onto its sphere (pbrt's refinement): rays that cross
+        // a sphere leave from within 2e-5 of its surface, which o + t d misses by more
+        // after a few bounces inside.
+        let s = spheres[hit.object];
+        x = s.center + s.radius * normalize(x - s.center);
+    }
+    let wo = -ray_d;
+    var from_inside = dot(hit.normal, wo) < 0.0;
+    let n_g = select(hit.normal, -hit.normal, from_inside);
+    var n_s = n_g;
+    if (HAS_SHADING_NORMALS) {
+        from_inside = dot(hit.shading_normal, wo) < 0.0;
+        n_s = select(hit.shading_normal, -hit.shading_normal, from_inside);
+    }
+    // The lobe sample, drawn first: a blend picks its BSDF with it (and rescales it).
+    var u_lobe = sample_1d(id.pixel, id.index, dim_base + 2u, id.seed);
+    var bsdf_material = hit.material;
+    let tex = texture_context(hit, x);
+    if (HAS_BLENDS) {
+        let pick = blend_pick(hit.material, tex, u_lobe);
+        bsdf_material = pick.material;
+        u_lobe = pick.u;
+    }
+    var m = material_bsdf(hit.material, bsdf_material, from_inside, tex);
+    m.inside = from_inside;
+    if (HAS_TANGENT_FRAMES) {
+        m.tangent = hit.tangent;
+    }
+    if (HAS_NORMAL_MAPS) {
+        let map = materials[hit.material].normal_map;
+        if (map != NO_NORMAL_MAP) {
+            m = normal_mapped(m, eval_texture(map, tex), hit.shading_normal, n_s, wo);
+        }
+    }
+    if (HAS_BUMP_MAPS) {
+        let bump = materials[hit.material].bump_map;
+        if (bump != NO_BUMP_MAP) {
+            let dp = surface_partials(hit, x);
+            m = bump_mapped(m, bump, hit.uv, dp.du, dp.dv, hit.normal, hit.shading_normal, n_s, wo);
+        }
+    }
+    // A one-sided BSDF seen from behind (the side its surface normal points away from)
+    // scatters nothing: Mitsuba's rule for BSDFs not wrapped in `twosided`.
+    let scatters = !from_inside || (materials[bsdf_material].flags & MATERIAL_ONE_SIDED) == 0u;
+    return SurfaceVertex(x, wo, from_inside, n_g, n_s, m, u_lobe, scatters);
+}
+
 // Structure for SIMD CPU drivers as much as for GPUs: lavapipe runs 8 lanes in lockstep and
 // executes both sides of every branch under a mask, but leaves a loop as soon as no lane is
 // left in it. So the camera segment is traced before the loop, and each iteration scatters at
 // the current hit and traces the next segment, with the exit test at the end of the body: no
 // iteration runs only to find that every lane is done.
 fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
-    var u_lens = vec2f(0.0);
-    if (THIN_LENS) {
-        u_lens = sample_2d(id.pixel, id.index, DIM_LENS, id.seed);
+    if (NUM_MEDIA > 0u) {
+        return trace_volumetric_path(id, px, py);
     }
-    let camera = camera_ray(px, py, sample_2d(id.pixel, id.index, DIM_PIXEL, id.seed), u_lens);
+    let camera = sample_camera_ray(id, px, py);
     var ray_o = camera.o;
     var ray_d = camera.d;
     var hit = intersect_scene(ray_o, ray_d);
@@ -317,63 +407,19 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
     // Segments of the path so far.
     var depth = 1u;
     loop {
-        // Scattering vertex. The side the viewer is on is decided in the shading frame, as
-        // Mitsuba does (Frame3f::cos_theta(si.wi) > 0): `from_inside` (the back of a one-sided
-        // BSDF, which scatters nothing) and the side the shading normal n_s is turned to (a
-        // two-sided BSDF's frame, as Mitsuba's `twosided` flips it). The geometric normal n_g
-        // is turned to the viewer's geometric side: rays leave on that side (on wi's, where a BSDF
-        // transmits), and directions on its other side than the shading normal's do not
-        // scatter.
-        var x = ray_o + ray_d * hit.t;
-        if (bsdf_may_transmit() && hit.object < NUM_SPHERES) {
-            // The hit point projected back onto its sphere (pbrt's refinement): rays that cross
-            // a sphere leave from within 2e-5 of its surface, which o + t d misses by more
-            // after a few bounces inside.
-            let s = spheres[hit.object];
-            x = s.center + s.radius * normalize(x - s.center);
-        }
-        let wo = -ray_d;
-        var from_inside = dot(hit.normal, wo) < 0.0;
-        let n_g = select(hit.normal, -hit.normal, from_inside);
-        var n_s = n_g;
-        if (HAS_SHADING_NORMALS) {
-            from_inside = dot(hit.shading_normal, wo) < 0.0;
-            n_s = select(hit.shading_normal, -hit.shading_normal, from_inside);
-        }
         let dim_base = first_vertex_dim() + (depth - 1u) * dims_per_vertex();
-        // The lobe sample, drawn first: a blend picks its BSDF with it (and rescales it).
-        var u_lobe = sample_1d(id.pixel, id.index, dim_base + 2u, id.seed);
-        var bsdf_material = hit.material;
-        let tex = texture_context(hit, x);
-        if (HAS_BLENDS) {
-            let pick = blend_pick(hit.material, tex, u_lobe);
-            bsdf_material = pick.material;
-            u_lobe = pick.u;
-        }
-        var m = material_bsdf(hit.material, bsdf_material, from_inside, tex);
-        m.inside = from_inside;
-        if (HAS_TANGENT_FRAMES) {
-            m.tangent = hit.tangent;
-        }
-        if (HAS_NORMAL_MAPS) {
-            let map = materials[hit.material].normal_map;
-            if (map != NO_NORMAL_MAP) {
-                m = normal_mapped(m, eval_texture(map, tex), hit.shading_normal, n_s, wo);
-            }
-        }
-        if (HAS_BUMP_MAPS) {
-            let bump = materials[hit.material].bump_map;
-            if (bump != NO_BUMP_MAP) {
-                let dp = surface_partials(hit, x);
-                m = bump_mapped(m, bump, hit.uv, dp.du, dp.dv, hit.normal, hit.shading_normal, n_s, wo);
-            }
-        }
-        // A one-sided BSDF seen from behind (the side its surface normal points away from)
-        // scatters nothing: Mitsuba's rule for BSDFs not wrapped in `twosided`.
-        let scatters = !from_inside || (materials[bsdf_material].flags & MATERIAL_ONE_SIDED) == 0u;
+        let v = surface_vertex(id, hit, ray_o, ray_d, dim_base);
+        let x = v.x;
+        let wo = v.wo;
+        let from_inside = v.from_inside;
+        let n_g = v.n_g;
+        let n_s = v.n_s;
+        let m = v.m;
+        let u_lobe = v.u_lobe;
+        let scatters = v.scatters;
 
         if (LIGHT_SAMPLING != LIGHTS_NONE && NUM_LIGHTS > 0u && scatters && !bsdf_is_delta(m)) {
-            radiance += throughput * estimate_direct(id, dim_base, LightSampleContext(x, hit.object, from_inside, n_s), hit.p_error, n_s, n_g, wo, m);
+            radiance += throughput * estimate_direct(id, dim_base, LightSampleContext(x, hit.object, from_inside, n_s), hit.p_error, n_s, n_g, wo, m, NO_SHADOW_MEDIA);
         }
 
         let u_dir = sample_2d(id.pixel, id.index, dim_base, id.seed);

@@ -63,6 +63,25 @@ fn warp(name: &str, sample: &str, pdf: &str, s_split: f64) -> Routine {
     }
 }
 
+/// Henyey-Greenstein's phase function (phase.wgsl) for light travelling along `d` (binned about
+/// +z): g = 0 is isotropic scattering, g > 0 forward, g < 0 backward; a tilted d tests the
+/// frame the lobe is turned into.
+fn hg_phase(g: f64, d: [f64; 3]) -> Routine {
+    let dir = format!("normalize(vec3f({:.6}, {:.6}, {:.6}))", d[0], d[1], d[2]);
+    let mut r = warp(
+        &format!("Henyey-Greenstein g = {g}, travel {d:?}"),
+        &format!("sample_hg_phase({g:.6}, {dir}, u).wi"),
+        &format!("pdf_hg_phase({g:.6}, {dir}, d)"),
+        if g > 0.5 && d[2] == 1.0 { 0.5 } else { 2.0 },
+    );
+    // The sample's reported density must be the function's there too.
+    r.wgsl = format!(
+        "fn routine_sample(u: vec2f, u_lobe: f32) -> Drawn {{ let ps = sample_hg_phase({g:.6}, {dir}, u); return Drawn(vec4f(ps.wi, ps.pdf), vec4f(0.0)); }}\n\
+         fn routine_pdf(d: vec3f) -> f32 {{ return pdf_hg_phase({g:.6}, {dir}, d); }}\n"
+    );
+    r
+}
+
 fn phong_lobe(n: f64) -> Routine {
     let mut r = warp(
         &format!("phong lobe n={n}"),
@@ -794,6 +813,10 @@ fn all_routines() -> Vec<Routine> {
     r.extend(principled_routines());
     r.extend(mask_routines());
     r.extend(polarized_plastic_routines());
+    for g in [0.0, 0.3, 0.8, -0.6, 0.95] {
+        r.push(hg_phase(g, [0.0, 0.0, 1.0]));
+    }
+    r.push(hg_phase(0.7, [0.3, -0.5, 0.8]));
     r
 }
 

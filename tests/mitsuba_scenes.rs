@@ -527,9 +527,10 @@ fn instances_of_shape_groups_are_flattened_as_mitsuba_places_them() {
 /// as without it, to 1.2e-7), so pathlab reads a `<medium>` in a shape (inline or by `<ref>`),
 /// in the sensor or named at the top level, warns that it is ignored, and renders the image
 /// of the scene without it, bit for bit. Under `volpath`, where Mitsuba renders the medium,
-/// it is refused with its line.
+/// it is read (tests/media.rs renders media against Mitsuba): the inline interior and the
+/// exterior taken by `<ref>`.
 #[test]
-fn media_are_ignored_under_path_as_mitsuba_does_and_refused_under_volpath() {
+fn media_are_ignored_under_path_as_mitsuba_does_and_read_under_volpath() {
     let medium = r#"<medium type="homogeneous" id="fog"><rgb name="albedo" value="0"/><rgb name="sigma_t" value="0.5, 0.2, 0.4"/></medium>
     <shape type="sphere"><float name="radius" value="0.8"/><bsdf type="dielectric"/>
         <medium type="homogeneous" name="interior"><rgb name="albedo" value="0.2"/></medium>
@@ -546,6 +547,10 @@ fn media_are_ignored_under_path_as_mitsuba_does_and_refused_under_volpath() {
     let method = pathlab::method::Preset::Mis.method();
     assert_eq!(common::bits(&common::render(&with, method, 4, 1)), common::bits(&common::render(&without, method, 4, 1)));
     let volpath = small(&format!("<integrator type=\"volpath\"/>\n{medium}"));
-    let e = common::load_xml(&volpath, "volpath.xml").unwrap_err().to_string();
-    assert!(e.contains("volpath.xml:10:") && e.contains("participating media are not supported"), "{e}");
+    let scene = common::load_xml(&volpath, "volpath.xml").unwrap();
+    assert_eq!(scene.media.len(), 2, "{:?}", scene.media);
+    assert!(scene.warnings.iter().all(|w| !w.message.contains("<medium>")), "{:?}", scene.warnings);
+    let bounded: Vec<(Option<usize>, Option<usize>)> = scene.materials.iter().map(|m| (m.interior, m.exterior)).filter(|b| *b != (None, None)).collect();
+    assert_eq!(bounded.len(), 2, "{bounded:?}");
+    assert!(bounded.iter().any(|(i, e)| i.is_some() && e.is_none()) && bounded.iter().any(|(i, e)| i.is_none() && e.is_some()), "{bounded:?}");
 }

@@ -123,6 +123,8 @@ fn overrides_set_by_the_host_are_those_the_module_declares() {
         has_environment_map: true,
         light_interiors_reachable: true,
         hide_emitters: true,
+        num_media: 1,
+        camera_medium: 0,
     };
     let key = PipelineKey::new(Preset::Best.method(), features, pathlab::method::LightSelect::Power);
     // The method's and scene's, and the adapter's (`PathTracerPipelines::get` sets both).

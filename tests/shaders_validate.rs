@@ -115,6 +115,10 @@ fn every_override_permutation_validates() {
                                     has_environment: on,
                                     has_environment_map: on,
                                     light_interiors_reachable: on,
+                                    // Media on and off (two, the camera in one or in none),
+                                    // with every light sampling and selection.
+                                    num_media: if (checked / 37) % 2 == 0 { 2 } else { 0 },
+                                    camera_medium: if (checked / 41) % 2 == 0 { 1 } else { pathlab::shaders::flags::NO_MEDIUM },
                                 };
                                 let key = PipelineKey { method, features, traversal_budget: budget };
                                 let (source, parsed) = if on { (&with_techniques, &parsed_with_techniques) } else { (&source, &parsed) };

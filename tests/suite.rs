@@ -35,6 +35,7 @@ mod extremes;
 mod file_mutations;
 mod lamps;
 mod masks;
+mod media;
 mod mesh_attributes;
 mod normal_maps;
 mod orthographic;

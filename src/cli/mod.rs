@@ -284,6 +284,25 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
             scene.camera.aperture_radius, scene.camera.focus_distance
         );
     }
+    // Participating media: what each is, which materials bound it, whether the camera is in it.
+    for (i, m) in scene.media.iter().enumerate() {
+        let phase = match m.phase {
+            pathlab::scene::media::Phase::Isotropic => "isotropic".to_string(),
+            pathlab::scene::media::Phase::HenyeyGreenstein { g } => format!("Henyey-Greenstein g {g}"),
+        };
+        let bounds: Vec<&str> = scene.materials.iter().filter(|t| t.interior == Some(i) || t.exterior == Some(i)).map(|t| t.name.as_str()).collect();
+        println!(
+            "medium {i} \"{}\": homogeneous, sigma_t {:?} per unit length, albedo {:?}, {phase}; bounded by {}{}",
+            m.name,
+            m.sigma_t.to_array(),
+            m.albedo.to_array(),
+            if bounds.is_empty() { "no material".to_string() } else { bounds.join(", ") },
+            if scene.camera_medium == Some(i) { "; the camera is in it" } else { "" }
+        );
+    }
+    if !scene.media.is_empty() {
+        println!("media: {}; rendered by the volumetric path tracer (Mitsuba's volpath in expectation)", scene.media.len());
+    }
     // Delta lights: what they are, and that only next event estimation sees them.
     for (i, l) in scene.point_lights.iter().enumerate() {
         println!("point light {i}: at {:?}, intensity {:?} W/sr", l.position.to_array(), l.intensity.to_array());

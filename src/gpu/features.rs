@@ -98,6 +98,12 @@ pub struct SceneFeatures {
     /// False when no path vertex can be inside a light: sampling lights from inside (by area)
     /// is compiled out, leaving cone sampling alone.
     pub light_interiors_reachable: bool,
+    /// Participating media (`Scene::media`): the kernel's `NUM_MEDIA`; 0 compiles every
+    /// volumetric step out (volpath.wgsl).
+    pub num_media: u32,
+    /// The medium the camera sits in (`Scene::camera_medium`), `NO_MEDIUM` for none: the
+    /// kernel's `CAMERA_MEDIUM`.
+    pub camera_medium: u32,
 }
 
 /// The most area emitters a camera ray passes through under `hide_emitters` (Mitsuba's loop is
@@ -190,6 +196,8 @@ impl SceneFeatures {
             has_environment_map: scene.environment_map.is_some(),
             num_occluding_planes: scene.occluding_planes().len() as u32,
             light_interiors_reachable: scene.light_interiors_reachable(),
+            num_media: scene.media.len() as u32,
+            camera_medium: scene.camera_medium.map_or(crate::shaders::flags::NO_MEDIUM, |m| m as u32),
         }
     }
 

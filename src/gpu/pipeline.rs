@@ -95,6 +95,8 @@ pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
         ("HAS_ENVIRONMENT", f.has_environment as u32 as f64),
         ("HAS_ENVIRONMENT_MAP", f.has_environment_map as u32 as f64),
         ("LIGHT_INTERIORS_REACHABLE", f.light_interiors_reachable as u32 as f64),
+        ("NUM_MEDIA", f.num_media as f64),
+        ("CAMERA_MEDIUM", f.camera_medium as f64),
         ("BSDF_TECHNIQUE", key.method.bsdf_technique.is_some() as u32 as f64),
         ("LIGHT_TECHNIQUE", key.method.light_technique.is_some() as u32 as f64),
         ("ENV_TECHNIQUE", key.method.env_technique.is_some() as u32 as f64),
@@ -186,6 +188,17 @@ pub fn loop_iterations_per_sample(key: &PipelineKey, max_depth: u32, bvh_nodes: 
     // Under hide_emitters, camera rays passing through area emitters: one loop iteration and
     // one more ray each.
     let skips = f.emitter_skips() as u64;
+    if f.num_media > 0 {
+        // The volumetric loop (volpath.wgsl): up to 2 max_depth + 8 segments, each shadow ray
+        // up to MAX_SHADOW_CROSSINGS (8) intersections, each a pass of the intersection loops.
+        let segments = 2 * max_depth as u64 + 8;
+        let per_shadow_ray = 8;
+        let per_segment = 1 + s + p + shadow_rays * per_shadow_ray * (1 + s + p) + (5 + light_dims) * per_dim + env_search;
+        let fixed = 1 + 2 * per_dim + segments * per_segment;
+        let rays = 1 + segments * (1 + shadow_rays * per_shadow_ray);
+        let steps_per_ray = if f.num_triangles > 0 { 4 * bvh_nodes + 3 * bvh_leaves + f.num_triangles as u64 } else { 0 };
+        return LoopBound { fixed, rays, steps_per_ray };
+    }
     let fixed = 1 + 2 * per_dim + max_depth as u64 * per_vertex + skips * (1 + s + p);
     let rays = 1 + max_depth as u64 * (1 + shadow_rays) + skips;
     let steps_per_ray = if f.num_triangles > 0 { 4 * bvh_nodes + 3 * bvh_leaves + f.num_triangles as u64 } else { 0 };

@@ -431,6 +431,11 @@ impl SceneBuffers {
     /// The materials in scene order, and the numbers their BSDFs read beyond their blocks.
     pub fn pack_materials(scene: &Scene) -> (Vec<GpuMaterial>, BsdfData) {
         let mut data = BsdfData(Vec::new(), scene.mesh_attribute_names());
+        // The media's records first (`medium_at` in medium.wgsl reads medium k at
+        // k MEDIUM_RECORD_FLOATS), then every BSDF's data.
+        for m in &scene.media {
+            data.0.extend(m.pack());
+        }
         let materials = scene
             .materials
             .iter()
@@ -438,7 +443,9 @@ impl SceneBuffers {
                 let [p0, p1, p2] = m.bsdf.pack(&mut data);
                 GpuMaterial {
                     emission: f3(m.emission),
-                    flags: if m.is_emissive() { MATERIAL_EMISSIVE } else { 0 } | if m.two_sided { 0 } else { MATERIAL_ONE_SIDED },
+                    flags: if m.is_emissive() { MATERIAL_EMISSIVE } else { 0 }
+                        | if m.two_sided { 0 } else { MATERIAL_ONE_SIDED }
+                        | crate::shaders::flags::medium_flags(m.interior, m.exterior),
                     p0,
                     p1,
                     p2,

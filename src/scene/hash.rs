@@ -158,6 +158,19 @@ pub fn canonical_encoding(scene: &Scene) -> String {
         if let Some(b) = &m.blend {
             line(&format!("material.{i}.blend"), format!("{} {}", b.material, b.weight.hash_value()));
         }
+        // Only medium boundaries add lines: the media's indices (-1: none).
+        if m.is_medium_boundary() {
+            let index = |m: Option<usize>| m.map_or("-1".to_string(), |i| i.to_string());
+            line(&format!("material.{i}.media"), format!("{} {}", index(m.interior), index(m.exterior)));
+        }
+    }
+    // Only scenes with media add lines, so that scenes written before keep their hash.
+    if !scene.media.is_empty() {
+        line("media", scene.media.len().to_string());
+        for (i, m) in scene.media.iter().enumerate() {
+            m.hash_lines(&mut |key, value| line(&format!("medium.{i}.{key}"), value));
+        }
+        line("camera.medium", scene.camera_medium.map_or("-1".to_string(), |i| i.to_string()));
     }
     line("spheres", scene.spheres.len().to_string());
     for (i, s) in scene.spheres.iter().enumerate() {

@@ -14,6 +14,7 @@ mod diagnostic;
 pub mod emitters;
 pub mod hash;
 pub mod image_file;
+pub mod media;
 pub mod mesh;
 pub mod mitsuba;
 pub mod overrides;
@@ -117,9 +118,21 @@ pub struct Material {
     /// Mitsuba's `blendbsdf` (`bsdfs::Blend`): another material whose BSDF is blended with this
     /// one's by a weight, one of the two picked per path vertex; `None`: this BSDF alone.
     pub blend: Option<Blend>,
+    /// The media its surface bounds (`media::Medium`, indices into `Scene::media`): `interior`
+    /// on the side its normal points away from, `exterior` on the other (Mitsuba's shape
+    /// `interior` and `exterior`, pbrt-v4's `MediumInterface`). A ray that crosses a surface
+    /// with either takes the medium of the side it enters (`None`: no medium); across a
+    /// surface with neither it keeps its own.
+    pub interior: Option<usize>,
+    pub exterior: Option<usize>,
 }
 
 impl Material {
+    /// Whether its surface bounds a medium (a ray crossing it changes medium).
+    pub fn is_medium_boundary(&self) -> bool {
+        self.interior.is_some() || self.exterior.is_some()
+    }
+
     pub fn is_emissive(&self) -> bool {
         self.emission.max_element() > 0.0
     }
@@ -227,6 +240,11 @@ pub struct Scene {
     pub directional_lights: Vec<DirectionalLight>,
     /// Projectors (`[[projector_lights]]`, Mitsuba's `projector`): delta lights too.
     pub projector_lights: Vec<ProjectorLight>,
+    /// Participating media (`[media.<name>]`, Mitsuba's `homogeneous` under `volpath`), which
+    /// materials bound (`Material::interior`, `exterior`) and the camera may sit in.
+    pub media: Vec<media::Medium>,
+    /// The medium the camera sits in (`camera.medium`, Mitsuba's sensor `<medium>`).
+    pub camera_medium: Option<usize>,
     /// How images of this scene are shown and scored on screen (`[display]`, default sRGB):
     /// PNG previews, figures and the display-referred metrics. Not part of `content_hash`.
     pub display: crate::display::DisplayTransform,

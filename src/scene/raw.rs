@@ -44,6 +44,24 @@ pub(crate) struct RawScene {
     /// Mitsuba's `projector`.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub projector_lights: Vec<Spanned<RawProjectorLight>>,
+    /// `[media.<name>]`: participating media (Mitsuba's `homogeneous`).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub media: BTreeMap<String, Spanned<RawMedium>>,
+}
+
+/// `[media.<name>]`: a homogeneous medium: extinction `sigma_t` (a number or `[r, g, b]`, per
+/// unit length), single-scattering `albedo` (default 0.75, Mitsuba's), and its phase function,
+/// `isotropic` (the default) or `hg` with mean cosine `g`.
+#[derive(Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawMedium {
+    pub sigma_t: Spanned<RawColor>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub albedo: Option<Spanned<RawColor>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub phase: Option<Spanned<String>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub g: Option<Spanned<f64>>,
 }
 
 /// `[[point_lights]]`: a point light of `intensity` (W/sr) at `position`.
@@ -244,6 +262,9 @@ pub(crate) struct RawCamera {
     pub aperture_radius: Option<Spanned<f64>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub focus_distance: Option<Spanned<f64>>,
+    /// The medium the camera sits in (a name of `[media]`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub medium: Option<Spanned<String>>,
 }
 
 #[derive(Debug, Deserialize, Serialize)]
@@ -284,6 +305,10 @@ pub(crate) struct RawMaterial {
     /// and its weight (a number in [0, 1] or a texture table, `bsdfs::Blend`).
     pub blend: Option<Spanned<String>>,
     pub blend_weight: Option<Spanned<toml::Value>>,
+    /// The media the surface bounds (names of `[media]`): `interior` on the side its normal
+    /// points away from, `exterior` on the other.
+    pub interior: Option<Spanned<String>>,
+    pub exterior: Option<Spanned<String>>,
     /// The BSDF's fields, in the order written.
     pub params: Vec<(String, Spanned<toml::Value>)>,
 }
@@ -309,6 +334,8 @@ impl<'de> Deserialize<'de> for RawMaterial {
                         "back" => m.back = Some(map.next_value()?),
                         "blend" => m.blend = Some(map.next_value()?),
                         "blend_weight" => m.blend_weight = Some(map.next_value()?),
+                        "interior" => m.interior = Some(map.next_value()?),
+                        "exterior" => m.exterior = Some(map.next_value()?),
                         _ => {
                             let value = map.next_value()?;
                             m.params.push((key, value));
@@ -356,6 +383,12 @@ impl Serialize for RawMaterial {
         }
         if let Some(w) = &self.blend_weight {
             map.serialize_entry("blend_weight", w.get_ref())?;
+        }
+        if let Some(m) = &self.interior {
+            map.serialize_entry("interior", m.get_ref())?;
+        }
+        if let Some(m) = &self.exterior {
+            map.serialize_entry("exterior", m.get_ref())?;
         }
         map.end()
     }

@@ -12,6 +12,7 @@ use crate::display::{DisplayTransform, Transfer};
 
 use super::checker::Checker;
 use super::diagnostic::SourceMap;
+use super::media::{Medium, Phase, MAX_MEDIA};
 use super::mesh::{self, shapes, Mesh, MeshData, Shading};
 use super::emitters::{DirectionalLight, PointLight, ProjectorLight, SpotLight, SpotTexture, BEAM_WIDTH_OF_CUTOFF, DEFAULT_CUTOFF_ANGLE};
 use super::textures::Texture;
@@ -230,7 +231,9 @@ pub(super) fn validate(raw: &RawScene, file: &Path, sources: SourceMap, diagnost
 
     let camera = check_camera(&mut ck, raw);
     let render = check_render(&mut ck, raw);
-    let (materials, names) = check_materials(&mut ck, raw);
+    let (media, medium_names) = check_media(&mut ck, raw);
+    let (mut materials, names) = check_materials(&mut ck, raw);
+    let camera_medium = resolve_media(&mut ck, raw, &mut materials, &medium_names);
     let display = check_display(&mut ck, raw);
 
     let mut used = BTreeSet::new();
@@ -362,7 +365,102 @@ pub(super) fn validate(raw: &RawScene, file: &Path, sources: SourceMap, diagnost
         warnings: ck.diagnostics,
         techniques,
         translation: Default::default(),
+        media,
+        camera_medium,
     })
+}
+
+/// `[media.<name>]`: each medium's coefficients checked (σ_t finite and >= 0, albedo in
+/// [0, 1], a known phase function, HG's g in (-1, 1)), in name order.
+fn check_media(ck: &mut Checker, raw: &RawScene) -> (Vec<Medium>, BTreeMap<String, usize>) {
+    let mut media = Vec::new();
+    let mut names = BTreeMap::new();
+    if let Some((name, extra)) = raw.media.iter().nth(MAX_MEDIA) {
+        ck.error(extra.span(), format!("media.{name}"), too_many(raw.media.len(), MAX_MEDIA, "media"));
+    }
+    for (name, m) in &raw.media {
+        let r = m.get_ref();
+        let sigma_t = ck.color(Some(&r.sigma_t), &format!("media.{name}.sigma_t"));
+        let albedo_field = format!("media.{name}.albedo");
+        // Mitsuba's default albedo (homogeneous.cpp: props.volume("albedo", 0.75f)).
+        let albedo = r.albedo.as_ref().map_or(DVec3::splat(0.75), |a| ck.color(Some(a), &albedo_field));
+        if albedo.max_element() > 1.0 {
+            let span = r.albedo.as_ref().map_or(m.span(), |a| a.span());
+            ck.error(span, albedo_field, format!("an albedo is a fraction of the extinction that scatters: each channel must be in [0, 1] (got {:?})", albedo.to_array()));
+        }
+        let g = r.g.as_ref().map(|g| (ck.number(g, &format!("media.{name}.g")), g.span()));
+        let phase = match r.phase.as_ref().map(|p| (p.get_ref().as_str(), p.span())) {
+            None | Some(("isotropic", _)) => {
+                if let Some((_, span)) = g {
+                    ck.error(span, format!("media.{name}.g"), "`g` is the mean cosine of the `hg` phase function: give phase = \"hg\" with it");
+                }
+                Phase::Isotropic
+            }
+            Some(("hg", _)) => {
+                let g = g.map_or(0.8, |(g, span)| {
+                    if !(g > -1.0 && g < 1.0) {
+                        ck.error(span, format!("media.{name}.g"), format!("`g` must lie in (-1, 1) (got {g})"));
+                    }
+                    g
+                });
+                Phase::HenyeyGreenstein { g }
+            }
+            Some((other, span)) => {
+                ck.error(span, format!("media.{name}.phase"), format!("unknown phase function \"{other}\" (pathlab has isotropic, hg)"));
+                Phase::Isotropic
+            }
+        };
+        names.insert(name.clone(), media.len());
+        media.push(Medium { name: name.clone(), sigma_t, albedo, phase });
+    }
+    (media, names)
+}
+
+/// Resolves the media that materials bound (`interior`, `exterior`) and the camera's, by name;
+/// warns of media nothing uses. Refuses a mask in a scene with media (a shadow ray through a
+/// medium would see through it in Mitsuba's volpath, and through no mask in pathlab).
+fn resolve_media(ck: &mut Checker, raw: &RawScene, materials: &mut [Material], names: &BTreeMap<String, usize>) -> Option<usize> {
+    let mut used = BTreeSet::new();
+    let mut lookup = |ck: &mut Checker, name: &Spanned<String>, field: String| -> Option<usize> {
+        match names.get(name.get_ref()) {
+            Some(&i) => {
+                used.insert(i);
+                Some(i)
+            }
+            None => {
+                let known: Vec<&str> = names.keys().map(String::as_str).collect();
+                let known = if known.is_empty() { "none".to_string() } else { known.join(", ") };
+                ck.error(name.span(), field, format!("no medium \"{}\" (media: {known})", name.get_ref()));
+                None
+            }
+        }
+    };
+    for (i, (name, m)) in raw.materials.iter().enumerate() {
+        let r = m.get_ref();
+        let interior = r.interior.as_ref().and_then(|n| lookup(ck, n, format!("materials.{name}.interior")));
+        let exterior = r.exterior.as_ref().and_then(|n| lookup(ck, n, format!("materials.{name}.exterior")));
+        if let Some(material) = materials.get_mut(i) {
+            material.interior = interior;
+            material.exterior = exterior;
+        }
+    }
+    let camera = raw.camera.get_ref().medium.as_ref().and_then(|n| lookup(ck, n, "camera.medium".to_string()));
+    if !raw.media.is_empty() {
+        if let Some(h) = raw.render.get_ref().hide_emitters.as_ref().filter(|h| *h.get_ref()) {
+            ck.error(h.span(), "render.hide_emitters", "hide_emitters in a scene with media is not supported yet");
+        }
+        for (name, m) in &raw.materials {
+            if let Some(o) = &m.get_ref().opacity {
+                ck.error(o.span(), format!("materials.{name}.opacity"), "a mask (opacity) in a scene with media is not supported: Mitsuba's volpath lets shadow rays through a mask by its opacity, which pathlab does not yet");
+            }
+        }
+    }
+    for (name, m) in &raw.media {
+        if !used.contains(&names[name]) {
+            ck.warn(m.span(), format!("media.{name}"), "medium is defined but no material bounds it and the camera is not in it");
+        }
+    }
+    camera
 }
 
 /// `[techniques]`: each file read (relative to the scene's folder), named by a valid stem, valid
@@ -981,7 +1079,7 @@ fn check_materials(ck: &mut Checker, raw: &RawScene) -> (Vec<Material>, BTreeMap
             }
         });
         names.insert(name.clone(), materials.len());
-        materials.push(Material { name: name.clone(), emission, emission_texture, two_sided, bsdf, opacity, normal_map, bump_map, back: None, blend: None });
+        materials.push(Material { name: name.clone(), emission, emission_texture, two_sided, bsdf, opacity, normal_map, bump_map, back: None, blend: None, interior: None, exterior: None });
     }
     // Backs, once every material has its index: a back's own BSDF is what scatters, so it must
     // be a plain one-BSDF material that only reflects (Mitsuba's twosided nests no

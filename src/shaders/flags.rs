@@ -6,6 +6,27 @@ pub const MATERIAL_EMISSIVE: u32 = 1;
 /// Material flag: the BSDF is one-sided (black seen from behind).
 pub const MATERIAL_ONE_SIDED: u32 = 2;
 
+/// Material flag: the surface bounds a medium (`Material::is_medium_boundary`); its interior's
+/// and exterior's indices are the flags' bits from `MEDIUM_INTERIOR_SHIFT` and
+/// `MEDIUM_EXTERIOR_SHIFT` on, 8 each, `NO_MEDIUM` for none.
+pub const MATERIAL_MEDIUM_BOUNDARY: u32 = 4;
+pub const MEDIUM_INTERIOR_SHIFT: u32 = 16;
+pub const MEDIUM_EXTERIOR_SHIFT: u32 = 24;
+/// No medium (vacuum), in a material's flags and for the camera.
+pub const NO_MEDIUM: u32 = 255;
+/// Floats per medium record at the start of the BSDF data (`media::Medium::pack`).
+pub const MEDIUM_RECORD_FLOATS: u32 = crate::scene::media::MEDIUM_RECORD_FLOATS as u32;
+
+/// The flags of a material bounding the media `interior` and `exterior` (`None`: vacuum):
+/// `MATERIAL_MEDIUM_BOUNDARY` and the indices, 0 where it bounds none.
+pub fn medium_flags(interior: Option<usize>, exterior: Option<usize>) -> u32 {
+    if interior.is_none() && exterior.is_none() {
+        return 0;
+    }
+    let index = |m: Option<usize>| m.map_or(NO_MEDIUM, |i| i as u32);
+    MATERIAL_MEDIUM_BOUNDARY | index(interior) << MEDIUM_INTERIOR_SHIFT | index(exterior) << MEDIUM_EXTERIOR_SHIFT
+}
+
 /// `Material.back` of a material without a back BSDF (Mitsuba's `twosided` with one BSDF).
 pub const NO_BACK: u32 = u32::MAX;
 
@@ -43,6 +64,11 @@ pub fn wgsl() -> String {
     [
         ("MATERIAL_EMISSIVE", MATERIAL_EMISSIVE),
         ("MATERIAL_ONE_SIDED", MATERIAL_ONE_SIDED),
+        ("MATERIAL_MEDIUM_BOUNDARY", MATERIAL_MEDIUM_BOUNDARY),
+        ("MEDIUM_INTERIOR_SHIFT", MEDIUM_INTERIOR_SHIFT),
+        ("MEDIUM_EXTERIOR_SHIFT", MEDIUM_EXTERIOR_SHIFT),
+        ("NO_MEDIUM", NO_MEDIUM),
+        ("MEDIUM_RECORD_FLOATS", MEDIUM_RECORD_FLOATS),
         ("NO_BACK", NO_BACK),
         ("NO_BLEND", NO_BLEND),
         ("NO_NORMAL_MAP", NO_NORMAL_MAP),

@@ -34,6 +34,12 @@ pub mod files {
     pub const COMMON: (&str, &str) = ("common.wgsl", include_str!("../../shaders/common.wgsl"));
     pub const SAMPLER: (&str, &str) = ("sampler.wgsl", include_str!("../../shaders/sampler.wgsl"));
     pub const WARP: (&str, &str) = ("warp.wgsl", include_str!("../../shaders/warp.wgsl"));
+    /// Phase functions of participating media (sampled and evaluated like BSDFs).
+    pub const PHASE: (&str, &str) = ("phase.wgsl", include_str!("../../shaders/phase.wgsl"));
+    /// Homogeneous media: records, free-flight sampling, transmittance, boundaries.
+    pub const MEDIUM: (&str, &str) = ("medium.wgsl", include_str!("../../shaders/medium.wgsl"));
+    /// The path tracer's volumetric loop (scenes with media).
+    pub const VOLPATH: (&str, &str) = ("volpath.wgsl", include_str!("../../shaders/volpath.wgsl"));
     pub const SPHERICAL_TRIANGLE: (&str, &str) = ("spherical_triangle.wgsl", include_str!("../../shaders/spherical_triangle.wgsl"));
     pub const LIGHT_TABLE: (&str, &str) = ("light_table.wgsl", include_str!("../../shaders/light_table.wgsl"));
     pub const BVH: (&str, &str) = ("bvh.wgsl", include_str!("../../shaders/bvh.wgsl"));
@@ -101,10 +107,11 @@ pub mod files {
 /// one binding is the BSDFs' data (`bindings::BSDF_DATA`), which `KernelRun` fills with a
 /// placeholder where a test kernel gives none. Test kernels append their own bindings and entry
 /// points to this.
-pub const LIBRARY: [(&str, &str); 13] = [
+pub const LIBRARY: [(&str, &str); 14] = [
     files::COMMON,
     files::SAMPLER,
     files::WARP,
+    files::PHASE,
     files::SPHERICAL_TRIANGLE,
     files::MICROFACET,
     files::FRESNEL,
@@ -118,10 +125,11 @@ pub const LIBRARY: [(&str, &str); 13] = [
 ];
 
 /// Everything the path-tracing kernel (`render_main`) needs.
-pub const PATH_TRACER: [(&str, &str); 21] = [
+pub const PATH_TRACER: [(&str, &str); 24] = [
     files::COMMON,
     files::SAMPLER,
     files::WARP,
+    files::PHASE,
     files::SPHERICAL_TRIANGLE,
     files::MICROFACET,
     files::FRESNEL,
@@ -134,12 +142,14 @@ pub const PATH_TRACER: [(&str, &str); 21] = [
     files::TECHNIQUE,
     files::LIGHT_TABLE,
     files::SCENE,
+    files::MEDIUM,
     files::BVH,
     files::INTERSECT,
     files::EMITTER,
     files::ACCUM_PIXEL,
     files::ACCUMULATE,
     files::INTEGRATOR,
+    files::VOLPATH,
 ];
 
 /// The viewer's display pass (`display_main`): accumulator to shown texture.

@@ -159,7 +159,9 @@ fn translate(path: &Path, defines: &[(String, String)]) -> Result<(RawScene, Sou
         instanced: Vec::new(),
         sensor_correction: None,
         media: Vec::new(),
-        volumetric: None,
+        volumetric: volumetric_integrator(&loaded.objects),
+        medium_defs: BTreeMap::new(),
+        camera_medium: None,
         loaded: &loaded,
     };
     let mut raw = t.scene(path, &loaded.objects);
@@ -538,7 +540,7 @@ struct Translator<'a> {
     diagnostics: Vec<Diagnostic>,
     materials: BTreeMap<String, Spanned<RawMaterial>>,
     /// (BSDF, emission) of each material made, for sharing identical ones.
-    material_keys: Vec<(String, Bsdf, Option<RawEmission>)>,
+    material_keys: Vec<(String, Bsdf, Option<RawEmission>, (Option<String>, Option<String>))>,
     /// Named BSDFs already interpreted (a `<ref>` is a copy: interpreted once, reported once).
     bsdfs: BTreeMap<String, Option<Bsdf>>,
     shape_count: usize,
@@ -550,8 +552,24 @@ struct Translator<'a> {
     media: Vec<usize>,
     /// A volumetric integrator (`volpath`, `volpathmis`), with where it is: with it media matter.
     volumetric: Option<(String, usize)>,
+    /// Media translated (under a volumetric integrator), by name: a top-level medium's id, or
+    /// `<shape>-interior` for one nested in a shape.
+    medium_defs: BTreeMap<String, Spanned<super::raw::RawMedium>>,
+    /// The sensor's medium, by that name.
+    camera_medium: Option<Spanned<String>>,
     /// The loaded files, for resolving relative file names (`xml::Loaded::resolve`).
     loaded: &'a xml::Loaded,
+}
+
+/// The volumetric integrator (`volpath`, `volpathmis`) among the scene's integrators, nested
+/// ones (in `moment`, `aov`) included, with where it is: under it media are rendered.
+fn volumetric_integrator(objects: &[Object]) -> Option<(String, usize)> {
+    objects.iter().filter(|o| o.tag == "integrator").find_map(|o| {
+        if o.plugin == "volpath" || o.plugin == "volpathmis" {
+            return Some((o.plugin.clone(), o.at));
+        }
+        volumetric_integrator(&o.children)
+    })
 }
 
 fn span(at: usize) -> std::ops::Range<usize> {
@@ -847,6 +865,8 @@ impl Translator<'_> {
                 "film" | "sampler" | "rfilter" if o.id.is_some() => {}
                 "film" | "sampler" | "rfilter" => self.error(o.at, "", format!("<{}> belongs inside the <sensor> (or, with an id, is taken by a <ref> in it)", o.tag)),
                 // A named medium is a definition that shapes take by <ref name="interior" …/>.
+                "medium" if self.volumetric.is_some() && o.id.is_some() => {}
+                "medium" if self.volumetric.is_some() => self.error(o.at, "", "a <medium> outside a <shape> or <sensor> needs an id, for a <ref name=\"interior\" id=\"…\"/> in one"),
                 "medium" => self.media.push(o.at),
                 other => self.error(o.at, "", format!("{} is not supported at the top level of a scene", describe(other, &o.plugin))),
             }
@@ -891,6 +911,7 @@ impl Translator<'_> {
             spot_lights,
             directional_lights,
             projector_lights,
+            media: std::mem::take(&mut self.medium_defs),
         })
     }
 
@@ -899,21 +920,77 @@ impl Translator<'_> {
     /// `volpath` they would be rendered, which pathlab cannot: refused.
     fn check_media(&mut self) {
         let mut media = std::mem::take(&mut self.media);
-        // A medium taken by several <ref>s is reported once, where it is defined.
+        // A medium taken by several <ref>s is reported once, where it is defined. Under a
+        // volumetric integrator media are translated where they are taken (`medium`), and
+        // none is listed here.
         media.sort_unstable();
         media.dedup();
-        match self.volumetric.clone() {
-            Some((plugin, _)) if !media.is_empty() => self.error(
-                media[0],
-                "",
-                format!("<medium> under <integrator type=\"{plugin}\">: participating media are not supported (pathlab traces surfaces; Mitsuba's `path` integrator would ignore the medium, `{plugin}` renders it)"),
-            ),
-            _ => {
-                for at in media {
-                    self.warn(at, "", "<medium> is ignored, as Mitsuba's `path` integrator ignores participating media (the image is the same)");
-                }
+        for at in media {
+            self.warn(at, "", "<medium> is ignored, as Mitsuba's `path` integrator ignores participating media (the image is the same)");
+        }
+    }
+
+    /// A `<medium>` (nested, or a top-level definition copied by a `<ref>`) under a volumetric
+    /// integrator: Mitsuba's `homogeneous` with its `sigma_t` (times `scale`), `albedo` and
+    /// phase function (`isotropic`, `hg`), translated once per id; its name, or `None` where it
+    /// is refused. `fallback` names a nested one.
+    fn medium(&mut self, o: &Object, fallback: &str) -> Option<String> {
+        let name = o.id.clone().unwrap_or_else(|| fallback.to_string());
+        if self.medium_defs.contains_key(&name) {
+            return Some(name);
+        }
+        if o.plugin != "homogeneous" {
+            self.error(o.at, "type", format!("{} is not supported (pathlab has homogeneous media)", describe(&o.tag, &o.plugin)));
+            return None;
+        }
+        let mut p = Props::of(o);
+        // Mitsuba's defaults (homogeneous.cpp): sigma_t 1, albedo 0.75, scale 1.
+        let sigma_t = self.color(&mut p, "sigma_t", SpectrumRole::Unbounded).map_or([1.0; 3], |(c, _)| c);
+        let albedo = self.color(&mut p, "albedo", SpectrumRole::Reflectance).map(|(c, at)| spanned(at, RawColor(c)));
+        let scale = match self.get::<f64>(&mut p, "scale") {
+            Some((v, _)) if v.is_finite() && v >= 0.0 => v,
+            Some((v, prop)) => {
+                self.error(prop.value_at, "scale", format!("`scale` of a medium must be a finite number >= 0 (got {v})"));
+                1.0
+            }
+            None => 1.0,
+        };
+        if let Some((false, prop)) = self.get::<bool>(&mut p, "sample_emitters").map(|(v, prop)| (v, prop)) {
+            self.warn(prop.value_at, "sample_emitters", "`sample_emitters` = false is ignored: pathlab samples the lights from every vertex in a medium where the method samples lights (the image's expectation is the same; only its noise differs)");
+        }
+        if let Some((false, prop)) = self.get::<bool>(&mut p, "has_spectral_extinction") {
+            if sigma_t[0] != sigma_t[1] || sigma_t[1] != sigma_t[2] {
+                self.warn(prop.value_at, "has_spectral_extinction", "`has_spectral_extinction` = false with a coloured `sigma_t`: Mitsuba then weighs scattering by the albedo alone, which is biased; pathlab renders the medium as given");
             }
         }
+        self.finish(p, "sigma_t, albedo, scale, sample_emitters, has_spectral_extinction");
+        let mut phase = None;
+        let mut g = None;
+        for c in &o.children {
+            match (c.tag.as_str(), c.plugin.as_str()) {
+                ("phase", "isotropic") => {
+                    phase = Some("isotropic");
+                    self.finish(Props::of(c), "no parameters");
+                }
+                ("phase", "hg") => {
+                    let mut pp = Props::of(c);
+                    // Mitsuba's default g (hg.cpp): 0.8.
+                    g = Some(self.get::<f64>(&mut pp, "g").map_or((0.8, c.at), |(v, prop)| (v, prop.value_at)));
+                    phase = Some("hg");
+                    self.finish(pp, "g");
+                }
+                ("phase", other) => self.error(c.at, "type", format!("<phase type=\"{other}\"> is not supported (pathlab has isotropic, hg)")),
+                (other, plugin) => self.error(c.at, "", format!("{} inside a <medium> is not supported (a homogeneous medium's sigma_t and albedo are constants)", describe(other, plugin))),
+            }
+        }
+        let raw = super::raw::RawMedium {
+            sigma_t: spanned(o.at, RawColor(sigma_t.map(|v| v * scale))),
+            albedo,
+            phase: phase.map(|ph| spanned(o.at, ph.to_string())),
+            g: g.map(|(v, at)| spanned(at, v)),
+        };
+        self.medium_defs.insert(name.clone(), spanned(o.at, raw));
+        Some(name)
     }
 
     fn has_errors(&self) -> bool {
@@ -934,6 +1011,7 @@ impl Translator<'_> {
             match child.tag.as_str() {
                 "film" => film = self.film(child),
                 "sampler" => spp = self.sampler(child),
+                "medium" if self.volumetric.is_some() => self.camera_medium = self.medium(child, "sensor-medium").map(|n| spanned(child.at, n)),
                 "medium" => self.media.push(child.at),
                 other => self.error(child.at, "", format!("{} inside a <sensor> is not supported", describe(other, &child.plugin))),
             }
@@ -1034,6 +1112,7 @@ impl Translator<'_> {
             orthographic_width: None,
             aperture_radius: lens.0,
             focus_distance: lens.1,
+            medium: self.camera_medium.clone(),
         };
         (Some((camera, fov_at)), film, spp)
     }
@@ -1159,6 +1238,7 @@ impl Translator<'_> {
             orthographic_width: Some(spanned(at, width)),
             aperture_radius: None,
             focus_distance: None,
+            medium: self.camera_medium.clone(),
         };
         Some((camera, at))
     }
@@ -1341,14 +1421,14 @@ impl Translator<'_> {
                 // (skip_area_emitters), as pathlab's path does (render.hide_emitters).
                 return (2, DEFAULT_RR_DEPTH, o.at, hide_emitters);
             }
-            "volpath" | "volpathmis" => {
-                self.warn(o.at, "type", format!("<integrator type=\"{}\"> without media is a path tracer: pathlab renders it with its own", o.plugin));
-                self.volumetric = Some((o.plugin.clone(), o.at));
-            }
+            // Rendered by the volumetric path tracer where the scene has media (volpath.wgsl),
+            // by the path tracer otherwise (volpath without media is one). volpathmis differs
+            // from volpath in variance only.
+            "volpath" | "volpathmis" => {}
             other => self.error(
                 o.at,
                 "type",
-                format!("<integrator type=\"{other}\"> is not supported (pathlab is a unidirectional path tracer: path, direct (path with max_depth 2), ptracer and aov (read as path and their nested integrator), or volpath without media)"),
+                format!("<integrator type=\"{other}\"> is not supported (pathlab is a unidirectional path tracer: path, volpath and volpathmis, direct (path with max_depth 2), ptracer and aov (read as path and their nested integrator))"),
             ),
         }
         let mut p = Props::of(o);
@@ -1640,7 +1720,13 @@ impl Translator<'_> {
 
     /// The material of a BSDF with an emission: shared by every shape with the same pair.
     fn material(&mut self, bsdf: &Bsdf, emission: Option<RawEmission>, shape_name: &str, at: usize) -> Spanned<String> {
-        if let Some((name, _, _)) = self.material_keys.iter().find(|(_, b, e)| b == bsdf && *e == emission) {
+        self.material_bounding(bsdf, emission, shape_name, at, (None, None))
+    }
+
+    /// A material whose surface bounds the media named (interior, exterior): one per distinct
+    /// BSDF, emission and media (pathlab's media are the material's, Mitsuba's the shape's).
+    fn material_bounding(&mut self, bsdf: &Bsdf, emission: Option<RawEmission>, shape_name: &str, at: usize, media: (Option<String>, Option<String>)) -> Spanned<String> {
+        if let Some((name, ..)) = self.material_keys.iter().find(|(_, b, e, m)| b == bsdf && *e == emission && *m == media) {
             return spanned(at, name.clone());
         }
         let base = match (&emission, &bsdf.name) {
@@ -1681,9 +1767,11 @@ impl Translator<'_> {
             opacity: bsdf.opacity.clone().map(|o| spanned(at, o)),
             normal_map: bsdf.normal_map.clone().map(|n| spanned(at, n)),
             bump_map: bsdf.bump_map.clone().map(|b| spanned(at, b)),
+            interior: media.0.clone().map(|m| spanned(at, m)),
+            exterior: media.1.clone().map(|m| spanned(at, m)),
         };
         self.materials.insert(name.clone(), spanned(at, m));
-        self.material_keys.push((name.clone(), bsdf.clone(), emission));
+        self.material_keys.push((name.clone(), bsdf.clone(), emission, media));
         spanned(at, name)
     }
 
@@ -1750,8 +1838,14 @@ impl Translator<'_> {
         // The BSDF (Mitsuba's default: diffuse 0.5, one-sided) and the area emitter.
         let mut bsdf = None;
         let mut emission = None;
+        let (mut interior, mut exterior) = (None, None);
         for c in &o.children {
             match (c.tag.as_str(), c.plugin.as_str()) {
+                ("medium", _) if self.volumetric.is_some() => match c.name.as_deref() {
+                    Some("interior") => interior = self.medium(c, &format!("{shape_name}-interior")),
+                    Some("exterior") => exterior = self.medium(c, &format!("{shape_name}-exterior")),
+                    other => self.error(c.at, "name", format!("a <medium> in a <shape> is its `interior` or `exterior` (got name {other:?})")),
+                },
                 ("bsdf", _) if bsdf.is_some() => self.error(c.at, "", "a second <bsdf> in one <shape>"),
                 ("bsdf", _) => bsdf = Some(self.bsdf(c)),
                 ("emitter", "area") => {
@@ -1790,7 +1884,7 @@ impl Translator<'_> {
             Some(None) => return,
         };
         let bsdf = Bsdf { name: bsdf.name.clone().or_else(|| Some(shape_name.clone())), ..bsdf };
-        let material = self.material(&bsdf, emission, &shape_name, o.at);
+        let material = self.material_bounding(&bsdf, emission, &shape_name, o.at, (interior, exterior));
         let to_world = match (self.transform(&mut p, "to_world"), instance) {
             (own, None) => own,
             (None, Some(outer)) => Some(outer.clone()),

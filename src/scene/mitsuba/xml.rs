@@ -347,14 +347,18 @@ impl Loader<'_> {
         }
     }
 
-    /// `<default name value>`: a `--define` of the same name wins.
+    /// `<default name value>`: a `--define` of the same name wins, and so does a value the
+    /// scene already has, as Mitsuba's parser shares one table of parameters between a file
+    /// and the files it includes (src/core/parser.cpp, TagType::Default: added only where not
+    /// found): a main file's `<default name="integrator" value="volpath"/>` before its
+    /// `<include>` holds against the included file's `path`.
     fn default(&mut self, node: roxmltree::Node, base: usize) {
         let (Some(name), Some(value)) = (node.attribute("name"), node.attribute("value")) else {
             self.error(base + node.range().start, "", "<default> needs both name and value");
             return;
         };
         self.used.insert(name.to_string());
-        if !self.defined.iter().any(|(n, _)| n == name) {
+        if !self.defined.iter().any(|(n, _)| n == name) && !self.params.contains_key(name) {
             self.params.insert(name.to_string(), value.to_string());
         }
     }
