@@ -57,6 +57,10 @@ class Scene:
     def display(self) -> Tuple[str, float]:
         """The display transform of the display-referred metrics: (transfer, exposure)."""
     @property
+    def media(self) -> List[Dict[str, Any]]:
+        """One dict per participating medium (name, sigma_t, albedo, phase, g, bounded_by: the
+        materials whose surfaces bound it, camera: whether the camera is in it)."""
+    @property
     def lights(self) -> List[Dict[str, Any]]:
         """One dict per emissive sphere (kind, index, center, radius, emission, power) and per
         emissive mesh (kind, index, triangles, emission, textured, two_sided, power; where

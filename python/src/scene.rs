@@ -150,6 +150,30 @@ impl PyScene {
     fn warnings(&self) -> Vec<String> {
         self.scene.warnings.iter().map(ToString::to_string).collect()
     }
+    /// The participating media: one dict per medium (name, sigma_t, albedo, phase, g, bounded_by:
+    /// the materials whose surfaces bound it, camera: whether the camera is in it).
+    #[getter]
+    fn media<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
+        let s = &self.scene;
+        let mut out = Vec::new();
+        for (i, m) in s.media.iter().enumerate() {
+            let d = PyDict::new(py);
+            d.set_item("name", &m.name)?;
+            d.set_item("sigma_t", vec3(m.sigma_t))?;
+            d.set_item("albedo", vec3(m.albedo))?;
+            let phase = match m.phase {
+                pathlab::scene::media::Phase::Isotropic => "isotropic",
+                pathlab::scene::media::Phase::HenyeyGreenstein { .. } => "hg",
+            };
+            d.set_item("phase", phase)?;
+            d.set_item("g", m.phase.g())?;
+            let bounded: Vec<&str> = s.materials.iter().filter(|t| t.interior == Some(i) || t.exterior == Some(i)).map(|t| t.name.as_str()).collect();
+            d.set_item("bounded_by", bounded)?;
+            d.set_item("camera", s.camera_medium == Some(i))?;
+            out.push(d);
+        }
+        Ok(out)
+    }
     /// The display transform of PNGs and display-referred metrics: (transfer, exposure).
     #[getter]
     fn display(&self) -> (String, f32) {
