@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
 """Writes a subdivided icosphere as a binary little-endian PLY: 20 * 4^k triangles.
 
-Usage: scripts/icosphere_ply.py SUBDIVISIONS OUT.ply [RADIUS]
-Used by scripts/triangle_scaling.sh (how BVH traversal cost grows with triangle count).
+Usage: scripts/icosphere_ply.py SUBDIVISIONS OUT.ply [RADIUS] [--normals]
+Used by scripts/triangle_scaling.sh (how BVH traversal cost grows with triangle count); with
+--normals each vertex also has its unit normal (nx, ny, nz), the sphere's: a smooth-shaded mesh
+whose shading normals differ from its faces' (tests/fixtures/dielectric_normals).
 Standard library only (k = 8, 1.3 M triangles, takes about half a minute).
 """
 import math
@@ -44,14 +46,20 @@ def icosphere(k):
 
 
 def main():
-    k, path = int(sys.argv[1]), sys.argv[2]
-    radius = float(sys.argv[3]) if len(sys.argv) > 3 else 1.0
+    args = [a for a in sys.argv[1:] if a != "--normals"]
+    normals = "--normals" in sys.argv[1:]
+    k, path = int(args[0]), args[1]
+    radius = float(args[2]) if len(args) > 2 else 1.0
     v, f = icosphere(k)
+    normal_props = "property float nx\nproperty float ny\nproperty float nz\n" if normals else ""
     header = (f"ply\nformat binary_little_endian 1.0\nelement vertex {len(v)}\nproperty float x\nproperty float y\n"
-              f"property float z\nelement face {len(f)}\nproperty list uchar int vertex_indices\nend_header\n")
+              f"property float z\n{normal_props}element face {len(f)}\nproperty list uchar int vertex_indices\nend_header\n")
     with open(path, 'wb') as out:
         out.write(header.encode())
-        out.write(b''.join(struct.pack('<3f', *(radius * c for c in p)) for p in v))
+        if normals:
+            out.write(b''.join(struct.pack('<6f', *(radius * c for c in p), *p) for p in v))
+        else:
+            out.write(b''.join(struct.pack('<3f', *(radius * c for c in p)) for p in v))
         out.write(b''.join(struct.pack('<B3i', 3, *t) for t in f))
 
 

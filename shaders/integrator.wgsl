@@ -159,7 +159,7 @@ fn direct_light(es: EmitterSample, prob: f32, x: vec3f, p_error: f32, origin_wo_
     if (HAS_SHADING_NORMALS) {
         // Directions on the other side of the geometric surface than of the shading one do not
         // scatter (for both strategies): below it, for reflection.
-        contributes = contributes && same_side_of_both(es.wi, n_s, n_g);
+        contributes = contributes && same_side_of_both(es.wi, n_s, n_g, m);
     }
     // The shadow ray runs from the offset origin to the sampled point itself, stopping short of
     // it by a relative 1e-4 (Mitsuba's spawn_ray_to). Run along wi from the offset origin
@@ -194,11 +194,15 @@ fn transmission_side(n_g: vec3f, wi: vec3f) -> vec3f {
     return select(n_g, -n_g, dot(wi, n_g) < 0.0);
 }
 
-// Whether wi lies on the same side of the geometric surface as of the shading one (both
-// normals on wo's side): above both for reflection; below both, where a BSDF may transmit.
-fn same_side_of_both(wi: vec3f, n_s: vec3f, n_g: vec3f) -> bool {
+// Whether a direction wi of BSDF m scatters: on the same side of the geometric surface as of
+// the shading one (both normals on wo's side), above both for reflection. A BSDF that
+// transmits scatters wherever wi points, as Mitsuba's path tracer continues such a direction
+// from the geometric side it is on: a refraction (by the shading normal) that leaves on wo's
+// geometric side goes on outside, a reflection that dips below the geometric surface goes on
+// inside (on smooth meshes with vertex normals, near silhouettes).
+fn same_side_of_both(wi: vec3f, n_s: vec3f, n_g: vec3f, m: Bsdf) -> bool {
     if (bsdf_may_transmit()) {
-        return dot(wi, n_g) * dot(wi, n_s) > 0.0;
+        return bsdf_transmits(m) || dot(wi, n_g) * dot(wi, n_s) > 0.0;
     }
     return dot(wi, n_g) > 0.0;
 }
@@ -426,7 +430,7 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
         let bs = sample_bsdf(m, n_s, wo, u_dir, u_lobe);
         var scattered = scatters && max3(bs.weight) > 0.0;
         if (HAS_SHADING_NORMALS) {
-            scattered = scattered && same_side_of_both(bs.wi, n_s, n_g);
+            scattered = scattered && same_side_of_both(bs.wi, n_s, n_g, m);
         }
         // A masked surface's null interaction (bsdfs/mask.wgsl): the ray goes on unchanged,
         // from either side of a one-sided material.

@@ -223,7 +223,7 @@ fn trace_volumetric_path(id: SampleId, px: u32, py: u32) -> vec3f {
             let null_crossing = HAS_THIN_DIELECTRIC && v.m.kind == BSDF_KIND_THIN_DIELECTRIC && dot(bs.wi, v.n_g) < 0.0;
             var scattered = v.scatters && max3(bs.weight) > 0.0;
             if (HAS_SHADING_NORMALS) {
-                scattered = scattered && same_side_of_both(bs.wi, v.n_s, v.n_g);
+                scattered = scattered && same_side_of_both(bs.wi, v.n_s, v.n_g, v.m);
             }
             if (!null_crossing) {
                 if (depth + 1u >= frame.max_depth) {

@@ -150,6 +150,11 @@ pub fn bsdf_dispatch() -> String {
         BsdfKind::ALL.iter().filter(|k| k.transmits()).map(|k| k.has_override().to_string()).collect(),
     );
     s += &any(
+        "Whether the material's BSDF may transmit (a dielectric, rough or smooth, a thin one).",
+        "bsdf_transmits(b: Bsdf)",
+        kinds(|k| k.transmits()),
+    );
+    s += &any(
         "Whether the material's only lobe is a delta (next event estimation cannot contribute).",
         "bsdf_is_delta(b: Bsdf)",
         kinds(|k| k.is_delta()),
