@@ -158,7 +158,8 @@ fn direct_light(es: EmitterSample, prob: f32, x: vec3f, p_error: f32, origin_wo_
     }
     if (HAS_SHADING_NORMALS) {
         // Directions on the other side of the geometric surface than of the shading one do not
-        // scatter (for both strategies): below it, for reflection.
+        // scatter (for both strategies): below it, for reflection; a transmitting BSDF's do
+        // (same_side_of_both).
         contributes = contributes && same_side_of_both(es.wi, n_s, n_g, m);
     }
     // The shadow ray runs from the offset origin to the sampled point itself, stopping short of

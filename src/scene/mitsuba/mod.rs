@@ -539,7 +539,7 @@ struct Translator<'a> {
     sources: &'a SourceMap,
     diagnostics: Vec<Diagnostic>,
     materials: BTreeMap<String, Spanned<RawMaterial>>,
-    /// (BSDF, emission) of each material made, for sharing identical ones.
+    /// (BSDF, emission, media) of each material made, for sharing identical ones.
     material_keys: Vec<(String, Bsdf, Option<RawEmission>, (Option<String>, Option<String>))>,
     /// Named BSDFs already interpreted (a `<ref>` is a copy: interpreted once, reported once).
     bsdfs: BTreeMap<String, Option<Bsdf>>,
@@ -915,9 +915,9 @@ impl Translator<'_> {
         })
     }
 
-    /// Participating media: Mitsuba's `path` integrator ignores them (its image is the same
-    /// without them; checked with Mitsuba 3.9.1), so pathlab does too and says so; under
-    /// `volpath` they would be rendered, which pathlab cannot: refused.
+    /// Participating media under `path`: Mitsuba's `path` integrator ignores them (its image is
+    /// the same without them; checked with Mitsuba 3.9.1), so pathlab does too and says so.
+    /// Under `volpath` they are read where shapes and the sensor take them (`medium`).
     fn check_media(&mut self) {
         let mut media = std::mem::take(&mut self.media);
         // A medium taken by several <ref>s is reported once, where it is defined. Under a
@@ -955,7 +955,7 @@ impl Translator<'_> {
             }
             None => 1.0,
         };
-        if let Some((false, prop)) = self.get::<bool>(&mut p, "sample_emitters").map(|(v, prop)| (v, prop)) {
+        if let Some((false, prop)) = self.get::<bool>(&mut p, "sample_emitters") {
             self.warn(prop.value_at, "sample_emitters", "`sample_emitters` = false is ignored: pathlab samples the lights from every vertex in a medium where the method samples lights (the image's expectation is the same; only its noise differs)");
         }
         if let Some((false, prop)) = self.get::<bool>(&mut p, "has_spectral_extinction") {
