@@ -12,10 +12,10 @@
 // - depth counts real scattering events, in media and on surfaces; a thin dielectric's
 //   transmission (and `null`, the thin dielectric of index 1) is a null interaction: the ray
 //   goes on straight, neither a vertex of depth nor one that light sampling starts from
-//   (its weight is the pane's transmission);
+//   (its weight is the pane's transmission), and so is a mask's pass;
 // - a vertex may scatter (and sample lights) only while depth + 1 < max_depth, so a path of k
 //   scattering events contributes only if k < max_depth, through however many null surfaces;
-// - shadow rays pass through null surfaces, times Mitsuba's eval_null_transmission, and
+// - shadow rays pass through null surfaces and masks, times Mitsuba's eval_null_transmission, and
 //   through media, times the Beer-Lambert transmittance; any other surface blocks them;
 // - a ray crossing a surface that bounds media takes the medium of the side it enters
 //   (medium_after, Mitsuba's target_medium); across other surfaces it keeps its medium.
@@ -52,18 +52,24 @@ const MAX_SHADOW_CROSSINGS: u32 = 8u;
 
 // The fraction of light a surface passes straight along d (Mitsuba's eval_null_transmission):
 // a thin dielectric's 1 - R' at the incidence, times its transmittance (1 for `null`); 0 for
-// every other BSDF, which blocks a shadow ray.
+// every other BSDF, which blocks a shadow ray; and a mask's 1 - opacity (1 - that of its BSDF)
+// (mask.cpp).
 fn null_transmission(hit: Hit, x: vec3f, d: vec3f) -> vec3f {
-    if (!HAS_THIN_DIELECTRIC) {
+    if (!HAS_THIN_DIELECTRIC && !HAS_MASKS) {
         return vec3f(0.0);
     }
     let from_inside = dot(hit.normal, d) > 0.0;
     let m = material_bsdf(hit.material, hit.material, from_inside, texture_context(hit, x));
-    if (m.kind != BSDF_KIND_THIN_DIELECTRIC) {
-        return vec3f(0.0);
+    var nested = vec3f(0.0);
+    if (HAS_THIN_DIELECTRIC && m.kind == BSDF_KIND_THIN_DIELECTRIC) {
+        let pane = thin_dielectric_of(m);
+        nested = (1.0 - thin_dielectric_reflectance(pane, dot(d, hit.shading_normal))) * pane.transmittance;
     }
-    let pane = thin_dielectric_of(m);
-    return (1.0 - thin_dielectric_reflectance(pane, dot(d, hit.shading_normal))) * pane.transmittance;
+    if (HAS_MASKS) {
+        // m.opacity is 1 where the material has no mask.
+        return 1.0 - m.opacity * (1.0 - nested);
+    }
+    return nested;
 }
 
 // Transmittance of the shadow ray from o along d over t_max, starting in medium `start`:
@@ -219,11 +225,16 @@ fn trace_volumetric_path(id: SampleId, px: u32, py: u32) -> vec3f {
             let v = surface_vertex(id, hit, ray_o, ray_d, dim_base);
             let bs = sample_bsdf(v.m, v.n_s, v.wo, sample_2d(id.pixel, id.index, dim_base, id.seed), v.u_lobe);
             // A thin dielectric's transmission (straight through, to the surface's other side)
-            // is a null interaction; its reflection a scattering event.
-            let null_crossing = HAS_THIN_DIELECTRIC && v.m.kind == BSDF_KIND_THIN_DIELECTRIC && dot(bs.wi, v.n_g) < 0.0;
+            // is a null interaction, its reflection a scattering event; so is a mask's pass
+            // (Mitsuba's Null lobe), from either side of a one-sided material.
+            let passes = bsdf_passes_through(v.m, v.u_lobe);
+            let null_crossing = passes || (HAS_THIN_DIELECTRIC && v.m.kind == BSDF_KIND_THIN_DIELECTRIC && dot(bs.wi, v.n_g) < 0.0);
             var scattered = v.scatters && max3(bs.weight) > 0.0;
             if (HAS_SHADING_NORMALS) {
                 scattered = scattered && same_side_of_both(bs.wi, v.n_s, v.n_g, v.m);
+            }
+            if (passes) {
+                scattered = true;
             }
             if (!null_crossing) {
                 if (depth + 1u >= frame.max_depth) {

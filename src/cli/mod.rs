@@ -231,7 +231,10 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
         })
         .collect();
     if !masked.is_empty() {
-        println!("masks: {} material(s) let rays through (Mitsuba's mask; shadow rays do not see through): {}", masked.len(), masked.join(", "));
+        // Under volpath (a scene with media) shadow rays see through a mask by its opacity, as
+        // Mitsuba's volpath does; under path they do not, as Mitsuba's path.
+        let shadows = if scene.media.is_empty() { "shadow rays do not see through" } else { "shadow rays see through by 1 - opacity, as in Mitsuba's volpath" };
+        println!("masks: {} material(s) let rays through (Mitsuba's mask; {shadows}): {}", masked.len(), masked.join(", "));
     }
     let mapped: Vec<&str> = scene.materials.iter().filter(|m| m.normal_map.is_some()).map(|m| m.name.as_str()).collect();
     if !mapped.is_empty() {

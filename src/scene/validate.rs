@@ -417,8 +417,7 @@ fn check_media(ck: &mut Checker, raw: &RawScene) -> (Vec<Medium>, BTreeMap<Strin
 }
 
 /// Resolves the media that materials bound (`interior`, `exterior`) and the camera's, by name;
-/// warns of media nothing uses. Refuses a mask in a scene with media (a shadow ray through a
-/// medium would see through it in Mitsuba's volpath, and through no mask in pathlab).
+/// warns of media nothing uses.
 fn resolve_media(ck: &mut Checker, raw: &RawScene, materials: &mut [Material], names: &BTreeMap<String, usize>) -> Option<usize> {
     let mut used = BTreeSet::new();
     let mut lookup = |ck: &mut Checker, name: &Spanned<String>, field: String| -> Option<usize> {
@@ -448,11 +447,6 @@ fn resolve_media(ck: &mut Checker, raw: &RawScene, materials: &mut [Material], n
     if !raw.media.is_empty() {
         if let Some(h) = raw.render.get_ref().hide_emitters.as_ref().filter(|h| *h.get_ref()) {
             ck.error(h.span(), "render.hide_emitters", "hide_emitters in a scene with media is not supported yet");
-        }
-        for (name, m) in &raw.materials {
-            if let Some(o) = &m.get_ref().opacity {
-                ck.error(o.span(), format!("materials.{name}.opacity"), "a mask (opacity) in a scene with media is not supported: Mitsuba's volpath lets shadow rays through a mask by its opacity, which pathlab does not yet");
-            }
         }
     }
     for (name, m) in &raw.media {
