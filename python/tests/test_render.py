@@ -149,44 +149,41 @@ def test_textured_lights_are_listed_with_their_mean_and_render():
     assert np.isfinite(image).all() and image.mean() > 0
 
 
-def test_mesh_attributes_render_as_mitsuba_renders_them():
-    # Mitsuba's mesh_attribute texture (tests/fixtures/mesh_attributes: vertex colours, face
-    # colours and a blend by a face weight on a PLY grid), through the Python API: the image
-    # mean per channel against Mitsuba 3.9.1's reference (65536 spp, with its variance), a
-    # z-test of the mean with both variances; |z| < 4.5 on each of 3 channels fails falsely with
-    # probability below 3 x 7e-6.
-    scene = pathlab.load_scene(FIXTURES / "mesh_attributes" / "mesh_attributes.xml")
-    assert (scene.width, scene.height) == (64, 48) and scene.num_triangles == 220
-    ours = pathlab.render(scene, "mis", spp=256, seed=4830, variance=True)
-    ref = pathlab.read_exr(FIXTURES / "mesh_attributes" / "reference.exr").image
-    ref_var = pathlab.read_exr(FIXTURES / "mesh_attributes" / "reference_var.exr").image
+def assert_mean_agrees_with_mitsuba(ours, fixture):
+    """The image mean per channel of a render (with its variance) against Mitsuba 3.9.1's
+    reference of tests/fixtures/FIXTURE (65536 spp, with its variance): a z-test of the mean
+    with both variances; |z| < 4.5 on each of 3 channels fails falsely with probability below
+    3 x 7e-6."""
+    ref = pathlab.read_exr(FIXTURES / fixture / "reference.exr").image
+    ref_var = pathlab.read_exr(FIXTURES / fixture / "reference_var.exr").image
     n = ours.image.shape[0] * ours.image.shape[1]
     for c in range(3):
         se = np.sqrt((ours.variance[..., c].sum() + ref_var[..., c].sum()) / n**2)
         z = (ours.image[..., c].mean() - ref[..., c].mean()) / se
-        assert abs(z) < 4.5, f"channel {c}: z = {z:.2f}"
+        assert abs(z) < 4.5, f"{fixture}, channel {c}: z = {z:.2f}"
+
+
+def test_mesh_attributes_render_as_mitsuba_renders_them():
+    # Mitsuba's mesh_attribute texture (tests/fixtures/mesh_attributes: vertex colours, face
+    # colours and a blend by a face weight on a PLY grid), through the Python API, against
+    # Mitsuba's reference (assert_mean_agrees_with_mitsuba).
+    scene = pathlab.load_scene(FIXTURES / "mesh_attributes" / "mesh_attributes.xml")
+    assert (scene.width, scene.height) == (64, 48) and scene.num_triangles == 220
+    assert_mean_agrees_with_mitsuba(pathlab.render(scene, "mis", spp=256, seed=4830, variance=True), "mesh_attributes")
 
 
 def test_media_are_listed_and_render_as_mitsuba_renders_them():
     # Homogeneous participating media (tests/fixtures/media: a Henyey-Greenstein medium behind a
-    # null sphere, an isotropic one behind a thin dielectric, under Mitsuba's volpath), through
-    # the Python API: the media as listed, and the image mean per channel against Mitsuba 3.9.1's
-    # reference (65536 spp, with its variance), a z-test of the mean with both variances; |z| <
-    # 4.5 on each of 3 channels fails falsely with probability below 3 x 7e-6.
+    # null sphere, an isotropic one behind a thin dielectric, a masked panel, under Mitsuba's
+    # volpath), through the Python API: the media as listed, and the image against Mitsuba's
+    # reference (assert_mean_agrees_with_mitsuba).
     scene = pathlab.load_scene(FIXTURES / "media" / "media.xml")
     media = {m["name"]: m for m in scene.media}
     assert set(media) == {"fog", "shape2-interior"}
     assert media["fog"]["phase"] == "hg" and media["fog"]["g"] == 0.6
     assert np.allclose(media["fog"]["sigma_t"], [2.4, 1.2, 0.6]) and not media["fog"]["camera"]
     assert media["shape2-interior"]["phase"] == "isotropic" and len(media["shape2-interior"]["bounded_by"]) == 1
-    ours = pathlab.render(scene, "mis", spp=256, seed=4930, variance=True)
-    ref = pathlab.read_exr(FIXTURES / "media" / "reference.exr").image
-    ref_var = pathlab.read_exr(FIXTURES / "media" / "reference_var.exr").image
-    n = ours.image.shape[0] * ours.image.shape[1]
-    for c in range(3):
-        se = np.sqrt((ours.variance[..., c].sum() + ref_var[..., c].sum()) / n**2)
-        z = (ours.image[..., c].mean() - ref[..., c].mean()) / se
-        assert abs(z) < 4.5, f"channel {c}: z = {z:.2f}"
+    assert_mean_agrees_with_mitsuba(pathlab.render(scene, "mis", spp=256, seed=4930, variance=True), "media")
 
 
 def test_disk_lights_are_listed_with_their_area_and_power():
