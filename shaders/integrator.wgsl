@@ -138,6 +138,26 @@ fn sample_camera_ray(id: SampleId, px: u32, py: u32) -> CameraRay {
     return camera_ray(px, py, sample_2d(id.pixel, id.index, DIM_PIXEL, id.seed), u_lens);
 }
 
+// A shadow ray from `origin` (the vertex x, offset off its surface) towards light sample es.
+struct ShadowRay {
+    d: vec3f,
+    t_max: f32,
+}
+
+// The shadow ray runs from the origin to the sampled point itself, stopping short of it by a
+// relative 1e-4 (Mitsuba's spawn_ray_to). Run along wi from an offset origin instead, its end
+// would be displaced by the offset too: past the plane of a light that faces the offset
+// direction at a slant, so that the light hid its own sample. A light at infinity: along wi
+// without end.
+fn shadow_ray_to(es: EmitterSample, x: vec3f, origin: vec3f) -> ShadowRay {
+    if ((NUM_ENVIRONMENT_LIGHTS > 0u || NUM_DIRECTIONAL_LIGHTS > 0u) && es.dist >= INFINITY) {
+        return ShadowRay(es.wi, INFINITY);
+    }
+    let to_light = x + es.wi * es.dist - origin;
+    let shadow_dist = length(to_light);
+    return ShadowRay(to_light / shadow_dist, shadow_dist * (1.0 - 1e-4));
+}
+
 // The contribution of one light sample, picked with probability `prob`: f |cos| / (prob pdf)
 // times the emission, unless shadowed, weighted against BSDF sampling under MIS. x: the shading
 // point (p_error: Hit.p_error), origin: x offset off its surface on wo's side; n_s: shading normal, n_g: geometric
@@ -162,19 +182,9 @@ fn direct_light(es: EmitterSample, prob: f32, x: vec3f, p_error: f32, origin_wo_
         // (same_side_of_both).
         contributes = contributes && same_side_of_both(es.wi, n_s, n_g, m);
     }
-    // The shadow ray runs from the offset origin to the sampled point itself, stopping short of
-    // it by a relative 1e-4 (Mitsuba's spawn_ray_to). Run along wi from the offset origin
-    // instead, its end would be displaced by the offset too: past the plane of a light that
-    // faces the offset direction at a slant, so that the light hid its own sample.
-    let to_light = x + es.wi * es.dist - origin;
-    let shadow_dist = length(to_light);
-    var shadow_dir = to_light / shadow_dist;
-    var shadow_max = shadow_dist * (1.0 - 1e-4);
-    if ((NUM_ENVIRONMENT_LIGHTS > 0u || NUM_DIRECTIONAL_LIGHTS > 0u) && es.dist >= INFINITY) {
-        // A light at infinity: the shadow ray runs along wi without end.
-        shadow_dir = es.wi;
-        shadow_max = INFINITY;
-    }
+    let shadow = shadow_ray_to(es, x, origin);
+    let shadow_dir = shadow.d;
+    let shadow_max = shadow.t_max;
     // The branch spares GPUs the shadow ray of samples that cannot contribute. A delta light
     // is found by this strategy alone: BSDF sampling's density for it counts 0 (weight 1).
     if (NUM_MEDIA > 0u) {

@@ -47,8 +47,8 @@ fn shadow_start_medium(media: ShadowMedia, d: vec3f) -> u32 {
     return medium_after(media.material, media.normal, d, media.current);
 }
 
-// The most surfaces one shadow ray passes through; a light behind more counts as shadowed.
-const MAX_SHADOW_CROSSINGS: u32 = 8u;
+// MAX_SHADOW_CROSSINGS (generated from src/scene/media/mod.rs): the most surfaces one shadow
+// ray passes through; a light behind more counts as shadowed.
 
 // The fraction of light a surface passes straight along d (Mitsuba's eval_null_transmission):
 // a thin dielectric's 1 - R' at the incidence, times its transmittance (1 for `null`); 0 for
@@ -115,11 +115,9 @@ fn medium_direct_light(es: EmitterSample, prob: f32, x: vec3f, d: vec3f, g: f32,
         return vec3f(0.0);
     }
     let phase = pdf_hg_phase(g, d, es.wi);
-    var shadow_max = es.dist * (1.0 - 1e-4);
-    if ((NUM_ENVIRONMENT_LIGHTS > 0u || NUM_DIRECTIONAL_LIGHTS > 0u) && es.dist >= INFINITY) {
-        shadow_max = INFINITY;
-    }
-    let tr = shadow_transmittance(x, es.wi, shadow_max, es.skip, medium);
+    // From x itself: a point in a medium has no surface to leave.
+    let shadow = shadow_ray_to(es, x, x);
+    let tr = shadow_transmittance(x, shadow.d, shadow.t_max, es.skip, medium);
     return es.emission * tr * (phase / pdf) * mis_weight(pdf, select(phase, 0.0, es.delta));
 }
 
@@ -146,10 +144,11 @@ fn dims_per_segment() -> u32 {
     return dims_per_vertex() + 2u;
 }
 
-// The most segments a path traces: its max_depth scattering events and up to max_depth + 8
-// null interactions between them; a path that would cross more null surfaces ends there.
+// The most segments a path traces: its max_depth scattering events and up to max_depth +
+// EXTRA_NULL_SEGMENTS null interactions between them (src/scene/media/mod.rs, max_segments);
+// a path that would cross more null surfaces ends there.
 fn max_segments() -> u32 {
-    return 2u * frame.max_depth + 8u;
+    return 2u * frame.max_depth + EXTRA_NULL_SEGMENTS;
 }
 
 // Russian roulette after a scattering event (integrator.wgsl's rule): false where the path ends.

@@ -189,10 +189,10 @@ pub fn loop_iterations_per_sample(key: &PipelineKey, max_depth: u32, bvh_nodes: 
     // one more ray each.
     let skips = f.emitter_skips() as u64;
     if f.num_media > 0 {
-        // The volumetric loop (volpath.wgsl): up to 2 max_depth + 8 segments, each shadow ray
-        // up to MAX_SHADOW_CROSSINGS (8) intersections, each a pass of the intersection loops.
-        let segments = 2 * max_depth as u64 + 8;
-        let per_shadow_ray = 8;
+        // The volumetric loop (volpath.wgsl): its segments, each shadow ray up to
+        // MAX_SHADOW_CROSSINGS intersections, each a pass of the intersection loops.
+        let segments = crate::scene::media::max_segments(max_depth) as u64;
+        let per_shadow_ray = crate::scene::media::MAX_SHADOW_CROSSINGS as u64;
         let per_segment = 1 + s + p + shadow_rays * per_shadow_ray * (1 + s + p) + (5 + light_dims) * per_dim + env_search;
         let fixed = 1 + 2 * per_dim + segments * per_segment;
         let rays = 1 + segments * (1 + shadow_rays * per_shadow_ray);

@@ -32,6 +32,9 @@ pub fn generated_constants() -> String {
          const TEXEL_TABLE_WIDTH: u32 = {}u;\n\
          // Loop iterations one call of a researcher's technique may run (src/scene/technique.rs).\n\
          const TECHNIQUE_MAX_ITERATIONS: u32 = {}u;\n\
+         // Limits of the volumetric path tracer (src/scene/media/mod.rs).\n\
+         const MAX_SHADOW_CROSSINGS: u32 = {}u;\n\
+         const EXTRA_NULL_SEGMENTS: u32 = {}u;\n\
          // Values of the `override` choices SAMPLER, BSDF_SAMPLING, LIGHT_SAMPLING, LIGHT_SELECT,\n\
          // TRIANGLE_SAMPLING, MICROFACET_SAMPLING, LOBE_SELECTION, ENV_SAMPLING (src/method.rs), the microfacet\n\
          // distributions (src/scene/mod.rs), and the display pass's view (src/display/view.rs).\n\
@@ -66,6 +69,8 @@ pub fn generated_constants() -> String {
         crate::accel::MAX_SHARED_VERTICES,
         bindings::TEXEL_TABLE_WIDTH,
         crate::scene::technique::TECHNIQUE_MAX_ITERATIONS,
+        crate::scene::media::MAX_SHADOW_CROSSINGS,
+        crate::scene::media::EXTRA_NULL_SEGMENTS,
         wgsl_constants::<Sampler>("SAMPLER"),
         wgsl_constants::<BsdfSampling>("BSDF"),
         wgsl_constants::<LightSampling>("LIGHTS"),

@@ -19,6 +19,19 @@ pub const MAX_MEDIA: usize = 255;
 /// Floats per medium record in the kernel's data table (`Medium::pack`).
 pub const MEDIUM_RECORD_FLOATS: usize = 8;
 
+/// The most surfaces one shadow ray of the volumetric path tracer passes through (null surfaces,
+/// masks, media boundaries); a light behind more counts as shadowed (shaders/volpath.wgsl).
+pub const MAX_SHADOW_CROSSINGS: u32 = 8;
+
+/// Null interactions a path may have beyond one per scattering event: it traces at most
+/// `max_segments(max_depth)` segments (shaders/volpath.wgsl).
+pub const EXTRA_NULL_SEGMENTS: u32 = 8;
+
+/// The most segments one path of the volumetric path tracer traces at `max_depth`.
+pub fn max_segments(max_depth: u32) -> u32 {
+    2 * max_depth + EXTRA_NULL_SEGMENTS
+}
+
 /// The phase function: how a scattering event redistributes light over directions.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Phase {
