@@ -16,12 +16,14 @@
 // - a vertex may scatter (and sample lights) only while depth + 1 < max_depth, so a path of k
 //   scattering events contributes only if k < max_depth, through however many null surfaces;
 // - shadow rays pass through null surfaces and masks, times Mitsuba's eval_null_transmission, and
-//   through media, times the Beer-Lambert transmittance; any other surface blocks them;
+//   through media, times the Beer-Lambert transmittance (a ratio-tracking estimate of it in a
+//   heterogeneous medium); any other surface blocks them;
 // - a ray crossing a surface that bounds media takes the medium of the side it enters
 //   (medium_after, Mitsuba's target_medium); across other surfaces it keeps its medium.
-// Free-flight sampling balances the three channels where Mitsuba's volpath samples one per
-// path, and shadow rays use the exact transmittance where it tracks: the expectation is the
-// same, the variance lower.
+// In homogeneous media free-flight sampling balances the three channels where Mitsuba's volpath
+// samples one per path, and shadow rays use the exact transmittance where it tracks: the
+// expectation is the same, the variance lower. In heterogeneous media both track, as Mitsuba's
+// (medium.wgsl: delta tracking, ratio tracking).
 //
 // Sample dimensions: the pixel's and the lens's, then one block per segment s = 0, 1, ...
 // starting at first_vertex_dim() + s (dims_per_vertex() + 2): the vertex at the segment's end
@@ -73,7 +75,7 @@ fn null_transmission(hit: Hit, x: vec3f, d: vec3f) -> vec3f {
 }
 
 // Transmittance of the shadow ray from o along d over t_max, starting in medium `start`:
-// exp(-σ_t length) for each stretch in a medium, times the null transmission of each surface
+// the medium's transmittance over each stretch in a medium, times the null transmission of each surface
 // crossed; 0 where a surface that is not null blocks it. Sphere `skip` (the light sampled)
 // ends it, as in `occluded`.
 fn shadow_transmittance(o: vec3f, d: vec3f, t_max: f32, skip: u32, start: u32) -> vec3f {
@@ -82,12 +84,14 @@ fn shadow_transmittance(o: vec3f, d: vec3f, t_max: f32, skip: u32, start: u32) -
     var origin = o;
     var remaining = t_max;
     var reached = false;
+    // Null collisions left to ratio tracking in heterogeneous media (medium.wgsl).
+    var budget = MAX_NULL_COLLISIONS;
     for (var i = 0u; i < MAX_SHADOW_CROSSINGS; i++) {
         let hit = intersect_scene(origin, d);
         let reaches = hit.object == INVALID || hit.t >= remaining || (skip != INVALID && hit.object == skip);
         let stretch = select(hit.t, remaining, reaches);
         if (medium != NO_MEDIUM) {
-            tr *= medium_transmittance(medium_at(medium).sigma_t, stretch);
+            tr *= medium_segment_transmittance(medium_at(medium), origin, d, stretch, &budget);
         }
         if (reaches) {
             reached = true;
@@ -184,7 +188,12 @@ fn trace_volumetric_path(id: SampleId, px: u32, py: u32) -> vec3f {
         var t_event = hit.t;
         if (medium != NO_MEDIUM) {
             let u = sample_2d(id.pixel, id.index, dim_base + dims_per_vertex(), id.seed);
-            let flight = sample_free_flight(medium_at(medium), select(hit.t, INFINITY, hit.object == INVALID), u.x, u.y);
+            // Delta tracking's further numbers: a stream of this sample and segment.
+            var key = 0u;
+            if (MAX_NULL_COLLISIONS > 0u) {
+                key = hash4(id.seed, id.pixel, id.index, 0x6d656400u + segment);
+            }
+            let flight = sample_free_flight(medium_at(medium), ray_o, ray_d, select(hit.t, INFINITY, hit.object == INVALID), u.x, u.y, key);
             throughput *= flight.weight;
             in_medium = flight.scattered;
             t_event = flight.t;

@@ -125,6 +125,7 @@ fn overrides_set_by_the_host_are_those_the_module_declares() {
         hide_emitters: true,
         num_media: 1,
         camera_medium: 0,
+        max_null_collisions: 64,
     };
     let key = PipelineKey::new(Preset::Best.method(), features, pathlab::method::LightSelect::Power);
     // The method's and scene's, and the adapter's (`PathTracerPipelines::get` sets both).

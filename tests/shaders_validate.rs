@@ -119,6 +119,8 @@ fn every_override_permutation_validates() {
                                     // with every light sampling and selection.
                                     num_media: if (checked / 37) % 2 == 0 { 2 } else { 0 },
                                     camera_medium: if (checked / 41) % 2 == 0 { 1 } else { pathlab::shaders::flags::NO_MEDIUM },
+                                    // Heterogeneous media's tracking on and off.
+                                    max_null_collisions: if (checked / 43) % 2 == 0 { 64 } else { 0 },
                                 };
                                 let key = PipelineKey { method, features, traversal_budget: budget };
                                 let (source, parsed) = if on { (&with_techniques, &parsed_with_techniques) } else { (&source, &parsed) };

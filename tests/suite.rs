@@ -26,6 +26,7 @@ mod dielectrics;
 mod direct_integrator;
 mod environment_light;
 mod environment_map;
+mod heterogeneous_media;
 mod hide_emitters;
 #[cfg(feature = "viewer")]
 mod display_pass;

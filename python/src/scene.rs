@@ -150,8 +150,10 @@ impl PyScene {
     fn warnings(&self) -> Vec<String> {
         self.scene.warnings.iter().map(ToString::to_string).collect()
     }
-    /// The participating media: one dict per medium (name, sigma_t, albedo, phase, g, bounded_by:
-    /// the materials whose surfaces bound it, camera: whether the camera is in it).
+    /// The participating media: one dict per medium (name, type: homogeneous or heterogeneous,
+    /// sigma_t: a constant's value times scale or a grid's file, scale, albedo: a value or a
+    /// grid's file, phase, g, bounded_by: the materials whose surfaces bound it, camera: whether
+    /// the camera is in it).
     #[getter]
     fn media<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
         let s = &self.scene;
@@ -159,8 +161,17 @@ impl PyScene {
         for (i, m) in s.media.iter().enumerate() {
             let d = PyDict::new(py);
             d.set_item("name", &m.name)?;
-            d.set_item("sigma_t", vec3(m.sigma_t))?;
-            d.set_item("albedo", vec3(m.albedo))?;
+            // A constant coefficient as its value (σ_t times scale), a grid as its file.
+            let field = |f: &pathlab::scene::media::Field, scale: f64| -> PyResult<Py<PyAny>> {
+                Ok(match f {
+                    pathlab::scene::media::Field::Constant(c) => vec3(*c * scale).into_pyobject(py)?.into_any().unbind(),
+                    pathlab::scene::media::Field::Grid(g) => g.file.display().to_string().into_pyobject(py)?.into_any().unbind(),
+                })
+            };
+            d.set_item("type", if m.is_heterogeneous() { "heterogeneous" } else { "homogeneous" })?;
+            d.set_item("sigma_t", field(&m.sigma_t, if m.sigma_t.constant().is_some() { m.scale } else { 1.0 })?)?;
+            d.set_item("scale", m.scale)?;
+            d.set_item("albedo", field(&m.albedo, 1.0)?)?;
             let phase = match m.phase {
                 pathlab::scene::media::Phase::Isotropic => "isotropic",
                 pathlab::scene::media::Phase::HenyeyGreenstein { .. } => "hg",

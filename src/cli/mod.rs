@@ -295,10 +295,9 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
         };
         let bounds: Vec<&str> = scene.materials.iter().filter(|t| t.interior == Some(i) || t.exterior == Some(i)).map(|t| t.name.as_str()).collect();
         println!(
-            "medium {i} \"{}\": homogeneous, sigma_t {:?} per unit length, albedo {:?}, {phase}; bounded by {}{}",
+            "medium {i} \"{}\": {}, {phase}; bounded by {}{}",
             m.name,
-            m.sigma_t.to_array(),
-            m.albedo.to_array(),
+            m.describe(),
             if bounds.is_empty() { "no material".to_string() } else { bounds.join(", ") },
             if scene.camera_medium == Some(i) { "; the camera is in it" } else { "" }
         );

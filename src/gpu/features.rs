@@ -104,6 +104,10 @@ pub struct SceneFeatures {
     /// The medium the camera sits in (`Scene::camera_medium`), `NO_MEDIUM` for none: the
     /// kernel's `CAMERA_MEDIUM`.
     pub camera_medium: u32,
+    /// The most null collisions delta or ratio tracking meets along one path segment or shadow
+    /// ray in heterogeneous media (`media::max_null_collisions`): the kernel's
+    /// `MAX_NULL_COLLISIONS`; 0, without heterogeneous media, compiles tracking out.
+    pub max_null_collisions: u32,
 }
 
 /// The most area emitters a camera ray passes through under `hide_emitters` (Mitsuba's loop is
@@ -177,7 +181,8 @@ impl SceneFeatures {
                 .iter()
                 .flat_map(|m| m.textures())
                 .chain(scene.light_textures())
-                .fold(0, |kinds, t| kinds | 1 << t.kind_number()),
+                .fold(0, |kinds, t| kinds | 1 << t.kind_number())
+                | scene.media.iter().flat_map(|m| m.textures()).fold(0, |kinds, t| kinds | 1 << t.kind_number()),
             microfacet_distributions: scene.materials.iter().filter_map(|m| m.bsdf.microfacet_distribution()).fold(0, |bits, d| bits | 1 << d.constant()),
             anisotropic_roughness: scene.materials.iter().any(|m| m.bsdf.is_anisotropic()),
             has_normal_maps: scene.materials.iter().any(|m| m.normal_map.is_some()),
@@ -198,6 +203,7 @@ impl SceneFeatures {
             light_interiors_reachable: scene.light_interiors_reachable(),
             num_media: scene.media.len() as u32,
             camera_medium: scene.camera_medium.map_or(crate::shaders::flags::NO_MEDIUM, |m| m as u32),
+            max_null_collisions: crate::scene::media::max_null_collisions(&scene.media),
         }
     }
 

@@ -97,6 +97,7 @@ pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
         ("LIGHT_INTERIORS_REACHABLE", f.light_interiors_reachable as u32 as f64),
         ("NUM_MEDIA", f.num_media as f64),
         ("CAMERA_MEDIUM", f.camera_medium as f64),
+        ("MAX_NULL_COLLISIONS", f.max_null_collisions as f64),
         ("BSDF_TECHNIQUE", key.method.bsdf_technique.is_some() as u32 as f64),
         ("LIGHT_TECHNIQUE", key.method.light_technique.is_some() as u32 as f64),
         ("ENV_TECHNIQUE", key.method.env_technique.is_some() as u32 as f64),
@@ -193,7 +194,13 @@ pub fn loop_iterations_per_sample(key: &PipelineKey, max_depth: u32, bvh_nodes: 
         // MAX_SHADOW_CROSSINGS intersections, each a pass of the intersection loops.
         let segments = crate::scene::media::max_segments(max_depth) as u64;
         let per_shadow_ray = crate::scene::media::MAX_SHADOW_CROSSINGS as u64;
-        let per_segment = 1 + s + p + shadow_rays * per_shadow_ray * (1 + s + p) + (5 + light_dims) * per_dim + env_search;
+        // Tracking in heterogeneous media (medium.wgsl): a path segment's delta tracking, the
+        // box's three slabs, each null collision's pass with its σ_t lookup (a grid's two
+        // z-planes) and the albedo's lookup where light scatters; a shadow ray's ratio
+        // tracking, the slabs at each crossing and its collisions, one budget for all.
+        let n = f.max_null_collisions as u64;
+        let (segment_tracking, shadow_tracking) = if n > 0 { (3 + 3 * n + 2, per_shadow_ray * 3 + 3 * n) } else { (0, 0) };
+        let per_segment = 1 + s + p + shadow_rays * (per_shadow_ray * (1 + s + p) + shadow_tracking) + (5 + light_dims) * per_dim + env_search + segment_tracking;
         let fixed = 1 + 2 * per_dim + segments * per_segment;
         let rays = 1 + segments * (1 + shadow_rays * per_shadow_ray);
         let steps_per_ray = if f.num_triangles > 0 { 4 * bvh_nodes + 3 * bvh_leaves + f.num_triangles as u64 } else { 0 };

@@ -432,9 +432,12 @@ impl SceneBuffers {
     pub fn pack_materials(scene: &Scene) -> (Vec<GpuMaterial>, BsdfData) {
         let mut data = BsdfData(Vec::new(), scene.mesh_attribute_names());
         // The media's records first (`medium_at` in medium.wgsl reads medium k at
-        // k MEDIUM_RECORD_FLOATS), then every BSDF's data.
-        for m in &scene.media {
-            data.0.extend(m.pack());
+        // k MEDIUM_RECORD_FLOATS), then their grids, then every BSDF's data.
+        let records = crate::scene::media::MEDIUM_RECORD_FLOATS;
+        data.0.resize(scene.media.len() * records, 0.0);
+        for (k, m) in scene.media.iter().enumerate() {
+            let record = m.pack(&mut data);
+            data.0[k * records..(k + 1) * records].copy_from_slice(&record);
         }
         let materials = scene
             .materials

@@ -49,15 +49,25 @@ pub(crate) struct RawScene {
     pub media: BTreeMap<String, Spanned<RawMedium>>,
 }
 
-/// `[media.<name>]`: a homogeneous medium: extinction `sigma_t` (a number or `[r, g, b]`, per
-/// unit length), single-scattering `albedo` (default 0.75, Mitsuba's), and its phase function,
-/// `isotropic` (the default) or `hg` with mean cosine `g`.
+/// `[media.<name>]`: a medium. `type` is `homogeneous` (the default) or `heterogeneous`;
+/// extinction `sigma_t` (a number or `[r, g, b]`, per unit length, or, in a heterogeneous
+/// medium, a volume texture table) times `scale` (default 1); single-scattering `albedo`
+/// (default 0.75, Mitsuba's; a number, `[r, g, b]` or a volume texture table); in a
+/// heterogeneous medium of constant `sigma_t`, the box it fills, `bounds = [[min], [max]]`
+/// (default the unit cube, Mitsuba's constvolume's); its phase function, `isotropic` (the
+/// default) or `hg` with mean cosine `g`.
 #[derive(Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawMedium {
-    pub sigma_t: Spanned<RawColor>,
+    #[serde(default, rename = "type", skip_serializing_if = "Option::is_none")]
+    pub kind: Option<Spanned<String>>,
+    pub sigma_t: Spanned<RawColorOrTexture>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub albedo: Option<Spanned<RawColor>>,
+    pub scale: Option<Spanned<f64>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub albedo: Option<Spanned<RawColorOrTexture>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bounds: Option<Spanned<[[f64; 3]; 2]>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub phase: Option<Spanned<String>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -286,7 +296,7 @@ pub(crate) struct RawRender {
 /// (`scene::bsdfs`), so that a new kind adds its fields without touching this file.
 #[derive(Debug, Default)]
 pub(crate) struct RawMaterial {
-    pub emission: Option<Spanned<RawEmission>>,
+    pub emission: Option<Spanned<RawColorOrTexture>>,
     /// Whether the back of a surface scatters too (default true); Mitsuba's BSDFs are
     /// one-sided unless wrapped in `twosided`.
     pub two_sided: Option<Spanned<bool>>,
@@ -414,30 +424,31 @@ pub(crate) struct RawPlane {
     pub material: Spanned<String>,
 }
 
-/// A material's `emission`: a colour, or a texture table (Mitsuba's area emitter with a
-/// textured `radiance`), `{ texture = "bitmap", filename = "sky.exr" }`.
+/// A colour, or a texture table: a material's `emission` (Mitsuba's area emitter with a
+/// textured `radiance`), `{ texture = "bitmap", filename = "sky.exr" }`; a medium's `sigma_t`
+/// or `albedo`, `{ texture = "volume", filename = "density.vol" }`.
 #[derive(Debug, Clone, PartialEq)]
-pub(crate) enum RawEmission {
+pub(crate) enum RawColorOrTexture {
     Color(RawColor),
     Texture(toml::Table),
 }
 
-impl Serialize for RawEmission {
+impl Serialize for RawColorOrTexture {
     fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
         match self {
-            RawEmission::Color(c) => c.serialize(serializer),
-            RawEmission::Texture(t) => t.serialize(serializer),
+            RawColorOrTexture::Color(c) => c.serialize(serializer),
+            RawColorOrTexture::Texture(t) => t.serialize(serializer),
         }
     }
 }
 
 /// A table is a texture; anything else is read as a colour.
-impl<'de> Deserialize<'de> for RawEmission {
+impl<'de> Deserialize<'de> for RawColorOrTexture {
     fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
         match toml::Value::deserialize(deserializer)? {
-            toml::Value::Table(table) => Ok(RawEmission::Texture(table)),
+            toml::Value::Table(table) => Ok(RawColorOrTexture::Texture(table)),
             other => RawColor::deserialize(other)
-                .map(RawEmission::Color)
+                .map(RawColorOrTexture::Color)
                 .map_err(|e| de::Error::custom(format!("{} (or a texture table, {{ texture = \"bitmap\", ... }})", e.to_string().trim_end()))),
         }
     }

@@ -12,11 +12,11 @@ use crate::display::{DisplayTransform, Transfer};
 
 use super::checker::Checker;
 use super::diagnostic::SourceMap;
-use super::media::{Medium, Phase, MAX_MEDIA};
+use super::media::{grid_bounds, Field, Medium, MediumKind, Phase, MAX_MEDIA};
 use super::mesh::{self, shapes, Mesh, MeshData, Shading};
 use super::emitters::{DirectionalLight, PointLight, ProjectorLight, SpotLight, SpotTexture, BEAM_WIDTH_OF_CUTOFF, DEFAULT_CUTOFF_ANGLE};
 use super::textures::Texture;
-use super::raw::{RawColor, RawEmission, RawEnvironmentMap, RawMaterial, RawRotations, RawScale, RawScene, RawTransform};
+use super::raw::{RawColor, RawColorOrTexture, RawEnvironmentMap, RawMaterial, RawRotations, RawScale, RawScene, RawTransform};
 use super::quadrics::{self, Quadric, QuadricKind, MAX_QUADRICS};
 use super::transform::Transform;
 use super::{
@@ -380,14 +380,58 @@ fn check_media(ck: &mut Checker, raw: &RawScene) -> (Vec<Medium>, BTreeMap<Strin
     }
     for (name, m) in &raw.media {
         let r = m.get_ref();
-        let sigma_t = ck.color(Some(&r.sigma_t), &format!("media.{name}.sigma_t"));
-        let albedo_field = format!("media.{name}.albedo");
-        // Mitsuba's default albedo (homogeneous.cpp: props.volume("albedo", 0.75f)).
-        let albedo = r.albedo.as_ref().map_or(DVec3::splat(0.75), |a| ck.color(Some(a), &albedo_field));
-        if albedo.max_element() > 1.0 {
-            let span = r.albedo.as_ref().map_or(m.span(), |a| a.span());
-            ck.error(span, albedo_field, format!("an albedo is a fraction of the extinction that scatters: each channel must be in [0, 1] (got {:?})", albedo.to_array()));
+        let heterogeneous = match r.kind.as_ref().map(|k| (k.get_ref().as_str(), k.span())) {
+            None | Some(("homogeneous", _)) => false,
+            Some(("heterogeneous", _)) => true,
+            Some((other, span)) => {
+                ck.error(span, format!("media.{name}.type"), format!("unknown medium type \"{other}\" (pathlab has homogeneous, heterogeneous)"));
+                false
+            }
+        };
+        let sigma_t_field = format!("media.{name}.sigma_t");
+        let sigma_t = check_medium_field(ck, &r.sigma_t, &sigma_t_field);
+        if let (false, Field::Grid(_)) = (heterogeneous, &sigma_t) {
+            ck.error(r.sigma_t.span(), &sigma_t_field, "a homogeneous medium's sigma_t is one value everywhere: give type = \"heterogeneous\" for a grid");
         }
+        let scale = r.scale.as_ref().map_or(1.0, |s| {
+            let v = ck.number(s, &format!("media.{name}.scale"));
+            if v < 0.0 {
+                ck.error(s.span(), format!("media.{name}.scale"), format!("`scale` must be >= 0 (got {v})"));
+            }
+            v
+        });
+        let albedo_field = format!("media.{name}.albedo");
+        // Mitsuba's default albedo (homogeneous.cpp, heterogeneous.cpp: volume("albedo", 0.75f)).
+        let albedo = r.albedo.as_ref().map_or(Field::Constant(DVec3::splat(0.75)), |a| check_medium_field(ck, a, &albedo_field));
+        let albedo_max = match &albedo {
+            Field::Constant(c) => c.max_element(),
+            grid => grid.max(),
+        };
+        if albedo_max > 1.0 {
+            let span = r.albedo.as_ref().map_or(m.span(), |a| a.span());
+            ck.error(span, albedo_field, format!("an albedo is a fraction of the extinction that scatters: each channel must be in [0, 1] (its largest value is {albedo_max})"));
+        }
+        let kind = match (heterogeneous, &sigma_t, r.bounds.as_ref()) {
+            (false, _, None) => MediumKind::Homogeneous,
+            (false, _, Some(b)) => {
+                ck.error(b.span(), format!("media.{name}.bounds"), "`bounds` is the box a heterogeneous medium's constant sigma_t fills: a homogeneous medium fills all space");
+                MediumKind::Homogeneous
+            }
+            (true, Field::Grid(g), None) => MediumKind::Heterogeneous { bounds: grid_bounds(g) },
+            (true, Field::Grid(_), Some(b)) => {
+                ck.error(b.span(), format!("media.{name}.bounds"), "a grid's box is its to_world's unit cube: give `bounds` only with a constant sigma_t");
+                MediumKind::Homogeneous
+            }
+            (true, Field::Constant(_), b) => {
+                // Mitsuba's constvolume fills its to_world's unit cube, by default [0, 1]^3.
+                let [lo, hi] = b.map_or([[0.0; 3], [1.0; 3]], |b| *b.get_ref());
+                let (lo, hi) = (DVec3::from_array(lo), DVec3::from_array(hi));
+                if let Some(b) = b.filter(|_| !(lo.is_finite() && hi.is_finite() && lo.cmplt(hi).all())) {
+                    ck.error(b.span(), format!("media.{name}.bounds"), format!("`bounds` must be [[min], [max]] with min < max, finite (got {lo} and {hi})"));
+                }
+                MediumKind::Heterogeneous { bounds: [lo, hi] }
+            }
+        };
         let g = r.g.as_ref().map(|g| (ck.number(g, &format!("media.{name}.g")), g.span()));
         let phase = match r.phase.as_ref().map(|p| (p.get_ref().as_str(), p.span())) {
             None | Some(("isotropic", _)) => {
@@ -411,9 +455,33 @@ fn check_media(ck: &mut Checker, raw: &RawScene) -> (Vec<Medium>, BTreeMap<Strin
             }
         };
         names.insert(name.clone(), media.len());
-        media.push(Medium { name: name.clone(), sigma_t, albedo, phase });
+        media.push(Medium { name: name.clone(), kind, sigma_t, scale, albedo, phase });
     }
     (media, names)
+}
+
+/// A medium's `sigma_t` or `albedo`: a colour (each channel >= 0), or a volume texture table
+/// (a grid, looked up in space); any other texture is refused.
+fn check_medium_field(ck: &mut Checker, value: &Spanned<RawColorOrTexture>, field: &str) -> Field {
+    match value.get_ref() {
+        RawColorOrTexture::Color(c) => Field::Constant(ck.color(Some(&Spanned::new(value.span(), *c)), field)),
+        RawColorOrTexture::Texture(table) => {
+            let base = ck.file.parent().map(Path::to_path_buf).unwrap_or_default();
+            let mut errors = Vec::new();
+            let texture = Texture::from_toml(table, value.span(), &base, &mut errors);
+            for (span, message) in errors {
+                ck.error(span, field, message);
+            }
+            match texture {
+                Some(Texture::Volume(g)) => Field::Grid(g),
+                Some(t) => {
+                    ck.error(value.span(), field, format!("a medium's coefficient is looked up in space: give a volume texture, not a {}", t.name()));
+                    Field::Constant(DVec3::ZERO)
+                }
+                None => Field::Constant(DVec3::ZERO),
+            }
+        }
+    }
 }
 
 /// Resolves the media that materials bound (`interior`, `exterior`) and the camera's, by name;
@@ -930,8 +998,8 @@ fn check_emission(ck: &mut Checker, name: &str, m: &RawMaterial) -> (DVec3, Opti
     let field = format!("materials.{name}.emission");
     let Some(e) = m.emission.as_ref() else { return (DVec3::ZERO, None) };
     match e.get_ref() {
-        RawEmission::Color(c) => (ck.color(Some(&Spanned::new(e.span(), *c)), &field), None),
-        RawEmission::Texture(table) => {
+        RawColorOrTexture::Color(c) => (ck.color(Some(&Spanned::new(e.span(), *c)), &field), None),
+        RawColorOrTexture::Texture(table) => {
             let base = ck.file.parent().map(Path::to_path_buf).unwrap_or_default();
             let mut errors = Vec::new();
             let texture = Texture::from_toml(table, e.span(), &base, &mut errors);

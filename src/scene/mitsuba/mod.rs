@@ -15,12 +15,12 @@ mod xml;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use glam::DVec3;
+use glam::{DMat4, DVec3};
 use toml::Spanned;
 
 use super::diagnostic::{Diagnostic, Findings, Severity, SourceMap};
 use super::raw::{
-    RawCamera, RawColor, RawCylinder, RawEmission, RawMaterial, RawMesh, RawRender, RawRotation, RawRotations, RawScale, RawScene, RawShape,
+    RawCamera, RawColor, RawCylinder, RawColorOrTexture, RawMaterial, RawMesh, RawRender, RawRotation, RawRotations, RawScale, RawScene, RawShape,
     RawSphere, RawTransform,
 };
 use super::bsdfs::{color_value, PluginProps, DEFAULT_REFLECTANCE};
@@ -235,6 +235,13 @@ impl Bsdf {
 
 /// One plugin object's properties, read by a BSDF kind's `from_mitsuba` through the
 /// translator's getters.
+/// A medium's coefficient as the file gives it: a value (with a constvolume's to_world), or a
+/// grid's TOML texture table.
+enum MediumField {
+    Value([f64; 3], Option<DMat4>),
+    Grid(toml::Table),
+}
+
 struct PluginReader<'t, 'a, 'o> {
     t: &'t mut Translator<'a>,
     p: Option<Props>,
@@ -402,6 +409,12 @@ impl PluginReader<'_, '_, '_> {
             self.t.error(g.at, "type", format!("<volume type=\"{}\"> is not supported (pathlab has gridvolume)", g.plugin));
             return None;
         }
+        self.grid_volume(g)
+    }
+
+    /// A `<volume type="gridvolume">` as its TOML inline table (`texture = "volume"`), the
+    /// `.vol` file found by Mitsuba's resolver.
+    fn grid_volume(&mut self, g: &Object) -> Option<toml::Value> {
         let mut p = Props::of(g);
         let mut table = toml::Table::new();
         table.insert("texture".into(), toml::Value::String("volume".into()));
@@ -540,7 +553,7 @@ struct Translator<'a> {
     diagnostics: Vec<Diagnostic>,
     materials: BTreeMap<String, Spanned<RawMaterial>>,
     /// (BSDF, emission, media) of each material made, for sharing identical ones.
-    material_keys: Vec<(String, Bsdf, Option<RawEmission>, (Option<String>, Option<String>))>,
+    material_keys: Vec<(String, Bsdf, Option<RawColorOrTexture>, (Option<String>, Option<String>))>,
     /// Named BSDFs already interpreted (a `<ref>` is a copy: interpreted once, reported once).
     bsdfs: BTreeMap<String, Option<Bsdf>>,
     shape_count: usize,
@@ -931,22 +944,28 @@ impl Translator<'_> {
     }
 
     /// A `<medium>` (nested, or a top-level definition copied by a `<ref>`) under a volumetric
-    /// integrator: Mitsuba's `homogeneous` with its `sigma_t` (times `scale`), `albedo` and
-    /// phase function (`isotropic`, `hg`), translated once per id; its name, or `None` where it
-    /// is refused. `fallback` names a nested one.
+    /// integrator: Mitsuba's `homogeneous` or `heterogeneous` with its `sigma_t` (times
+    /// `scale`), `albedo` (values, or `<volume>`s: `constvolume`, `gridvolume`) and phase
+    /// function (`isotropic`, `hg`), translated once per id; its name, or `None` where it is
+    /// refused. `fallback` names a nested one.
     fn medium(&mut self, o: &Object, fallback: &str) -> Option<String> {
         let name = o.id.clone().unwrap_or_else(|| fallback.to_string());
         if self.medium_defs.contains_key(&name) {
             return Some(name);
         }
-        if o.plugin != "homogeneous" {
-            self.error(o.at, "type", format!("{} is not supported (pathlab has homogeneous media)", describe(&o.tag, &o.plugin)));
-            return None;
-        }
+        let heterogeneous = match o.plugin.as_str() {
+            "homogeneous" => false,
+            "heterogeneous" => true,
+            _ => {
+                self.error(o.at, "type", format!("{} is not supported (pathlab has homogeneous and heterogeneous media)", describe(&o.tag, &o.plugin)));
+                return None;
+            }
+        };
         let mut p = Props::of(o);
-        // Mitsuba's defaults (homogeneous.cpp): sigma_t 1, albedo 0.75, scale 1.
-        let sigma_t = self.color(&mut p, "sigma_t", SpectrumRole::Unbounded).map_or([1.0; 3], |(c, _)| c);
-        let albedo = self.color(&mut p, "albedo", SpectrumRole::Reflectance).map(|(c, at)| spanned(at, RawColor(c)));
+        // Mitsuba's defaults (homogeneous.cpp, heterogeneous.cpp): sigma_t 1, albedo 0.75,
+        // scale 1; a value given as a property is a constvolume of identity to_world.
+        let sigma_t = self.color(&mut p, "sigma_t", SpectrumRole::Unbounded).map(|(c, _)| MediumField::Value(c, None));
+        let albedo = self.color(&mut p, "albedo", SpectrumRole::Reflectance).map(|(c, _)| MediumField::Value(c, None));
         let scale = match self.get::<f64>(&mut p, "scale") {
             Some((v, _)) if v.is_finite() && v >= 0.0 => v,
             Some((v, prop)) => {
@@ -958,12 +977,9 @@ impl Translator<'_> {
         if let Some((false, prop)) = self.get::<bool>(&mut p, "sample_emitters") {
             self.warn(prop.value_at, "sample_emitters", "`sample_emitters` = false is ignored: pathlab samples the lights from every vertex in a medium where the method samples lights (the image's expectation is the same; only its noise differs)");
         }
-        if let Some((false, prop)) = self.get::<bool>(&mut p, "has_spectral_extinction") {
-            if sigma_t[0] != sigma_t[1] || sigma_t[1] != sigma_t[2] {
-                self.warn(prop.value_at, "has_spectral_extinction", "`has_spectral_extinction` = false with a coloured `sigma_t`: Mitsuba then weighs scattering by the albedo alone, which is biased; pathlab renders the medium as given");
-            }
-        }
+        let spectral_extinction = self.get::<bool>(&mut p, "has_spectral_extinction");
         self.finish(p, "sigma_t, albedo, scale, sample_emitters, has_spectral_extinction");
+        let (mut sigma_t, mut albedo) = (sigma_t, albedo);
         let mut phase = None;
         let mut g = None;
         for c in &o.children {
@@ -980,17 +996,88 @@ impl Translator<'_> {
                     self.finish(pp, "g");
                 }
                 ("phase", other) => self.error(c.at, "type", format!("<phase type=\"{other}\"> is not supported (pathlab has isotropic, hg)")),
-                (other, plugin) => self.error(c.at, "", format!("{} inside a <medium> is not supported (a homogeneous medium's sigma_t and albedo are constants)", describe(other, plugin))),
+                ("volume", _) if matches!(c.name.as_deref(), Some("sigma_t" | "albedo")) => {
+                    let role = if c.name.as_deref() == Some("albedo") { SpectrumRole::Reflectance } else { SpectrumRole::Unbounded };
+                    let field = self.medium_volume(c, role);
+                    if c.name.as_deref() == Some("albedo") {
+                        albedo = field;
+                    } else {
+                        sigma_t = field;
+                    }
+                }
+                ("volume", _) => self.error(c.at, "name", format!("a <volume> in a <medium> is its `sigma_t` or `albedo` (got name {:?})", c.name)),
+                (other, plugin) => self.error(c.at, "", format!("{} inside a <medium> is not supported", describe(other, plugin))),
             }
         }
+        let sigma_t = sigma_t.unwrap_or(MediumField::Value([1.0; 3], None));
+        let coloured = match &sigma_t {
+            MediumField::Value(c, _) => c[0] != c[1] || c[1] != c[2],
+            MediumField::Grid(_) => true,
+        };
+        if let Some((false, prop)) = spectral_extinction.filter(|_| coloured) {
+            self.warn(prop.value_at, "has_spectral_extinction", "`has_spectral_extinction` = false with a coloured `sigma_t`: Mitsuba then weighs scattering by the albedo alone, which is biased; pathlab renders the medium as given");
+        }
+        let (sigma_t, scale, bounds) = match (heterogeneous, sigma_t) {
+            // A homogeneous medium's sigma_t is one value (homogeneous.cpp evaluates it at no
+            // particular point), its scale folded in; a constvolume's box does not matter.
+            (false, MediumField::Value(c, _)) => (RawColorOrTexture::Color(RawColor(c.map(|v| v * scale))), None, None),
+            (false, MediumField::Grid(_)) => {
+                self.error(o.at, "sigma_t", "a homogeneous medium's sigma_t is one value everywhere: a <volume type=\"gridvolume\"> needs <medium type=\"heterogeneous\">");
+                return None;
+            }
+            // A heterogeneous medium fills its sigma_t volume's box: a constvolume's is its
+            // to_world's unit cube (volume.h, update_bbox).
+            (true, MediumField::Value(c, to_world)) => {
+                let [lo, hi] = crate::scene::media::unit_cube_bounds(to_world.unwrap_or(DMat4::IDENTITY));
+                (RawColorOrTexture::Color(RawColor(c)), Some(scale), Some(spanned(o.at, [lo.to_array(), hi.to_array()])))
+            }
+            (true, MediumField::Grid(table)) => (RawColorOrTexture::Texture(table), Some(scale), None),
+        };
+        let albedo = albedo.map(|a| match a {
+            MediumField::Value(c, _) => spanned(o.at, RawColorOrTexture::Color(RawColor(c))),
+            MediumField::Grid(table) => spanned(o.at, RawColorOrTexture::Texture(table)),
+        });
         let raw = super::raw::RawMedium {
-            sigma_t: spanned(o.at, RawColor(sigma_t.map(|v| v * scale))),
+            kind: heterogeneous.then(|| spanned(o.at, "heterogeneous".to_string())),
+            sigma_t: spanned(o.at, sigma_t),
+            scale: scale.map(|s| spanned(o.at, s)),
             albedo,
+            bounds,
             phase: phase.map(|ph| spanned(o.at, ph.to_string())),
             g: g.map(|(v, at)| spanned(at, v)),
         };
         self.medium_defs.insert(name.clone(), spanned(o.at, raw));
         Some(name)
+    }
+
+    /// A medium's `<volume name="sigma_t">` or `<volume name="albedo">`: a `constvolume`'s value
+    /// (and its to_world, which bounds a heterogeneous medium), or a `gridvolume` as its TOML
+    /// texture table; `None` where refused.
+    fn medium_volume(&mut self, v: &Object, role: SpectrumRole) -> Option<MediumField> {
+        match v.plugin.as_str() {
+            "constvolume" | "const" => {
+                let mut p = Props::of(v);
+                // constvolume.cpp: value default 1.
+                let value = self.color(&mut p, "value", role).map_or([1.0; 3], |(c, _)| c);
+                let to_world = self.transform(&mut p, "to_world").map(|(ops, _)| compose(&ops));
+                self.finish(p, "value, to_world");
+                for c in &v.children {
+                    self.error(c.at, "", format!("{} inside a constvolume is not supported (give `value` as an <rgb> or <float>)", describe(&c.tag, &c.plugin)));
+                }
+                Some(MediumField::Value(value, to_world))
+            }
+            "gridvolume" | "grid" => {
+                let mut reader = PluginReader { t: self, p: None, o: v, taken: Vec::new() };
+                match reader.grid_volume(v)? {
+                    toml::Value::Table(t) => Some(MediumField::Grid(t)),
+                    _ => None,
+                }
+            }
+            other => {
+                self.error(v.at, "type", format!("<volume type=\"{other}\"> is not supported (pathlab has constvolume, gridvolume)"));
+                None
+            }
+        }
     }
 
     fn has_errors(&self) -> bool {
@@ -1719,13 +1806,13 @@ impl Translator<'_> {
     }
 
     /// The material of a BSDF with an emission: shared by every shape with the same pair.
-    fn material(&mut self, bsdf: &Bsdf, emission: Option<RawEmission>, shape_name: &str, at: usize) -> Spanned<String> {
+    fn material(&mut self, bsdf: &Bsdf, emission: Option<RawColorOrTexture>, shape_name: &str, at: usize) -> Spanned<String> {
         self.material_bounding(bsdf, emission, shape_name, at, (None, None))
     }
 
     /// A material whose surface bounds the media named (interior, exterior): one per distinct
     /// BSDF, emission and media (pathlab's media are the material's, Mitsuba's the shape's).
-    fn material_bounding(&mut self, bsdf: &Bsdf, emission: Option<RawEmission>, shape_name: &str, at: usize, media: (Option<String>, Option<String>)) -> Spanned<String> {
+    fn material_bounding(&mut self, bsdf: &Bsdf, emission: Option<RawColorOrTexture>, shape_name: &str, at: usize, media: (Option<String>, Option<String>)) -> Spanned<String> {
         if let Some((name, ..)) = self.material_keys.iter().find(|(_, b, e, m)| b == bsdf && *e == emission && *m == media) {
             return spanned(at, name.clone());
         }
@@ -1855,7 +1942,7 @@ impl Translator<'_> {
                         // surface point's uv); triangle meshes alone take it (validation
                         // refuses it on spheres and quadrics).
                         emission = match self.emitter_texture(c, ep, "radiance", "radiance").map(Spanned::into_inner) {
-                            Some(toml::Value::Table(table)) => Some(RawEmission::Texture(table)),
+                            Some(toml::Value::Table(table)) => Some(RawColorOrTexture::Texture(table)),
                             _ => None,
                         };
                         continue;
@@ -1865,10 +1952,10 @@ impl Translator<'_> {
                         self.error(t.at, name, format!("a <texture type=\"{}\" name=\"{name}\"> of an area emitter is not supported (its textured property is `radiance`)", t.plugin));
                     } else {
                         match self.color(&mut ep, "radiance", SpectrumRole::Emission) {
-                            Some((r, _)) => emission = Some(RawEmission::Color(RawColor(r))),
+                            Some((r, _)) => emission = Some(RawColorOrTexture::Color(RawColor(r))),
                             None if ep.props.iter().any(|q| q.name == "radiance") || self.has_errors() => {}
                             // Mitsuba 3.9.1's default radiance (area.cpp: get_emissive_texture("radiance", 1.f)).
-                            None => emission = Some(RawEmission::Color(RawColor([1.0; 3]))),
+                            None => emission = Some(RawColorOrTexture::Color(RawColor([1.0; 3]))),
                         }
                     }
                     self.finish(ep, "radiance");
