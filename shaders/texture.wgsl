@@ -173,13 +173,10 @@ fn texture_gradient(at: u32, uv: vec2f) -> vec2f {
     return bitmap_gradient(at, uv);
 }
 
-// Cell (x, y, z) (wrapped) of the grid volume at `at`, as RGB (one channel: grey).
-fn volume_cell(at: u32, x: i32, y: i32, z: i32) -> vec3f {
-    let n = vec3i(i32(bsdf_data[at + 1u]), i32(bsdf_data[at + 2u]), i32(bsdf_data[at + 3u]));
-    let mode = u32(bsdf_data[at + 6u]);
-    let c = vec3i(bitmap_wrap(x, n.x, mode), bitmap_wrap(y, n.y, mode), bitmap_wrap(z, n.z, mode));
-    let channels = u32(bsdf_data[at + 4u]);
-    let t = at + VOLUME_HEADER + u32((c.z * n.y + c.y) * n.x + c.x) * channels;
+// Cell i (x fastest, already wrapped) of a grid's cells starting at `cells`, as RGB (one
+// channel: grey).
+fn volume_cell(cells: u32, i: i32, channels: u32) -> vec3f {
+    let t = cells + u32(i) * channels;
     if (channels == 1u) {
         return vec3f(bsdf_data[t]);
     }
@@ -188,29 +185,45 @@ fn volume_cell(at: u32, x: i32, y: i32, z: i32) -> vec3f {
 
 // A grid volume at world position p: p into the grid's unit cube, then Dr.Jit's texture lookup
 // in 3D (cell centres at integers after subtracting 1/2; trilinear along x, then y, then z).
+// The header is read once and each axis's two indices wrapped once: on lavapipe every lookup
+// site runs whole wherever it is reached (masked), a load per lane each.
 fn eval_volume_texture(at: u32, p: vec3f) -> vec3f {
     let m = at + 7u;
     let q = vec3f(bsdf_data[m] * p.x + bsdf_data[m + 1u] * p.y + bsdf_data[m + 2u] * p.z + bsdf_data[m + 3u],
                   bsdf_data[m + 4u] * p.x + bsdf_data[m + 5u] * p.y + bsdf_data[m + 6u] * p.z + bsdf_data[m + 7u],
                   bsdf_data[m + 8u] * p.x + bsdf_data[m + 9u] * p.y + bsdf_data[m + 10u] * p.z + bsdf_data[m + 11u]);
     let size = vec3f(bsdf_data[at + 1u], bsdf_data[at + 2u], bsdf_data[at + 3u]);
+    let n = vec3i(size);
+    let channels = u32(bsdf_data[at + 4u]);
+    let mode = u32(bsdf_data[at + 6u]);
+    let cells = at + VOLUME_HEADER;
     if (bsdf_data[at + 5u] == 0.0) {
         let c = floor(q * size);
-        return volume_cell(at, i32(c.x), i32(c.y), i32(c.z));
+        let x = bitmap_wrap(i32(c.x), n.x, mode);
+        let y = bitmap_wrap(i32(c.y), n.y, mode);
+        let z = bitmap_wrap(i32(c.z), n.z, mode);
+        return volume_cell(cells, (z * n.y + y) * n.x + x, channels);
     }
     let pos = q * size - vec3f(0.5);
     let base = floor(pos);
     let f = pos - base;
-    let x0 = i32(base.x);
-    let y0 = i32(base.y);
-    let z0 = i32(base.z);
-    var planes: array<vec3f, 2>;
-    for (var k = 0; k < 2; k++) {
-        let bottom = mix_exact(volume_cell(at, x0, y0, z0 + k), volume_cell(at, x0 + 1, y0, z0 + k), f.x);
-        let top = mix_exact(volume_cell(at, x0, y0 + 1, z0 + k), volume_cell(at, x0 + 1, y0 + 1, z0 + k), f.x);
-        planes[k] = mix_exact(bottom, top, f.y);
-    }
-    return mix_exact(planes[0], planes[1], f.z);
+    let b = vec3i(base);
+    let x0 = bitmap_wrap(b.x, n.x, mode);
+    let x1 = bitmap_wrap(b.x + 1, n.x, mode);
+    let y0 = bitmap_wrap(b.y, n.y, mode);
+    let y1 = bitmap_wrap(b.y + 1, n.y, mode);
+    let z0 = bitmap_wrap(b.z, n.z, mode);
+    let z1 = bitmap_wrap(b.z + 1, n.z, mode);
+    // Rows (y, z) of the two planes, each row's first cell.
+    let r00 = (z0 * n.y + y0) * n.x;
+    let r10 = (z0 * n.y + y1) * n.x;
+    let r01 = (z1 * n.y + y0) * n.x;
+    let r11 = (z1 * n.y + y1) * n.x;
+    let plane0 = mix_exact(mix_exact(volume_cell(cells, r00 + x0, channels), volume_cell(cells, r00 + x1, channels), f.x),
+                           mix_exact(volume_cell(cells, r10 + x0, channels), volume_cell(cells, r10 + x1, channels), f.x), f.y);
+    let plane1 = mix_exact(mix_exact(volume_cell(cells, r01 + x0, channels), volume_cell(cells, r01 + x1, channels), f.x),
+                           mix_exact(volume_cell(cells, r11 + x0, channels), volume_cell(cells, r11 + x1, channels), f.x), f.y);
+    return mix_exact(plane0, plane1, f.z);
 }
 
 // a + t (b - a), written out (the host twin's order; WGSL's mix may round otherwise).
