@@ -19,7 +19,9 @@
 //   through media, times the Beer-Lambert transmittance (a ratio-tracking estimate of it in a
 //   heterogeneous medium); any other surface blocks them;
 // - a ray crossing a surface that bounds media takes the medium of the side it enters
-//   (medium_after, Mitsuba's target_medium); across other surfaces it keeps its medium.
+//   (medium_after, Mitsuba's target_medium); across other surfaces it keeps its medium;
+// - under hide_emitters no emission counts before the first scattering event, and a segment
+//   whose surface is found outside a medium passes through area emitters until then.
 // In homogeneous media free-flight sampling balances the three channels where Mitsuba's volpath
 // samples one per path, and shadow rays use the exact transmittance where it tracks: the
 // expectation is the same, the variance lower. In heterogeneous media both track, as Mitsuba's
@@ -183,7 +185,23 @@ fn trace_volumetric_path(id: SampleId, px: u32, py: u32) -> vec3f {
     var prev = PrevVertex(ray_o, INVALID, false, 0.0, true, vec3f(0.0));
     loop {
         let dim_base = first_vertex_dim() + segment * dims_per_segment();
-        let hit = intersect_scene(ray_o, ray_d);
+        var hit = intersect_scene(ray_o, ray_d);
+        if (HIDE_EMITTERS && depth == 0u && medium == NO_MEDIUM) {
+            // Mitsuba's volpath under hide_emitters: before the first scattering event, a segment
+            // whose surface is found outside a medium passes through every area emitter on it
+            // (skip_area_emitters; in a medium it does not, and meets the emitter's surface);
+            // one that would cross more than EMITTER_SKIPS of them ends the path.
+            var skips = 0u;
+            while (skips < EMITTER_SKIPS && hit.object != INVALID && light_of(hit.object) != INVALID) {
+                let x = ray_o + ray_d * hit.t;
+                ray_o = offset_ray_origin(x, select(-hit.normal, hit.normal, dot(hit.normal, ray_d) > 0.0), hit.p_error);
+                hit = intersect_scene(ray_o, ray_d);
+                skips++;
+            }
+            if (hit.object != INVALID && light_of(hit.object) != INVALID) {
+                break;
+            }
+        }
         var in_medium = false;
         var t_event = hit.t;
         if (medium != NO_MEDIUM) {
@@ -200,12 +218,15 @@ fn trace_volumetric_path(id: SampleId, px: u32, py: u32) -> vec3f {
         }
         if (!in_medium) {
             // The segment reached a surface (or escaped): its emission, weighted against light
-            // sampling from the last scattering vertex.
-            var w = 1.0;
-            if (hit.object != INVALID || NUM_ENVIRONMENT_LIGHTS > 0u) {
-                w = emitter_hit_weight(hit, ray_d, prev);
+            // sampling from the last scattering vertex; none before the first scattering event
+            // under hide_emitters (Mitsuba's volpath: not at depth 0, the environment included).
+            if (!(HIDE_EMITTERS && depth == 0u)) {
+                var w = 1.0;
+                if (hit.object != INVALID || NUM_ENVIRONMENT_LIGHTS > 0u) {
+                    w = emitter_hit_weight(hit, ray_d, prev);
+                }
+                radiance += throughput * radiance_along(hit, ray_d) * w;
             }
-            radiance += throughput * radiance_along(hit, ray_d) * w;
             if (hit.object == INVALID) {
                 break;
             }

@@ -184,6 +184,15 @@ fn bad_heterogeneous_media_are_refused_by_name_and_line() {
     let constant = base.replace(&base[base.find("sigma_t = {").unwrap()..base.find("albedo").unwrap()], "sigma_t = 1.0\nbounds = [[1.0, 0.0, 0.0], [0.0, 1.0, 1.0]]\n");
     let e = refusal(&constant);
     assert!(e.contains("media.m.bounds") && e.contains("min < max"), "{e}");
+    // A medium so dense that tracking alone would pass llvmpipe's loop limit is refused, and
+    // the refusal says what to change (a hardware GPU has no such limit).
+    let dense = Scene::parse(&grid_sphere("albedo = 0.5", 8, 64).replace("scale = 2.0", "scale = 2000.0"), "dense.toml").unwrap();
+    if gpu().info.device_type == wgpu::DeviceType::Cpu {
+        match pathlab::render::Renderer::new(gpu(), pipelines(), &dense, Preset::Mis.method(), 1) {
+            Err(e) => assert!(e.to_string().contains("null collisions along each path segment and shadow ray: a lower `scale`"), "{e}"),
+            Ok(_) => panic!("a medium of majorant 1700 renders on llvmpipe"),
+        }
+    }
     // XML: a volume plugin pathlab lacks, a volume of another name, a grid in a homogeneous
     // medium, at their lines.
     let xml = std::fs::read_to_string(fixture("hetero.xml")).unwrap().replace("\"rgb.vol\"", &format!("\"{}\"", fixture("rgb.vol"))).replace("\"grey.vol\"", &format!("\"{}\"", fixture("grey.vol")));

@@ -200,9 +200,9 @@ pub fn loop_iterations_per_sample(key: &PipelineKey, max_depth: u32, bvh_nodes: 
         // tracking, the slabs at each crossing and its collisions, one budget for all.
         let n = f.max_null_collisions as u64;
         let (segment_tracking, shadow_tracking) = if n > 0 { (3 + 3 * n + 2, per_shadow_ray * 3 + 3 * n) } else { (0, 0) };
-        let per_segment = 1 + s + p + shadow_rays * (per_shadow_ray * (1 + s + p) + shadow_tracking) + (5 + light_dims) * per_dim + env_search + segment_tracking;
+        let per_segment = 1 + s + p + shadow_rays * (per_shadow_ray * (1 + s + p) + shadow_tracking) + (5 + light_dims) * per_dim + env_search + segment_tracking + skips * (1 + s + p);
         let fixed = 1 + 2 * per_dim + segments * per_segment;
-        let rays = 1 + segments * (1 + shadow_rays * per_shadow_ray);
+        let rays = 1 + segments * (1 + shadow_rays * per_shadow_ray + skips);
         let steps_per_ray = if f.num_triangles > 0 { 4 * bvh_nodes + 3 * bvh_leaves + f.num_triangles as u64 } else { 0 };
         return LoopBound { fixed, rays, steps_per_ray };
     }

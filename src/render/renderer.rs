@@ -58,11 +58,12 @@ pub enum RenderError {
     #[error("at most 2^32 samples per pixel are supported (asked for {0})")]
     TooManySamples(u64),
     #[error(
-        "one sample of this scene may run ~{0} shader loop iterations, more than the 65535 llvmpipe \
+        "one sample of this scene may run ~{iterations} shader loop iterations, more than the 65535 llvmpipe \
          (software Vulkan) allows per invocation; reduce max_depth or the number of objects and \
-         lights, or use a hardware GPU"
+         lights, or use a hardware GPU{}",
+        tracking_hint(*max_null_collisions)
     )]
-    LoopLimit(u64),
+    LoopLimit { iterations: u64, max_null_collisions: u32 },
     #[error(
         "the scene has {count} triangles, more than this adapter holds ({limit}: its largest storage \
          binding is {binding} bytes, 48 bytes per triangle, and its 2D textures are at most \
@@ -75,6 +76,16 @@ pub enum RenderError {
          storage binding ({limit} bytes); the largest: {largest} (`pathlab check` lists them)"
     )]
     TexturesTooLarge { bytes: u64, limit: u64, largest: String },
+}
+
+/// What a loop-limit refusal adds where heterogeneous media are tracked: their share.
+fn tracking_hint(max_null_collisions: u32) -> String {
+    if max_null_collisions == 0 {
+        return String::new();
+    }
+    format!(
+        "; delta and ratio tracking in the heterogeneous media may meet up to {max_null_collisions} null collisions along each path segment and shadow ray: a lower `scale` (their majorant) or smaller boxes lower that"
+    )
 }
 
 impl RenderError {
@@ -205,7 +216,7 @@ impl Renderer {
             let bound = loop_iterations_per_sample(&key, scene.render.max_depth, packed.bvh.nodes.len() as u64, leaves)
                 .with_techniques(&key, crate::shaders::TechniqueFiles::of(&key.method, &scene.techniques)?, scene.render.max_depth);
             if bound.fixed > CPU_LOOP_BUDGET {
-                return Err(RenderError::LoopLimit(bound.fixed));
+                return Err(RenderError::LoopLimit { iterations: bound.fixed, max_null_collisions: key.features.max_null_collisions });
             }
             if bound.per_sample() <= CPU_LOOP_BUDGET {
                 // The worst case fits: as many samples per dispatch as fit whole.

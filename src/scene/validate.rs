@@ -512,11 +512,6 @@ fn resolve_media(ck: &mut Checker, raw: &RawScene, materials: &mut [Material], n
         }
     }
     let camera = raw.camera.get_ref().medium.as_ref().and_then(|n| lookup(ck, n, "camera.medium".to_string()));
-    if !raw.media.is_empty() {
-        if let Some(h) = raw.render.get_ref().hide_emitters.as_ref().filter(|h| *h.get_ref()) {
-            ck.error(h.span(), "render.hide_emitters", "hide_emitters in a scene with media is not supported yet");
-        }
-    }
     for (name, m) in &raw.media {
         if !used.contains(&names[name]) {
             ck.warn(m.span(), format!("media.{name}"), "medium is defined but no material bounds it and the camera is not in it");
