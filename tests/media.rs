@@ -102,26 +102,27 @@ fn a_white_scattering_sphere_in_a_white_furnace_is_white() {
     let scene = Scene::parse(&sphere_in_white(medium, 24, 64), "furnace.toml").unwrap();
     assert_eq!(scene.media[0].phase, Phase::HenyeyGreenstein { g: 0.5 });
     let grey = Scene::parse(&sphere_in_white(&medium.replace("albedo = 1.0", "albedo = 0.95"), 24, 64), "grey.toml").unwrap();
-    assert_white_furnace(&scene, &grey, 4910);
+    assert_white_furnace(&scene, &grey, 1024, 4910);
 }
 
 /// A scene of a white medium in a white environment (`scene`, 24 x 24) renders white with
-/// `plain`, `nee+env` and `mis+env` (seeds `seed`, +1, +2): z-tested against 1 on 4x4 blocks,
+/// `plain`, `nee+env` and `mis+env` (`spp` each, seeds `seed`, +1, +2): z-tested against 1 on
+/// 4x4 blocks,
 /// at least 99.75% passing, Šidák-corrected (false failure below 0.01); the same medium of
 /// albedo 0.95 (`grey`) does not (seed + 3).
-pub(crate) fn assert_white_furnace(scene: &Scene, grey: &Scene, seed: u32) {
+pub(crate) fn assert_white_furnace(scene: &Scene, grey: &Scene, spp: u64, seed: u32) {
     const MIN_PASS: f64 = 0.9975;
     let white = constant_film(24, 24, 1.0);
     let methods: Vec<Method> = ["plain", "nee+env", "mis+env"].iter().map(|m| Method::from_name(m).unwrap()).collect();
     let alpha = sidak(0.01, methods.len() + 1);
     for (k, method) in methods.iter().enumerate() {
-        let film = render(scene, *method, 1024, seed + k as u32);
+        let film = render(scene, *method, spp, seed + k as u32);
         let z = z_test(&white.downsample(4), &film.downsample(4), alpha);
         println!("{}: {:.4} of {} pass |z| <= {:.2}, max |z| {:.2}, mean z {:+.3}", method.name(), z.pass_fraction, z.channels, z.threshold, z.max_abs_z, z.mean_z);
         assert!(z.pass_fraction >= MIN_PASS, "{} is not white: {z:?}", method.name());
     }
     // Power: a medium that absorbs 5% at each scattering is not white.
-    let film = render(grey, methods[2], 1024, seed + 3);
+    let film = render(grey, methods[2], spp, seed + 3);
     let z = z_test(&white.downsample(4), &film.downsample(4), alpha);
     assert!(z.pass_fraction < MIN_PASS, "albedo 0.95 passes as white: {z:?}");
 }
