@@ -383,6 +383,21 @@ fn surface_vertex(id: SampleId, hit: Hit, ray_o: vec3f, ray_d: vec3f, dim_base: 
     return SurfaceVertex(x, wo, from_inside, n_g, n_s, m, u_lobe, scatters);
 }
 
+// Mitsuba's skip_area_emitters under hide_emitters: the ray from *o along d, which found
+// `hit`, passes through every area emitter it meets, from its far side on (*o moves there);
+// the surface beyond them, or, past EMITTER_SKIPS of them, the last emitter met.
+fn skip_area_emitters(o: ptr<function, vec3f>, d: vec3f, first: Hit) -> Hit {
+    var hit = first;
+    var skips = 0u;
+    while (skips < EMITTER_SKIPS && hit.object != INVALID && light_of(hit.object) != INVALID) {
+        let x = *o + d * hit.t;
+        *o = offset_ray_origin(x, select(-hit.normal, hit.normal, dot(hit.normal, d) > 0.0), hit.p_error);
+        hit = intersect_scene(*o, d);
+        skips++;
+    }
+    return hit;
+}
+
 // Structure for SIMD CPU drivers as much as for GPUs: lavapipe runs 8 lanes in lockstep and
 // executes both sides of every branch under a mask, but leaves a loop as soon as no lane is
 // left in it. So the camera segment is traced before the loop, and each iteration scatters at
@@ -400,13 +415,7 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
         // Mitsuba's hide_emitters (path.cpp, skip_area_emitters): the camera ray passes through
         // every area emitter it meets, from its far side on, and sees no environment; a ray
         // that would cross more than EMITTER_SKIPS of them sees black.
-        var skips = 0u;
-        while (skips < EMITTER_SKIPS && hit.object != INVALID && light_of(hit.object) != INVALID) {
-            let x = ray_o + ray_d * hit.t;
-            ray_o = offset_ray_origin(x, select(-hit.normal, hit.normal, dot(hit.normal, ray_d) > 0.0), hit.p_error);
-            hit = intersect_scene(ray_o, ray_d);
-            skips++;
-        }
+        hit = skip_area_emitters(&ray_o, ray_d, hit);
         if (hit.object == INVALID || light_of(hit.object) != INVALID) {
             return vec3f(0.0);
         }

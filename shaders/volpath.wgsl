@@ -191,13 +191,7 @@ fn trace_volumetric_path(id: SampleId, px: u32, py: u32) -> vec3f {
             // whose surface is found outside a medium passes through every area emitter on it
             // (skip_area_emitters; in a medium it does not, and meets the emitter's surface);
             // one that would cross more than EMITTER_SKIPS of them ends the path.
-            var skips = 0u;
-            while (skips < EMITTER_SKIPS && hit.object != INVALID && light_of(hit.object) != INVALID) {
-                let x = ray_o + ray_d * hit.t;
-                ray_o = offset_ray_origin(x, select(-hit.normal, hit.normal, dot(hit.normal, ray_d) > 0.0), hit.p_error);
-                hit = intersect_scene(ray_o, ray_d);
-                skips++;
-            }
+            hit = skip_area_emitters(&ray_o, ray_d, hit);
             if (hit.object != INVALID && light_of(hit.object) != INVALID) {
                 break;
             }
