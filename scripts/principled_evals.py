@@ -27,15 +27,7 @@ CONFIGS = [
      "clearcoat_sampling_rate": 2.0, "diffuse_reflectance_sampling_rate": 3.0, "sheen": 0.3},
 ]
 def main():
-    out = {"mitsuba": mi.__version__, "variant": "scalar_rgb", "configs": []}
-    for config in CONFIGS:
-        d = {"type": "principled"}
-        for k, v in config.items():
-            d[k] = {"type": "rgb", "value": v} if isinstance(v, list) else v
-        # Near the mirror direction for some pairs (the specular peaks), elsewhere others.
-        azimuth = lambda k: 190.0 + 3.0 * k if k % 2 == 0 else 200.0 + 37.0 * k  # noqa: E731
-        out["configs"].append({"properties": config, "pairs": bsdf_evals.pairs(mi.load_dict(d), azimuth)})
-    bsdf_evals.write(out, "principled_evals.json")
+    bsdf_evals.record("principled", CONFIGS, "principled_evals.json")
 
 
 if __name__ == "__main__":

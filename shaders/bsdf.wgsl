@@ -223,6 +223,7 @@ struct Bsdf {
     p0: vec4f,
     p1: vec4f,
     p2: vec4f,
+    p3: vec4f,
     inside: bool,
     opacity: f32,
     tangent: vec3f,

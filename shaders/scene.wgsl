@@ -68,6 +68,7 @@ struct Material {
     p0: vec4f,
     p1: vec4f,
     p2: vec4f,
+    p3: vec4f,
     // A BSDF_KIND_*.
     kind: u32,
     // Mitsuba's mask (shaders/bsdfs/mask.wgsl): the opacity, or, where negative, the reference
@@ -153,10 +154,11 @@ struct Surfaces {
 // its speed).
 fn material_bsdf(material: u32, bsdf_material: u32, from_inside: bool, ctx: TextureEvalContext) -> Bsdf {
     let i = material_on_side(bsdf_material, from_inside);
-    var b = Bsdf(BSDF_KIND_PHONG, materials[i].p0, materials[i].p1, vec4f(0.0), false, 1.0, vec3f(0.0), vec3f(0.0));
+    var b = Bsdf(BSDF_KIND_PHONG, materials[i].p0, materials[i].p1, vec4f(0.0), vec4f(0.0), false, 1.0, vec3f(0.0), vec3f(0.0));
     if (bsdf_kinds_vary()) {
         b.kind = materials[i].kind;
         b.p2 = materials[i].p2;
+        b.p3 = materials[i].p3;
     }
     if (HAS_UVS) {
         b = bsdf_apply_textures(b, ctx);

@@ -190,7 +190,7 @@ fn bad_xml_is_refused_with_file_line_column_plugin_and_parameter() {
         (small("<shape type=\"sphere\"><float name=\"radius\" value=\"$r\"/></shape>"), "$r", "`$r` has no value"),
         (small("<shape type=\"obj\"><ref id=\"grey\"/></shape>"), "<shape type=\"obj\">", "needs <string name=\"filename\">"),
         (small("<shape type=\"cube\"><transform name=\"to_world\"><scale value=\"1, 0, 1\"/></transform></shape>"), "<scale value=\"1, 0, 1\"/>", "singular"),
-        (small("<bsdf type=\"hair\" id=\"p\"/>"), "<bsdf type=\"hair\"", "<bsdf type=\"hair\"> is not supported (pathlab has diffuse, modphong, conductor, roughconductor, dielectric, plastic, roughdielectric, thindielectric, null, polarizer, roughplastic, principled, pplastic, twosided, mask, blendbsdf, normalmap, bumpmap)"),
+        (small("<bsdf type=\"hair\" id=\"p\"/>"), "<bsdf type=\"hair\"", "<bsdf type=\"hair\"> is not supported (pathlab has diffuse, modphong, conductor, roughconductor, dielectric, plastic, roughdielectric, thindielectric, null, polarizer, roughplastic, principled, pplastic, principledthin, twosided, mask, blendbsdf, normalmap, bumpmap)"),
         (small("<bsdf type=\"diffuse\" id=\"d\"><float name=\"roughness\" value=\"1\"/></bsdf>"), "<float name=\"roughness\"", "`roughness` of <bsdf type=\"diffuse\"> is not supported (pathlab reads: reflectance)"),
         (small("<shape type=\"sphere\"><float name=\"radius\" value=\"nan\"/></shape>"), "nan\"", "must be a finite number > 0 (got NaN)"),
         (small("<shape type=\"sphere\"><float name=\"radius\" value=\"-1\"/></shape>"), "-1\"", "must be a finite number > 0 (got -1)"),

@@ -57,7 +57,7 @@ fn shared_structs_match_the_wgsl() {
     let planes = pathlab::scene::MAX_PLANES * size_of::<GpuPlane>();
     check_struct(&pt, "Surfaces", planes + pathlab::scene::MAX_QUADRICS * size_of::<GpuQuadric>(), &[("planes", 0), ("quadrics", planes)]);
     check_struct(&pt, "Quadric", size_of::<GpuQuadric>(), fields!(GpuQuadric: object_x, object_y, object_z, world_x, world_y, world_z, normal, material, area, normal_sign, light, flags));
-    check_struct(&pt, "Material", size_of::<GpuMaterial>(), fields!(GpuMaterial: emission, flags, p0, p1, p2, kind, opacity, back, normal_map, bump_map, blend, blend_weight, emission_texture));
+    check_struct(&pt, "Material", size_of::<GpuMaterial>(), fields!(GpuMaterial: emission, flags, p0, p1, p2, p3, kind, opacity, back, normal_map, bump_map, blend, blend_weight, emission_texture));
     check_struct(&pt, "Triangle", size_of::<GpuTriangle>(), fields!(GpuTriangle: p0, material, p1, light, p2, flags));
     check_struct(&pt, "TriangleNormals", size_of::<GpuTriangleNormals>(), fields!(GpuTriangleNormals: n0, n1, n2));
     check_struct(&pt, "TriangleUvs", size_of::<GpuTriangleUvs>(), fields!(GpuTriangleUvs: uv0, uv1, uv2));
@@ -119,6 +119,7 @@ fn overrides_set_by_the_host_are_those_the_module_declares() {
         num_occluding_planes: 1,
         has_specular: true,
         bsdf_kinds: u32::MAX,
+        transmitting_kinds: u32::MAX,
         has_environment: true,
         has_environment_map: true,
         light_interiors_reachable: true,

@@ -112,6 +112,7 @@ fn every_override_permutation_validates() {
                                     num_occluding_planes: if on { num_planes } else { 0 },
                                     has_specular: on,
                                     bsdf_kinds: if on { u32::MAX } else { pathlab::scene::BsdfKind::Phong.bit() },
+                                    transmitting_kinds: if on { u32::MAX } else { 0 },
                                     has_environment: on,
                                     has_environment_map: on,
                                     light_interiors_reachable: on,

@@ -92,6 +92,9 @@ pub struct SceneFeatures {
     pub has_specular: bool,
     /// The BSDF kinds some material has (`BsdfKind::bit`): each a `HAS_<KIND>` override.
     pub bsdf_kinds: u32,
+    /// The kinds with `TRANSMITS_BY_PARAMETERS` (`BsdfKind::bit`) some material of which
+    /// transmits (`Bsdf::transmits`): each a `<STEM>_TRANSMITS` override.
+    pub transmitting_kinds: u32,
     pub has_environment: bool,
     /// The environment is an image (`Scene::environment_map`): escaped rays look it up.
     pub has_environment_map: bool,
@@ -197,6 +200,7 @@ impl SceneFeatures {
             hide_emitters: scene.render.hide_emitters,
             has_specular: scene.materials.iter().any(|m| m.bsdf.as_phong().is_some_and(|p| p.specular.max_element() > 0.0)),
             bsdf_kinds: scene.materials.iter().fold(0, |kinds, m| kinds | m.bsdf_kind().bit()),
+            transmitting_kinds: scene.materials.iter().filter(|m| m.bsdf.transmits()).fold(0, |kinds, m| kinds | m.bsdf_kind().bit()),
             has_environment: scene.has_environment(),
             has_environment_map: scene.environment_map.is_some(),
             num_occluding_planes: scene.occluding_planes().len() as u32,

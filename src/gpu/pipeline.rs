@@ -56,6 +56,8 @@ pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
     let select = key.method.select.unwrap_or(LightSelect::All);
     // One HAS_<KIND> per BSDF kind of the registry.
     let kinds = BsdfKind::ALL.map(|k| (k.has_override(), (f.bsdf_kinds & k.bit() != 0) as u32 as f64));
+    // One <STEM>_TRANSMITS per kind whose transmission depends on its parameters.
+    let transmitting = BsdfKind::ALL.into_iter().filter(|k| k.transmits_by_parameters()).map(|k| (k.transmits_override(), (f.transmitting_kinds & k.bit() != 0) as u32 as f64));
     let mut constants = vec![
         ("SAMPLER", key.method.sampler.constant() as f64),
         ("BSDF_SAMPLING", key.method.bsdf.constant() as f64),
@@ -103,6 +105,7 @@ pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
         ("ENV_TECHNIQUE", key.method.env_technique.is_some() as u32 as f64),
     ];
     constants.extend(kinds);
+    constants.extend(transmitting);
     // One TEXTURED_<KIND> per kind with texture slots.
     for k in BsdfKind::ALL.into_iter().filter(|k| !k.texture_slots().is_empty() || !k.scalar_texture_slots().is_empty()) {
         constants.push((k.textured_override(), f.textured_slots[k.constant() as usize] as f64));

@@ -44,6 +44,7 @@ pub struct GpuMaterial {
     pub p0: [f32; 4],
     pub p1: [f32; 4],
     pub p2: [f32; 4],
+    pub p3: [f32; 4],
     /// The `BsdfKind` (its `constant()`, generated into the WGSL as `BSDF_KIND_*`).
     pub kind: u32,
     /// Mitsuba's `mask` (`Opacity::pack`): the opacity, or -(start + 1) of its texture's record
@@ -443,7 +444,7 @@ impl SceneBuffers {
             .materials
             .iter()
             .map(|m| {
-                let [p0, p1, p2] = m.bsdf.pack(&mut data);
+                let [p0, p1, p2, p3] = m.bsdf.pack(&mut data);
                 GpuMaterial {
                     emission: f3(m.emission),
                     flags: if m.is_emissive() { MATERIAL_EMISSIVE } else { 0 }
@@ -452,6 +453,7 @@ impl SceneBuffers {
                     p0,
                     p1,
                     p2,
+                    p3,
                     kind: m.bsdf_kind().constant(),
                     opacity: m.opacity.as_ref().map_or(1.0, |o| o.pack(&mut data)),
                     back: m.back.map_or(NO_BACK, |b| b as u32),
@@ -622,7 +624,7 @@ mod tests {
         assert_eq!(std::mem::size_of::<GpuSphere>(), 32);
         assert_eq!(std::mem::size_of::<GpuPlane>(), 32);
         assert_eq!(std::mem::size_of::<GpuQuadric>(), 128);
-        assert_eq!(std::mem::size_of::<GpuMaterial>(), 96);
+        assert_eq!(std::mem::size_of::<GpuMaterial>(), 112);
         assert_eq!(std::mem::size_of::<GpuTriangle>(), 48);
         assert_eq!(std::mem::size_of::<GpuTriangleNormals>(), 48);
         assert_eq!(std::mem::size_of::<GpuTriangleUvs>(), 24);

@@ -35,7 +35,7 @@ pub mod bsdf_data;
 pub mod textures;
 pub use textures::Texture;
 pub use bsdfs::{
-    Bsdf, BsdfData, BsdfKind, CoatingTables, Conductor, Dielectric, Distribution, Phong, Plastic, PolarizedPlastic, Principled, PrincipledWeight, RoughConductor, RoughDielectric, RoughPlastic,
+    Bsdf, BsdfData, BsdfKind, CoatingTables, Conductor, Dielectric, Distribution, Phong, Plastic, PolarizedPlastic, Principled, PrincipledThin, PrincipledWeight, RoughConductor, RoughDielectric, RoughPlastic,
     ThinDielectric, NAMED_CONDUCTORS, ROUGH_PLASTIC_TABLE_RES, NormalMap, BumpMap, Opacity, Roughness, Blend,
 };
 pub use camera::{Camera, Fov, Projection};

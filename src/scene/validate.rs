@@ -1078,10 +1078,11 @@ fn check_materials(ck: &mut Checker, raw: &RawScene) -> (Vec<Material>, BTreeMap
         let (emission, emission_texture) = check_emission(ck, name, m);
         let mut two_sided = m.two_sided.as_ref().is_none_or(|t| *t.get_ref());
         let bsdf = super::bsdfs::read(ck, name, span, m.bsdf.as_ref(), &m.params);
-        if bsdf.kind().both_sides() {
+        if bsdf.both_sides() {
             if let Some(t) = m.two_sided.as_ref().filter(|t| !*t.get_ref()) {
                 let kind = bsdf.kind().toml_name();
-                ck.error(t.span(), format!("materials.{name}.two_sided"), format!("a {kind} scatters on both sides by its nature: two_sided = false does not apply"));
+                let why = if bsdf.kind().both_sides() { "by its nature" } else { "where it transmits" };
+                ck.error(t.span(), format!("materials.{name}.two_sided"), format!("a {kind} scatters on both sides {why}: two_sided = false does not apply"));
             }
             two_sided = true;
         }
@@ -1100,7 +1101,7 @@ fn check_materials(ck: &mut Checker, raw: &RawScene) -> (Vec<Material>, BTreeMap
         let normal_map = m.normal_map.as_ref().and_then(|n| {
             let base = ck.file.parent().map(std::path::Path::to_path_buf).unwrap_or_default();
             let field = format!("materials.{name}.normal_map");
-            if bsdf.kind().transmits() || bsdf.kind().both_sides() {
+            if bsdf.transmits() || bsdf.both_sides() {
                 ck.error(n.span(), field, format!("a normal map around a {}, which transmits, is not supported (normal-map a BSDF that reflects)", bsdf.kind().toml_name()));
                 return None;
             }
@@ -1117,7 +1118,7 @@ fn check_materials(ck: &mut Checker, raw: &RawScene) -> (Vec<Material>, BTreeMap
         let bump_map = m.bump_map.as_ref().and_then(|b| {
             let base = ck.file.parent().map(std::path::Path::to_path_buf).unwrap_or_default();
             let field = format!("materials.{name}.bump_map");
-            if bsdf.kind().transmits() || bsdf.kind().both_sides() {
+            if bsdf.transmits() || bsdf.both_sides() {
                 ck.error(b.span(), field, format!("a bump map around a {}, which transmits, is not supported (bump-map a BSDF that reflects)", bsdf.kind().toml_name()));
                 return None;
             }
@@ -1153,13 +1154,13 @@ fn check_materials(ck: &mut Checker, raw: &RawScene) -> (Vec<Material>, BTreeMap
         let bm = &materials[b];
         let problem = if b == i {
             Some("a material cannot be its own back".to_string())
-        } else if bm.bsdf_kind().transmits() {
+        } else if bm.bsdf.transmits() {
             Some(format!("the back \"{}\" is a {}, which transmits: Mitsuba's twosided nests only BSDFs that reflect", bm.name, bm.bsdf_kind().toml_name()))
         } else if raw.materials.get(back.get_ref()).is_some_and(|r| r.get_ref().back.is_some() || r.get_ref().blend.is_some()) || bm.opacity.is_some() || bm.normal_map.is_some() || bm.bump_map.is_some() || bm.is_emissive() {
             Some(format!("the back \"{}\" must be a plain material: no back, blend, opacity, normal map, bump map or emission of its own", bm.name))
         } else if !materials[i].two_sided {
             Some("a material with a back is two-sided: two_sided = false does not apply".to_string())
-        } else if materials[i].bsdf_kind().transmits() {
+        } else if materials[i].bsdf.transmits() {
             Some(format!("a {} transmits: Mitsuba's twosided nests only BSDFs that reflect", materials[i].bsdf_kind().toml_name()))
         } else {
             None

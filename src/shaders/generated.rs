@@ -115,6 +115,9 @@ pub fn bsdf_dispatch() -> String {
     let mut s = String::new();
     for k in BsdfKind::ALL {
         s += &format!("// Some material is {}: its code is compiled in.\noverride {}: bool = true;\n", k.name(), k.has_override());
+        if k.transmits_by_parameters() {
+            s += &format!("// Some {} material transmits (by its parameters).\noverride {}: bool = true;\n", k.name(), k.transmits_override());
+        }
     }
     let (first, rest) = BsdfKind::ALL.split_first().expect("a kind");
     let is = |k: &BsdfKind| format!("{} && b.kind == BSDF_KIND_{}", k.has_override(), k.stem().to_uppercase());
@@ -149,15 +152,24 @@ pub fn bsdf_dispatch() -> String {
         format!("\n// {doc}\nfn {signature} -> bool {{\n    return {body};\n}}\n")
     };
     let kinds = |filter: fn(&BsdfKind) -> bool| BsdfKind::ALL.iter().filter(|k| filter(k)).map(|k| format!("({})", is(k))).collect::<Vec<_>>();
+    // A kind whose transmission depends on its parameters: where some material of it transmits
+    // (its override), and for a material, its file's `<stem>_transmits(b)`.
+    let by_parameters = |k: &BsdfKind| format!("({} && {})", k.has_override(), k.transmits_override());
+    let material_by_parameters = |k: &BsdfKind| format!("({} && {} && {}_transmits(b))", is(k), k.transmits_override(), k.stem());
     s += &any(
         "Whether some material's BSDF may transmit (refract into the surface): the integrator's\n// two-sided handling of directions compiles in only then.",
         "bsdf_may_transmit()",
-        BsdfKind::ALL.iter().filter(|k| k.transmits()).map(|k| k.has_override().to_string()).collect(),
+        BsdfKind::ALL
+            .iter()
+            .filter(|k| k.transmits())
+            .map(|k| k.has_override().to_string())
+            .chain(BsdfKind::ALL.iter().filter(|k| k.transmits_by_parameters()).map(by_parameters))
+            .collect(),
     );
     s += &any(
-        "Whether the material's BSDF may transmit (a dielectric, rough or smooth, a thin one).",
+        "Whether the material's BSDF may transmit (a dielectric, rough or smooth, a thin one, a\n// principled one with spec_trans).",
         "bsdf_transmits(b: Bsdf)",
-        kinds(|k| k.transmits()),
+        kinds(|k| k.transmits()).into_iter().chain(BsdfKind::ALL.iter().filter(|k| k.transmits_by_parameters()).map(material_by_parameters)).collect(),
     );
     s += &any(
         "Whether the material's only lobe is a delta (next event estimation cannot contribute).",
@@ -167,7 +179,10 @@ pub fn bsdf_dispatch() -> String {
     s += &any(
         "Whether the material transmits through smooth lobes (a rough dielectric): a generic\n// hemisphere strategy then covers both sides.",
         "bsdf_transmits_smoothly(b: Bsdf)",
-        kinds(|k| k.transmits() && !k.is_delta()),
+        kinds(|k| k.transmits() && !k.is_delta())
+            .into_iter()
+            .chain(BsdfKind::ALL.iter().filter(|k| k.transmits_by_parameters() && !k.is_delta()).map(material_by_parameters))
+            .collect(),
     );
     // Textures: each kind's colour slots that may hold one (`BsdfPlugin::TEXTURE_SLOTS`), then
     // its scalar ones (`SCALAR_TEXTURE_SLOTS`).

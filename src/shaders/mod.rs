@@ -48,7 +48,7 @@ pub mod files {
     pub const BSDF: (&str, &str) = ("bsdf.wgsl", include_str!("../../shaders/bsdf.wgsl"));
     pub const TEXTURE: (&str, &str) = ("texture.wgsl", include_str!("../../shaders/texture.wgsl"));
     /// One file per kind of the BSDF registry (`scene::BsdfKind`), in its order.
-    pub const BSDF_KINDS: [(&str, &str); 10] = [
+    pub const BSDF_KINDS: [(&str, &str); 11] = [
         ("bsdfs/phong.wgsl", include_str!("../../shaders/bsdfs/phong.wgsl")),
         ("bsdfs/conductor.wgsl", include_str!("../../shaders/bsdfs/conductor.wgsl")),
         ("bsdfs/rough_conductor.wgsl", include_str!("../../shaders/bsdfs/rough_conductor.wgsl")),
@@ -59,6 +59,7 @@ pub mod files {
         ("bsdfs/rough_plastic.wgsl", include_str!("../../shaders/bsdfs/rough_plastic.wgsl")),
         ("bsdfs/principled.wgsl", include_str!("../../shaders/bsdfs/principled.wgsl")),
         ("bsdfs/polarized_plastic.wgsl", include_str!("../../shaders/bsdfs/polarized_plastic.wgsl")),
+        ("bsdfs/principled_thin.wgsl", include_str!("../../shaders/bsdfs/principled_thin.wgsl")),
     ];
     /// Mitsuba's mask around any kind (`scene::Opacity`): after the kinds.
     pub const MASK: (&str, &str) = ("bsdfs/mask.wgsl", include_str!("../../shaders/bsdfs/mask.wgsl"));

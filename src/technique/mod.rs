@@ -287,7 +287,7 @@ fn phong_configurations(scene: &Scene) -> (Vec<Configuration>, String) {
     let mut materials: Vec<([f64; 3], [f64; 3], f64, f64)> = Vec::new();
     for m in &scene.materials {
         if let Some(p) = m.bsdf.as_phong() {
-            let [_, p1, _] = Bsdf::Phong(p.clone()).pack(&mut BsdfData::default());
+            let [_, p1, _, _] = Bsdf::Phong(p.clone()).pack(&mut BsdfData::default());
             let key = (p.diffuse.to_array(), p.specular.to_array(), p.glossiness, p1[3] as f64);
             if !materials.contains(&key) {
                 materials.push(key);
@@ -323,7 +323,8 @@ fn microfacet_configurations(scene: &Scene) -> (Vec<Configuration>, String) {
             Bsdf::RoughConductor(c) => (c.distribution, c.roughness.alpha, false),
             Bsdf::RoughPlastic(p) => (p.distribution, p.alpha, false),
             Bsdf::RoughDielectric(d) => (d.distribution, d.roughness.alpha, true),
-            Bsdf::Principled(p) => (Distribution::Ggx, p.weight("roughness").powi(2).max(0.001), false),
+            Bsdf::Principled(p) => (Distribution::Ggx, p.weight("roughness").powi(2).max(0.001), m.bsdf.transmits()),
+            Bsdf::PrincipledThin(p) => (Distribution::Ggx, p.weight("roughness").powi(2).max(0.001), false),
             Bsdf::PolarizedPlastic(p) => (p.distribution, p.roughness.alpha, false),
             _ => continue,
         };

@@ -132,6 +132,7 @@ impl Conductor {
             [e.x, e.y, e.z, alpha],
             [k.x, k.y, k.z, distribution.constant() as f32],
             [r.x, r.y, r.z, 0.0],
+            [0.0; 4],
         ]
     }
 }

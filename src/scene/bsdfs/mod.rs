@@ -1,7 +1,7 @@
 //! BSDFs, one file per kind, as Mitsuba 3 lays out `src/bsdfs/`. A kind's Rust file
 //! (`phong.rs`, `conductor.rs`, `rough_conductor.rs`, `dielectric.rs`, `plastic.rs`,
 //! `rough_dielectric.rs`, `thin_dielectric.rs`, `rough_plastic.rs`, `principled.rs`,
-//! `polarized_plastic.rs`) owns
+//! `polarized_plastic.rs`, `principled_thin.rs`) owns
 //! everything the host knows of it: its validated parameters, the fields of its TOML material,
 //! the properties of its Mitsuba plugins, its lines of the scene hash and its parameter block
 //! for the kernel. Its WGSL file,
@@ -33,6 +33,7 @@ mod plastic;
 mod plugin;
 mod polarized_plastic;
 mod principled;
+mod principled_thin;
 mod rough_conductor;
 mod rough_dielectric;
 mod rough_plastic;
@@ -58,6 +59,7 @@ pub use phong::Phong;
 pub use plastic::{fresnel_diffuse_reflectance, Plastic};
 pub use polarized_plastic::PolarizedPlastic;
 pub use principled::{Principled, Weight as PrincipledWeight};
+pub use principled_thin::PrincipledThin;
 pub use rough_conductor::RoughConductor;
 pub use rough_dielectric::RoughDielectric;
 pub use rough_plastic::{CoatingTables, RoughPlastic, TRANSMITTANCE_RES as ROUGH_PLASTIC_TABLE_RES};
@@ -140,6 +142,18 @@ macro_rules! bsdf_registry {
                 match self { $( BsdfKind::$variant => <$ty as BsdfPlugin>::BOTH_SIDES ),+ }
             }
 
+            /// Whether its materials' transmission depends on their parameters
+            /// (`BsdfPlugin::TRANSMITS_BY_PARAMETERS`).
+            pub fn transmits_by_parameters(self) -> bool {
+                match self { $( BsdfKind::$variant => <$ty as BsdfPlugin>::TRANSMITS_BY_PARAMETERS ),+ }
+            }
+
+            /// Whether a material of the kind with these fields (a Mitsuba plugin's, as
+            /// `read_mitsuba` gave them) transmits, or scatters on both sides by its nature.
+            pub(crate) fn fields_transmit_or_both_sides(self, fields: &[(&str, toml::Value)]) -> bool {
+                self.transmits() || self.both_sides() || match self { $( BsdfKind::$variant => <$ty as BsdfPlugin>::fields_transmit(fields) ),+ }
+            }
+
             fn read_fields(self, f: &mut Fields) -> Bsdf {
                 match self { $( BsdfKind::$variant => Bsdf::$variant(<$ty as BsdfPlugin>::from_fields(f)) ),+ }
             }
@@ -174,6 +188,18 @@ macro_rules! bsdf_registry {
             pub fn textures(&self) -> Vec<&crate::scene::Texture> {
                 match self { $( Bsdf::$variant(b) => b.textures() ),+ }
             }
+
+            /// Whether it may transmit (refract into the surface): its kind's `TRANSMITS`, or,
+            /// for a kind whose transmission depends on its parameters, this material's.
+            pub fn transmits(&self) -> bool {
+                match self { $( Bsdf::$variant(b) => b.transmits() ),+ }
+            }
+
+            /// Whether it scatters on both sides: its kind's `BOTH_SIDES`, or a material that
+            /// transmits by its parameters (a principled BSDF with `spec_trans`).
+            pub fn both_sides(&self) -> bool {
+                self.kind().both_sides() || (self.kind().transmits_by_parameters() && self.transmits())
+            }
         }
     };
 }
@@ -201,6 +227,9 @@ bsdf_registry! {
     /// Mitsuba's `pplastic` as its RGB variants render it: rough specular reflection plus a
     /// diffuse base behind two smooth refractions, without internal reflections.
     PolarizedPlastic = "polarized-plastic" => PolarizedPlastic,
+    /// Mitsuba's `principledthin`: the principled BSDF of a thin sheet (specular and diffuse
+    /// transmission without refraction, both sides alike).
+    PrincipledThin = "principled-thin" => PrincipledThin,
 }
 
 impl BsdfKind {
@@ -208,6 +237,13 @@ impl BsdfKind {
     pub fn stem(self) -> &'static str {
         static STEMS: OnceLock<Vec<String>> = OnceLock::new();
         &STEMS.get_or_init(|| BsdfKind::ALL.iter().map(|k| k.name().replace('-', "_")).collect())[self as usize]
+    }
+
+    /// The pipeline constant saying some material of a kind with `TRANSMITS_BY_PARAMETERS`
+    /// transmits (`PRINCIPLED_TRANSMITS`).
+    pub fn transmits_override(self) -> &'static str {
+        static NAMES: OnceLock<Vec<String>> = OnceLock::new();
+        &NAMES.get_or_init(|| BsdfKind::ALL.iter().map(|k| format!("{}_TRANSMITS", k.stem().to_uppercase())).collect())[self as usize]
     }
 
     /// The pipeline constant that compiles the kind in (`HAS_ROUGH_CONDUCTOR`).
@@ -268,6 +304,7 @@ impl Bsdf {
             Bsdf::RoughPlastic(p) => Some(p.distribution),
             Bsdf::Principled(_) => Some(Distribution::Ggx),
             Bsdf::PolarizedPlastic(p) => Some(p.distribution),
+            Bsdf::PrincipledThin(_) => Some(Distribution::Ggx),
             _ => None,
         }
     }
@@ -281,6 +318,7 @@ impl Bsdf {
             Bsdf::RoughDielectric(d) => d.roughness.is_anisotropic(),
             Bsdf::Principled(p) => p.anisotropic.value > 0.0 || p.anisotropic.texture.is_some(),
             Bsdf::PolarizedPlastic(p) => p.roughness.is_anisotropic(),
+            Bsdf::PrincipledThin(p) => p.is_anisotropic(),
             _ => false,
         }
     }

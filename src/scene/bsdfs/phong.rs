@@ -113,6 +113,6 @@ impl BsdfPlugin for Phong {
             None => self.diffuse.as_vec3(),
         };
         let s = self.specular.as_vec3();
-        [[d.x, d.y, d.z, self.glossiness as f32], [s.x, s.y, s.z, p_spec as f32], [0.0; 4]]
+        [[d.x, d.y, d.z, self.glossiness as f32], [s.x, s.y, s.z, p_spec as f32], [0.0; 4], [0.0; 4]]
     }
 }

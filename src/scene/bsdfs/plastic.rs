@@ -160,6 +160,7 @@ impl BsdfPlugin for Plastic {
             [d.x, d.y, d.z, self.eta() as f32],
             [s.x, s.y, s.z, self.specular_sampling_weight() as f32],
             [fdr_int as f32, if self.nonlinear { 1.0 } else { 0.0 }, 0.0, 0.0],
+            [0.0; 4],
         ]
     }
 }

@@ -11,9 +11,9 @@ use crate::scene::checker::Checker;
 use crate::scene::textures::Texture;
 use crate::scene::raw::RawColor;
 
-/// The parameter block of one material's BSDF as the kernel reads it (`Material.p0..p2` in
-/// scene.wgsl): three slots of four numbers, whose meaning the kind's two files agree on.
-pub type BsdfParams = [[f32; 4]; 3];
+/// The parameter block of one material's BSDF as the kernel reads it (`Material.p0..p3` in
+/// scene.wgsl): four slots of four numbers, whose meaning the kind's two files agree on.
+pub type BsdfParams = [[f32; 4]; 4];
 
 /// What each kind of BSDF implements (one file each in `scene/bsdfs/`).
 pub(crate) trait BsdfPlugin: Sized {
@@ -46,6 +46,12 @@ pub(crate) trait BsdfPlugin: Sized {
     /// It scatters on both sides by its nature, as Mitsuba's dielectrics: a material of it is
     /// two-sided whatever a Mitsuba file wraps it in (TOML's `two_sided = false` is refused).
     const BOTH_SIDES: bool = false;
+    /// Whether a material of it transmits depends on its parameters (principled's
+    /// `spec_trans`): one that does (`transmits`) is treated as a kind with `TRANSMITS` and
+    /// `BOTH_SIDES`; the kernel's two-sided handling compiles in by the override
+    /// `<STEM>_TRANSMITS` where some material of the scene does, and the kind's WGSL file has
+    /// `<stem>_transmits(b: Bsdf) -> bool`, whether material b does.
+    const TRANSMITS_BY_PARAMETERS: bool = false;
     /// The slots of its parameter block (0, 1, 2: `p0`..`p2`) whose colour (`xyz`) may be a
     /// texture reference (`textures::Texture`, packed by `pack`): the kernel looks them up at
     /// the hit before the kind's code runs.
@@ -67,6 +73,16 @@ pub(crate) trait BsdfPlugin: Sized {
     /// Its parameters' textures.
     fn textures(&self) -> Vec<&Texture> {
         Vec::new()
+    }
+    /// Whether this material transmits: `TRANSMITS`, or by its parameters where
+    /// `TRANSMITS_BY_PARAMETERS`.
+    fn transmits(&self) -> bool {
+        Self::TRANSMITS
+    }
+    /// Whether a material of the fields `from_mitsuba` gave transmits (as `transmits` of the
+    /// material they make).
+    fn fields_transmit(_fields: &[(&str, toml::Value)]) -> bool {
+        Self::TRANSMITS
     }
     /// Some parameter is a texture, read at the hit's uv parametrisation: the kernel then
     /// computes uvs and resolves textured slots (`SceneFeatures::has_uvs`).

@@ -148,6 +148,7 @@ impl BsdfPlugin for PolarizedPlastic {
             [d.x, d.y, d.z, self.eta as f32],
             [s.x, s.y, s.z, self.specular_sampling_weight() as f32],
             [self.roughness.pack(data), self.distribution.constant() as f32, 0.0, self.roughness.pack_v(data)],
+            [0.0; 4],
         ]
     }
 }

@@ -49,14 +49,21 @@ const DEFAULT_SPECULAR: f64 = 0.5;
 const WEIGHTS: [&str; 7] = ["roughness", "metallic", "spec_tint", "sheen", "sheen_tint", "clearcoat", "clearcoat_gloss"];
 /// Where each of `WEIGHTS` lives in the parameter block (slot, component).
 const WEIGHT_SLOTS: [(usize, usize); 7] = [(0, 3), (1, 0), (1, 1), (1, 2), (1, 3), (2, 0), (2, 1)];
-/// The scalar texture slots: the weights', then `anisotropic`'s (p2.z).
-const SCALAR_SLOTS: [(usize, usize); 8] = [WEIGHT_SLOTS[0], WEIGHT_SLOTS[1], WEIGHT_SLOTS[2], WEIGHT_SLOTS[3], WEIGHT_SLOTS[4], WEIGHT_SLOTS[5], WEIGHT_SLOTS[6], (2, 2)];
+/// The scalar texture slots: the weights', then `anisotropic`'s (p2.z), then `spec_trans`'s
+/// (p3.x).
+const SCALAR_SLOTS: [(usize, usize); 9] = [WEIGHT_SLOTS[0], WEIGHT_SLOTS[1], WEIGHT_SLOTS[2], WEIGHT_SLOTS[3], WEIGHT_SLOTS[4], WEIGHT_SLOTS[5], WEIGHT_SLOTS[6], (2, 2), (3, 0)];
 /// The numbers that must be constants: the fake subsurface blend and the sampling rates.
 const RATES: [&str; 3] = ["main_specular_sampling_rate", "clearcoat_sampling_rate", "diffuse_reflectance_sampling_rate"];
-/// The lobes pathlab refuses unless 0, with why.
-const REFUSED: [(&str, &str); 1] = [
-    ("spec_trans", "specular transmission of the principled BSDF is not supported yet: give 0 (a glass is <bsdf type=\"roughdielectric\">)"),
-];
+/// Mitsuba's index of a principled BSDF that transmits: an index of 1 (or a `specular` of 0)
+/// refracts nothing and is not plausible for transmission, so Mitsuba takes 1.001 (a `specular`
+/// of 1e-3) instead.
+fn transmissive_eta(eta: f64, from_specular: bool) -> f64 {
+    match (eta == 1.0, from_specular) {
+        (true, true) => eta_from_specular(1e-3),
+        (true, false) => 1.001,
+        (false, _) => eta,
+    }
+}
 
 /// One of the principled BSDF's scalar parameters: a number, or a texture of it (Mitsuba's
 /// `eval_1` at the hit; `value` is then its mean).
@@ -67,19 +74,63 @@ pub struct Weight {
 }
 
 impl Weight {
-    fn constant(value: f64) -> Weight {
+    pub(super) fn constant(value: f64) -> Weight {
         Weight { value, texture: None }
     }
 
     /// Its number in the parameter block: the value, or -(start + 1) of its texture's record.
-    fn pack(&self, data: &mut BsdfData) -> f32 {
+    pub(super) fn pack(&self, data: &mut BsdfData) -> f32 {
         match &self.texture {
             Some(t) => -(t.pack(data) as f32) - 1.0,
             None => self.value as f32,
         }
     }
 
-    fn hash_value(&self) -> String {
+    /// TOML field `name`: a texture table (read as Mitsuba's `eval_1`; `value` is its mean's
+    /// luminance), a number checked by `problem`, or `default` where not given.
+    pub(super) fn from_field(f: &mut Fields, name: &str, default: f64, problem: impl Fn(f64) -> Option<String>) -> Weight {
+        if f.is_table(name) {
+            let (_, t) = f.color_or_texture(name, DVec3::ZERO);
+            let t = t.map(Texture::scalar);
+            let value = t.as_ref().map_or(default, |t| luminance(t.mean()));
+            return Weight { value, texture: t };
+        }
+        match f.number(name) {
+            None => Weight::constant(default),
+            Some(v) => {
+                if let Some(problem) = problem(*v.get_ref()) {
+                    f.error(v.span(), name, problem);
+                }
+                Weight::constant(*v.get_ref())
+            }
+        }
+    }
+
+    /// Mitsuba property `name` as a TOML field pushed to `fields`: a nested texture, or a float
+    /// checked by `problem`; false where it was refused.
+    pub(super) fn mitsuba_field(p: &mut dyn PluginProps, name: &'static str, problem: impl Fn(f64) -> Option<String>, fields: &mut Vec<(&'static str, toml::Value)>) -> bool {
+        if p.has_texture(name) {
+            if let Some(t) = p.color_or_texture(name) {
+                fields.push((name, t));
+            }
+            return true;
+        }
+        match p.float(name) {
+            Some((v, at)) => match problem(v) {
+                Some(problem) => {
+                    p.error(at, name, problem);
+                    false
+                }
+                None => {
+                    fields.push((name, toml::Value::Float(v)));
+                    true
+                }
+            },
+            None => true,
+        }
+    }
+
+    pub(super) fn hash_value(&self) -> String {
         match &self.texture {
             None => real(self.value),
             Some(t) => format!("{} {}", real(self.value), t.hash_value(vec3)),
@@ -102,6 +153,10 @@ pub struct Principled {
     /// of alpha (max(0.001, r^2 / aspect), max(0.001, r^2 aspect)) along dp/du and across it,
     /// aspect = sqrt(1 - 0.9 anisotropic); 0: isotropic.
     pub anisotropic: Weight,
+    /// Mitsuba's `spec_trans` in [0, 1] (a number or a texture): the weight of the rough
+    /// dielectric transmission lobe; given other than the number 0 (Mitsuba's has_spec_trans),
+    /// the material transmits and scatters on both sides.
+    pub spec_trans: Weight,
     /// main_specular, clearcoat, diffuse_reflectance sampling rates.
     pub rates: [f64; 3],
 }
@@ -122,13 +177,45 @@ fn specular_problem(v: f64) -> Option<String> {
     (!(0.0..12.5).contains(&v)).then(|| format!("`specular` must be in [0, 12.5) (it gives eta = 2 / (1 - sqrt(0.08 specular)) - 1; got {v})"))
 }
 
-fn eta_problem(v: f64) -> Option<String> {
+pub(super) fn eta_problem(v: f64) -> Option<String> {
     (!(v.is_finite() && v > 0.0)).then(|| format!("`eta` must be a finite number > 0 (got {v})"))
+}
+
+/// The sampling rates `names` from TOML fields, 1 where not given, each checked by
+/// `rate_problem`.
+pub(super) fn rates_from_fields<const N: usize>(f: &mut Fields, names: [&str; N]) -> [f64; N] {
+    names.map(|name| match f.number(name) {
+        None => 1.0,
+        Some(v) => {
+            if let Some(problem) = rate_problem(name, *v.get_ref()) {
+                f.error(v.span(), name, problem);
+            }
+            *v.get_ref()
+        }
+    })
+}
+
+/// The sampling rates `names` of a Mitsuba plugin as TOML fields pushed to `fields`; false where
+/// one was refused.
+pub(super) fn mitsuba_rates(p: &mut dyn PluginProps, names: &[&'static str], fields: &mut Vec<(&'static str, toml::Value)>) -> bool {
+    let mut ok = true;
+    for &name in names {
+        if let Some((v, at)) = p.float(name) {
+            match rate_problem(name, v) {
+                Some(problem) => {
+                    p.error(at, name, problem);
+                    ok = false;
+                }
+                None => fields.push((name, toml::Value::Float(v))),
+            }
+        }
+    }
+    ok
 }
 
 /// Why a sampling rate is refused: a lobe that its own sampling never picks is found only by
 /// paths that end on a light, which would bias every other path (Mitsuba allows 0).
-fn rate_problem(name: &str, v: f64) -> Option<String> {
+pub(super) fn rate_problem(name: &str, v: f64) -> Option<String> {
     (!(v.is_finite() && v > 0.0)).then(|| {
         format!("`{name}` must be a finite number > 0 (got {v}): a lobe its sampling never picks would be missed by every bounce that does not end on a light")
     })
@@ -165,8 +252,19 @@ impl BsdfPlugin for Principled {
     const MITSUBA_PLUGINS: &'static [&'static str] = &["principled"];
     const IS_DELTA: bool = false;
     const MICROFACETS: bool = true;
+    const TRANSMITS_BY_PARAMETERS: bool = true;
     const TEXTURE_SLOTS: &'static [usize] = &[0];
     const SCALAR_TEXTURE_SLOTS: &'static [(usize, usize)] = &SCALAR_SLOTS;
+
+    /// Mitsuba's has_spec_trans: `spec_trans` given other than the number 0 (a texture that is 0
+    /// somewhere still transmits: its back side is the dielectric's).
+    fn transmits(&self) -> bool {
+        self.spec_trans.texture.is_some() || self.spec_trans.value != 0.0
+    }
+
+    fn fields_transmit(fields: &[(&str, toml::Value)]) -> bool {
+        fields.iter().any(|(k, v)| *k == "spec_trans" && (v.is_table() || v.as_float().is_some_and(|x| x != 0.0) || v.as_integer().is_some_and(|x| x != 0)))
+    }
 
     fn from_fields(f: &mut Fields) -> Principled {
         let (base_color, base_color_texture) =
@@ -174,23 +272,8 @@ impl BsdfPlugin for Principled {
         if base_color.max_element() > 1.0 {
             f.warn_material(format!("base_color = {:?} exceeds 1: the material is not energy conserving", base_color.to_array()));
         }
-        let weights = WEIGHTS.map(|name| {
-            if f.is_table(name) {
-                let (_, t) = f.color_or_texture(name, DVec3::ZERO);
-                let t = t.map(Texture::scalar);
-                let value = t.as_ref().map_or(default_weight(name), |t| luminance(t.mean()));
-                return Weight { value, texture: t };
-            }
-            match f.number(name) {
-                None => Weight::constant(default_weight(name)),
-                Some(v) => {
-                    if let Some(problem) = weight_problem(name, *v.get_ref()) {
-                        f.error(v.span(), name, problem);
-                    }
-                    Weight::constant(*v.get_ref())
-                }
-            }
-        });
+        let weights = WEIGHTS.map(|name| Weight::from_field(f, name, default_weight(name), |v| weight_problem(name, v)));
+        let from_specular = !f.has("eta");
         let eta = match (f.number("specular"), f.number("eta")) {
             (Some(_), Some(e)) => {
                 f.error(e.span(), "eta", "give `eta` or `specular`, not both (each sets the index of the other; Mitsuba refuses both too)");
@@ -210,50 +293,22 @@ impl BsdfPlugin for Principled {
             }
             (None, None) => eta_from_specular(DEFAULT_SPECULAR),
         };
-        // `anisotropic` may be a texture (Mitsuba's eval_1 at the hit); `flatness` is a number.
-        let [flatness, anisotropic] = ["flatness", "anisotropic"].map(|name| {
-            if f.is_table(name) {
-                if name == "anisotropic" {
-                    let (_, t) = f.color_or_texture(name, DVec3::ZERO);
-                    let t = t.map(Texture::scalar);
-                    let value = t.as_ref().map_or(0.0, |t| luminance(t.mean()));
-                    return Weight { value, texture: t };
-                }
+        // `anisotropic` and `spec_trans` may be textures (Mitsuba's eval_1 at the hit);
+        // `flatness` is a number.
+        let [flatness, anisotropic, spec_trans] = ["flatness", "anisotropic", "spec_trans"].map(|name| {
+            if name == "flatness" && f.is_table(name) {
                 let span = f.span_of(name);
                 f.error(span, name, format!("a textured `{name}` is not supported: give a number in [0, 1]"));
                 return Weight::constant(0.0);
             }
-            match f.number(name) {
-                None => Weight::constant(0.0),
-                Some(v) => {
-                    if let Some(problem) = weight_problem(name, *v.get_ref()) {
-                        f.error(v.span(), name, problem);
-                    }
-                    Weight::constant(*v.get_ref())
-                }
-            }
+            Weight::from_field(f, name, 0.0, |v| weight_problem(name, v))
         });
         let flatness = flatness.value;
-        for (name, why) in REFUSED {
-            if f.is_table(name) {
-                let span = f.span_of(name);
-                f.error(span, name, format!("a texture: {why}"));
-            } else if let Some(v) = f.number(name) {
-                if *v.get_ref() != 0.0 {
-                    f.error(v.span(), name, why);
-                }
-            }
-        }
-        let rates = RATES.map(|name| match f.number(name) {
-            None => 1.0,
-            Some(v) => {
-                if let Some(problem) = rate_problem(name, *v.get_ref()) {
-                    f.error(v.span(), name, problem);
-                }
-                *v.get_ref()
-            }
-        });
-        Principled { base_color, base_color_texture, weights, eta, flatness, anisotropic, rates }
+        // Mitsuba's has_spec_trans: `spec_trans` given other than the number 0.
+        let transmits = spec_trans.texture.is_some() || spec_trans.value != 0.0;
+        let eta = if transmits { transmissive_eta(eta, from_specular) } else { eta };
+        let rates = rates_from_fields(f, RATES);
+        Principled { base_color, base_color_texture, weights, eta, flatness, anisotropic, spec_trans, rates }
     }
 
     fn from_mitsuba(p: &mut dyn PluginProps) -> Option<Vec<(&'static str, toml::Value)>> {
@@ -263,25 +318,14 @@ impl BsdfPlugin for Principled {
             fields.push(("base_color", c));
         }
         // A number in [0, 1], or a texture (its value at the hit, Mitsuba's eval_1).
-        for name in WEIGHTS.into_iter().chain(["flatness", "anisotropic"]) {
-            if p.has_texture(name) {
-                if name == "flatness" {
-                    p.error(p.at(), name, format!("a textured `{name}` is not supported (give a <float>)"));
-                    ok = false;
-                } else if let Some(t) = p.color_or_texture(name) {
-                    fields.push((name, t));
-                }
+        for name in WEIGHTS.into_iter().chain(["flatness", "anisotropic", "spec_trans"]) {
+            if name == "flatness" && p.has_texture(name) {
+                p.error(p.at(), name, format!("a textured `{name}` is not supported (give a <float>)"));
+                let _ = p.color_or_texture(name);
+                ok = false;
                 continue;
             }
-            if let Some((v, at)) = p.float(name) {
-                match weight_problem(name, v) {
-                    Some(problem) => {
-                        p.error(at, name, problem);
-                        ok = false;
-                    }
-                    None => fields.push((name, toml::Value::Float(v))),
-                }
-            }
+            ok &= Weight::mitsuba_field(p, name, |v| weight_problem(name, v), &mut fields);
         }
         match (p.float("specular"), p.float("eta")) {
             (Some(_), Some((_, at))) => {
@@ -304,31 +348,10 @@ impl BsdfPlugin for Principled {
             },
             (None, None) => {}
         }
-        for (name, why) in REFUSED {
-            if p.has_texture(name) {
-                p.error(p.at(), name, format!("a textured `{name}`: {why}"));
-                ok = false;
-            } else if let Some((v, at)) = p.float(name) {
-                if v != 0.0 {
-                    p.error(at, name, format!("`{name}` = {v}: {why}"));
-                    ok = false;
-                }
-            }
-        }
-        for name in RATES {
-            if let Some((v, at)) = p.float(name) {
-                match rate_problem(name, v) {
-                    Some(problem) => {
-                        p.error(at, name, problem);
-                        ok = false;
-                    }
-                    None => fields.push((name, toml::Value::Float(v))),
-                }
-            }
-        }
+        ok &= mitsuba_rates(p, &RATES, &mut fields);
         p.finish(
             "base_color, roughness, metallic, spec_tint, sheen, sheen_tint, clearcoat, clearcoat_gloss, specular or eta, flatness, \
-             anisotropic, spec_trans (0 only), main_specular_sampling_rate, clearcoat_sampling_rate, diffuse_reflectance_sampling_rate",
+             anisotropic, spec_trans, main_specular_sampling_rate, clearcoat_sampling_rate, diffuse_reflectance_sampling_rate",
         );
         ok.then_some(fields)
     }
@@ -348,10 +371,14 @@ impl BsdfPlugin for Principled {
             line("principled.anisotropic", self.anisotropic.hash_value());
         }
         line("principled.rates", self.rates.map(real).join(" "));
+        // Only one that transmits adds a line: every other scene keeps its hash.
+        if self.transmits() {
+            line("principled.spec_trans", self.spec_trans.hash_value());
+        }
     }
 
     fn textures(&self) -> Vec<&Texture> {
-        self.base_color_texture.iter().chain(self.weights.iter().chain([&self.anisotropic]).filter_map(|w| w.texture.as_ref())).collect()
+        self.base_color_texture.iter().chain(self.weights.iter().chain([&self.anisotropic, &self.spec_trans]).filter_map(|w| w.texture.as_ref())).collect()
     }
 
     /// `p0 = (base_color, roughness)`, `p1 = (metallic, spec_tint, sheen, sheen_tint)`, `p2 =
@@ -365,8 +392,9 @@ impl BsdfPlugin for Principled {
         };
         let w = self.weights.clone().map(|w| w.pack(data));
         let anisotropic = self.anisotropic.pack(data);
+        let spec_trans = self.spec_trans.pack(data);
         let first = data.push(&[self.flatness as f32, self.rates[0] as f32, self.rates[1] as f32, self.rates[2] as f32, self.eta as f32]);
-        [[c.x, c.y, c.z, w[0]], [w[1], w[2], w[3], w[4]], [w[5], w[6], anisotropic, first as f32]]
+        [[c.x, c.y, c.z, w[0]], [w[1], w[2], w[3], w[4]], [w[5], w[6], anisotropic, first as f32], [spec_trans, if self.transmits() { 1.0 } else { 0.0 }, 0.0, 0.0]]
     }
 }
 
@@ -386,6 +414,7 @@ impl Principled {
             eta: eta_from_specular(DEFAULT_SPECULAR),
             flatness: 0.0,
             anisotropic: Weight::constant(0.0),
+            spec_trans: Weight::constant(0.0),
             rates: [1.0; 3],
         }
     }

@@ -92,6 +92,6 @@ impl BsdfPlugin for RoughDielectric {
     /// (a number or a texture's reference) or -0.0 where isotropic, 0, 0)`: the layout of WGSL's `rough_dielectric_of`.
     fn pack(&self, data: &mut BsdfData) -> BsdfParams {
         let [r, t] = self.textures.pack(self.reflectance, self.transmittance, data);
-        [[r.x, r.y, r.z, self.eta() as f32], [t.x, t.y, t.z, self.roughness.pack(data)], [self.distribution.constant() as f32, self.roughness.pack_v(data), 0.0, 0.0]]
+        [[r.x, r.y, r.z, self.eta() as f32], [t.x, t.y, t.z, self.roughness.pack(data)], [self.distribution.constant() as f32, self.roughness.pack_v(data), 0.0, 0.0], [0.0; 4]]
     }
 }

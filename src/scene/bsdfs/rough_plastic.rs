@@ -162,6 +162,7 @@ impl BsdfPlugin for RoughPlastic {
             [d.x, d.y, d.z, p.eta() as f32],
             [s.x, s.y, s.z, p.specular_sampling_weight() as f32],
             [self.alpha as f32, self.distribution.constant() as f32, if p.nonlinear { 1.0 } else { 0.0 }, first as f32],
+            [0.0; 4],
         ]
     }
 }

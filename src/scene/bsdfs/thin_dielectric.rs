@@ -123,6 +123,6 @@ impl BsdfPlugin for ThinDielectric {
     /// `thin_dielectric_of`.
     fn pack(&self, data: &mut BsdfData) -> BsdfParams {
         let [r, t] = self.textures.pack(self.reflectance, self.transmittance, data);
-        [[r.x, r.y, r.z, self.eta() as f32], [t.x, t.y, t.z, 0.0], [0.0; 4]]
+        [[r.x, r.y, r.z, self.eta() as f32], [t.x, t.y, t.z, 0.0], [0.0; 4], [0.0; 4]]
     }
 }

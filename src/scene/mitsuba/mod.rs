@@ -1586,7 +1586,7 @@ impl Translator<'_> {
                         // Mitsuba: "Only materials without a transmission component can be
                         // nested!"; a mask or a twosided inside one side pathlab does not model.
                         for (side, o, bsdf) in [("front", front, &f), ("back", back, &b)] {
-                            if bsdf.kind.transmits() || bsdf.kind.both_sides() {
+                            if bsdf.kind.fields_transmit_or_both_sides(&bsdf.fields) {
                                 self.error(o.at, "type", format!("the {side} of a <bsdf type=\"twosided\"> with two BSDFs is a {}, which transmits: only BSDFs that reflect can be nested (Mitsuba refuses it too)", o.plugin));
                                 return None;
                             }
@@ -1747,7 +1747,7 @@ impl Translator<'_> {
                     self.error(one.at, "type", format!("the BSDF inside a <bsdf type=\"{kind}\"> must be one plain BSDF (a mask or twosided may wrap the {noun} instead)"));
                     return None;
                 }
-                if b.kind.transmits() || b.kind.both_sides() {
+                if b.kind.fields_transmit_or_both_sides(&b.fields) {
                     self.error(one.at, "type", format!("a {noun} around a <bsdf type=\"{}\">, which transmits, is not supported ({verb} a BSDF that reflects)", one.plugin));
                     return None;
                 }
@@ -1848,7 +1848,7 @@ impl Translator<'_> {
             back,
             emission: emission.clone().map(|e| spanned(at, e)),
             // A kind that scatters on both sides by its nature is two-sided unwrapped.
-            two_sided: if bsdf.two_sided || bsdf.kind.both_sides() { None } else { Some(spanned(at, false)) },
+            two_sided: if bsdf.two_sided || bsdf.kind.fields_transmit_or_both_sides(&bsdf.fields) { None } else { Some(spanned(at, false)) },
             bsdf: (bsdf.kind != BsdfKind::ALL[0]).then(|| spanned(at, bsdf.kind.toml_name().to_string())),
             params: bsdf.fields.iter().map(|(k, v)| (k.to_string(), spanned(at, v.clone()))).collect(),
             opacity: bsdf.opacity.clone().map(|o| spanned(at, o)),
