@@ -36,25 +36,33 @@ fn texture_context(hit: Hit, p: vec3f) -> TextureEvalContext {
     return TextureEvalContext(hit.uv, p, select(INVALID, hit.object - first_triangle_object(), on_triangle), hit.bary);
 }
 
-// The first object index of the quadrics (disks, then cylinders).
+// The first object index of the quadrics (disks, then cylinders, then curve segments).
 fn first_quadric_object() -> u32 {
     return NUM_SPHERES + NUM_PLANES;
 }
 
 // The first object index of the triangles.
 fn first_triangle_object() -> u32 {
-    return NUM_SPHERES + NUM_PLANES + NUM_DISKS + NUM_CYLINDERS;
+    return NUM_SPHERES + NUM_PLANES + num_quadrics();
+}
+
+// The number of quadrics.
+fn num_quadrics() -> u32 {
+    return NUM_DISKS + NUM_CYLINDERS + NUM_CURVE_SEGMENTS;
 }
 
 // Whether an object index (not INVALID) names a quadric.
 fn is_quadric(object: u32) -> bool {
-    return NUM_DISKS + NUM_CYLINDERS > 0u && object >= first_quadric_object() && object < first_triangle_object();
+    return num_quadrics() > 0u && object >= first_quadric_object() && object < first_triangle_object();
 }
 
 // The unit normal of quadric k at world point p of it.
 fn quadric_normal(k: u32, q: Quadric, p: vec3f) -> vec3f {
     if (k < NUM_DISKS) {
         return q.normal;
+    }
+    if (NUM_CURVE_SEGMENTS > 0u && k >= NUM_DISKS + NUM_CYLINDERS) {
+        return linear_curve_normal(q, p);
     }
     return cylinder_normal(q, p);
 }
@@ -64,6 +72,9 @@ fn quadric_uv(k: u32, q: Quadric, p: vec3f) -> vec2f {
     if (k < NUM_DISKS) {
         return disk_uv(q, p);
     }
+    if (NUM_CURVE_SEGMENTS > 0u && k >= NUM_DISKS + NUM_CYLINDERS) {
+        return linear_curve_uv(q, p);
+    }
     return cylinder_uv(q, p);
 }
 
@@ -71,6 +82,9 @@ fn quadric_uv(k: u32, q: Quadric, p: vec3f) -> vec2f {
 fn quadric_tangent(k: u32, q: Quadric, p: vec3f) -> vec3f {
     if (k < NUM_DISKS) {
         return disk_tangent(q, p);
+    }
+    if (NUM_CURVE_SEGMENTS > 0u && k >= NUM_DISKS + NUM_CYLINDERS) {
+        return linear_curve_partials(q, p).du;
     }
     return cylinder_tangent(q, p);
 }
@@ -152,6 +166,9 @@ fn sphere_partials(i: u32, n: vec3f) -> Partials {
 // sin phi, 0) and 2 pi r to_world (-sin phi, cos phi, 0) (both of (0, 0, 0)'s direction at the
 // centre); a cylinder's (cylinder.cpp) to_world 2 pi (-l.y, l.x, 0) and to_world (0, 0, 1).
 fn quadric_partials(k: u32, q: Quadric, p: vec3f) -> Partials {
+    if (NUM_CURVE_SEGMENTS > 0u && k >= NUM_DISKS + NUM_CYLINDERS) {
+        return linear_curve_partials(q, p);
+    }
     let l = quadric_point_to_object(q, p);
     if (k < NUM_DISKS) {
         let r2 = dot(l.xy, l.xy);
@@ -224,7 +241,7 @@ fn intersect_scene(o: vec3f, d: vec3f) -> Hit {
         tangent = select(plane_tangent(plane_normal), sphere_tangent(object, sphere_normal), object < NUM_SPHERES);
     }
     var hit = Hit(t_hit, normal, material, object, normal, uv, tangent, 0.0, vec2f(0.0));
-    if (NUM_DISKS + NUM_CYLINDERS > 0u) {
+    if (num_quadrics() > 0u) {
         // Quadrics in loops of their own, as spheres: a lane-uniform index, read as broadcasts.
         var quadric = INVALID;
         for (var k = 0u; k < NUM_DISKS; k++) {
@@ -235,6 +252,12 @@ fn intersect_scene(o: vec3f, d: vec3f) -> Hit {
         }
         for (var k = NUM_DISKS; k < NUM_DISKS + NUM_CYLINDERS; k++) {
             let t = intersect_cylinder(surfaces.quadrics[k], o, d, 0.0, hit.t);
+            let closer = t > 0.0;
+            hit.t = select(hit.t, t, closer);
+            quadric = select(quadric, k, closer);
+        }
+        for (var k = NUM_DISKS + NUM_CYLINDERS; k < num_quadrics(); k++) {
+            let t = intersect_linear_curve(surfaces.quadrics[k], o, d, 0.0, hit.t);
             let closer = t > 0.0;
             hit.t = select(hit.t, t, closer);
             quadric = select(quadric, k, closer);
@@ -295,6 +318,9 @@ fn occluded(o: vec3f, d: vec3f, t_max: f32, skip: u32) -> bool {
     }
     for (var k = NUM_DISKS; k < NUM_DISKS + NUM_CYLINDERS; k++) {
         blocked = blocked | (intersect_cylinder(surfaces.quadrics[k], o, d, 0.0, t_max) > 0.0);
+    }
+    for (var k = NUM_DISKS + NUM_CYLINDERS; k < num_quadrics(); k++) {
+        blocked = blocked | (intersect_linear_curve(surfaces.quadrics[k], o, d, 0.0, t_max) > 0.0);
     }
     if (NUM_TRIANGLES > 0u && !blocked) {
         blocked = triangles_closest(o, d, t_max, true).index != INVALID;

@@ -67,6 +67,8 @@ fn every_override_permutation_validates() {
                                     num_planes,
                                     num_disks,
                                     num_cylinders,
+                                    // Curve segments with the cylinders.
+                                    num_curve_segments: num_cylinders,
                                     num_sphere_lights,
                                     num_triangle_lights: triangle_lights,
                                     num_disk_lights,

@@ -50,6 +50,7 @@ mod projected_lights;
 mod polarized_plastics;
 mod principled;
 mod quadrics;
+mod linear_curves;
 mod render_presets;
 mod rough_plastics;
 mod serialized_meshes;

@@ -181,8 +181,9 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
         f.num_triangles,
         f.num_triangle_lights,
         if f.has_shading_normals { ", with vertex normals" } else { "" },
-        if f.num_disks + f.num_cylinders > 0 {
-            format!("{} disks ({} lights), {} cylinders, ", f.num_disks, f.num_disk_lights, f.num_cylinders)
+        if f.num_disks + f.num_cylinders + f.num_curve_segments > 0 {
+            let curves = if f.num_curve_segments > 0 { format!("{} curve segments, ", f.num_curve_segments) } else { String::new() };
+            format!("{} disks ({} lights), {} cylinders, {curves}", f.num_disks, f.num_disk_lights, f.num_cylinders)
         } else {
             String::new()
         },

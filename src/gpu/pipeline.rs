@@ -71,6 +71,7 @@ pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
         ("NUM_PLANES", f.num_planes as f64),
         ("NUM_DISKS", f.num_disks as f64),
         ("NUM_CYLINDERS", f.num_cylinders as f64),
+        ("NUM_CURVE_SEGMENTS", f.num_curve_segments as f64),
         ("NUM_TRIANGLES", f.num_triangles as f64),
         ("HAS_SHADING_NORMALS", f.has_shading_normals as u32 as f64),
         ("HAS_UVS", f.has_uvs as u32 as f64),
@@ -172,7 +173,7 @@ pub fn loop_iterations_per_sample(key: &PipelineKey, max_depth: u32, bvh_nodes: 
     use crate::method::Sampler;
     let f = &key.features;
     // Quadrics are tested in loops of their own, as spheres are.
-    let (s, p, l) = ((f.num_spheres + f.num_disks + f.num_cylinders) as u64, f.num_planes as u64, f.num_lights() as u64);
+    let (s, p, l) = ((f.num_spheres + f.num_disks + f.num_cylinders + f.num_curve_segments) as u64, f.num_planes as u64, f.num_lights() as u64);
     // Iterations of one sample_1d call: Sobol' has no loop; Halton reverses at most 21 + 1
     // digits (base 3); Owen-scrambled Halton expands ~24 bits of digits, each with a few
     // rejection rounds of the hashed permutation.

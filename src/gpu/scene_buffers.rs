@@ -573,7 +573,18 @@ impl SceneBuffers {
             .map(|(k, i)| {
                 let q = &scene.quadrics[i];
                 let sign = if q.flip_normals { -1.0 } else { 1.0 };
-                let ([object_x, object_y, object_z], [world_x, world_y, world_z]) = (rows(q.to_object()), rows(q.to_world));
+                let ([object_x, object_y, object_z], [world_x, world_y, world_z]) = match &q.curve {
+                    // A curve segment (quadrics/linear_curve.wgsl's layout): its ends and radii,
+                    // the frame of the angle around its axis, its number and the shape's count,
+                    // whether it starts its curve.
+                    Some(c) => {
+                        let axis = c.axis();
+                        let (u_rot, u_rad) = crate::scene::quadrics::angle_frame(axis);
+                        let v4 = |v: DVec3, w: f64| [v.x as f32, v.y as f32, v.z as f32, w as f32];
+                        ([v4(c.p0, c.r0), v4(c.p1, c.r1), v4(u_rot, c.index as f64)], [v4(u_rad, c.count as f64), v4(axis, if c.first { 1.0 } else { 0.0 }), [0.0; 4]])
+                    }
+                    None => (rows(q.to_object()), rows(q.to_world)),
+                };
                 GpuQuadric {
                     object_x,
                     object_y,

@@ -30,6 +30,9 @@ pub(crate) struct RawScene {
     pub disks: Vec<Spanned<RawShape>>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub cylinders: Vec<Spanned<RawCylinder>>,
+    /// `[[linear_curves]]`: Mitsuba's `linearcurve`, tubes along the polylines of a curve file.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub linear_curves: Vec<Spanned<RawCurve>>,
     /// `[environment_map]`: Mitsuba's `envmap`.
     pub environment_map: Option<Spanned<RawEnvironmentMap>>,
     /// `[techniques]`: researchers' sampling techniques loaded with the scene.
@@ -188,6 +191,17 @@ pub(crate) struct RawShape {
     pub transform: Option<Spanned<RawTransform>>,
     pub flip_normals: Option<Spanned<bool>>,
     pub two_sided_emission: Option<Spanned<bool>>,
+}
+
+/// `[[linear_curves]]`: Mitsuba's `linearcurve`: the curves of `file` (relative to the scene
+/// file; Mitsuba's text format, a control point `x y z radius` per line, a blank line between
+/// curves), their points moved by `transform` (their radii kept, as Mitsuba does).
+#[derive(Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawCurve {
+    pub file: Spanned<String>,
+    pub material: Spanned<String>,
+    pub transform: Option<Spanned<RawTransform>>,
 }
 
 /// `[[cylinders]]`: Mitsuba's `cylinder` from `p0` (default the origin) to `p1` (default

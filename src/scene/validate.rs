@@ -675,6 +675,7 @@ fn check_quadrics(ck: &mut Checker, raw: &RawScene, materials: &[Material], reso
             flip_normals: flag(&s.flip_normals),
             material,
             two_sided_emission: flag(&s.two_sided_emission),
+            curve: None,
         });
     }
     for (i, c) in raw.cylinders.iter().enumerate() {
@@ -720,11 +721,60 @@ fn check_quadrics(ck: &mut Checker, raw: &RawScene, materials: &[Material], reso
         if uneven && materials.get(material).is_some_and(Material::is_emissive) {
             ck.error(at.clone(), format!("{table}.transform"), format!("material \"{}\" emits light: an emissive cylinder must not be sheared or scaled unevenly across its axis (its area, and so its sampling density, would be Mitsuba's approximation)", c.material.get_ref()));
         }
-        quadrics.push(Quadric { kind: QuadricKind::Cylinder, to_world, flip_normals: flag(&c.flip_normals), material, two_sided_emission: flag(&c.two_sided_emission) });
+        quadrics.push(Quadric { kind: QuadricKind::Cylinder, to_world, flip_normals: flag(&c.flip_normals), material, two_sided_emission: flag(&c.two_sided_emission), curve: None });
+    }
+    let base = ck.file.parent().map(Path::to_path_buf).unwrap_or_default();
+    for (i, c) in raw.linear_curves.iter().enumerate() {
+        let table = format!("linear_curves[{i}]");
+        let c = c.get_ref();
+        let material = resolve(ck, &c.material, &format!("{table}.material"));
+        refuse_mesh_only_material(ck, materials, material, &c.material, &format!("{table}.material"), "linear curve");
+        if materials.get(material).is_some_and(Material::is_emissive) {
+            ck.error(c.material.span(), format!("{table}.material"), format!("material \"{}\" emits light: a curve cannot be a light (Mitsuba cannot sample points of its curves either)", c.material.get_ref()));
+            continue;
+        }
+        let transform = check_transform(ck, c.transform.as_ref(), &format!("{table}.transform"));
+        let file = base.join(c.file.get_ref());
+        let curves = std::fs::read_to_string(&file).map_err(|e| (0, format!("cannot read curve file {}: {e}", file.display()))).and_then(|text| quadrics::read_curves(&text));
+        let curves = match curves {
+            Ok(curves) => curves,
+            Err((line, message)) => {
+                // The diagnostic points into the curve file, and names the scene's field.
+                let (scene_file, scene_line, _) = ck.sources.locate(c.file.span().start);
+                ck.diagnostics.push(Diagnostic {
+                    severity: Severity::Error,
+                    file: file.clone(),
+                    line,
+                    column: 1,
+                    field: format!("{table}.file"),
+                    message: format!("{message} (curve file of {}:{scene_line})", scene_file.display()),
+                });
+                continue;
+            }
+        };
+        let segments = quadrics::segments(&curves, &DAffine3::from_mat4(transform.matrix));
+        if let Some(k) = segments.iter().position(|s| !(s.p0.is_finite() && s.p1.is_finite()) || s.p0.abs().max_element() > f32::MAX as f64 || s.p1.abs().max_element() > f32::MAX as f64) {
+            ck.error(c.transform.as_ref().map_or(c.file.span(), Spanned::span), format!("{table}.transform"), format!("moves segment {k} of {} beyond 32-bit floats", file.display()));
+            continue;
+        }
+        // A segment whose end spheres contain one another has no side (Embree's round cone
+        // needs |p1 - p0| > |r1 - r0|).
+        if let Some(s) = segments.iter().find(|s| (s.p1 - s.p0).length() <= (s.r1 - s.r0).abs()) {
+            ck.error(c.file.span(), format!("{table}.file"), format!("segment {} of {} has one end sphere inside the other (length {} against radii {} and {}): it has no side", s.index, file.display(), (s.p1 - s.p0).length(), s.r0, s.r1));
+            continue;
+        }
+        quadrics.extend(segments.into_iter().map(|s| Quadric {
+            kind: QuadricKind::CurveSegment,
+            to_world: DAffine3::IDENTITY,
+            flip_normals: false,
+            material,
+            two_sided_emission: false,
+            curve: Some(s),
+        }));
     }
     if quadrics.len() > MAX_QUADRICS {
-        let extra = raw.disks.iter().map(Spanned::span).chain(raw.cylinders.iter().map(Spanned::span)).nth(MAX_QUADRICS).unwrap_or(0..0);
-        ck.error(extra, "disks", too_many(quadrics.len(), MAX_QUADRICS, "disks and cylinders"));
+        let extra = raw.disks.iter().map(Spanned::span).chain(raw.cylinders.iter().map(Spanned::span)).chain(raw.linear_curves.iter().map(Spanned::span)).last().unwrap_or(0..0);
+        ck.error(extra, "disks", too_many(quadrics.len(), MAX_QUADRICS, "disks, cylinders and curve segments"));
     }
     quadrics
 }

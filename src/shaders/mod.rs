@@ -97,6 +97,7 @@ pub mod files {
     pub const QUADRIC: (&str, &str) = ("quadrics/quadric.wgsl", include_str!("../../shaders/quadrics/quadric.wgsl"));
     pub const DISK: (&str, &str) = ("quadrics/disk.wgsl", include_str!("../../shaders/quadrics/disk.wgsl"));
     pub const CYLINDER: (&str, &str) = ("quadrics/cylinder.wgsl", include_str!("../../shaders/quadrics/cylinder.wgsl"));
+    pub const LINEAR_CURVE: (&str, &str) = ("quadrics/linear_curve.wgsl", include_str!("../../shaders/quadrics/linear_curve.wgsl"));
     pub const INTERSECT: (&str, &str) = ("intersect.wgsl", include_str!("../../shaders/intersect.wgsl"));
     pub const ACCUM_PIXEL: (&str, &str) = ("accum_pixel.wgsl", include_str!("../../shaders/accum_pixel.wgsl"));
     pub const ACCUMULATE: (&str, &str) = ("accumulate.wgsl", include_str!("../../shaders/accumulate.wgsl"));
@@ -108,7 +109,7 @@ pub mod files {
 /// one binding is the BSDFs' data (`bindings::BSDF_DATA`), which `KernelRun` fills with a
 /// placeholder where a test kernel gives none. Test kernels append their own bindings and entry
 /// points to this.
-pub const LIBRARY: [(&str, &str); 14] = [
+pub const LIBRARY: [(&str, &str); 15] = [
     files::COMMON,
     files::SAMPLER,
     files::WARP,
@@ -122,11 +123,12 @@ pub const LIBRARY: [(&str, &str); 14] = [
     files::QUADRIC,
     files::DISK,
     files::CYLINDER,
+    files::LINEAR_CURVE,
     files::TECHNIQUE,
 ];
 
 /// Everything the path-tracing kernel (`render_main`) needs.
-pub const PATH_TRACER: [(&str, &str); 24] = [
+pub const PATH_TRACER: [(&str, &str); 25] = [
     files::COMMON,
     files::SAMPLER,
     files::WARP,
@@ -140,6 +142,7 @@ pub const PATH_TRACER: [(&str, &str); 24] = [
     files::QUADRIC,
     files::DISK,
     files::CYLINDER,
+    files::LINEAR_CURVE,
     files::TECHNIQUE,
     files::LIGHT_TABLE,
     files::SCENE,

@@ -20,7 +20,7 @@ use toml::Spanned;
 
 use super::diagnostic::{Diagnostic, Findings, Severity, SourceMap};
 use super::raw::{
-    RawCamera, RawColor, RawCylinder, RawColorOrTexture, RawMaterial, RawMesh, RawRender, RawRotation, RawRotations, RawScale, RawScene, RawShape,
+    RawCamera, RawColor, RawCurve, RawCylinder, RawColorOrTexture, RawMaterial, RawMesh, RawRender, RawRotation, RawRotations, RawScale, RawScene, RawShape,
     RawSphere, RawTransform,
 };
 use super::bsdfs::{color_value, PluginProps, DEFAULT_REFLECTANCE};
@@ -37,7 +37,7 @@ const MITSUBA_NEAR_CLIP: f64 = 1e-2;
 const DEFAULT_MAX_DEPTH: i64 = -1;
 const DEFAULT_RR_DEPTH: i64 = 5;
 
-const SHAPES: &str = "obj, ply, serialized, rectangle, cube, sphere, disk, cylinder, shapegroup, instance";
+const SHAPES: &str = "obj, ply, serialized, rectangle, cube, sphere, disk, cylinder, linearcurve, shapegroup, instance";
 
 /// The shapes read so far, by the raw scene's tables.
 #[derive(Default)]
@@ -48,12 +48,13 @@ struct Shapes {
     spheres: Vec<Spanned<RawSphere>>,
     disks: Vec<Spanned<RawShape>>,
     cylinders: Vec<Spanned<RawCylinder>>,
+    linear_curves: Vec<Spanned<RawCurve>>,
 }
 
 impl Shapes {
     /// How many shapes, of every kind.
     fn len(&self) -> usize {
-        self.meshes.len() + self.rectangles.len() + self.cubes.len() + self.spheres.len() + self.disks.len() + self.cylinders.len()
+        self.meshes.len() + self.rectangles.len() + self.cubes.len() + self.spheres.len() + self.disks.len() + self.cylinders.len() + self.linear_curves.len()
     }
 }
 
@@ -93,6 +94,12 @@ pub fn to_toml(path: &Path, defines: &[(String, String)], out_dir: &Path) -> Res
         let file = path.parent().unwrap_or(Path::new("")).join(m.file.get_ref());
         let relative = relative_to(&file, out_dir);
         m.file = Spanned::new(m.file.span(), relative.display().to_string());
+    }
+    for c in &mut raw.linear_curves {
+        let c = c.get_mut();
+        let file = path.parent().unwrap_or(Path::new("")).join(c.file.get_ref());
+        let relative = relative_to(&file, out_dir);
+        c.file = Spanned::new(c.file.span(), relative.display().to_string());
     }
     let body = toml::to_string(&raw).map_err(|e| {
         SceneError::Invalid(vec![Diagnostic {
@@ -173,12 +180,16 @@ fn translate(path: &Path, defines: &[(String, String)]) -> Result<(RawScene, Sou
         }),
         sensor_correction: t.sensor_correction,
     };
-    // Mesh files as the scene model names them: relative to the main file's folder (where the
-    // validation looks), each found beside the XML file that names it.
+    // Mesh and curve files as the scene model names them: relative to the main file's folder
+    // (where the validation looks), each found beside the XML file that names it.
     let main_dir = path.parent().unwrap_or(Path::new(""));
     for m in raw.iter_mut().flat_map(|r| r.meshes.iter_mut()) {
         let m = m.get_mut();
         m.file = Spanned::new(m.file.span(), relative_to(Path::new(m.file.get_ref()), main_dir).display().to_string());
+    }
+    for c in raw.iter_mut().flat_map(|r| r.linear_curves.iter_mut()) {
+        let c = c.get_mut();
+        c.file = Spanned::new(c.file.span(), relative_to(Path::new(c.file.get_ref()), main_dir).display().to_string());
     }
     let mut diagnostics = t.diagnostics;
     if let Some(v) = loaded.version.as_deref().filter(|v| !v.starts_with("3.")) {
@@ -920,6 +931,7 @@ impl Translator<'_> {
             cubes: shapes.cubes,
             disks: shapes.disks,
             cylinders: shapes.cylinders,
+            linear_curves: shapes.linear_curves,
             point_lights,
             spot_lights,
             directional_lights,
@@ -2031,6 +2043,26 @@ impl Translator<'_> {
             "disk" => {
                 self.finish(p, "flip_normals, to_world");
                 shapes.disks.push(spanned(o.at, RawShape { material, transform, flip_normals, two_sided_emission: None }));
+            }
+            "linearcurve" => {
+                let file = self.string(&mut p, "filename");
+                self.finish(p, "filename, to_world");
+                if flip.is_some() {
+                    self.error(o.at, "flip_normals", "flip_normals of a <shape type=\"linearcurve\"> is not supported (Mitsuba culls its back faces)");
+                    return;
+                }
+                let Some((file, _)) = file else {
+                    self.error(o.at, "filename", "<shape type=\"linearcurve\"> needs <string name=\"filename\">");
+                    return;
+                };
+                let path = match self.loaded.resolve(&file, &o.dir) {
+                    Ok(path) => path,
+                    Err(message) => {
+                        self.error(o.at, "filename", format!("curve file {message}"));
+                        return;
+                    }
+                };
+                shapes.linear_curves.push(spanned(o.at, RawCurve { file: spanned(o.at, path.display().to_string()), material, transform }));
             }
             "cylinder" => {
                 let p0 = self.point(&mut p, "p0").map(|v| spanned(o.at, v.to_array()));

@@ -5,11 +5,18 @@
 //! 0 <= z <= 1 (no end caps). The host functions here are the reference the kernel's are tested
 //! against, and give a light's area and power.
 //!
-//! The kernel tests every quadric per ray (`NUM_DISKS`, `NUM_CYLINDERS`; there is no
-//! acceleration structure for them), disks first, each kind's lights first.
+//! The kernel tests every quadric per ray (`NUM_DISKS`, `NUM_CYLINDERS`, `NUM_CURVE_SEGMENTS`;
+//! there is no acceleration structure for them), disks first, each kind's lights first.
+//!
+//! The segments of Mitsuba's `linearcurve` (`linear_curve.rs`) share the quadrics' records and
+//! loops: each is a sphere swept along a segment, given by its ends and radii (`curve`), not an
+//! affine image of a unit shape (its `to_world` is the identity).
 
 mod cylinder;
 mod disk;
+mod linear_curve;
+
+pub use linear_curve::{angle_frame, read_curves, segments, CurveSegment};
 
 use glam::{DAffine3, DMat3, DVec3};
 
@@ -25,6 +32,8 @@ named_enum! {
         Disk = "disk",
         /// Mitsuba's `cylinder`: the open unit cylinder from z = 0 to z = 1, normals outwards.
         Cylinder = "cylinder",
+        /// One segment of Mitsuba's `linearcurve`: a sphere swept along it (`CurveSegment`).
+        CurveSegment = "curve segment",
     }
 }
 
@@ -42,6 +51,8 @@ pub struct Quadric {
     /// Emits on both sides (pathlab's `two_sided_emission`; Mitsuba's area emitters emit on the
     /// normal's side only).
     pub two_sided_emission: bool,
+    /// A curve segment's ends and radii (`QuadricKind::CurveSegment`), None for the others.
+    pub curve: Option<CurveSegment>,
 }
 
 impl Quadric {
@@ -55,7 +66,13 @@ impl Quadric {
         match self.kind {
             QuadricKind::Disk => disk::area(self),
             QuadricKind::Cylinder => cylinder::area(self),
+            // Never a light (as in Mitsuba, which cannot sample its curves' positions).
+            QuadricKind::CurveSegment => 0.0,
         }
+    }
+
+    fn segment(&self) -> &CurveSegment {
+        self.curve.as_ref().expect("a curve segment has its segment")
     }
 
     /// Nearest ray parameter t in (t_min, t_max) where the ray o + t d meets the surface.
@@ -65,6 +82,7 @@ impl Quadric {
         match self.kind {
             QuadricKind::Disk => disk::intersect(ol, dl, t_min, t_max),
             QuadricKind::Cylinder => cylinder::intersect(ol, dl, t_min, t_max),
+            QuadricKind::CurveSegment => self.segment().intersect(o, d, t_min, t_max),
         }
     }
 
@@ -74,6 +92,7 @@ impl Quadric {
         let n_object = match self.kind {
             QuadricKind::Disk => DVec3::Z,
             QuadricKind::Cylinder => DVec3::new(local.x, local.y, 0.0),
+            QuadricKind::CurveSegment => return self.segment().normal(p),
         };
         let n = normal_to_world(&self.to_world, n_object);
         if self.flip_normals { -n } else { n }
@@ -85,12 +104,16 @@ impl Quadric {
         match self.kind {
             QuadricKind::Disk => disk::uv(local),
             QuadricKind::Cylinder => cylinder::uv(local),
+            QuadricKind::CurveSegment => self.segment().uv(p),
         }
     }
 
     /// The corners of a box around it in world space: the image of its object space's
     /// [-1, 1]^2 x [0, 0] (a disk) or [0, 1] (a cylinder).
     pub fn box_corners(&self) -> [DVec3; 8] {
+        if let Some(c) = &self.curve {
+            return c.box_corners();
+        }
         let top = if self.kind == QuadricKind::Disk { 0.0 } else { 1.0 };
         std::array::from_fn(|c| {
             let corner = DVec3::new(if c & 1 == 0 { -1.0 } else { 1.0 }, if c & 2 == 0 { -1.0 } else { 1.0 }, if c & 4 == 0 { 0.0 } else { top });
@@ -104,6 +127,8 @@ impl Quadric {
         let local = match self.kind {
             QuadricKind::Disk => disk::sample_local(u),
             QuadricKind::Cylinder => cylinder::sample_local(u),
+            // Never a light: no position to sample.
+            QuadricKind::CurveSegment => return self.segment().p0,
         };
         self.to_world.transform_point3(local)
     }
@@ -164,7 +189,7 @@ mod tests {
     use super::*;
 
     fn quadric(kind: QuadricKind, to_world: DAffine3) -> Quadric {
-        Quadric { kind, to_world, flip_normals: false, material: 0, two_sided_emission: false }
+        Quadric { kind, to_world, flip_normals: false, material: 0, two_sided_emission: false, curve: None }
     }
 
     #[test]
