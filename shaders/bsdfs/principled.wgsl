@@ -194,10 +194,17 @@ fn principled_sheen_color(base_color: vec3f, sheen_tint: f32) -> vec3f {
 // specular, reflected and transmitted, has the rest), normalised from the lobes' rates on the
 // front side.
 fn principled_lobe_probs(p: Principled) -> vec2f {
+    let w = principled_lobe_weights(p);
+    return w.xy / w.z;
+}
+
+// The front side's lobe weights before normalising: the diffuse lobe's (1 - M)(1 - S)
+// diffuse_rate, the clearcoat's clearcoat / 4 clearcoat_rate, and their sum with the main
+// specular's rate (its reflection's and transmission's weights sum to it whatever F).
+fn principled_lobe_weights(p: Principled) -> vec3f {
     let diffuse = (1.0 - p.metallic) * (1.0 - p.spec_trans) * p.diffuse_rate;
     let clearcoat = 0.25 * p.clearcoat * p.clearcoat_rate;
-    let total = p.specular_rate + clearcoat + diffuse;
-    return vec2f(diffuse, clearcoat) / total;
+    return vec3f(diffuse, clearcoat, p.specular_rate + clearcoat + diffuse);
 }
 
 // The probability of the main specular's transmission, given the dielectric's Fresnel term F
@@ -211,8 +218,7 @@ fn principled_transmission_prob(p: Principled, f_dielectric: f32, front: bool) -
     if (!front) {
         return 1.0 - f_dielectric;
     }
-    let total = p.specular_rate + 0.25 * p.clearcoat * p.clearcoat_rate + (1.0 - p.metallic) * (1.0 - p.spec_trans) * p.diffuse_rate;
-    return p.specular_rate * (1.0 - p.metallic) * p.spec_trans * (1.0 - f_dielectric) / total;
+    return p.specular_rate * (1.0 - p.metallic) * p.spec_trans * (1.0 - f_dielectric) / principled_lobe_weights(p).z;
 }
 
 // f(wi, wo) (every lobe) and the own strategy's density at wi, in the local frame of n_s (+z,

@@ -40,7 +40,7 @@ use crate::scene::hash::{real, vec3};
 use crate::scene::textures::Texture;
 
 /// Mitsuba's `base_color`, `roughness` and `specular` when not given.
-const DEFAULT_BASE_COLOR: f64 = 0.5;
+pub(super) const DEFAULT_BASE_COLOR: f64 = 0.5;
 const DEFAULT_ROUGHNESS: f64 = 0.5;
 const DEFAULT_SPECULAR: f64 = 0.5;
 
@@ -181,6 +181,25 @@ pub(super) fn eta_problem(v: f64) -> Option<String> {
     (!(v.is_finite() && v > 0.0)).then(|| format!("`eta` must be a finite number > 0 (got {v})"))
 }
 
+/// `base_color` from TOML fields: a colour or a texture (its mean the host's value), Mitsuba's
+/// 0.5 where not given; a warning above 1.
+pub(super) fn base_color_from_fields(f: &mut Fields) -> (DVec3, Option<Texture>) {
+    let (base_color, texture) = if f.has("base_color") { f.color_or_texture("base_color", DVec3::ZERO) } else { (DVec3::splat(DEFAULT_BASE_COLOR), None) };
+    if base_color.max_element() > 1.0 {
+        f.warn_material(format!("base_color = {:?} exceeds 1: the material is not energy conserving", base_color.to_array()));
+    }
+    (base_color, texture)
+}
+
+/// `base_color` in a parameter block's colour slot: the colour, or its texture's reference
+/// -(start + 1) in x.
+pub(super) fn pack_base_color(base_color: DVec3, texture: &Option<Texture>, data: &mut BsdfData) -> glam::Vec3 {
+    match texture {
+        Some(t) => glam::Vec3::new(-(t.pack(data) as f32) - 1.0, 0.0, 0.0),
+        None => base_color.as_vec3(),
+    }
+}
+
 /// The sampling rates `names` from TOML fields, 1 where not given, each checked by
 /// `rate_problem`.
 pub(super) fn rates_from_fields<const N: usize>(f: &mut Fields, names: [&str; N]) -> [f64; N] {
@@ -221,7 +240,9 @@ pub(super) fn rate_problem(name: &str, v: f64) -> Option<String> {
     })
 }
 
-fn default_weight(name: &str) -> f64 {
+/// A weight's default where not given: Mitsuba's roughness 0.5, every other 0 (the thin
+/// principled BSDF's too).
+pub(super) fn default_weight(name: &str) -> f64 {
     if name == "roughness" {
         DEFAULT_ROUGHNESS
     } else {
@@ -267,11 +288,7 @@ impl BsdfPlugin for Principled {
     }
 
     fn from_fields(f: &mut Fields) -> Principled {
-        let (base_color, base_color_texture) =
-            if f.has("base_color") { f.color_or_texture("base_color", DVec3::ZERO) } else { (DVec3::splat(DEFAULT_BASE_COLOR), None) };
-        if base_color.max_element() > 1.0 {
-            f.warn_material(format!("base_color = {:?} exceeds 1: the material is not energy conserving", base_color.to_array()));
-        }
+        let (base_color, base_color_texture) = base_color_from_fields(f);
         let weights = WEIGHTS.map(|name| Weight::from_field(f, name, default_weight(name), |v| weight_problem(name, v)));
         let from_specular = !f.has("eta");
         let eta = match (f.number("specular"), f.number("eta")) {
@@ -386,10 +403,7 @@ impl BsdfPlugin for Principled {
     /// `principled_of` (every number that may be a texture in the block, where the kernel
     /// resolves it); the data: flatness, the three sampling rates, eta.
     fn pack(&self, data: &mut BsdfData) -> BsdfParams {
-        let c = match &self.base_color_texture {
-            Some(t) => glam::Vec3::new(-(t.pack(data) as f32) - 1.0, 0.0, 0.0),
-            None => self.base_color.as_vec3(),
-        };
+        let c = pack_base_color(self.base_color, &self.base_color_texture, data);
         let w = self.weights.clone().map(|w| w.pack(data));
         let anisotropic = self.anisotropic.pack(data);
         let spec_trans = self.spec_trans.pack(data);

@@ -30,13 +30,11 @@
 use glam::DVec3;
 
 use super::plugin::{BsdfData, BsdfParams, BsdfPlugin, Fields, PluginProps};
-use super::principled::{eta_problem, mitsuba_rates, rates_from_fields, Weight};
+use super::principled::{base_color_from_fields, default_weight, eta_problem, mitsuba_rates, pack_base_color, rates_from_fields, Weight, DEFAULT_BASE_COLOR};
 use crate::scene::hash::{real, vec3};
 use crate::scene::textures::Texture;
 
-/// Mitsuba's defaults where not given.
-const DEFAULT_BASE_COLOR: f64 = 0.5;
-const DEFAULT_ROUGHNESS: f64 = 0.5;
+/// Mitsuba's `eta` where not given (the other defaults are the principled BSDF's).
 const DEFAULT_ETA: f64 = 1.5;
 
 /// The numbers that may be textures, in the order of `WEIGHT_SLOTS`, with their largest value
@@ -81,14 +79,6 @@ fn weight_problem(name: &str, max: f64, v: f64) -> Option<String> {
     (!(0.0..=max).contains(&v)).then(|| format!("`{name}` of a principledthin BSDF must be in [0, {max}] (got {v})"))
 }
 
-fn default_weight(name: &str) -> f64 {
-    if name == "roughness" {
-        DEFAULT_ROUGHNESS
-    } else {
-        0.0
-    }
-}
-
 impl BsdfPlugin for PrincipledThin {
     const TOML_NAME: &'static str = "principledthin";
     const FIELDS: &'static [&'static str] = &[
@@ -116,11 +106,7 @@ impl BsdfPlugin for PrincipledThin {
     const SCALAR_TEXTURE_SLOTS: &'static [(usize, usize)] = &WEIGHT_SLOTS;
 
     fn from_fields(f: &mut Fields) -> PrincipledThin {
-        let (base_color, base_color_texture) =
-            if f.has("base_color") { f.color_or_texture("base_color", DVec3::ZERO) } else { (DVec3::splat(DEFAULT_BASE_COLOR), None) };
-        if base_color.max_element() > 1.0 {
-            f.warn_material(format!("base_color = {:?} exceeds 1: the material is not energy conserving", base_color.to_array()));
-        }
+        let (base_color, base_color_texture) = base_color_from_fields(f);
         let weights = WEIGHTS.map(|(name, max)| Weight::from_field(f, name, default_weight(name), |v| weight_problem(name, max, v)));
         let eta = if f.is_table("eta") {
             let span = f.span_of("eta");
@@ -193,10 +179,7 @@ impl BsdfPlugin for PrincipledThin {
     /// `principled_thin_of` (every number that may be a texture in the block, where the kernel
     /// resolves it); the data: eta, then the four sampling rates.
     fn pack(&self, data: &mut BsdfData) -> BsdfParams {
-        let c = match &self.base_color_texture {
-            Some(t) => glam::Vec3::new(-(t.pack(data) as f32) - 1.0, 0.0, 0.0),
-            None => self.base_color.as_vec3(),
-        };
+        let c = pack_base_color(self.base_color, &self.base_color_texture, data);
         let w = self.weights.clone().map(|w| w.pack(data));
         let first = data.push(&[self.eta as f32, self.rates[0] as f32, self.rates[1] as f32, self.rates[2] as f32, self.rates[3] as f32]);
         [[c.x, c.y, c.z, w[0]], [w[1], w[2], w[3], w[4]], [w[5], w[6], w[7], first as f32], [0.0; 4]]
