@@ -36,7 +36,8 @@ fn texture_context(hit: Hit, p: vec3f) -> TextureEvalContext {
     return TextureEvalContext(hit.uv, p, select(INVALID, hit.object - first_triangle_object(), on_triangle), hit.bary);
 }
 
-// The first object index of the quadrics (disks, then cylinders, then curve segments).
+// The first object index of the quadrics (disks, then cylinders, then curve segments, then SDF
+// grids).
 fn first_quadric_object() -> u32 {
     return NUM_SPHERES + NUM_PLANES;
 }
@@ -48,6 +49,11 @@ fn first_triangle_object() -> u32 {
 
 // The number of quadrics.
 fn num_quadrics() -> u32 {
+    return first_sdf_grid() + NUM_SDF_GRIDS;
+}
+
+// The quadric index of the first SDF grid (after the curve segments).
+fn first_sdf_grid() -> u32 {
     return NUM_DISKS + NUM_CYLINDERS + NUM_CURVE_SEGMENTS;
 }
 
@@ -61,6 +67,9 @@ fn quadric_normal(k: u32, q: Quadric, p: vec3f) -> vec3f {
     if (k < NUM_DISKS) {
         return q.normal;
     }
+    if (NUM_SDF_GRIDS > 0u && k >= first_sdf_grid()) {
+        return sdf_grid_normal(q, p);
+    }
     if (NUM_CURVE_SEGMENTS > 0u && k >= NUM_DISKS + NUM_CYLINDERS) {
         return linear_curve_normal(q, p);
     }
@@ -72,6 +81,10 @@ fn quadric_uv(k: u32, q: Quadric, p: vec3f) -> vec2f {
     if (k < NUM_DISKS) {
         return disk_uv(q, p);
     }
+    if (NUM_SDF_GRIDS > 0u && k >= first_sdf_grid()) {
+        // No parametrisation (Mitsuba's uv 0).
+        return vec2f(0.0);
+    }
     if (NUM_CURVE_SEGMENTS > 0u && k >= NUM_DISKS + NUM_CYLINDERS) {
         return linear_curve_uv(q, p);
     }
@@ -82,6 +95,9 @@ fn quadric_uv(k: u32, q: Quadric, p: vec3f) -> vec2f {
 fn quadric_tangent(k: u32, q: Quadric, p: vec3f) -> vec3f {
     if (k < NUM_DISKS) {
         return disk_tangent(q, p);
+    }
+    if (NUM_SDF_GRIDS > 0u && k >= first_sdf_grid()) {
+        return vec3f(0.0);
     }
     if (NUM_CURVE_SEGMENTS > 0u && k >= NUM_DISKS + NUM_CYLINDERS) {
         return linear_curve_partials(q, p).du;
@@ -166,6 +182,10 @@ fn sphere_partials(i: u32, n: vec3f) -> Partials {
 // sin phi, 0) and 2 pi r to_world (-sin phi, cos phi, 0) (both of (0, 0, 0)'s direction at the
 // centre); a cylinder's (cylinder.cpp) to_world 2 pi (-l.y, l.x, 0) and to_world (0, 0, 1).
 fn quadric_partials(k: u32, q: Quadric, p: vec3f) -> Partials {
+    if (NUM_SDF_GRIDS > 0u && k >= first_sdf_grid()) {
+        // No parametrisation (validation refuses bump maps there).
+        return Partials(vec3f(0.0), vec3f(0.0));
+    }
     if (NUM_CURVE_SEGMENTS > 0u && k >= NUM_DISKS + NUM_CYLINDERS) {
         return linear_curve_partials(q, p);
     }
@@ -243,24 +263,41 @@ fn intersect_scene(o: vec3f, d: vec3f) -> Hit {
     var hit = Hit(t_hit, normal, material, object, normal, uv, tangent, 0.0, vec2f(0.0));
     if (num_quadrics() > 0u) {
         // Quadrics in loops of their own, as spheres: a lane-uniform index, read as broadcasts.
+        // Each kind's loop is inside a test of its count, which the specialiser removes where the
+        // count is 0: without it lavapipe ran a kind's test once, masked, where the scene had
+        // none (an SDF grid's walk cost the quadrics fixture a third of its speed).
         var quadric = INVALID;
-        for (var k = 0u; k < NUM_DISKS; k++) {
-            let t = intersect_disk(surfaces.quadrics[k], o, d, 0.0, hit.t);
-            let closer = t > 0.0;
-            hit.t = select(hit.t, t, closer);
-            quadric = select(quadric, k, closer);
+        if (NUM_DISKS > 0u) {
+            for (var k = 0u; k < NUM_DISKS; k++) {
+                let t = intersect_disk(surfaces.quadrics[k], o, d, 0.0, hit.t);
+                let closer = t > 0.0;
+                hit.t = select(hit.t, t, closer);
+                quadric = select(quadric, k, closer);
+            }
         }
-        for (var k = NUM_DISKS; k < NUM_DISKS + NUM_CYLINDERS; k++) {
-            let t = intersect_cylinder(surfaces.quadrics[k], o, d, 0.0, hit.t);
-            let closer = t > 0.0;
-            hit.t = select(hit.t, t, closer);
-            quadric = select(quadric, k, closer);
+        if (NUM_CYLINDERS > 0u) {
+            for (var k = NUM_DISKS; k < NUM_DISKS + NUM_CYLINDERS; k++) {
+                let t = intersect_cylinder(surfaces.quadrics[k], o, d, 0.0, hit.t);
+                let closer = t > 0.0;
+                hit.t = select(hit.t, t, closer);
+                quadric = select(quadric, k, closer);
+            }
         }
-        for (var k = NUM_DISKS + NUM_CYLINDERS; k < num_quadrics(); k++) {
-            let t = intersect_linear_curve(surfaces.quadrics[k], o, d, 0.0, hit.t);
-            let closer = t > 0.0;
-            hit.t = select(hit.t, t, closer);
-            quadric = select(quadric, k, closer);
+        if (NUM_CURVE_SEGMENTS > 0u) {
+            for (var k = NUM_DISKS + NUM_CYLINDERS; k < first_sdf_grid(); k++) {
+                let t = intersect_linear_curve(surfaces.quadrics[k], o, d, 0.0, hit.t);
+                let closer = t > 0.0;
+                hit.t = select(hit.t, t, closer);
+                quadric = select(quadric, k, closer);
+            }
+        }
+        if (NUM_SDF_GRIDS > 0u) {
+            for (var k = first_sdf_grid(); k < num_quadrics(); k++) {
+                let t = intersect_sdf_grid(surfaces.quadrics[k], o, d, hit.t);
+                let closer = t > 0.0;
+                hit.t = select(hit.t, t, closer);
+                quadric = select(quadric, k, closer);
+            }
         }
         if (quadric != INVALID) {
             let q = surfaces.quadrics[quadric];
@@ -274,7 +311,11 @@ fn intersect_scene(o: vec3f, d: vec3f) -> Hit {
             if (HAS_TANGENT_FRAMES) {
                 q_tangent = quadric_tangent(quadric, q, x);
             }
-            hit = Hit(hit.t, n, q.material, first_quadric_object() + quadric, n, q_uv, q_tangent, 0.0, vec2f(0.0));
+            var shading_normal = n;
+            if (NUM_SDF_GRIDS > 0u && quadric >= first_sdf_grid()) {
+                shading_normal = sdf_grid_shading_normal(q, x, n);
+            }
+            hit = Hit(hit.t, n, q.material, first_quadric_object() + quadric, shading_normal, q_uv, q_tangent, 0.0, vec2f(0.0));
         }
     }
     if (NUM_TRIANGLES > 0u) {
@@ -313,14 +354,25 @@ fn occluded(o: vec3f, d: vec3f, t_max: f32, skip: u32) -> bool {
         let p = surfaces.planes[j];
         blocked = blocked | (intersect_plane(o, d, p.normal, p.offset, 0.0, t_max) > 0.0);
     }
-    for (var k = 0u; k < NUM_DISKS; k++) {
-        blocked = blocked | (intersect_disk(surfaces.quadrics[k], o, d, 0.0, t_max) > 0.0);
+    if (NUM_DISKS > 0u) {
+        for (var k = 0u; k < NUM_DISKS; k++) {
+            blocked = blocked | (intersect_disk(surfaces.quadrics[k], o, d, 0.0, t_max) > 0.0);
+        }
     }
-    for (var k = NUM_DISKS; k < NUM_DISKS + NUM_CYLINDERS; k++) {
-        blocked = blocked | (intersect_cylinder(surfaces.quadrics[k], o, d, 0.0, t_max) > 0.0);
+    if (NUM_CYLINDERS > 0u) {
+        for (var k = NUM_DISKS; k < NUM_DISKS + NUM_CYLINDERS; k++) {
+            blocked = blocked | (intersect_cylinder(surfaces.quadrics[k], o, d, 0.0, t_max) > 0.0);
+        }
     }
-    for (var k = NUM_DISKS + NUM_CYLINDERS; k < num_quadrics(); k++) {
-        blocked = blocked | (intersect_linear_curve(surfaces.quadrics[k], o, d, 0.0, t_max) > 0.0);
+    if (NUM_CURVE_SEGMENTS > 0u) {
+        for (var k = NUM_DISKS + NUM_CYLINDERS; k < first_sdf_grid(); k++) {
+            blocked = blocked | (intersect_linear_curve(surfaces.quadrics[k], o, d, 0.0, t_max) > 0.0);
+        }
+    }
+    if (NUM_SDF_GRIDS > 0u) {
+        for (var k = first_sdf_grid(); k < num_quadrics(); k++) {
+            blocked = blocked | (intersect_sdf_grid(surfaces.quadrics[k], o, d, t_max) > 0.0);
+        }
     }
     if (NUM_TRIANGLES > 0u && !blocked) {
         blocked = triangles_closest(o, d, t_max, true).index != INVALID;

@@ -15,7 +15,8 @@ struct Quadric {
     world_x: vec4f,
     world_y: vec4f,
     world_z: vec4f,
-    // A disk's unit normal in world space, flip_normals applied.
+    // A disk's unit normal in world space, flip_normals applied; an SDF grid's record start in
+    // bsdf_data (the bits of x) and 1 for smooth normals (y) (quadrics/sdf_grid.wgsl).
     normal: vec3f,
     material: u32,
     // Surface area in world space.

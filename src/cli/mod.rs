@@ -180,10 +180,17 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
         scene.meshes.len(),
         f.num_triangles,
         f.num_triangle_lights,
-        if f.has_shading_normals { ", with vertex normals" } else { "" },
-        if f.num_disks + f.num_cylinders + f.num_curve_segments > 0 {
+        if scene.meshes.iter().any(|m| !m.normals.is_empty()) { ", with vertex normals" } else { "" },
+        if f.num_disks + f.num_cylinders + f.num_curve_segments + f.num_sdf_grids > 0 {
             let curves = if f.num_curve_segments > 0 { format!("{} curve segments, ", f.num_curve_segments) } else { String::new() };
-            format!("{} disks ({} lights), {} cylinders, {curves}", f.num_disks, f.num_disk_lights, f.num_cylinders)
+            let grids = scene
+                .quadrics
+                .iter()
+                .filter_map(|q| q.grid.as_ref())
+                .map(|g| format!("{}x{}x{} ({} normals), ", g.res[0], g.res[1], g.res[2], if g.smooth { "smooth" } else { "analytic" }))
+                .collect::<Vec<_>>();
+            let grids = if grids.is_empty() { String::new() } else { format!("{} signed distance grids: {}", grids.len(), grids.concat()) };
+            format!("{} disks ({} lights), {} cylinders, {curves}{grids}", f.num_disks, f.num_disk_lights, f.num_cylinders)
         } else {
             String::new()
         },

@@ -16,6 +16,8 @@ pub struct SceneFeatures {
     pub num_cylinders: u32,
     /// The segments of Mitsuba's `linearcurve`s (quadrics after the cylinders; never lights).
     pub num_curve_segments: u32,
+    /// Mitsuba's `sdfgrid`s (quadrics after the curve segments; never lights).
+    pub num_sdf_grids: u32,
     /// Lights of each kind (`EmitterKind`, each a `NUM_<KIND>_LIGHTS` override): the
     /// emissive spheres, the emissive triangles, and the environment where next event
     /// estimation samples it (`PipelineKey::new` decides, by the method).
@@ -35,7 +37,8 @@ pub struct SceneFeatures {
     /// `NUM_SMALL_VERTICES`, `SMALL_CORNER_<k>_<j>` and `SMALL_FIRST_USES_<k>` overrides
     /// (`shaders::small_vertex_constants`).
     pub small_vertices: SharedVertices,
-    /// Some mesh has vertex normals (interpolated as shading normals).
+    /// Some mesh has vertex normals (interpolated as shading normals), or some SDF grid smooth
+    /// normals.
     pub has_shading_normals: bool,
     /// Some material reads the hit's uv parametrisation (`BsdfPlugin::reads_uv`): only then
     /// does the kernel compute it.
@@ -158,6 +161,7 @@ impl SceneFeatures {
             num_disks: scene.quadrics.iter().filter(|q| q.kind == QuadricKind::Disk).count() as u32,
             num_cylinders: scene.quadrics.iter().filter(|q| q.kind == QuadricKind::Cylinder).count() as u32,
             num_curve_segments: scene.quadrics.iter().filter(|q| q.kind == QuadricKind::CurveSegment).count() as u32,
+            num_sdf_grids: scene.quadrics.iter().filter(|q| q.kind == QuadricKind::SdfGrid).count() as u32,
             num_sphere_lights: scene.lights_of(EmitterKind::Sphere).len() as u32,
             num_triangle_lights: scene.lights_of(EmitterKind::Triangle).len() as u32,
             num_disk_lights: scene.lights_of(EmitterKind::Disk).len() as u32,
@@ -174,7 +178,7 @@ impl SceneFeatures {
             } else {
                 SharedVertices::default()
             },
-            has_shading_normals: scene.meshes.iter().any(|m| !m.normals.is_empty()),
+            has_shading_normals: scene.meshes.iter().any(|m| !m.normals.is_empty()) || scene.quadrics.iter().any(|q| q.grid.as_ref().is_some_and(|g| g.smooth)),
             has_uvs: scene.materials.iter().any(|m| m.reads_uv()),
             has_masks: scene.materials.iter().any(|m| m.opacity.is_some()),
             textured_opacity: scene.materials.iter().any(|m| m.opacity.as_ref().is_some_and(|o| o.texture().is_some())),
@@ -241,13 +245,13 @@ pub fn sphere_order(scene: &Scene) -> Vec<usize> {
     lights.iter().copied().chain(others).collect()
 }
 
-/// Order of the quadrics in the kernel: the disks, then the cylinders, then the curve segments
-/// (validation lists them so), each kind's lights first (in scene order): disk light l is
+/// Order of the quadrics in the kernel: the disks, then the cylinders, then the curve segments,
+/// then the SDF grids (validation lists them so), each kind's lights first (in scene order): disk light l is
 /// quadric l, cylinder light l quadric NUM_DISKS + l.
 pub fn quadric_order(scene: &Scene) -> Vec<usize> {
     let emits = |i: usize| scene.materials[scene.quadrics[i].material].is_emissive();
     let of = |kind: QuadricKind| (0..scene.quadrics.len()).filter(move |&i| scene.quadrics[i].kind == kind);
-    [QuadricKind::Disk, QuadricKind::Cylinder, QuadricKind::CurveSegment].into_iter().flat_map(|kind| of(kind).filter(|&i| emits(i)).chain(of(kind).filter(|&i| !emits(i)))).collect()
+    [QuadricKind::Disk, QuadricKind::Cylinder, QuadricKind::CurveSegment, QuadricKind::SdfGrid].into_iter().flat_map(|kind| of(kind).filter(|&i| emits(i)).chain(of(kind).filter(|&i| !emits(i)))).collect()
 }
 
 /// Order of the planes in the kernel: `Scene::occluding_planes` first, then the others.

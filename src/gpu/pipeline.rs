@@ -72,6 +72,7 @@ pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
         ("NUM_DISKS", f.num_disks as f64),
         ("NUM_CYLINDERS", f.num_cylinders as f64),
         ("NUM_CURVE_SEGMENTS", f.num_curve_segments as f64),
+        ("NUM_SDF_GRIDS", f.num_sdf_grids as f64),
         ("NUM_TRIANGLES", f.num_triangles as f64),
         ("HAS_SHADING_NORMALS", f.has_shading_normals as u32 as f64),
         ("HAS_UVS", f.has_uvs as u32 as f64),
@@ -118,6 +119,10 @@ pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
     constants
 }
 
+/// Loop back-edges of an SDF grid's normals at a hit (`sdf_grid_smooth_normal`'s eight cells
+/// and three axes, and some to spare).
+const SDF_NORMAL_LOOPS: u64 = 16;
+
 /// Upper bounds on the loop back-edges one sample of the path tracer executes in one
 /// invocation. Needed because llvmpipe/lavapipe ends every loop of an invocation once 65535
 /// back-edges have run in total (`LP_MAX_TGSI_LOOP_ITERATIONS`), which silently cut frames
@@ -139,6 +144,20 @@ impl LoopBound {
     /// The worst case of one sample.
     pub fn per_sample(&self) -> u64 {
         self.fixed + self.rays * self.steps_per_ray
+    }
+
+    /// The bound with the scene's SDF grids: each ray walks each grid's cells (at most one
+    /// step per cell plane it crosses, and one), runs the regula falsi steps in one of them
+    /// (`intersect_sdf_grid`, quadrics/sdf_grid.wgsl) and the normals' loops at its hit.
+    pub fn with_sdf_grids(mut self, scene: &crate::scene::Scene) -> LoopBound {
+        let per_ray: u64 = scene
+            .quadrics
+            .iter()
+            .filter_map(|q| q.grid.as_ref())
+            .map(|g| g.res.iter().map(|&n| n as u64 - 1).sum::<u64>() + 1 + crate::scene::quadrics::REGULA_FALSI_STEPS as u64 + SDF_NORMAL_LOOPS)
+            .sum();
+        self.fixed += self.rays * per_ray;
+        self
     }
 
     /// The bound with researchers' techniques that have loops: each call may run
@@ -173,7 +192,7 @@ pub fn loop_iterations_per_sample(key: &PipelineKey, max_depth: u32, bvh_nodes: 
     use crate::method::Sampler;
     let f = &key.features;
     // Quadrics are tested in loops of their own, as spheres are.
-    let (s, p, l) = ((f.num_spheres + f.num_disks + f.num_cylinders + f.num_curve_segments) as u64, f.num_planes as u64, f.num_lights() as u64);
+    let (s, p, l) = ((f.num_spheres + f.num_disks + f.num_cylinders + f.num_curve_segments + f.num_sdf_grids) as u64, f.num_planes as u64, f.num_lights() as u64);
     // Iterations of one sample_1d call: Sobol' has no loop; Halton reverses at most 21 + 1
     // digits (base 3); Owen-scrambled Halton expands ~24 bits of digits, each with a few
     // rejection rounds of the hashed permutation.

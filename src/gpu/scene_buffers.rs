@@ -7,6 +7,8 @@
 //! uniform buffers serve as broadcasts. Each stays under wgpu's default 64 KiB binding limit
 //! (`crate::scene::MAX_*`, enforced by scene validation).
 
+use std::sync::Arc;
+
 use bytemuck::{Pod, Zeroable};
 use glam::DVec3;
 use wgpu::util::DeviceExt;
@@ -84,7 +86,8 @@ pub struct GpuQuadric {
     pub world_x: [f32; 4],
     pub world_y: [f32; 4],
     pub world_z: [f32; 4],
-    /// A disk's unit normal in world space, flip_normals applied.
+    /// A disk's unit normal in world space, flip_normals applied; an SDF grid's record start
+    /// in the BSDF data (the bits of the first number) and 1 for smooth normals.
     pub normal: [f32; 3],
     pub material: u32,
     /// Surface area in world space (a light's density).
@@ -360,9 +363,10 @@ impl SceneBuffers {
         let contents = |binding: Binding, label: &'static str, bytes: Vec<u8>| SceneBufferContents { binding, label, bytes };
         let (materials, mut bsdf_data) = Self::pack_materials(scene);
         let delta_lights = Self::pack_delta_lights(scene, &mut bsdf_data);
+        let surfaces = Self::pack_surfaces(scene, &mut bsdf_data);
         vec![
             contents(bindings::SPHERES, "spheres", uniform_array(&Self::pack_spheres(scene), MAX_SPHERES)),
-            contents(bindings::SURFACES, "planes and quadrics", Self::pack_surfaces(scene)),
+            contents(bindings::SURFACES, "planes and quadrics", surfaces),
             contents(bindings::MATERIALS, "materials", uniform_array(&materials, MAX_MATERIALS)),
             contents(bindings::DELTA_LIGHTS, "delta lights", uniform_array(&delta_lights, MAX_DELTA_LIGHTS)),
             contents(bindings::BSDF_DATA, "bsdf data", storage_array(&bsdf_data.0)),
@@ -548,16 +552,18 @@ impl SceneBuffers {
 
     /// The `Surfaces` buffer (scene.wgsl): the planes at their full capacity, then the quadrics
     /// at theirs.
-    pub fn pack_surfaces(scene: &Scene) -> Vec<u8> {
+    pub fn pack_surfaces(scene: &Scene, data: &mut BsdfData) -> Vec<u8> {
         let mut bytes = uniform_array(&Self::pack_planes(scene), MAX_PLANES);
-        bytes.extend(uniform_array(&Self::pack_quadrics(scene), MAX_QUADRICS));
+        bytes.extend(uniform_array(&Self::pack_quadrics(scene, data), MAX_QUADRICS));
         bytes
     }
 
     /// The quadrics in kernel order (`features::quadric_order`): each kind's lights first, each
     /// naming its light-table entry (the disk lights' follow the sphere and triangle lights',
-    /// the cylinder lights' the disk lights').
-    pub fn pack_quadrics(scene: &Scene) -> Vec<GpuQuadric> {
+    /// the cylinder lights' the disk lights'). An SDF grid's values are appended to `data`
+    /// (each grid once, however many quadrics share it).
+    pub fn pack_quadrics(scene: &Scene, data: &mut BsdfData) -> Vec<GpuQuadric> {
+        let mut grids: Vec<(*const crate::scene::quadrics::SdfGrid, u32)> = Vec::new();
         let first_disk_light = (scene.lights_of(EmitterKind::Sphere).len() + scene.lights_of(EmitterKind::Triangle).len()) as u32;
         let num_disk_lights = scene.lights_of(EmitterKind::Disk).len();
         let num_disks = scene.quadrics.iter().filter(|q| q.kind == crate::scene::QuadricKind::Disk).count();
@@ -585,6 +591,22 @@ impl SceneBuffers {
                     }
                     None => (rows(q.to_object()), rows(q.to_world)),
                 };
+                // An SDF grid (quadrics/sdf_grid.wgsl's layout): where its record starts in the
+                // BSDF data (the bits of normal.x), 1 for smooth normals (normal.y).
+                let normal = match &q.grid {
+                    Some(g) => {
+                        let start = match grids.iter().find(|(p, _)| std::ptr::eq(*p, Arc::as_ptr(g))) {
+                            Some(&(_, start)) => start,
+                            None => {
+                                let start = g.pack(data);
+                                grids.push((Arc::as_ptr(g), start));
+                                start
+                            }
+                        };
+                        [f32::from_bits(start), if g.smooth { 1.0 } else { 0.0 }, 0.0]
+                    }
+                    None => f3(crate::scene::quadrics::normal_to_world(&q.to_world, DVec3::Z) * sign),
+                };
                 GpuQuadric {
                     object_x,
                     object_y,
@@ -592,7 +614,7 @@ impl SceneBuffers {
                     world_x,
                     world_y,
                     world_z,
-                    normal: f3(crate::scene::quadrics::normal_to_world(&q.to_world, DVec3::Z) * sign),
+                    normal,
                     material: q.material as u32,
                     area: q.area() as f32,
                     normal_sign: sign as f32,

@@ -23,6 +23,7 @@ pub mod spectrum;
 mod raw;
 pub mod technique;
 pub mod transform;
+pub mod vol_file;
 mod validate;
 
 use std::path::{Path, PathBuf};

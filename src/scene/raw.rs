@@ -33,6 +33,9 @@ pub(crate) struct RawScene {
     /// `[[linear_curves]]`: Mitsuba's `linearcurve`, tubes along the polylines of a curve file.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub linear_curves: Vec<Spanned<RawCurve>>,
+    /// `[[sdf_grids]]`: Mitsuba's `sdfgrid`, the zero set of a signed distance grid.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub sdf_grids: Vec<Spanned<RawSdfGrid>>,
     /// `[environment_map]`: Mitsuba's `envmap`.
     pub environment_map: Option<Spanned<RawEnvironmentMap>>,
     /// `[techniques]`: researchers' sampling techniques loaded with the scene.
@@ -50,6 +53,17 @@ pub(crate) struct RawScene {
     /// `[media.<name>]`: participating media (Mitsuba's `homogeneous`).
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub media: BTreeMap<String, Spanned<RawMedium>>,
+}
+
+impl RawScene {
+    /// The files its shapes read (meshes, curves, grids), for rewriting them relative to
+    /// another folder.
+    pub fn shape_files_mut(&mut self) -> impl Iterator<Item = &mut Spanned<String>> {
+        let meshes = self.meshes.iter_mut().map(|m| &mut m.get_mut().file);
+        let curves = self.linear_curves.iter_mut().map(|c| &mut c.get_mut().file);
+        let grids = self.sdf_grids.iter_mut().map(|g| &mut g.get_mut().file);
+        meshes.chain(curves).chain(grids)
+    }
 }
 
 /// `[media.<name>]`: a medium. `type` is `homogeneous` (the default) or `heterogeneous`;
@@ -202,6 +216,18 @@ pub(crate) struct RawCurve {
     pub file: Spanned<String>,
     pub material: Spanned<String>,
     pub transform: Option<Spanned<RawTransform>>,
+}
+
+/// `[[sdf_grids]]`: Mitsuba's `sdfgrid`: the signed distances of a `.vol` file (`file`,
+/// relative to the scene file; one channel) at the nodes of a grid on the unit cube, which
+/// `transform` places; `normals` "smooth" (default) or "analytic".
+#[derive(Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawSdfGrid {
+    pub file: Spanned<String>,
+    pub material: Spanned<String>,
+    pub transform: Option<Spanned<RawTransform>>,
+    pub normals: Option<Spanned<String>>,
 }
 
 /// `[[cylinders]]`: Mitsuba's `cylinder` from `p0` (default the origin) to `p1` (default

@@ -655,7 +655,8 @@ fn check_transform(ck: &mut Checker, t: Option<&Spanned<RawTransform>>, field: &
     }
 }
 
-/// `[[disks]]` and `[[cylinders]]` (`quadrics`), disks first: transforms invertible; a
+/// `[[disks]]`, `[[cylinders]]`, `[[linear_curves]]` and `[[sdf_grids]]` (`quadrics`), in that
+/// order: transforms invertible; a
 /// cylinder's radius > 0, its ends apart and its `to_world` not a mirror (its normals would turn
 /// inwards); either may emit (on its normals' side, or both with `two_sided_emission`), a
 /// cylinder only if not sheared or scaled unevenly across its axis. Mitsuba warns of a cylinder scaled unevenly across its axis or sheared, and
@@ -676,6 +677,7 @@ fn check_quadrics(ck: &mut Checker, raw: &RawScene, materials: &[Material], reso
             material,
             two_sided_emission: flag(&s.two_sided_emission),
             curve: None,
+            grid: None,
         });
     }
     for (i, c) in raw.cylinders.iter().enumerate() {
@@ -721,7 +723,7 @@ fn check_quadrics(ck: &mut Checker, raw: &RawScene, materials: &[Material], reso
         if uneven && materials.get(material).is_some_and(Material::is_emissive) {
             ck.error(at.clone(), format!("{table}.transform"), format!("material \"{}\" emits light: an emissive cylinder must not be sheared or scaled unevenly across its axis (its area, and so its sampling density, would be Mitsuba's approximation)", c.material.get_ref()));
         }
-        quadrics.push(Quadric { kind: QuadricKind::Cylinder, to_world, flip_normals: flag(&c.flip_normals), material, two_sided_emission: flag(&c.two_sided_emission), curve: None });
+        quadrics.push(Quadric { kind: QuadricKind::Cylinder, to_world, flip_normals: flag(&c.flip_normals), material, two_sided_emission: flag(&c.two_sided_emission), curve: None, grid: None });
     }
     let base = ck.file.parent().map(Path::to_path_buf).unwrap_or_default();
     for (i, c) in raw.linear_curves.iter().enumerate() {
@@ -770,11 +772,59 @@ fn check_quadrics(ck: &mut Checker, raw: &RawScene, materials: &[Material], reso
             material,
             two_sided_emission: false,
             curve: Some(s),
+            grid: None,
         }));
     }
+    let mut grids_read: Vec<(std::path::PathBuf, bool, std::sync::Arc<quadrics::SdfGrid>)> = Vec::new();
+    for (i, g) in raw.sdf_grids.iter().enumerate() {
+        let table = format!("sdf_grids[{i}]");
+        let g = g.get_ref();
+        let material = resolve(ck, &g.material, &format!("{table}.material"));
+        refuse_mesh_only_material(ck, materials, material, &g.material, &format!("{table}.material"), "signed distance grid");
+        if let Some(m) = materials.get(material) {
+            if m.is_emissive() {
+                ck.error(g.material.span(), format!("{table}.material"), format!("material \"{}\" emits light: a signed distance grid cannot be a light (Mitsuba cannot sample points of its surface either)", g.material.get_ref()));
+                continue;
+            }
+            if m.normal_map.is_some() || m.bump_map.is_some() {
+                ck.error(g.material.span(), format!("{table}.material"), format!("material \"{}\" has a normal or bump map, which needs a uv parametrisation: a signed distance grid has none (Mitsuba's uv is 0 there)", g.material.get_ref()));
+                continue;
+            }
+        }
+        let smooth = match g.normals.as_ref().map(|n| n.get_ref().as_str()) {
+            None | Some("smooth") => true,
+            Some("analytic") => false,
+            Some(other) => {
+                let at = g.normals.as_ref().map_or(g.file.span(), Spanned::span);
+                ck.error(at, format!("{table}.normals"), format!("normals \"{other}\" is not one of smooth, analytic"));
+                continue;
+            }
+        };
+        let transform = check_transform(ck, g.transform.as_ref(), &format!("{table}.transform"));
+        let file = base.join(g.file.get_ref());
+        // A file read once, however many shapes (an instanced group's copies) place it.
+        if let Some((_, _, grid)) = grids_read.iter().find(|(f, s, _)| *f == file && *s == smooth) {
+            quadrics.push(Quadric { kind: QuadricKind::SdfGrid, to_world: DAffine3::from_mat4(transform.matrix), flip_normals: false, material, two_sided_emission: false, curve: None, grid: Some(grid.clone()) });
+            continue;
+        }
+        let grid = crate::scene::vol_file::read_vol(&file).and_then(|vol| {
+            if vol.channels != 1 {
+                return Err(format!("{} channels (a signed distance grid has 1)", vol.channels));
+            }
+            quadrics::SdfGrid::new(file.clone(), vol.res, vol.data, smooth)
+        });
+        match grid {
+            Ok(grid) => {
+                let grid = std::sync::Arc::new(grid);
+                grids_read.push((file, smooth, grid.clone()));
+                quadrics.push(Quadric { kind: QuadricKind::SdfGrid, to_world: DAffine3::from_mat4(transform.matrix), flip_normals: false, material, two_sided_emission: false, curve: None, grid: Some(grid) });
+            }
+            Err(e) => ck.error(g.file.span(), format!("{table}.file"), format!("signed distance grid {}: {e}", file.display())),
+        }
+    }
     if quadrics.len() > MAX_QUADRICS {
-        let extra = raw.disks.iter().map(Spanned::span).chain(raw.cylinders.iter().map(Spanned::span)).chain(raw.linear_curves.iter().map(Spanned::span)).last().unwrap_or(0..0);
-        ck.error(extra, "disks", too_many(quadrics.len(), MAX_QUADRICS, "disks, cylinders and curve segments"));
+        let extra = raw.disks.iter().map(Spanned::span).chain(raw.cylinders.iter().map(Spanned::span)).chain(raw.linear_curves.iter().map(Spanned::span)).chain(raw.sdf_grids.iter().map(Spanned::span)).last().unwrap_or(0..0);
+        ck.error(extra, "disks", too_many(quadrics.len(), MAX_QUADRICS, "disks, cylinders, curve segments and signed distance grids"));
     }
     quadrics
 }

@@ -35,6 +35,8 @@ pub fn generated_constants() -> String {
          // Limits of the volumetric path tracer (src/scene/media/mod.rs).\n\
          const MAX_SHADOW_CROSSINGS: u32 = {}u;\n\
          const EXTRA_NULL_SEGMENTS: u32 = {}u;\n\
+         // Regula falsi steps in an SDF grid's cell, at most (src/scene/quadrics/sdf_grid.rs).\n\
+         const REGULA_FALSI_STEPS: u32 = {}u;\n\
          // Values of the `override` choices SAMPLER, BSDF_SAMPLING, LIGHT_SAMPLING, LIGHT_SELECT,\n\
          // TRIANGLE_SAMPLING, MICROFACET_SAMPLING, LOBE_SELECTION, ENV_SAMPLING (src/method.rs), the microfacet\n\
          // distributions (src/scene/mod.rs), and the display pass's view (src/display/view.rs).\n\
@@ -71,6 +73,7 @@ pub fn generated_constants() -> String {
         crate::scene::technique::TECHNIQUE_MAX_ITERATIONS,
         crate::scene::media::MAX_SHADOW_CROSSINGS,
         crate::scene::media::EXTRA_NULL_SEGMENTS,
+        crate::scene::quadrics::REGULA_FALSI_STEPS,
         wgsl_constants::<Sampler>("SAMPLER"),
         wgsl_constants::<BsdfSampling>("BSDF"),
         wgsl_constants::<LightSampling>("LIGHTS"),

@@ -327,6 +327,9 @@ pub struct TracedHit {
     /// The kernel's object index (`u32::MAX`: a miss).
     pub object: u32,
     pub uv: [f32; 2],
+    /// The shading normal (a mesh's interpolated vertex normal, an SDF grid's smooth normal;
+    /// else the geometric normal).
+    pub shading_normal: [f32; 3],
 }
 
 const TRACE_KERNEL: &str = r#"
@@ -342,8 +345,9 @@ fn trace_probe(@builtin(global_invocation_id) gid: vec3u) {
         return;
     }
     let hit = intersect_scene(probe_rays[i].o.xyz, probe_rays[i].d.xyz);
-    probe_out[2u * i] = vec4f(hit.uv, bitcast<f32>(hit.object), hit.t);
-    probe_out[2u * i + 1u] = vec4f(hit.normal, 0.0);
+    probe_out[3u * i] = vec4f(hit.uv, bitcast<f32>(hit.object), hit.t);
+    probe_out[3u * i + 1u] = vec4f(hit.normal, 0.0);
+    probe_out[3u * i + 2u] = vec4f(hit.shading_normal, 0.0);
 }
 "#;
 
@@ -380,9 +384,11 @@ pub fn trace_hits(scene: &Scene, features: pathlab::gpu::SceneFeatures, rays: &[
         inputs,
         uniforms,
         texel_tables,
-        output: (31, rays.len() as u64 * 32),
+        output: (31, rays.len() as u64 * 48),
         workgroups: (rays.len() as u32).div_ceil(64),
     };
     let out: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&run.run(gpu()).expect("trace kernel"));
-    out.chunks(2).map(|h| TracedHit { t: h[0][3], normal: [h[1][0], h[1][1], h[1][2]], object: h[0][2].to_bits(), uv: [h[0][0], h[0][1]] }).collect()
+    out.chunks(3)
+        .map(|h| TracedHit { t: h[0][3], normal: [h[1][0], h[1][1], h[1][2]], object: h[0][2].to_bits(), uv: [h[0][0], h[0][1]], shading_normal: [h[2][0], h[2][1], h[2][2]] })
+        .collect()
 }

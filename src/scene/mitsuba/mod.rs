@@ -20,7 +20,7 @@ use toml::Spanned;
 
 use super::diagnostic::{Diagnostic, Findings, Severity, SourceMap};
 use super::raw::{
-    RawCamera, RawColor, RawCurve, RawCylinder, RawColorOrTexture, RawMaterial, RawMesh, RawRender, RawRotation, RawRotations, RawScale, RawScene, RawShape,
+    RawCamera, RawColor, RawCurve, RawCylinder, RawSdfGrid, RawColorOrTexture, RawMaterial, RawMesh, RawRender, RawRotation, RawRotations, RawScale, RawScene, RawShape,
     RawSphere, RawTransform,
 };
 use super::bsdfs::{color_value, PluginProps, DEFAULT_REFLECTANCE};
@@ -37,7 +37,7 @@ const MITSUBA_NEAR_CLIP: f64 = 1e-2;
 const DEFAULT_MAX_DEPTH: i64 = -1;
 const DEFAULT_RR_DEPTH: i64 = 5;
 
-const SHAPES: &str = "obj, ply, serialized, rectangle, cube, sphere, disk, cylinder, linearcurve, shapegroup, instance";
+const SHAPES: &str = "obj, ply, serialized, rectangle, cube, sphere, disk, cylinder, linearcurve, sdfgrid, shapegroup, instance";
 
 /// The shapes read so far, by the raw scene's tables.
 #[derive(Default)]
@@ -49,12 +49,13 @@ struct Shapes {
     disks: Vec<Spanned<RawShape>>,
     cylinders: Vec<Spanned<RawCylinder>>,
     linear_curves: Vec<Spanned<RawCurve>>,
+    sdf_grids: Vec<Spanned<RawSdfGrid>>,
 }
 
 impl Shapes {
     /// How many shapes, of every kind.
     fn len(&self) -> usize {
-        self.meshes.len() + self.rectangles.len() + self.cubes.len() + self.spheres.len() + self.disks.len() + self.cylinders.len() + self.linear_curves.len()
+        self.meshes.len() + self.rectangles.len() + self.cubes.len() + self.spheres.len() + self.disks.len() + self.cylinders.len() + self.linear_curves.len() + self.sdf_grids.len()
     }
 }
 
@@ -89,17 +90,10 @@ fn load_with_raw(path: &Path, defines: &[(String, String)]) -> Result<(Scene, Ra
 /// mesh files named relative to `out_dir` where they lie below it. The scene is validated first.
 pub fn to_toml(path: &Path, defines: &[(String, String)], out_dir: &Path) -> Result<(String, Vec<Diagnostic>), SceneError> {
     let (scene, mut raw) = load_with_raw(path, defines)?;
-    for m in &mut raw.meshes {
-        let m = m.get_mut();
-        let file = path.parent().unwrap_or(Path::new("")).join(m.file.get_ref());
+    for f in raw.shape_files_mut() {
+        let file = path.parent().unwrap_or(Path::new("")).join(f.get_ref());
         let relative = relative_to(&file, out_dir);
-        m.file = Spanned::new(m.file.span(), relative.display().to_string());
-    }
-    for c in &mut raw.linear_curves {
-        let c = c.get_mut();
-        let file = path.parent().unwrap_or(Path::new("")).join(c.file.get_ref());
-        let relative = relative_to(&file, out_dir);
-        c.file = Spanned::new(c.file.span(), relative.display().to_string());
+        *f = Spanned::new(f.span(), relative.display().to_string());
     }
     let body = toml::to_string(&raw).map_err(|e| {
         SceneError::Invalid(vec![Diagnostic {
@@ -180,16 +174,11 @@ fn translate(path: &Path, defines: &[(String, String)]) -> Result<(RawScene, Sou
         }),
         sensor_correction: t.sensor_correction,
     };
-    // Mesh and curve files as the scene model names them: relative to the main file's folder
-    // (where the validation looks), each found beside the XML file that names it.
+    // Mesh, curve and grid files as the scene model names them: relative to the main file's
+    // folder (where the validation looks), each found beside the XML file that names it.
     let main_dir = path.parent().unwrap_or(Path::new(""));
-    for m in raw.iter_mut().flat_map(|r| r.meshes.iter_mut()) {
-        let m = m.get_mut();
-        m.file = Spanned::new(m.file.span(), relative_to(Path::new(m.file.get_ref()), main_dir).display().to_string());
-    }
-    for c in raw.iter_mut().flat_map(|r| r.linear_curves.iter_mut()) {
-        let c = c.get_mut();
-        c.file = Spanned::new(c.file.span(), relative_to(Path::new(c.file.get_ref()), main_dir).display().to_string());
+    for f in raw.iter_mut().flat_map(RawScene::shape_files_mut) {
+        *f = Spanned::new(f.span(), relative_to(Path::new(f.get_ref()), main_dir).display().to_string());
     }
     let mut diagnostics = t.diagnostics;
     if let Some(v) = loaded.version.as_deref().filter(|v| !v.starts_with("3.")) {
@@ -932,6 +921,7 @@ impl Translator<'_> {
             disks: shapes.disks,
             cylinders: shapes.cylinders,
             linear_curves: shapes.linear_curves,
+            sdf_grids: shapes.sdf_grids,
             point_lights,
             spot_lights,
             directional_lights,
@@ -2063,6 +2053,28 @@ impl Translator<'_> {
                     }
                 };
                 shapes.linear_curves.push(spanned(o.at, RawCurve { file: spanned(o.at, path.display().to_string()), material, transform }));
+            }
+            "sdfgrid" => {
+                let file = self.string(&mut p, "filename");
+                let normals = self.string(&mut p, "normals");
+                self.finish(p, "filename, normals, to_world");
+                if flip.is_some() {
+                    self.error(o.at, "flip_normals", "flip_normals of a <shape type=\"sdfgrid\"> is not supported (Mitsuba's sdfgrid does not read it)");
+                    return;
+                }
+                let Some((file, _)) = file else {
+                    self.error(o.at, "filename", "<shape type=\"sdfgrid\"> needs <string name=\"filename\"> (a .vol grid; a `grid` tensor can be given from Python alone)");
+                    return;
+                };
+                let path = match self.loaded.resolve(&file, &o.dir) {
+                    Ok(path) => path,
+                    Err(message) => {
+                        self.error(o.at, "filename", format!("signed distance grid {message}"));
+                        return;
+                    }
+                };
+                let normals = normals.map(|(n, at)| spanned(at, n));
+                shapes.sdf_grids.push(spanned(o.at, RawSdfGrid { file: spanned(o.at, path.display().to_string()), material, transform, normals }));
             }
             "cylinder" => {
                 let p0 = self.point(&mut p, "p0").map(|v| spanned(o.at, v.to_array()));

@@ -10,13 +10,19 @@
 //!
 //! The segments of Mitsuba's `linearcurve` (`linear_curve.rs`) share the quadrics' records and
 //! loops: each is a sphere swept along a segment, given by its ends and radii (`curve`), not an
-//! affine image of a unit shape (its `to_world` is the identity).
+//! affine image of a unit shape (its `to_world` is the identity). So do Mitsuba's `sdfgrid`s
+//! (`sdf_grid.rs`): a signed distance grid on the unit cube of the object space its `to_world`
+//! places, its values in the BSDF data (`SdfGrid`).
 
 mod cylinder;
 mod disk;
 mod linear_curve;
+mod sdf_grid;
 
 pub use linear_curve::{angle_frame, read_curves, segments, CurveSegment};
+pub use sdf_grid::{SdfGrid, REGULA_FALSI_STEPS};
+
+use std::sync::Arc;
 
 use glam::{DAffine3, DMat3, DVec3};
 
@@ -34,6 +40,9 @@ named_enum! {
         Cylinder = "cylinder",
         /// One segment of Mitsuba's `linearcurve`: a sphere swept along it (`CurveSegment`).
         CurveSegment = "curve segment",
+        /// Mitsuba's `sdfgrid`: the zero set of a signed distance grid on the unit cube
+        /// (`SdfGrid`).
+        SdfGrid = "sdf grid",
     }
 }
 
@@ -53,6 +62,8 @@ pub struct Quadric {
     pub two_sided_emission: bool,
     /// A curve segment's ends and radii (`QuadricKind::CurveSegment`), None for the others.
     pub curve: Option<CurveSegment>,
+    /// An SDF grid's values (`QuadricKind::SdfGrid`), None for the others.
+    pub grid: Option<Arc<SdfGrid>>,
 }
 
 impl Quadric {
@@ -66,13 +77,18 @@ impl Quadric {
         match self.kind {
             QuadricKind::Disk => disk::area(self),
             QuadricKind::Cylinder => cylinder::area(self),
-            // Never a light (as in Mitsuba, which cannot sample its curves' positions).
-            QuadricKind::CurveSegment => 0.0,
+            // Never lights (as in Mitsuba, which cannot sample their positions).
+            QuadricKind::CurveSegment | QuadricKind::SdfGrid => 0.0,
         }
     }
 
     fn segment(&self) -> &CurveSegment {
         self.curve.as_ref().expect("a curve segment has its segment")
+    }
+
+    /// An SDF grid's values.
+    pub fn sdf_grid(&self) -> &SdfGrid {
+        self.grid.as_ref().expect("an SDF grid has its values")
     }
 
     /// Nearest ray parameter t in (t_min, t_max) where the ray o + t d meets the surface.
@@ -83,6 +99,7 @@ impl Quadric {
             QuadricKind::Disk => disk::intersect(ol, dl, t_min, t_max),
             QuadricKind::Cylinder => cylinder::intersect(ol, dl, t_min, t_max),
             QuadricKind::CurveSegment => self.segment().intersect(o, d, t_min, t_max),
+            QuadricKind::SdfGrid => self.sdf_grid().intersect(ol, dl, t_min, t_max),
         }
     }
 
@@ -93,9 +110,24 @@ impl Quadric {
             QuadricKind::Disk => DVec3::Z,
             QuadricKind::Cylinder => DVec3::new(local.x, local.y, 0.0),
             QuadricKind::CurveSegment => return self.segment().normal(p),
+            QuadricKind::SdfGrid => self.sdf_grid().gradient(local),
         };
         let n = normal_to_world(&self.to_world, n_object);
         if self.flip_normals { -n } else { n }
+    }
+
+    /// The unit shading normal at world point `p` of the surface: an SDF grid's smooth normal
+    /// where it has `normals = "smooth"` (0 where the blend of its cells' normals cancels),
+    /// else the surface normal.
+    pub fn shading_normal(&self, p: DVec3) -> DVec3 {
+        match &self.grid {
+            Some(g) if g.smooth => {
+                let n = g.smooth_normal(self.to_object().transform_point3(p));
+                let inverse_transpose: DMat3 = DMat3::from(self.to_world.matrix3).inverse().transpose();
+                (inverse_transpose * n).normalize_or_zero()
+            }
+            _ => self.normal(p),
+        }
     }
 
     /// Mitsuba's uv parametrisation at world point `p` of the surface.
@@ -105,18 +137,21 @@ impl Quadric {
             QuadricKind::Disk => disk::uv(local),
             QuadricKind::Cylinder => cylinder::uv(local),
             QuadricKind::CurveSegment => self.segment().uv(p),
+            // No parametrisation (Mitsuba's uv 0).
+            QuadricKind::SdfGrid => [0.0, 0.0],
         }
     }
 
     /// The corners of a box around it in world space: the image of its object space's
-    /// [-1, 1]^2 x [0, 0] (a disk) or [0, 1] (a cylinder).
+    /// [-1, 1]^2 x [0, 0] (a disk) or [0, 1] (a cylinder), or [0, 1]^3 (an SDF grid).
     pub fn box_corners(&self) -> [DVec3; 8] {
         if let Some(c) = &self.curve {
             return c.box_corners();
         }
         let top = if self.kind == QuadricKind::Disk { 0.0 } else { 1.0 };
+        let low = if self.kind == QuadricKind::SdfGrid { 0.0 } else { -1.0 };
         std::array::from_fn(|c| {
-            let corner = DVec3::new(if c & 1 == 0 { -1.0 } else { 1.0 }, if c & 2 == 0 { -1.0 } else { 1.0 }, if c & 4 == 0 { 0.0 } else { top });
+            let corner = DVec3::new(if c & 1 == 0 { low } else { 1.0 }, if c & 2 == 0 { low } else { 1.0 }, if c & 4 == 0 { 0.0 } else { top });
             self.to_world.transform_point3(corner)
         })
     }
@@ -127,8 +162,9 @@ impl Quadric {
         let local = match self.kind {
             QuadricKind::Disk => disk::sample_local(u),
             QuadricKind::Cylinder => cylinder::sample_local(u),
-            // Never a light: no position to sample.
+            // Never lights: no position to sample.
             QuadricKind::CurveSegment => return self.segment().p0,
+            QuadricKind::SdfGrid => DVec3::splat(0.5),
         };
         self.to_world.transform_point3(local)
     }
@@ -189,7 +225,7 @@ mod tests {
     use super::*;
 
     fn quadric(kind: QuadricKind, to_world: DAffine3) -> Quadric {
-        Quadric { kind, to_world, flip_normals: false, material: 0, two_sided_emission: false, curve: None }
+        Quadric { kind, to_world, flip_normals: false, material: 0, two_sided_emission: false, curve: None, grid: None }
     }
 
     #[test]

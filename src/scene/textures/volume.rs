@@ -5,9 +5,7 @@
 //! instead); Dr.Jit's texture lookup, as the bitmap's in 3D: texel centres at (i + 1/2) / n,
 //! trilinear or nearest, the indices folded by the wrap mode (clamp by default).
 //!
-//! The file is Mitsuba's `.vol` format: "VOL", version 3, encoding 1 (float32), the cell counts
-//! along x, y and z, the channel count, the bounding box (xmin, ymin, zmin, xmax, ymax, zmax),
-//! then the cells, little-endian, data[((z * ny + y) * nx + x) * channels + c]. One channel is
+//! The file is Mitsuba's `.vol` format (`scene::vol_file`). One channel is
 //! a grey, three a linear RGB colour (Mitsuba's RGB variants read them unchanged, `raw` or
 //! not); six, or anything else, are refused.
 
@@ -24,9 +22,6 @@ pub const TEXTURE_VOLUME: u32 = 2;
 /// Numbers of its record before the cells: kind, nx, ny, nz, channels, filter, wrap, and the
 /// 3x4 world-to-grid transform by rows.
 pub const VOLUME_HEADER: usize = 19;
-/// The largest cell count a file may declare (about 4 GiB of floats at three channels).
-const MAX_CELLS: u64 = 1 << 28;
-
 /// A grid volume as a texture.
 #[derive(Debug, Clone)]
 pub struct GridVolume {
@@ -56,45 +51,18 @@ impl PartialEq for GridVolume {
     }
 }
 
-/// The cells of a `.vol` file: (res, channels, cells, bounding box), or what is wrong with it.
+/// The cells of a `.vol` file as a texture's colours: (res, channels, cells, bounding box), or
+/// what is wrong with it.
 pub fn read_vol(path: &Path) -> Result<([u32; 3], u32, Vec<f32>, [f32; 6]), String> {
-    let bytes = std::fs::read(path).map_err(|e| format!("cannot read it: {e}"))?;
-    if bytes.len() < 48 || &bytes[..3] != b"VOL" {
-        return Err("not a Mitsuba .vol grid (it must begin with \"VOL\" and a 48-byte header)".into());
+    let vol = crate::scene::vol_file::read_vol(path)?;
+    if vol.channels != 1 && vol.channels != 3 {
+        return Err(format!("{} channels (a texture reads 1, a grey, or 3, an RGB colour)", vol.channels));
     }
-    if bytes[3] != 3 {
-        return Err(format!("version {} (Mitsuba's grids are version 3)", bytes[3]));
+    if let Some(i) = vol.data.iter().position(|x| !x.is_finite() || *x < 0.0) {
+        let [x, y, z] = vol.position(i);
+        return Err(format!("cell ({x}, {y}, {z}) holds {} (a colour must be finite and >= 0)", vol.data[i]));
     }
-    let int = |at: usize| i32::from_le_bytes(bytes[at..at + 4].try_into().expect("4 bytes"));
-    let encoding = int(4);
-    if encoding != 1 {
-        return Err(format!("encoding {encoding} (only 1, float32, is supported, as in Mitsuba)"));
-    }
-    let (nx, ny, nz, channels) = (int(8), int(12), int(16), int(20));
-    if nx <= 0 || ny <= 0 || nz <= 0 {
-        return Err(format!("cell counts {nx} x {ny} x {nz} (each must be at least 1)"));
-    }
-    if channels != 1 && channels != 3 {
-        return Err(format!("{channels} channels (a texture reads 1, a grey, or 3, an RGB colour)"));
-    }
-    let cells = nx as u64 * ny as u64 * nz as u64;
-    if cells > MAX_CELLS {
-        return Err(format!("{nx} x {ny} x {nz} cells (at most {MAX_CELLS})"));
-    }
-    let floats = cells * channels as u64;
-    let expected = 48 + 4 * floats;
-    if bytes.len() as u64 != expected {
-        return Err(format!("{} bytes where its header ({nx} x {ny} x {nz} cells, {channels} channels) needs {expected}", bytes.len()));
-    }
-    let float = |at: usize| f32::from_le_bytes(bytes[at..at + 4].try_into().expect("4 bytes"));
-    let bbox = [float(24), float(28), float(32), float(36), float(40), float(44)];
-    let data: Vec<f32> = bytes[48..].chunks_exact(4).map(|c| f32::from_le_bytes(c.try_into().expect("4 bytes"))).collect();
-    if let Some(i) = data.iter().position(|x| !x.is_finite() || *x < 0.0) {
-        let c = i / channels as usize;
-        let (x, y, z) = (c % nx as usize, (c / nx as usize) % ny as usize, c / (nx as usize * ny as usize));
-        return Err(format!("cell ({x}, {y}, {z}) holds {} (a colour must be finite and >= 0)", data[i]));
-    }
-    Ok(([nx as u32, ny as u32, nz as u32], channels as u32, data, bbox))
+    Ok((vol.res, vol.channels, vol.data, vol.bbox))
 }
 
 impl GridVolume {
