@@ -36,8 +36,8 @@ fn texture_context(hit: Hit, p: vec3f) -> TextureEvalContext {
     return TextureEvalContext(hit.uv, p, select(INVALID, hit.object - first_triangle_object(), on_triangle), hit.bary);
 }
 
-// The first object index of the quadrics (disks, then cylinders, then curve segments, then SDF
-// grids).
+// The first object index of the quadrics (disks, then cylinders, then linear curves' segments,
+// then B-spline segments, then SDF grids).
 fn first_quadric_object() -> u32 {
     return NUM_SPHERES + NUM_PLANES;
 }
@@ -52,9 +52,19 @@ fn num_quadrics() -> u32 {
     return first_sdf_grid() + NUM_SDF_GRIDS;
 }
 
-// The quadric index of the first SDF grid (after the curve segments).
-fn first_sdf_grid() -> u32 {
+// The quadric index of the first B-spline segment (after the linear curves' segments).
+fn first_bspline_segment() -> u32 {
     return NUM_DISKS + NUM_CYLINDERS + NUM_CURVE_SEGMENTS;
+}
+
+// The quadric index of the first SDF grid (after the B-spline segments).
+fn first_sdf_grid() -> u32 {
+    return first_bspline_segment() + NUM_BSPLINE_SEGMENTS;
+}
+
+// Whether quadric k is a B-spline segment.
+fn is_bspline_segment(k: u32) -> bool {
+    return NUM_BSPLINE_SEGMENTS > 0u && k >= first_bspline_segment() && k < first_sdf_grid();
 }
 
 // Whether an object index (not INVALID) names a quadric.
@@ -62,13 +72,16 @@ fn is_quadric(object: u32) -> bool {
     return num_quadrics() > 0u && object >= first_quadric_object() && object < first_triangle_object();
 }
 
-// The unit normal of quadric k at world point p of it.
-fn quadric_normal(k: u32, q: Quadric, p: vec3f) -> vec3f {
+// The unit normal of quadric k at world point p of it (v: a B-spline segment's parameter there).
+fn quadric_normal(k: u32, q: Quadric, p: vec3f, v: f32) -> vec3f {
     if (k < NUM_DISKS) {
         return q.normal;
     }
     if (NUM_SDF_GRIDS > 0u && k >= first_sdf_grid()) {
         return sdf_grid_normal(q, p);
+    }
+    if (is_bspline_segment(k)) {
+        return bspline_curve_normal(q, p, v);
     }
     if (NUM_CURVE_SEGMENTS > 0u && k >= NUM_DISKS + NUM_CYLINDERS) {
         return linear_curve_normal(q, p);
@@ -76,10 +89,13 @@ fn quadric_normal(k: u32, q: Quadric, p: vec3f) -> vec3f {
     return cylinder_normal(q, p);
 }
 
-// The uv parametrisation of quadric k at world point p of it.
-fn quadric_uv(k: u32, q: Quadric, p: vec3f) -> vec2f {
+// The uv parametrisation of quadric k at world point p of it (v: as for quadric_normal).
+fn quadric_uv(k: u32, q: Quadric, p: vec3f, v: f32) -> vec2f {
     if (k < NUM_DISKS) {
         return disk_uv(q, p);
+    }
+    if (is_bspline_segment(k)) {
+        return bspline_curve_uv(q, p, v);
     }
     if (NUM_SDF_GRIDS > 0u && k >= first_sdf_grid()) {
         // No parametrisation (Mitsuba's uv 0).
@@ -91,10 +107,13 @@ fn quadric_uv(k: u32, q: Quadric, p: vec3f) -> vec2f {
     return cylinder_uv(q, p);
 }
 
-// The direction of dp/du of quadric k at world point p of it.
-fn quadric_tangent(k: u32, q: Quadric, p: vec3f) -> vec3f {
+// The direction of dp/du of quadric k at world point p of it (v: as for quadric_normal).
+fn quadric_tangent(k: u32, q: Quadric, p: vec3f, v: f32) -> vec3f {
     if (k < NUM_DISKS) {
         return disk_tangent(q, p);
+    }
+    if (is_bspline_segment(k)) {
+        return bspline_curve_tangent(q, p, v);
     }
     if (NUM_SDF_GRIDS > 0u && k >= first_sdf_grid()) {
         return vec3f(0.0);
@@ -182,8 +201,8 @@ fn sphere_partials(i: u32, n: vec3f) -> Partials {
 // sin phi, 0) and 2 pi r to_world (-sin phi, cos phi, 0) (both of (0, 0, 0)'s direction at the
 // centre); a cylinder's (cylinder.cpp) to_world 2 pi (-l.y, l.x, 0) and to_world (0, 0, 1).
 fn quadric_partials(k: u32, q: Quadric, p: vec3f) -> Partials {
-    if (NUM_SDF_GRIDS > 0u && k >= first_sdf_grid()) {
-        // No parametrisation (validation refuses bump maps there).
+    if ((NUM_SDF_GRIDS > 0u && k >= first_sdf_grid()) || is_bspline_segment(k)) {
+        // None kept (validation refuses bump maps on SDF grids and B-spline curves).
         return Partials(vec3f(0.0), vec3f(0.0));
     }
     if (NUM_CURVE_SEGMENTS > 0u && k >= NUM_DISKS + NUM_CYLINDERS) {
@@ -284,11 +303,22 @@ fn intersect_scene(o: vec3f, d: vec3f) -> Hit {
             }
         }
         if (NUM_CURVE_SEGMENTS > 0u) {
-            for (var k = NUM_DISKS + NUM_CYLINDERS; k < first_sdf_grid(); k++) {
+            for (var k = NUM_DISKS + NUM_CYLINDERS; k < first_bspline_segment(); k++) {
                 let t = intersect_linear_curve(surfaces.quadrics[k], o, d, 0.0, hit.t);
                 let closer = t > 0.0;
                 hit.t = select(hit.t, t, closer);
                 quadric = select(quadric, k, closer);
+            }
+        }
+        // A B-spline segment's hit comes with its parameter v (Mitsuba's prim_uv).
+        var curve_v = 0.0;
+        if (NUM_BSPLINE_SEGMENTS > 0u) {
+            for (var k = first_bspline_segment(); k < first_sdf_grid(); k++) {
+                let h = intersect_bspline_curve(surfaces.quadrics[k], o, d, 0.0, hit.t);
+                let closer = h.x > 0.0;
+                hit.t = select(hit.t, h.x, closer);
+                quadric = select(quadric, k, closer);
+                curve_v = select(curve_v, h.y, closer);
             }
         }
         if (NUM_SDF_GRIDS > 0u) {
@@ -302,14 +332,14 @@ fn intersect_scene(o: vec3f, d: vec3f) -> Hit {
         if (quadric != INVALID) {
             let q = surfaces.quadrics[quadric];
             let x = o + d * hit.t;
-            let n = quadric_normal(quadric, q, x);
+            let n = quadric_normal(quadric, q, x, curve_v);
             var q_uv = vec2f(0.0);
             if (HAS_UVS) {
-                q_uv = quadric_uv(quadric, q, x);
+                q_uv = quadric_uv(quadric, q, x, curve_v);
             }
             var q_tangent = vec3f(0.0);
             if (HAS_TANGENT_FRAMES) {
-                q_tangent = quadric_tangent(quadric, q, x);
+                q_tangent = quadric_tangent(quadric, q, x, curve_v);
             }
             var shading_normal = n;
             if (NUM_SDF_GRIDS > 0u && quadric >= first_sdf_grid()) {
@@ -365,8 +395,13 @@ fn occluded(o: vec3f, d: vec3f, t_max: f32, skip: u32) -> bool {
         }
     }
     if (NUM_CURVE_SEGMENTS > 0u) {
-        for (var k = NUM_DISKS + NUM_CYLINDERS; k < first_sdf_grid(); k++) {
+        for (var k = NUM_DISKS + NUM_CYLINDERS; k < first_bspline_segment(); k++) {
             blocked = blocked | (intersect_linear_curve(surfaces.quadrics[k], o, d, 0.0, t_max) > 0.0);
+        }
+    }
+    if (NUM_BSPLINE_SEGMENTS > 0u) {
+        for (var k = first_bspline_segment(); k < first_sdf_grid(); k++) {
+            blocked = blocked | (intersect_bspline_curve(surfaces.quadrics[k], o, d, 0.0, t_max).x > 0.0);
         }
     }
     if (NUM_SDF_GRIDS > 0u) {

@@ -11,6 +11,9 @@ override NUM_CYLINDERS: u32 = 0u;
 // Then NUM_CURVE_SEGMENTS segments of Mitsuba's linearcurves (quadrics/linear_curve.wgsl),
 // never lights.
 override NUM_CURVE_SEGMENTS: u32 = 0u;
+// Then NUM_BSPLINE_SEGMENTS segments of Mitsuba's bsplinecurves (quadrics/bspline_curve.wgsl),
+// never lights.
+override NUM_BSPLINE_SEGMENTS: u32 = 0u;
 // Then NUM_SDF_GRIDS of Mitsuba's sdfgrids (quadrics/sdf_grid.wgsl), never lights.
 override NUM_SDF_GRIDS: u32 = 0u;
 // The lights' counts (NUM_LIGHTS, NUM_<KIND>_LIGHTS) are generated after light_table.wgsl:

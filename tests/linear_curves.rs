@@ -200,7 +200,7 @@ fn bad_curves_are_refused_at_their_line() {
     let dir = tempfile::tempdir().unwrap();
     for (curves, line, expected) in [
         ("0 0 0 0.1\n1 0 0\n", 2, "x y z radius"),
-        ("0 0 0 0.1\n1 0 0 0.1\n\n2 2 2 0.1\n", 4, "one control point"),
+        ("0 0 0 0.1\n1 0 0 0.1\n\n2 2 2 0.1\n", 4, "a curve of one control point: a linear curve needs at least 2"),
         ("0 0 0 0.1\n1 0 nan 0.1\n", 2, "finite"),
         ("0 0 0 0.1\n1 0 0 -0.1\n", 2, "negative"),
         ("0 0 0 1\n0.5 0 0 0.1\n", 0, "end sphere inside the other"),

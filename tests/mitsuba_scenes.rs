@@ -194,7 +194,7 @@ fn bad_xml_is_refused_with_file_line_column_plugin_and_parameter() {
         (small("<bsdf type=\"diffuse\" id=\"d\"><float name=\"roughness\" value=\"1\"/></bsdf>"), "<float name=\"roughness\"", "`roughness` of <bsdf type=\"diffuse\"> is not supported (pathlab reads: reflectance)"),
         (small("<shape type=\"sphere\"><float name=\"radius\" value=\"nan\"/></shape>"), "nan\"", "must be a finite number > 0 (got NaN)"),
         (small("<shape type=\"sphere\"><float name=\"radius\" value=\"-1\"/></shape>"), "-1\"", "must be a finite number > 0 (got -1)"),
-        (small("<shape type=\"bsplinecurve\"/>"), "<shape type=\"bsplinecurve\"", "<shape type=\"bsplinecurve\"> is not supported (pathlab has obj, ply, serialized, rectangle, cube, sphere, disk, cylinder, linearcurve, sdfgrid, shapegroup, instance)"),
+        (small("<shape type=\"ellipsoids\"/>"), "<shape type=\"ellipsoids\"", "<shape type=\"ellipsoids\"> is not supported (pathlab has obj, ply, serialized, rectangle, cube, sphere, disk, cylinder, linearcurve, bsplinecurve, sdfgrid, shapegroup, instance)"),
         (small("<emitter type=\"sunsky\"/>"), "<emitter type=\"sunsky\"", "not supported (pathlab has area, constant, envmap, point, spot, directional, projector)"),
         (small("<integrator type=\"bdpt\"/>"), "<integrator type=\"bdpt\"", "not supported (pathlab is a unidirectional path tracer"),
         (small("<shape type=\"cube\"><rgb name=\"radiance\" value=\"1, 2\"/></shape>"), "1, 2", "needs 3 (or 1) numbers, got 2"),

@@ -103,7 +103,7 @@ fn probes(scene: &Scene) -> Vec<Probe> {
                     QuadricKind::Disk => vec![p + DVec3::new(0.1, -0.2, 0.8), p + DVec3::new(-0.15, 0.05, -0.6)],
                     // From outside, radially, and from inside towards the wall.
                     QuadricKind::Cylinder => vec![DVec3::new(1.6 * p.x, 1.6 * p.y, p.z + 0.1), DVec3::new(0.3 * p.x + 0.1, 0.3 * p.y, p.z + 0.05)],
-                    QuadricKind::CurveSegment | QuadricKind::SdfGrid => unreachable!("no curves or grids here (tests/linear_curves.rs, tests/sdf_grids.rs)"),
+                    _ => unreachable!("only disks and cylinders here (curves and grids: tests/linear_curves.rs, tests/bspline_curves.rs, tests/sdf_grids.rs)"),
                 };
                 for o in origins {
                     probes.push(Probe { origin: world(o), target: world(p), quadric: i, hits: true, what: format!("{} {i} at u {u:?} from {o}", q.kind.name()) });
@@ -118,7 +118,7 @@ fn probes(scene: &Scene) -> Vec<Probe> {
                         let z = if b % 2 == 0 { -0.03 } else { 1.03 };
                         (DVec3::new(1.6 * p.x, 1.6 * p.y, z), DVec3::new(p.x, p.y, z))
                     }
-                    QuadricKind::CurveSegment | QuadricKind::SdfGrid => unreachable!("no curves or grids here"),
+                    _ => unreachable!("only disks and cylinders here"),
                 };
                 probes.push(Probe { origin: world(o), target: world(past), quadric: i, hits: false, what: format!("{} {i} past its edge at {past}", q.kind.name()) });
             }

@@ -89,6 +89,7 @@ fn overrides_set_by_the_host_are_those_the_module_declares() {
         num_disks: 2,
         num_cylinders: 1,
         num_curve_segments: 2,
+        num_bspline_segments: 1,
         num_sdf_grids: 1,
         num_sphere_lights: 1,
         num_triangle_lights: 2,

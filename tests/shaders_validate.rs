@@ -69,6 +69,7 @@ fn every_override_permutation_validates() {
                                     num_cylinders,
                                     // Curve segments with the cylinders.
                                     num_curve_segments: num_cylinders,
+                                    num_bspline_segments: num_cylinders,
                                     num_sdf_grids: num_cylinders,
                                     num_sphere_lights,
                                     num_triangle_lights: triangle_lights,

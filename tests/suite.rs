@@ -51,6 +51,7 @@ mod polarized_plastics;
 mod principled;
 mod quadrics;
 mod linear_curves;
+mod bspline_curves;
 mod sdf_grids;
 mod render_presets;
 mod rough_plastics;

@@ -17,10 +17,14 @@
 // segment's size, not of the ray's origin, and lose little to cancellation in f32 (1e-4 of t
 // from an origin 30 radii away, without).
 fn intersect_linear_curve(q: Quadric, o_ray: vec3f, d: vec3f, t_min: f32, t_max: f32) -> f32 {
-    let pa = q.object_x.xyz;
-    let pb = q.object_y.xyz;
-    let ra = q.object_x.w;
-    let rb = q.object_y.w;
+    let t = round_cone_entry(q.object_x.xyz, q.object_x.w, q.object_y.xyz, q.object_y.w, o_ray, d, t_min, t_max, q.world_y.w > 0.0);
+    return select(-1.0, t, t < INFINITY);
+}
+
+// t where the ray o + t d enters the sphere swept from (pa, ra) to (pb, rb), in (t_min, t_max),
+// or INFINITY: the entry into the tangent cone where its contact lies between the spheres, else
+// the nearer entry into an end sphere (the start sphere's only where `own_start`).
+fn round_cone_entry(pa: vec3f, ra: f32, pb: vec3f, rb: f32, o_ray: vec3f, d: vec3f, t_min: f32, t_max: f32, own_start: bool) -> f32 {
     let t_shift = dot(0.5 * (pa + pb) - o_ray, d) / dot(d, d);
     let o = o_ray + t_shift * d;
     let ba = pb - pa;
@@ -50,16 +54,21 @@ fn intersect_linear_curve(q: Quadric, o_ray: vec3f, d: vec3f, t_min: f32, t_max:
     let t1 = select(INFINITY, (-m6 - sqrt(max(h1, 0.0))) / m4, h1 > 0.0);
     let on_cone = y > 0.0 && y < d2;
     let entry = t_shift + select(min(t0, t1), t_cone, on_cone);
-    let own = q.world_y.w > 0.0 || on_cone || t1 <= t0;
-    return select(-1.0, entry, h >= 0.0 && own && entry > t_min && entry < t_max);
+    let own = own_start || on_cone || t1 <= t0;
+    return select(INFINITY, entry, h >= 0.0 && own && entry > t_min && entry < t_max);
 }
 
 // The contact sphere's parameter at point p of segment q, in [0, 1]: ((p - p0) . d + r0 (r1 -
 // r0)) / (|d|^2 - (r1 - r0)^2) on the cone, clamped to an end sphere.
 fn linear_curve_v_local(q: Quadric, p: vec3f) -> f32 {
-    let d = q.object_y.xyz - q.object_x.xyz;
-    let dr = q.object_y.w - q.object_x.w;
-    return clamp((dot(p - q.object_x.xyz, d) + q.object_x.w * dr) / (dot(d, d) - dr * dr), 0.0, 1.0);
+    return round_cone_v(q.object_x.xyz, q.object_x.w, q.object_y.xyz, q.object_y.w, p);
+}
+
+// The contact sphere's parameter at point p of the sphere swept from (pa, ra) to (pb, rb).
+fn round_cone_v(pa: vec3f, ra: f32, pb: vec3f, rb: f32, p: vec3f) -> f32 {
+    let d = pb - pa;
+    let dr = rb - ra;
+    return clamp((dot(p - pa, d) + ra * dr) / (dot(d, d) - dr * dr), 0.0, 1.0);
 }
 
 // The contact sphere's centre at point p of segment q.

@@ -181,8 +181,11 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
         f.num_triangles,
         f.num_triangle_lights,
         if scene.meshes.iter().any(|m| !m.normals.is_empty()) { ", with vertex normals" } else { "" },
-        if f.num_disks + f.num_cylinders + f.num_curve_segments + f.num_sdf_grids > 0 {
-            let curves = if f.num_curve_segments > 0 { format!("{} curve segments, ", f.num_curve_segments) } else { String::new() };
+        if f.num_disks + f.num_cylinders + f.num_curve_segments + f.num_bspline_segments + f.num_sdf_grids > 0 {
+            let mut curves = if f.num_curve_segments > 0 { format!("{} curve segments, ", f.num_curve_segments) } else { String::new() };
+            if f.num_bspline_segments > 0 {
+                curves += &format!("{} B-spline segments, ", f.num_bspline_segments);
+            }
             let grids = scene
                 .quadrics
                 .iter()

@@ -16,7 +16,10 @@ pub struct SceneFeatures {
     pub num_cylinders: u32,
     /// The segments of Mitsuba's `linearcurve`s (quadrics after the cylinders; never lights).
     pub num_curve_segments: u32,
-    /// Mitsuba's `sdfgrid`s (quadrics after the curve segments; never lights).
+    /// The segments of Mitsuba's `bsplinecurve`s (quadrics after the linear curves' segments;
+    /// never lights).
+    pub num_bspline_segments: u32,
+    /// Mitsuba's `sdfgrid`s (quadrics after the B-spline segments; never lights).
     pub num_sdf_grids: u32,
     /// Lights of each kind (`EmitterKind`, each a `NUM_<KIND>_LIGHTS` override): the
     /// emissive spheres, the emissive triangles, and the environment where next event
@@ -161,6 +164,7 @@ impl SceneFeatures {
             num_disks: scene.quadrics.iter().filter(|q| q.kind == QuadricKind::Disk).count() as u32,
             num_cylinders: scene.quadrics.iter().filter(|q| q.kind == QuadricKind::Cylinder).count() as u32,
             num_curve_segments: scene.quadrics.iter().filter(|q| q.kind == QuadricKind::CurveSegment).count() as u32,
+            num_bspline_segments: scene.quadrics.iter().filter(|q| q.kind == QuadricKind::BsplineSegment).count() as u32,
             num_sdf_grids: scene.quadrics.iter().filter(|q| q.kind == QuadricKind::SdfGrid).count() as u32,
             num_sphere_lights: scene.lights_of(EmitterKind::Sphere).len() as u32,
             num_triangle_lights: scene.lights_of(EmitterKind::Triangle).len() as u32,
@@ -245,13 +249,13 @@ pub fn sphere_order(scene: &Scene) -> Vec<usize> {
     lights.iter().copied().chain(others).collect()
 }
 
-/// Order of the quadrics in the kernel: the disks, then the cylinders, then the curve segments,
-/// then the SDF grids (validation lists them so), each kind's lights first (in scene order): disk light l is
+/// Order of the quadrics in the kernel: the disks, then the cylinders, then the linear curves'
+/// segments, the B-spline segments, the SDF grids (validation lists them so), each kind's lights first (in scene order): disk light l is
 /// quadric l, cylinder light l quadric NUM_DISKS + l.
 pub fn quadric_order(scene: &Scene) -> Vec<usize> {
     let emits = |i: usize| scene.materials[scene.quadrics[i].material].is_emissive();
     let of = |kind: QuadricKind| (0..scene.quadrics.len()).filter(move |&i| scene.quadrics[i].kind == kind);
-    [QuadricKind::Disk, QuadricKind::Cylinder, QuadricKind::CurveSegment, QuadricKind::SdfGrid].into_iter().flat_map(|kind| of(kind).filter(|&i| emits(i)).chain(of(kind).filter(|&i| !emits(i)))).collect()
+    [QuadricKind::Disk, QuadricKind::Cylinder, QuadricKind::CurveSegment, QuadricKind::BsplineSegment, QuadricKind::SdfGrid].into_iter().flat_map(|kind| of(kind).filter(|&i| emits(i)).chain(of(kind).filter(|&i| !emits(i)))).collect()
 }
 
 /// Order of the planes in the kernel: `Scene::occluding_planes` first, then the others.

@@ -72,6 +72,7 @@ pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
         ("NUM_DISKS", f.num_disks as f64),
         ("NUM_CYLINDERS", f.num_cylinders as f64),
         ("NUM_CURVE_SEGMENTS", f.num_curve_segments as f64),
+        ("NUM_BSPLINE_SEGMENTS", f.num_bspline_segments as f64),
         ("NUM_SDF_GRIDS", f.num_sdf_grids as f64),
         ("NUM_TRIANGLES", f.num_triangles as f64),
         ("HAS_SHADING_NORMALS", f.has_shading_normals as u32 as f64),
@@ -146,17 +147,21 @@ impl LoopBound {
         self.fixed + self.rays * self.steps_per_ray
     }
 
-    /// The bound with the scene's SDF grids: each ray walks each grid's cells (at most one
-    /// step per cell plane it crosses, and one), runs the regula falsi steps in one of them
-    /// (`intersect_sdf_grid`, quadrics/sdf_grid.wgsl) and the normals' loops at its hit.
-    pub fn with_sdf_grids(mut self, scene: &crate::scene::Scene) -> LoopBound {
-        let per_ray: u64 = scene
+    /// The bound with the scene's shapes whose tests loop: each ray walks each SDF grid's cells
+    /// (at most one step per cell plane it crosses, and one), runs the regula falsi steps in one
+    /// of them (`intersect_sdf_grid`, quadrics/sdf_grid.wgsl) and the normals' loops at its hit;
+    /// and tests each B-spline segment's chords and runs two Newton solves
+    /// (`intersect_bspline_curve`, quadrics/bspline_curve.wgsl).
+    pub fn with_shape_loops(mut self, scene: &crate::scene::Scene) -> LoopBound {
+        use crate::scene::quadrics::{BSPLINE_NEWTON_STEPS, BSPLINE_PIECES, REGULA_FALSI_STEPS};
+        let grids: u64 = scene
             .quadrics
             .iter()
             .filter_map(|q| q.grid.as_ref())
-            .map(|g| g.res.iter().map(|&n| n as u64 - 1).sum::<u64>() + 1 + crate::scene::quadrics::REGULA_FALSI_STEPS as u64 + SDF_NORMAL_LOOPS)
+            .map(|g| g.res.iter().map(|&n| n as u64 - 1).sum::<u64>() + 1 + REGULA_FALSI_STEPS as u64 + SDF_NORMAL_LOOPS)
             .sum();
-        self.fixed += self.rays * per_ray;
+        let bsplines = scene.quadrics.iter().filter(|q| q.bspline.is_some()).count() as u64;
+        self.fixed += self.rays * (grids + bsplines * (BSPLINE_PIECES + 2 * BSPLINE_NEWTON_STEPS + 2) as u64);
         self
     }
 
@@ -192,7 +197,7 @@ pub fn loop_iterations_per_sample(key: &PipelineKey, max_depth: u32, bvh_nodes: 
     use crate::method::Sampler;
     let f = &key.features;
     // Quadrics are tested in loops of their own, as spheres are.
-    let (s, p, l) = ((f.num_spheres + f.num_disks + f.num_cylinders + f.num_curve_segments + f.num_sdf_grids) as u64, f.num_planes as u64, f.num_lights() as u64);
+    let (s, p, l) = ((f.num_spheres + f.num_disks + f.num_cylinders + f.num_curve_segments + f.num_bspline_segments + f.num_sdf_grids) as u64, f.num_planes as u64, f.num_lights() as u64);
     // Iterations of one sample_1d call: Sobol' has no loop; Halton reverses at most 21 + 1
     // digits (base 3); Owen-scrambled Halton expands ~24 bits of digits, each with a few
     // rejection rounds of the hashed permutation.

@@ -589,7 +589,15 @@ impl SceneBuffers {
                         let v4 = |v: DVec3, w: f64| [v.x as f32, v.y as f32, v.z as f32, w as f32];
                         ([v4(c.p0, c.r0), v4(c.p1, c.r1), v4(u_rot, c.index as f64)], [v4(u_rad, c.count as f64), v4(axis, if c.first { 1.0 } else { 0.0 }), [0.0; 4]])
                     }
-                    None => (rows(q.to_object()), rows(q.to_world)),
+                    None => match &q.bspline {
+                        // A B-spline segment (quadrics/bspline_curve.wgsl's layout): its control
+                        // points and radii, its number, the shape's count and its margin.
+                        Some(s) => {
+                            let v4 = |k: usize| [s.p[k].x as f32, s.p[k].y as f32, s.p[k].z as f32, s.r[k] as f32];
+                            ([v4(0), v4(1), v4(2)], [v4(3), [s.index as f32, s.count as f32, s.margin, 0.0], [0.0; 4]])
+                        }
+                        None => (rows(q.to_object()), rows(q.to_world)),
+                    },
                 };
                 // An SDF grid (quadrics/sdf_grid.wgsl's layout): where its record starts in the
                 // BSDF data (the bits of normal.x), 1 for smooth normals (normal.y).

@@ -214,7 +214,7 @@ impl Renderer {
         let max_samples_per_dispatch = if gpu.info.device_type == wgpu::DeviceType::Cpu {
             let leaves = packed.bvh.nodes.iter().filter(|n| n.count > 0).count() as u64;
             let bound = loop_iterations_per_sample(&key, scene.render.max_depth, packed.bvh.nodes.len() as u64, leaves)
-                .with_sdf_grids(scene)
+                .with_shape_loops(scene)
                 .with_techniques(&key, crate::shaders::TechniqueFiles::of(&key.method, &scene.techniques)?, scene.render.max_depth);
             if bound.fixed > CPU_LOOP_BUDGET {
                 return Err(RenderError::LoopLimit { iterations: bound.fixed, max_null_collisions: key.features.max_null_collisions });

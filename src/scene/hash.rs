@@ -46,9 +46,10 @@
 //! and, only where the scene has disks, cylinders, curves or signed distance grids:
 //!
 //! ```text
-//! quadrics=N, then quadric.i.kind=disk|cylinder|curve segment|sdf grid .to_world=12 reals (the
+//! quadrics=N, then quadric.i.kind=disk|cylinder|curve segment|B-spline segment|sdf grid .to_world=12 reals (the
 //!   affine map's columns) .flip_normals=0|1 .material=INDEX .two_sided=0|1 (its emission),
-//!   then for a curve segment .curve=P0,R0,P1,R1,INDEX,COUNT, for a grid
+//!   then for a curve segment .curve=P0,R0,P1,R1,INDEX,COUNT, for a B-spline segment
+//!   .bspline=P0,R0,P1,R1,P2,R2,P3,R3,INDEX,COUNT, for a grid
 //!   .grid=NXxNYxNZ,VALUES,smooth|analytic (VALUES the hex SHA-256 of its f32 values)
 //! ```
 //!
@@ -274,6 +275,10 @@ pub fn canonical_encoding(scene: &Scene) -> String {
             line(&format!("quadric.{i}.two_sided"), (q.two_sided_emission as u8).to_string());
             if let Some(c) = &q.curve {
                 line(&format!("quadric.{i}.curve"), format!("{},{},{},{},{},{}", vec3(c.p0), real(c.r0), vec3(c.p1), real(c.r1), c.index, c.count));
+            }
+            if let Some(s) = &q.bspline {
+                let points: Vec<String> = (0..4).map(|k| format!("{},{}", vec3(s.p[k]), real(s.r[k]))).collect();
+                line(&format!("quadric.{i}.bspline"), format!("{},{},{}", points.join(","), s.index, s.count));
             }
             if let Some(g) = &q.grid {
                 line(&format!("quadric.{i}.grid"), format!("{}x{}x{},{},{}", g.res[0], g.res[1], g.res[2], g.content_hash, if g.smooth { "smooth" } else { "analytic" }));

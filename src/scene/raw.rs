@@ -33,6 +33,10 @@ pub(crate) struct RawScene {
     /// `[[linear_curves]]`: Mitsuba's `linearcurve`, tubes along the polylines of a curve file.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub linear_curves: Vec<Spanned<RawCurve>>,
+    /// `[[bspline_curves]]`: Mitsuba's `bsplinecurve`, tubes along the cubic B-splines of a
+    /// curve file (the same format).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub bspline_curves: Vec<Spanned<RawCurve>>,
     /// `[[sdf_grids]]`: Mitsuba's `sdfgrid`, the zero set of a signed distance grid.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub sdf_grids: Vec<Spanned<RawSdfGrid>>,
@@ -60,7 +64,7 @@ impl RawScene {
     /// another folder.
     pub fn shape_files_mut(&mut self) -> impl Iterator<Item = &mut Spanned<String>> {
         let meshes = self.meshes.iter_mut().map(|m| &mut m.get_mut().file);
-        let curves = self.linear_curves.iter_mut().map(|c| &mut c.get_mut().file);
+        let curves = self.linear_curves.iter_mut().chain(self.bspline_curves.iter_mut()).map(|c| &mut c.get_mut().file);
         let grids = self.sdf_grids.iter_mut().map(|g| &mut g.get_mut().file);
         meshes.chain(curves).chain(grids)
     }
@@ -207,7 +211,8 @@ pub(crate) struct RawShape {
     pub two_sided_emission: Option<Spanned<bool>>,
 }
 
-/// `[[linear_curves]]`: Mitsuba's `linearcurve`: the curves of `file` (relative to the scene
+/// `[[linear_curves]]` (Mitsuba's `linearcurve`) and `[[bspline_curves]]` (Mitsuba's
+/// `bsplinecurve`): the curves of `file` (relative to the scene
 /// file; Mitsuba's text format, a control point `x y z radius` per line, a blank line between
 /// curves), their points moved by `transform` (their radii kept, as Mitsuba does).
 #[derive(Debug, Deserialize, Serialize)]

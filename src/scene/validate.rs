@@ -655,8 +655,8 @@ fn check_transform(ck: &mut Checker, t: Option<&Spanned<RawTransform>>, field: &
     }
 }
 
-/// `[[disks]]`, `[[cylinders]]`, `[[linear_curves]]` and `[[sdf_grids]]` (`quadrics`), in that
-/// order: transforms invertible; a
+/// `[[disks]]`, `[[cylinders]]`, `[[linear_curves]]`, `[[bspline_curves]]` and `[[sdf_grids]]`
+/// (`quadrics`), in that order: transforms invertible; a
 /// cylinder's radius > 0, its ends apart and its `to_world` not a mirror (its normals would turn
 /// inwards); either may emit (on its normals' side, or both with `two_sided_emission`), a
 /// cylinder only if not sheared or scaled unevenly across its axis. Mitsuba warns of a cylinder scaled unevenly across its axis or sheared, and
@@ -677,6 +677,7 @@ fn check_quadrics(ck: &mut Checker, raw: &RawScene, materials: &[Material], reso
             material,
             two_sided_emission: flag(&s.two_sided_emission),
             curve: None,
+            bspline: None,
             grid: None,
         });
     }
@@ -723,21 +724,28 @@ fn check_quadrics(ck: &mut Checker, raw: &RawScene, materials: &[Material], reso
         if uneven && materials.get(material).is_some_and(Material::is_emissive) {
             ck.error(at.clone(), format!("{table}.transform"), format!("material \"{}\" emits light: an emissive cylinder must not be sheared or scaled unevenly across its axis (its area, and so its sampling density, would be Mitsuba's approximation)", c.material.get_ref()));
         }
-        quadrics.push(Quadric { kind: QuadricKind::Cylinder, to_world, flip_normals: flag(&c.flip_normals), material, two_sided_emission: flag(&c.two_sided_emission), curve: None, grid: None });
+        quadrics.push(Quadric { kind: QuadricKind::Cylinder, to_world, flip_normals: flag(&c.flip_normals), material, two_sided_emission: flag(&c.two_sided_emission), curve: None, bspline: None, grid: None });
     }
     let base = ck.file.parent().map(Path::to_path_buf).unwrap_or_default();
-    for (i, c) in raw.linear_curves.iter().enumerate() {
-        let table = format!("linear_curves[{i}]");
+    let curves = raw.linear_curves.iter().map(|c| (c, 2)).chain(raw.bspline_curves.iter().map(|c| (c, 4)));
+    for (i, (c, min_points)) in curves.enumerate() {
+        let linear = min_points == 2;
+        let i = if linear { i } else { i - raw.linear_curves.len() };
+        let table = if linear { format!("linear_curves[{i}]") } else { format!("bspline_curves[{i}]") };
         let c = c.get_ref();
         let material = resolve(ck, &c.material, &format!("{table}.material"));
-        refuse_mesh_only_material(ck, materials, material, &c.material, &format!("{table}.material"), "linear curve");
+        refuse_mesh_only_material(ck, materials, material, &c.material, &format!("{table}.material"), if linear { "linear curve" } else { "B-spline curve" });
         if materials.get(material).is_some_and(Material::is_emissive) {
             ck.error(c.material.span(), format!("{table}.material"), format!("material \"{}\" emits light: a curve cannot be a light (Mitsuba cannot sample points of its curves either)", c.material.get_ref()));
             continue;
         }
+        if !linear && materials.get(material).is_some_and(|m| m.normal_map.is_some() || m.bump_map.is_some()) {
+            ck.error(c.material.span(), format!("{table}.material"), format!("material \"{}\" has a normal or bump map, which pathlab does not support on a B-spline curve (its dp/dv is not computed)", c.material.get_ref()));
+            continue;
+        }
         let transform = check_transform(ck, c.transform.as_ref(), &format!("{table}.transform"));
         let file = base.join(c.file.get_ref());
-        let curves = std::fs::read_to_string(&file).map_err(|e| (0, format!("cannot read curve file {}: {e}", file.display()))).and_then(|text| quadrics::read_curves(&text));
+        let curves = std::fs::read_to_string(&file).map_err(|e| (0, format!("cannot read curve file {}: {e}", file.display()))).and_then(|text| quadrics::read_curves(&text, min_points));
         let curves = match curves {
             Ok(curves) => curves,
             Err((line, message)) => {
@@ -754,8 +762,20 @@ fn check_quadrics(ck: &mut Checker, raw: &RawScene, materials: &[Material], reso
                 continue;
             }
         };
-        let segments = quadrics::segments(&curves, &DAffine3::from_mat4(transform.matrix));
-        if let Some(k) = segments.iter().position(|s| !(s.p0.is_finite() && s.p1.is_finite()) || s.p0.abs().max_element() > f32::MAX as f64 || s.p1.abs().max_element() > f32::MAX as f64) {
+        let to_world = DAffine3::from_mat4(transform.matrix);
+        let beyond_f32 = |p: &DVec3| !p.is_finite() || p.abs().max_element() > f32::MAX as f64;
+        let curve = |kind, curve, bspline| Quadric { kind, to_world: DAffine3::IDENTITY, flip_normals: false, material, two_sided_emission: false, curve, bspline, grid: None };
+        if !linear {
+            let segments = quadrics::bspline_segments(&curves, &to_world);
+            if let Some(s) = segments.iter().find(|s| s.p.iter().any(beyond_f32)) {
+                ck.error(c.transform.as_ref().map_or(c.file.span(), Spanned::span), format!("{table}.transform"), format!("moves segment {} of {} beyond 32-bit floats", s.index, file.display()));
+                continue;
+            }
+            quadrics.extend(segments.into_iter().map(|s| curve(QuadricKind::BsplineSegment, None, Some(s))));
+            continue;
+        }
+        let segments = quadrics::segments(&curves, &to_world);
+        if let Some(k) = segments.iter().position(|s| beyond_f32(&s.p0) || beyond_f32(&s.p1)) {
             ck.error(c.transform.as_ref().map_or(c.file.span(), Spanned::span), format!("{table}.transform"), format!("moves segment {k} of {} beyond 32-bit floats", file.display()));
             continue;
         }
@@ -765,15 +785,7 @@ fn check_quadrics(ck: &mut Checker, raw: &RawScene, materials: &[Material], reso
             ck.error(c.file.span(), format!("{table}.file"), format!("segment {} of {} has one end sphere inside the other (length {} against radii {} and {}): it has no side", s.index, file.display(), (s.p1 - s.p0).length(), s.r0, s.r1));
             continue;
         }
-        quadrics.extend(segments.into_iter().map(|s| Quadric {
-            kind: QuadricKind::CurveSegment,
-            to_world: DAffine3::IDENTITY,
-            flip_normals: false,
-            material,
-            two_sided_emission: false,
-            curve: Some(s),
-            grid: None,
-        }));
+        quadrics.extend(segments.into_iter().map(|s| curve(QuadricKind::CurveSegment, Some(s), None)));
     }
     let mut grids_read: Vec<(std::path::PathBuf, bool, std::sync::Arc<quadrics::SdfGrid>)> = Vec::new();
     for (i, g) in raw.sdf_grids.iter().enumerate() {
@@ -804,7 +816,7 @@ fn check_quadrics(ck: &mut Checker, raw: &RawScene, materials: &[Material], reso
         let file = base.join(g.file.get_ref());
         // A file read once, however many shapes (an instanced group's copies) place it.
         if let Some((_, _, grid)) = grids_read.iter().find(|(f, s, _)| *f == file && *s == smooth) {
-            quadrics.push(Quadric { kind: QuadricKind::SdfGrid, to_world: DAffine3::from_mat4(transform.matrix), flip_normals: false, material, two_sided_emission: false, curve: None, grid: Some(grid.clone()) });
+            quadrics.push(Quadric { kind: QuadricKind::SdfGrid, to_world: DAffine3::from_mat4(transform.matrix), flip_normals: false, material, two_sided_emission: false, curve: None, bspline: None, grid: Some(grid.clone()) });
             continue;
         }
         let grid = crate::scene::vol_file::read_vol(&file).and_then(|vol| {
@@ -817,13 +829,13 @@ fn check_quadrics(ck: &mut Checker, raw: &RawScene, materials: &[Material], reso
             Ok(grid) => {
                 let grid = std::sync::Arc::new(grid);
                 grids_read.push((file, smooth, grid.clone()));
-                quadrics.push(Quadric { kind: QuadricKind::SdfGrid, to_world: DAffine3::from_mat4(transform.matrix), flip_normals: false, material, two_sided_emission: false, curve: None, grid: Some(grid) });
+                quadrics.push(Quadric { kind: QuadricKind::SdfGrid, to_world: DAffine3::from_mat4(transform.matrix), flip_normals: false, material, two_sided_emission: false, curve: None, bspline: None, grid: Some(grid) });
             }
             Err(e) => ck.error(g.file.span(), format!("{table}.file"), format!("signed distance grid {}: {e}", file.display())),
         }
     }
     if quadrics.len() > MAX_QUADRICS {
-        let extra = raw.disks.iter().map(Spanned::span).chain(raw.cylinders.iter().map(Spanned::span)).chain(raw.linear_curves.iter().map(Spanned::span)).chain(raw.sdf_grids.iter().map(Spanned::span)).last().unwrap_or(0..0);
+        let extra = raw.disks.iter().map(Spanned::span).chain(raw.cylinders.iter().map(Spanned::span)).chain(raw.linear_curves.iter().map(Spanned::span)).chain(raw.bspline_curves.iter().map(Spanned::span)).chain(raw.sdf_grids.iter().map(Spanned::span)).last().unwrap_or(0..0);
         ck.error(extra, "disks", too_many(quadrics.len(), MAX_QUADRICS, "disks, cylinders, curve segments and signed distance grids"));
     }
     quadrics

@@ -37,6 +37,10 @@ pub fn generated_constants() -> String {
          const EXTRA_NULL_SEGMENTS: u32 = {}u;\n\
          // Regula falsi steps in an SDF grid's cell, at most (src/scene/quadrics/sdf_grid.rs).\n\
          const REGULA_FALSI_STEPS: u32 = {}u;\n\
+         // A B-spline segment's chords and Newton steps in the kernel (src/scene/quadrics/bspline_curve.rs).\n\
+         const BSPLINE_PIECES: u32 = {}u;\n\
+         const BSPLINE_NEWTON_STEPS: u32 = {}u;\n\
+         const BSPLINE_V_SLACK: f32 = {:?};\n\
          // Values of the `override` choices SAMPLER, BSDF_SAMPLING, LIGHT_SAMPLING, LIGHT_SELECT,\n\
          // TRIANGLE_SAMPLING, MICROFACET_SAMPLING, LOBE_SELECTION, ENV_SAMPLING (src/method.rs), the microfacet\n\
          // distributions (src/scene/mod.rs), and the display pass's view (src/display/view.rs).\n\
@@ -74,6 +78,9 @@ pub fn generated_constants() -> String {
         crate::scene::media::MAX_SHADOW_CROSSINGS,
         crate::scene::media::EXTRA_NULL_SEGMENTS,
         crate::scene::quadrics::REGULA_FALSI_STEPS,
+        crate::scene::quadrics::BSPLINE_PIECES,
+        crate::scene::quadrics::BSPLINE_NEWTON_STEPS,
+        crate::scene::quadrics::BSPLINE_V_SLACK as f32,
         wgsl_constants::<Sampler>("SAMPLER"),
         wgsl_constants::<BsdfSampling>("BSDF"),
         wgsl_constants::<LightSampling>("LIGHTS"),

@@ -98,6 +98,7 @@ pub mod files {
     pub const DISK: (&str, &str) = ("quadrics/disk.wgsl", include_str!("../../shaders/quadrics/disk.wgsl"));
     pub const CYLINDER: (&str, &str) = ("quadrics/cylinder.wgsl", include_str!("../../shaders/quadrics/cylinder.wgsl"));
     pub const LINEAR_CURVE: (&str, &str) = ("quadrics/linear_curve.wgsl", include_str!("../../shaders/quadrics/linear_curve.wgsl"));
+    pub const BSPLINE_CURVE: (&str, &str) = ("quadrics/bspline_curve.wgsl", include_str!("../../shaders/quadrics/bspline_curve.wgsl"));
     pub const SDF_GRID: (&str, &str) = ("quadrics/sdf_grid.wgsl", include_str!("../../shaders/quadrics/sdf_grid.wgsl"));
     pub const INTERSECT: (&str, &str) = ("intersect.wgsl", include_str!("../../shaders/intersect.wgsl"));
     pub const ACCUM_PIXEL: (&str, &str) = ("accum_pixel.wgsl", include_str!("../../shaders/accum_pixel.wgsl"));
@@ -129,7 +130,7 @@ pub const LIBRARY: [(&str, &str); 15] = [
 ];
 
 /// Everything the path-tracing kernel (`render_main`) needs.
-pub const PATH_TRACER: [(&str, &str); 26] = [
+pub const PATH_TRACER: [(&str, &str); 27] = [
     files::COMMON,
     files::SAMPLER,
     files::WARP,
@@ -144,6 +145,7 @@ pub const PATH_TRACER: [(&str, &str); 26] = [
     files::DISK,
     files::CYLINDER,
     files::LINEAR_CURVE,
+    files::BSPLINE_CURVE,
     files::SDF_GRID,
     files::TECHNIQUE,
     files::LIGHT_TABLE,

@@ -37,7 +37,7 @@ const MITSUBA_NEAR_CLIP: f64 = 1e-2;
 const DEFAULT_MAX_DEPTH: i64 = -1;
 const DEFAULT_RR_DEPTH: i64 = 5;
 
-const SHAPES: &str = "obj, ply, serialized, rectangle, cube, sphere, disk, cylinder, linearcurve, sdfgrid, shapegroup, instance";
+const SHAPES: &str = "obj, ply, serialized, rectangle, cube, sphere, disk, cylinder, linearcurve, bsplinecurve, sdfgrid, shapegroup, instance";
 
 /// The shapes read so far, by the raw scene's tables.
 #[derive(Default)]
@@ -49,13 +49,14 @@ struct Shapes {
     disks: Vec<Spanned<RawShape>>,
     cylinders: Vec<Spanned<RawCylinder>>,
     linear_curves: Vec<Spanned<RawCurve>>,
+    bspline_curves: Vec<Spanned<RawCurve>>,
     sdf_grids: Vec<Spanned<RawSdfGrid>>,
 }
 
 impl Shapes {
     /// How many shapes, of every kind.
     fn len(&self) -> usize {
-        self.meshes.len() + self.rectangles.len() + self.cubes.len() + self.spheres.len() + self.disks.len() + self.cylinders.len() + self.linear_curves.len() + self.sdf_grids.len()
+        self.meshes.len() + self.rectangles.len() + self.cubes.len() + self.spheres.len() + self.disks.len() + self.cylinders.len() + self.linear_curves.len() + self.bspline_curves.len() + self.sdf_grids.len()
     }
 }
 
@@ -921,6 +922,7 @@ impl Translator<'_> {
             disks: shapes.disks,
             cylinders: shapes.cylinders,
             linear_curves: shapes.linear_curves,
+            bspline_curves: shapes.bspline_curves,
             sdf_grids: shapes.sdf_grids,
             point_lights,
             spot_lights,
@@ -2034,15 +2036,15 @@ impl Translator<'_> {
                 self.finish(p, "flip_normals, to_world");
                 shapes.disks.push(spanned(o.at, RawShape { material, transform, flip_normals, two_sided_emission: None }));
             }
-            "linearcurve" => {
+            "linearcurve" | "bsplinecurve" => {
                 let file = self.string(&mut p, "filename");
                 self.finish(p, "filename, to_world");
                 if flip.is_some() {
-                    self.error(o.at, "flip_normals", "flip_normals of a <shape type=\"linearcurve\"> is not supported (Mitsuba culls its back faces)");
+                    self.error(o.at, "flip_normals", format!("flip_normals of a <shape type=\"{}\"> is not supported (Mitsuba culls its back faces)", o.plugin));
                     return;
                 }
                 let Some((file, _)) = file else {
-                    self.error(o.at, "filename", "<shape type=\"linearcurve\"> needs <string name=\"filename\">");
+                    self.error(o.at, "filename", format!("<shape type=\"{}\"> needs <string name=\"filename\">", o.plugin));
                     return;
                 };
                 let path = match self.loaded.resolve(&file, &o.dir) {
@@ -2052,7 +2054,8 @@ impl Translator<'_> {
                         return;
                     }
                 };
-                shapes.linear_curves.push(spanned(o.at, RawCurve { file: spanned(o.at, path.display().to_string()), material, transform }));
+                let curve = spanned(o.at, RawCurve { file: spanned(o.at, path.display().to_string()), material, transform });
+                if o.plugin == "linearcurve" { shapes.linear_curves.push(curve) } else { shapes.bspline_curves.push(curve) }
             }
             "sdfgrid" => {
                 let file = self.string(&mut p, "filename");

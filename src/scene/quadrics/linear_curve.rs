@@ -40,15 +40,18 @@ pub struct CurveSegment {
     pub first: bool,
 }
 
-/// The curves of a curve file's text, each its control points (x, y, z, radius), or the
-/// 1-based line and what is wrong there.
-pub fn read_curves(text: &str) -> Result<Vec<Vec<[f64; 4]>>, (usize, String)> {
+/// The curves of a curve file's text, each its control points (x, y, z, radius), each of at
+/// least `min_points` (a linear curve 2, a B-spline 4), or the 1-based line and what is wrong
+/// there.
+pub fn read_curves(text: &str, min_points: usize) -> Result<Vec<Vec<[f64; 4]>>, (usize, String)> {
     let mut curves: Vec<Vec<[f64; 4]>> = Vec::new();
     let mut current: Vec<[f64; 4]> = Vec::new();
     let mut start_line = 1;
     let finish = |current: &mut Vec<[f64; 4]>, curves: &mut Vec<Vec<[f64; 4]>>, start_line: usize| -> Result<(), (usize, String)> {
-        if current.len() == 1 {
-            return Err((start_line, "a curve of one control point: a linear curve needs at least two".to_string()));
+        if !current.is_empty() && current.len() < min_points {
+            let points = if current.len() == 1 { "one control point".to_string() } else { format!("{} control points", current.len()) };
+            let kind = if min_points == 2 { "linear curve" } else { "B-spline curve" };
+            return Err((start_line, format!("a curve of {points}: a {kind} needs at least {min_points}")));
         }
         if !current.is_empty() {
             curves.push(std::mem::take(current));
@@ -188,7 +191,7 @@ mod tests {
 
     #[test]
     fn curves_are_read_with_blank_lines_between_them_and_bad_lines_named() {
-        let curves = read_curves("\n0 0 0 0.1\n1 0 0 0.1\n\n\n0 1 0 0.2\n0 2 0 0.3\n0 3 0 0.3 ignored\n").unwrap();
+        let curves = read_curves("\n0 0 0 0.1\n1 0 0 0.1\n\n\n0 1 0 0.2\n0 2 0 0.3\n0 3 0 0.3 ignored\n", 2).unwrap();
         assert_eq!(curves.len(), 2);
         assert_eq!(curves[1].len(), 3);
         let segments = segments(&curves, &DAffine3::from_scale(DVec3::splat(2.0)));
@@ -197,10 +200,10 @@ mod tests {
         assert_eq!(segments.iter().map(|s| s.first).collect::<Vec<_>>(), [true, true, false]);
         // The points move, the radii do not.
         assert_eq!((segments[1].p0, segments[1].r0), (DVec3::new(0.0, 2.0, 0.0), 0.2));
-        assert_eq!(read_curves("0 0 0 1\n1 0 0\n"), Err((2, "a control point is `x y z radius` (got 3 number(s): \"1 0 0\")".to_string())));
-        assert!(read_curves("0 0 0 1\n\n1 1 1 1\n").unwrap_err().0 == 1);
-        assert!(read_curves("0 0 0 1\nx 0 0 1\n").unwrap_err().0 == 2);
-        assert!(read_curves("\n\n").is_err());
+        assert_eq!(read_curves("0 0 0 1\n1 0 0\n", 2), Err((2, "a control point is `x y z radius` (got 3 number(s): \"1 0 0\")".to_string())));
+        assert!(read_curves("0 0 0 1\n\n1 1 1 1\n", 2).unwrap_err().0 == 1);
+        assert!(read_curves("0 0 0 1\nx 0 0 1\n", 2).unwrap_err().0 == 2);
+        assert!(read_curves("\n\n", 2).is_err());
     }
 
     /// A capsule of radius 1 from (0, 0, 0) to (4, 0, 0): its side, its end spheres, its

@@ -10,15 +10,18 @@
 //!
 //! The segments of Mitsuba's `linearcurve` (`linear_curve.rs`) share the quadrics' records and
 //! loops: each is a sphere swept along a segment, given by its ends and radii (`curve`), not an
-//! affine image of a unit shape (its `to_world` is the identity). So do Mitsuba's `sdfgrid`s
+//! affine image of a unit shape (its `to_world` is the identity), and so are the segments of
+//! Mitsuba's `bsplinecurve` (`bspline_curve.rs`: `BsplineSegment`). So do Mitsuba's `sdfgrid`s
 //! (`sdf_grid.rs`): a signed distance grid on the unit cube of the object space its `to_world`
 //! places, its values in the BSDF data (`SdfGrid`).
 
+mod bspline_curve;
 mod cylinder;
 mod disk;
 mod linear_curve;
 mod sdf_grid;
 
+pub use bspline_curve::{bspline_segments, BsplineSegment, BSPLINE_NEWTON_STEPS, BSPLINE_PIECES, BSPLINE_V_SLACK};
 pub use linear_curve::{angle_frame, read_curves, segments, CurveSegment};
 pub use sdf_grid::{SdfGrid, REGULA_FALSI_STEPS};
 
@@ -40,6 +43,9 @@ named_enum! {
         Cylinder = "cylinder",
         /// One segment of Mitsuba's `linearcurve`: a sphere swept along it (`CurveSegment`).
         CurveSegment = "curve segment",
+        /// One segment of Mitsuba's `bsplinecurve`: circles swept along a cubic B-spline
+        /// (`BsplineSegment`).
+        BsplineSegment = "B-spline segment",
         /// Mitsuba's `sdfgrid`: the zero set of a signed distance grid on the unit cube
         /// (`SdfGrid`).
         SdfGrid = "sdf grid",
@@ -62,6 +68,8 @@ pub struct Quadric {
     pub two_sided_emission: bool,
     /// A curve segment's ends and radii (`QuadricKind::CurveSegment`), None for the others.
     pub curve: Option<CurveSegment>,
+    /// A B-spline segment's control points (`QuadricKind::BsplineSegment`), None for the others.
+    pub bspline: Option<BsplineSegment>,
     /// An SDF grid's values (`QuadricKind::SdfGrid`), None for the others.
     pub grid: Option<Arc<SdfGrid>>,
 }
@@ -78,12 +86,17 @@ impl Quadric {
             QuadricKind::Disk => disk::area(self),
             QuadricKind::Cylinder => cylinder::area(self),
             // Never lights (as in Mitsuba, which cannot sample their positions).
-            QuadricKind::CurveSegment | QuadricKind::SdfGrid => 0.0,
+            QuadricKind::CurveSegment | QuadricKind::BsplineSegment | QuadricKind::SdfGrid => 0.0,
         }
     }
 
     fn segment(&self) -> &CurveSegment {
         self.curve.as_ref().expect("a curve segment has its segment")
+    }
+
+    /// A B-spline segment's control points.
+    pub fn bspline_segment(&self) -> &BsplineSegment {
+        self.bspline.as_ref().expect("a B-spline segment has its control points")
     }
 
     /// An SDF grid's values.
@@ -99,6 +112,7 @@ impl Quadric {
             QuadricKind::Disk => disk::intersect(ol, dl, t_min, t_max),
             QuadricKind::Cylinder => cylinder::intersect(ol, dl, t_min, t_max),
             QuadricKind::CurveSegment => self.segment().intersect(o, d, t_min, t_max),
+            QuadricKind::BsplineSegment => self.bspline_segment().intersect(o, d, t_min, t_max).map(|(t, _)| t),
             QuadricKind::SdfGrid => self.sdf_grid().intersect(ol, dl, t_min, t_max),
         }
     }
@@ -110,6 +124,10 @@ impl Quadric {
             QuadricKind::Disk => DVec3::Z,
             QuadricKind::Cylinder => DVec3::new(local.x, local.y, 0.0),
             QuadricKind::CurveSegment => return self.segment().normal(p),
+            QuadricKind::BsplineSegment => {
+                let s = self.bspline_segment();
+                return s.normal_at(p, s.v_of(p));
+            }
             QuadricKind::SdfGrid => self.sdf_grid().gradient(local),
         };
         let n = normal_to_world(&self.to_world, n_object);
@@ -137,6 +155,10 @@ impl Quadric {
             QuadricKind::Disk => disk::uv(local),
             QuadricKind::Cylinder => cylinder::uv(local),
             QuadricKind::CurveSegment => self.segment().uv(p),
+            QuadricKind::BsplineSegment => {
+                let s = self.bspline_segment();
+                s.uv_at(p, s.v_of(p))
+            }
             // No parametrisation (Mitsuba's uv 0).
             QuadricKind::SdfGrid => [0.0, 0.0],
         }
@@ -147,6 +169,9 @@ impl Quadric {
     pub fn box_corners(&self) -> [DVec3; 8] {
         if let Some(c) = &self.curve {
             return c.box_corners();
+        }
+        if let Some(s) = &self.bspline {
+            return s.box_corners();
         }
         let top = if self.kind == QuadricKind::Disk { 0.0 } else { 1.0 };
         let low = if self.kind == QuadricKind::SdfGrid { 0.0 } else { -1.0 };
@@ -164,6 +189,7 @@ impl Quadric {
             QuadricKind::Cylinder => cylinder::sample_local(u),
             // Never lights: no position to sample.
             QuadricKind::CurveSegment => return self.segment().p0,
+            QuadricKind::BsplineSegment => return self.bspline_segment().at(0.5).c,
             QuadricKind::SdfGrid => DVec3::splat(0.5),
         };
         self.to_world.transform_point3(local)
@@ -225,7 +251,7 @@ mod tests {
     use super::*;
 
     fn quadric(kind: QuadricKind, to_world: DAffine3) -> Quadric {
-        Quadric { kind, to_world, flip_normals: false, material: 0, two_sided_emission: false, curve: None, grid: None }
+        Quadric { kind, to_world, flip_normals: false, material: 0, two_sided_emission: false, curve: None, bspline: None, grid: None }
     }
 
     #[test]
