@@ -18,7 +18,11 @@
 //!    `best`, z-tested on blocks (at least 99.75% of channels passing; `mis` scaled by 1.05 is
 //!    rejected). Fails falsely with probability below 0.01. `convert` writes
 //!    `[[bspline_curves]]`, which loads as the same scene.
-//! 3. A curve of fewer than four points is refused at its line; an emissive curve, a normal map
+//! 3. The unrolled search (`BSPLINE_UNROLLED`, for scenes whose looped searches would pass
+//!    llvmpipe's loop budget) finds the looped search's hits bit for bit (the rays of 1), and
+//!    a scene of 37 segments at depth 64, which the looped searches would not fit, renders on
+//!    a CPU adapter (where it would be refused). Deterministic.
+//! 4. A curve of fewer than four points is refused at its line; an emissive curve, a normal map
 //!    and flip_normals are refused.
 
 use crate::common::{self, agrees_with_reference, mitsuba_fixture};
@@ -175,6 +179,41 @@ fn the_kernels_bspline_curves_are_the_hosts() {
     }
     assert!(found > 1000 && missed > 100 && grazing * 100 <= rays.len(), "{found} hits, {missed} misses, {grazing} grazing");
     eprintln!("{} rays ({found} hits, {missed} misses, {grazing} grazing); largest differences: t {worst_t:.1e} (relative), normal {worst_n:.1e}, uv {worst_uv:.1e}", rays.len());
+}
+
+#[test]
+fn the_unrolled_search_is_the_looped_one_and_lets_long_paths_through_many_segments_render() {
+    let dir = tempfile::tempdir().unwrap();
+    let curves = std::fs::read_to_string(format!("{FIXTURE}/curves.txt")).unwrap();
+    let scene = scene_in(dir.path(), SCENE, &curves).unwrap();
+    let features = SceneFeatures::of(&scene);
+    let key = pathlab::gpu::PipelineKey::new(Preset::Mis.method(), features, scene.default_light_select());
+    let unrolled = pathlab::gpu::PipelineKey { bspline_unrolled: true, ..key };
+    // Rays through the curves' boxes from around them.
+    let mut rays = Vec::new();
+    for q in &scene.quadrics {
+        let s = q.bspline.as_ref().unwrap();
+        for k in 0..60 {
+            let target = s.at(k as f64 / 59.0).c + DVec3::new(0.0, 0.004 * (k % 7) as f64 - 0.012, 0.0);
+            let origin = DVec3::new(0.4 + 0.1 * (k % 5) as f64, 2.2, 4.2 - 0.2 * (k % 3) as f64);
+            rays.push((origin, (target - origin).normalize()));
+        }
+    }
+    let (looped, unrolled) = (common::trace_hits_keyed(&scene, key, &rays), common::trace_hits_keyed(&scene, unrolled, &rays));
+    assert!(looped.iter().filter(|h| h.object != u32::MAX).count() > 200);
+    assert_eq!(looped, unrolled);
+    // 40 points: 37 segments; at depth 64 each ray's looped searches (37 x 32 back-edges)
+    // would pass llvmpipe's budget within a path.
+    let many: String = (0..40).map(|i| format!("{} {} 0 0.05\n", i as f64 * 0.1 - 2.0, if i % 2 == 0 { 0.0 } else { 0.1 })).collect();
+    let deep = SCENE.replace("max_depth = 2", "max_depth = 64");
+    let scene = scene_in(dir.path(), &deep, &many).unwrap();
+    assert_eq!(scene.quadrics.len(), 37);
+    let out = dir.path().join("deep.exr");
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_pathlab"))
+        .args(["render", dir.path().join("scene.toml").to_str().unwrap(), "--spp", "2", "--method", "mis", "-q", "--output", out.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(run.status.success() && out.exists(), "{}", String::from_utf8_lossy(&run.stderr));
 }
 
 #[test]

@@ -6,6 +6,11 @@
 // segment count, the margin by which the chain of swept spheres along its chords is widened
 // to hold it).
 
+// The searches below run as loops, or, where the host sets this (`PipelineKey::bspline_unrolled`:
+// scenes whose looped searches would pass llvmpipe's loop budget), as the unrolled code
+// generated after this file (`bspline_chain_unrolled`, `bspline_newton_unrolled`).
+override BSPLINE_UNROLLED: bool = false;
+
 // The centre line and radius at v, with their derivatives.
 struct BsplinePoint {
     c: vec3f,
@@ -37,27 +42,42 @@ fn bspline_normal_at(b: BsplinePoint, p: vec3f) -> vec3f {
     return normalize((dot(b.dc, b.dc) - dot(q, b.ddc)) * q - b.r * b.dr * b.dc);
 }
 
-// Newton's method on (p - c(v)) . c'(v) = 0 and |p - c(v)|^2 = r(v)^2, p = o + t d, from
-// (t, v): (t, v) where it converged (the point within 2e-4 of the radius of its circle, in its
-// plane) to a hit facing the ray with v in [0, 1] (give or take BSPLINE_V_SLACK: at a joint
-// both segments' solutions count) and t in (t_min, t_max); else t = -1.
-fn bspline_solve(q: Quadric, o: vec3f, d: vec3f, start: vec2f, t_min: f32, t_max: f32) -> vec2f {
-    var t = start.x;
-    var v = start.y;
-    for (var k = 0u; k < BSPLINE_NEWTON_STEPS; k++) {
-        let b = bspline_at(q, v);
-        let r = o + t * d - b.c;
-        let f1 = dot(r, b.dc);
-        let f2 = dot(r, r) - b.r * b.r;
-        let j00 = dot(d, b.dc);
-        let j01 = dot(r, b.ddc) - dot(b.dc, b.dc);
-        let j10 = 2.0 * dot(r, d);
-        let j11 = -2.0 * (dot(r, b.dc) + b.r * b.dr);
-        let det = j00 * j11 - j01 * j10;
-        let inv = select(0.0, 1.0 / det, det != 0.0);
-        t -= (f1 * j11 - f2 * j01) * inv;
-        v = clamp(v - (j00 * f2 - j10 * f1) * inv, -1.0, 2.0);
+// One Newton step on (p - c(v)) . c'(v) = 0 and |p - c(v)|^2 = r(v)^2, p = o + t d, from
+// s = (t, v) (v kept within [-1, 2]).
+fn bspline_newton_step(q: Quadric, o: vec3f, d: vec3f, s: vec2f) -> vec2f {
+    let b = bspline_at(q, s.y);
+    let r = o + s.x * d - b.c;
+    let f1 = dot(r, b.dc);
+    let f2 = dot(r, r) - b.r * b.r;
+    let j00 = dot(d, b.dc);
+    let j01 = dot(r, b.ddc) - dot(b.dc, b.dc);
+    let j10 = 2.0 * dot(r, d);
+    let j11 = -2.0 * (dot(r, b.dc) + b.r * b.dr);
+    let det = j00 * j11 - j01 * j10;
+    let inv = select(0.0, 1.0 / det, det != 0.0);
+    return vec2f(s.x - (f1 * j11 - f2 * j01) * inv, clamp(s.y - (j00 * f2 - j10 * f1) * inv, -1.0, 2.0));
+}
+
+// BSPLINE_NEWTON_STEPS Newton steps from `start`.
+fn bspline_newton(q: Quadric, o: vec3f, d: vec3f, start: vec2f) -> vec2f {
+    if (BSPLINE_UNROLLED) {
+        return bspline_newton_unrolled(q, o, d, start);
     }
+    var s = start;
+    for (var k = 0u; k < BSPLINE_NEWTON_STEPS; k++) {
+        s = bspline_newton_step(q, o, d, s);
+    }
+    return s;
+}
+
+// Newton's method from `start`: (t, v) where it converged (the point within 2e-4 of the radius
+// of its circle, in its plane) to a hit facing the ray with v in [0, 1] (give or take
+// BSPLINE_V_SLACK: at a joint both segments' solutions count) and t in (t_min, t_max); else
+// t = -1.
+fn bspline_solve(q: Quadric, o: vec3f, d: vec3f, start: vec2f, t_min: f32, t_max: f32) -> vec2f {
+    let s = bspline_newton(q, o, d, start);
+    let t = s.x;
+    let v = s.y;
     let b = bspline_at(q, v);
     let p = o + t * d;
     let r = p - b.c;
@@ -67,32 +87,53 @@ fn bspline_solve(q: Quadric, o: vec3f, d: vec3f, start: vec2f, t_min: f32, t_max
     return vec2f(select(-1.0, t, valid), v);
 }
 
+// The search for a segment's hit along a ray: the chain's point reached so far, and the two
+// nearest entries (t, v) found (t INFINITY: none).
+struct BsplineChain {
+    a: BsplinePoint,
+    nearest: vec2f,
+    second: vec2f,
+}
+
+// The chain's piece ending at chord point i (of BSPLINE_PIECES) added to the search: the swept
+// sphere from the previous point to c(i / BSPLINE_PIECES), radii widened by `margin`, and its
+// entry kept where it is among the two nearest.
+fn bspline_chain_piece(q: Quadric, o: vec3f, d: vec3f, t_min: f32, t_max: f32, margin: f32, chain: BsplineChain, i: u32) -> BsplineChain {
+    let a = chain.a;
+    let b = bspline_at(q, f32(i) / f32(BSPLINE_PIECES));
+    let ra = max(a.r, 0.0) + margin;
+    let rb = max(b.r, 0.0) + margin;
+    let t = round_cone_entry(a.c, ra, b.c, rb, o, d, t_min, t_max, true);
+    let candidate = vec2f(t, (f32(i - 1u) + round_cone_v(a.c, ra, b.c, rb, o + min(t, t_max) * d)) / f32(BSPLINE_PIECES));
+    let first = t < chain.nearest.x;
+    let second = select(select(chain.second, candidate, t < chain.second.x), chain.nearest, first);
+    return BsplineChain(b, select(chain.nearest, candidate, first), second);
+}
+
+// The search over every piece of segment q's chain.
+fn bspline_chain(q: Quadric, o: vec3f, d: vec3f, t_min: f32, t_max: f32, margin: f32) -> BsplineChain {
+    if (BSPLINE_UNROLLED) {
+        return bspline_chain_unrolled(q, o, d, t_min, t_max, margin);
+    }
+    var chain = BsplineChain(bspline_at(q, 0.0), vec2f(INFINITY, 0.0), vec2f(INFINITY, 0.0));
+    for (var i = 1u; i <= BSPLINE_PIECES; i++) {
+        chain = bspline_chain_piece(q, o, d, t_min, t_max, margin, chain, i);
+    }
+    return chain;
+}
+
 // (t, v) where the ray o + t d enters segment q, t in (t_min, t_max), or t = -1. Candidates
 // are the entries into a chain of BSPLINE_PIECES swept spheres along the centre line's chords,
 // widened by the record's margin (the tube lies inside them); Newton's method runs from the
 // two nearest (a ray grazing one bend of the segment may meet another).
 fn intersect_bspline_curve(q: Quadric, o: vec3f, d: vec3f, t_min: f32, t_max: f32) -> vec2f {
-    let margin = q.world_y.z;
-    var a = bspline_at(q, 0.0);
-    var nearest = vec2f(INFINITY, 0.0);
-    var second = vec2f(INFINITY, 0.0);
-    for (var i = 0u; i < BSPLINE_PIECES; i++) {
-        let b = bspline_at(q, f32(i + 1u) / f32(BSPLINE_PIECES));
-        let ra = max(a.r, 0.0) + margin;
-        let rb = max(b.r, 0.0) + margin;
-        let t = round_cone_entry(a.c, ra, b.c, rb, o, d, t_min, t_max, true);
-        let candidate = vec2f(t, (f32(i) + round_cone_v(a.c, ra, b.c, rb, o + min(t, t_max) * d)) / f32(BSPLINE_PIECES));
-        let first = t < nearest.x;
-        second = select(select(second, candidate, t < second.x), nearest, first);
-        nearest = select(nearest, candidate, first);
-        a = b;
-    }
+    let chain = bspline_chain(q, o, d, t_min, t_max, q.world_y.z);
     var hit = vec2f(-1.0, 0.0);
-    if (nearest.x < INFINITY) {
-        hit = bspline_solve(q, o, d, nearest, t_min, t_max);
+    if (chain.nearest.x < INFINITY) {
+        hit = bspline_solve(q, o, d, chain.nearest, t_min, t_max);
     }
-    if (second.x < INFINITY) {
-        let other = bspline_solve(q, o, d, second, t_min, t_max);
+    if (chain.second.x < INFINITY) {
+        let other = bspline_solve(q, o, d, chain.second, t_min, t_max);
         hit = select(hit, other, other.x > 0.0 && (hit.x < 0.0 || other.x < hit.x));
     }
     return hit;

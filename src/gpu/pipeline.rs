@@ -25,6 +25,10 @@ pub struct PipelineKey {
     /// Traversal steps an invocation may take before the kernel's guard drops its sample
     /// (`NO_TRAVERSAL_GUARD`: none).
     pub traversal_budget: u32,
+    /// B-spline segments are searched by unrolled code (`BSPLINE_UNROLLED`,
+    /// quadrics/bspline_curve.wgsl): no loop back-edges, for scenes whose looped searches
+    /// would pass llvmpipe's loop budget; half the speed on lavapipe.
+    pub bspline_unrolled: bool,
 }
 
 impl PipelineKey {
@@ -41,7 +45,7 @@ impl PipelineKey {
         if features.num_environment_lights > 0 {
             features.num_occluding_planes = features.num_planes;
         }
-        PipelineKey { method: Method { select, ..method }, features, traversal_budget: NO_TRAVERSAL_GUARD }
+        PipelineKey { method: Method { select, ..method }, features, traversal_budget: NO_TRAVERSAL_GUARD, bspline_unrolled: false }
     }
 
     /// Whether the light table holds the environment (`Scene::sampled_lights`).
@@ -95,6 +99,7 @@ pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
         ("EMITTER_SKIPS", f.emitter_skips() as f64),
         ("RR_DEPTH", f.rr_depth as f64),
         ("TRAVERSAL_BUDGET", key.traversal_budget as f64),
+        ("BSPLINE_UNROLLED", key.bspline_unrolled as u32 as f64),
         ("NUM_OCCLUDING_PLANES", f.num_occluding_planes as f64),
         ("HAS_SPECULAR", f.has_specular as u32 as f64),
         ("HAS_ENVIRONMENT", f.has_environment as u32 as f64),
@@ -150,9 +155,9 @@ impl LoopBound {
     /// The bound with the scene's shapes whose tests loop: each ray walks each SDF grid's cells
     /// (at most one step per cell plane it crosses, and one), runs the regula falsi steps in one
     /// of them (`intersect_sdf_grid`, quadrics/sdf_grid.wgsl) and the normals' loops at its hit;
-    /// and tests each B-spline segment's chords and runs two Newton solves
-    /// (`intersect_bspline_curve`, quadrics/bspline_curve.wgsl).
-    pub fn with_shape_loops(mut self, scene: &crate::scene::Scene) -> LoopBound {
+    /// and, unless `key` unrolls them, searches each B-spline segment's chords and runs two
+    /// Newton solves (`intersect_bspline_curve`, quadrics/bspline_curve.wgsl).
+    pub fn with_shape_loops(mut self, scene: &crate::scene::Scene, key: &PipelineKey) -> LoopBound {
         use crate::scene::quadrics::{BSPLINE_NEWTON_STEPS, BSPLINE_PIECES, REGULA_FALSI_STEPS};
         let grids: u64 = scene
             .quadrics
@@ -160,8 +165,8 @@ impl LoopBound {
             .filter_map(|q| q.grid.as_ref())
             .map(|g| g.res.iter().map(|&n| n as u64 - 1).sum::<u64>() + 1 + REGULA_FALSI_STEPS as u64 + SDF_NORMAL_LOOPS)
             .sum();
-        let bsplines = scene.quadrics.iter().filter(|q| q.bspline.is_some()).count() as u64;
-        self.fixed += self.rays * (grids + bsplines * (BSPLINE_PIECES + 2 * BSPLINE_NEWTON_STEPS + 2) as u64);
+        let per_bspline = if key.bspline_unrolled { 0 } else { (BSPLINE_PIECES + 2 * BSPLINE_NEWTON_STEPS) as u64 };
+        self.fixed += self.rays * (grids + key.features.num_bspline_segments as u64 * per_bspline);
         self
     }
 

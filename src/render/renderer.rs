@@ -213,9 +213,19 @@ impl Renderer {
         let rows_per_band = (band_bytes.min(limit) / row_bytes).clamp(1, height as u64) as u32;
         let max_samples_per_dispatch = if gpu.info.device_type == wgpu::DeviceType::Cpu {
             let leaves = packed.bvh.nodes.iter().filter(|n| n.count > 0).count() as u64;
-            let bound = loop_iterations_per_sample(&key, scene.render.max_depth, packed.bvh.nodes.len() as u64, leaves)
-                .with_shape_loops(scene)
-                .with_techniques(&key, crate::shaders::TechniqueFiles::of(&key.method, &scene.techniques)?, scene.render.max_depth);
+            let techniques = crate::shaders::TechniqueFiles::of(&key.method, &scene.techniques)?;
+            let bound_of = |key: &PipelineKey| {
+                loop_iterations_per_sample(key, scene.render.max_depth, packed.bvh.nodes.len() as u64, leaves)
+                    .with_shape_loops(scene, key)
+                    .with_techniques(key, techniques, scene.render.max_depth)
+            };
+            let mut bound = bound_of(&key);
+            if key.features.num_bspline_segments > 0 && bound.per_sample() > CPU_LOOP_BUDGET {
+                // The B-spline segments' looped searches would not fit: unrolled ones have no
+                // back-edges (and run at half the speed).
+                key.bspline_unrolled = true;
+                bound = bound_of(&key);
+            }
             if bound.fixed > CPU_LOOP_BUDGET {
                 return Err(RenderError::LoopLimit { iterations: bound.fixed, max_null_collisions: key.features.max_null_collisions });
             }

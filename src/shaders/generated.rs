@@ -230,6 +230,27 @@ pub fn bsdf_dispatch() -> String {
     s
 }
 
+/// A B-spline segment's search, unrolled (quadrics/bspline_curve.wgsl, where `BSPLINE_UNROLLED`
+/// picks it over the loops): `bspline_chain_unrolled` adds its `BSPLINE_PIECES` pieces,
+/// `bspline_newton_unrolled` takes `BSPLINE_NEWTON_STEPS` steps. llvmpipe ends an invocation's
+/// loops after 65,535 back-edges in all: looped, a scene of a few dozen segments (the
+/// tutorials' shadow art: 34) passed that bound at depth 64 (`PipelineKey::bspline_unrolled`).
+pub fn bspline_unrolled() -> String {
+    use crate::scene::quadrics::{BSPLINE_NEWTON_STEPS, BSPLINE_PIECES};
+    let mut s = String::from(
+        "fn bspline_chain_unrolled(q: Quadric, o: vec3f, d: vec3f, t_min: f32, t_max: f32, margin: f32) -> BsplineChain {\n    \
+         var chain = BsplineChain(bspline_at(q, 0.0), vec2f(INFINITY, 0.0), vec2f(INFINITY, 0.0));\n",
+    );
+    for i in 1..=BSPLINE_PIECES {
+        s += &format!("    chain = bspline_chain_piece(q, o, d, t_min, t_max, margin, chain, {i}u);\n");
+    }
+    s += "    return chain;\n}\n\nfn bspline_newton_unrolled(q: Quadric, o: vec3f, d: vec3f, start: vec2f) -> vec2f {\n    var s = start;\n";
+    for _ in 0..BSPLINE_NEWTON_STEPS {
+        s += "    s = bspline_newton_step(q, o, d, s);\n";
+    }
+    s + "    return s;\n}\n"
+}
+
 /// The lights' counts, generated from the emitter registry (`scene::EmitterKind`): one
 /// `NUM_<KIND>_LIGHTS` override per kind (set by the host), `NUM_LIGHTS` (their sum) and
 /// where each kind's range of the light table starts (`first_<kind>_light`). They follow

@@ -320,7 +320,7 @@ pub fn agrees_with_reference(reference: &Film, scene: &Scene, methods: &[Method]
 }
 
 /// What `intersect_scene` returns for one ray (`Hit`, intersect.wgsl).
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TracedHit {
     pub t: f32,
     pub normal: [f32; 3],
@@ -355,10 +355,14 @@ fn trace_probe(@builtin(global_invocation_id) gid: vec3u) {
 /// tracer's own WGSL with the scene's own buffers (`SceneBuffers::contents`) and the pipeline
 /// constants of `features`: the kernel's `intersect_scene`, each ray's hit.
 pub fn trace_hits(scene: &Scene, features: pathlab::gpu::SceneFeatures, rays: &[(glam::DVec3, glam::DVec3)]) -> Vec<TracedHit> {
-    use pathlab::gpu::{pipeline_constants, KernelRun, PackedTriangles, PipelineKey, SceneBuffers};
+    trace_hits_keyed(scene, pathlab::gpu::PipelineKey::new(Preset::Mis.method(), features, scene.default_light_select()), rays)
+}
+
+/// `trace_hits` with the kernel specialised to `key`.
+pub fn trace_hits_keyed(scene: &Scene, key: pathlab::gpu::PipelineKey, rays: &[(glam::DVec3, glam::DVec3)]) -> Vec<TracedHit> {
+    use pathlab::gpu::{pipeline_constants, KernelRun, PackedTriangles, SceneBuffers};
     use pathlab::shaders::{self, bindings};
     let packed = PackedTriangles::new(scene, false);
-    let key = PipelineKey::new(Preset::Mis.method(), features, scene.default_light_select());
     let constants = pipeline_constants(&key);
     let source = shaders::assemble(&shaders::PATH_TRACER, TRACE_KERNEL);
     let (mut inputs, mut uniforms, mut texel_tables) = (vec![], vec![], vec![]);
