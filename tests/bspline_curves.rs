@@ -66,11 +66,6 @@ fn scene_in(dir: &std::path::Path, toml: &str, curves: &str) -> Result<Scene, pa
     Scene::load(dir.join("scene.toml"))
 }
 
-/// The host's nearest hit over every segment: (t, quadric index).
-fn host_hit(scene: &Scene, o: DVec3, d: DVec3) -> Option<(f64, usize)> {
-    scene.quadrics.iter().enumerate().filter_map(|(i, q)| q.intersect(o, d, 0.0, f64::INFINITY).map(|t| (t, i))).min_by(|a, b| a.0.total_cmp(&b.0))
-}
-
 #[test]
 fn the_kernels_bspline_curves_are_the_hosts() {
     let dir = tempfile::tempdir().unwrap();
@@ -88,7 +83,7 @@ fn the_kernels_bspline_curves_are_the_hosts() {
     // and leaving its surface.
     let mut rays = Vec::new();
     for q in &scene.quadrics {
-        let s = q.bspline.as_ref().unwrap();
+        let s = q.bspline().unwrap();
         for a in 0..12 {
             let phi = a as f64 * std::f64::consts::TAU / 12.0 + 0.1;
             for v in [0.0, 0.2, 0.5, 0.9, 1.0] {
@@ -128,7 +123,7 @@ fn the_kernels_bspline_curves_are_the_hosts() {
     let segment_of = |object: u32| (object >= first_quadric && object < first_quadric + 7).then(|| order[(object - first_quadric) as usize]);
     // How far a point lies from segment q's surface (from the circle it projects on).
     let off_surface = |q: &pathlab::scene::Quadric, p: DVec3| {
-        let s = q.bspline.as_ref().unwrap();
+        let s = q.bspline().unwrap();
         let b = s.at(s.v_of(p));
         ((p - b.c).length() - b.r).abs()
     };
@@ -136,7 +131,7 @@ fn the_kernels_bspline_curves_are_the_hosts() {
     let (mut worst_t, mut worst_n, mut worst_uv) = (0.0f64, 0.0f64, 0.0f64);
     for (&(o, d), hit) in rays.iter().zip(&hits) {
         let what = format!("ray from {o} along {d}");
-        match (host_hit(&scene, o, d), segment_of(hit.object)) {
+        match (common::nearest_quadric_hit(&scene, o, d), segment_of(hit.object)) {
             (None, None) => missed += 1,
             // A ray grazing a tube may meet it in one precision and not the other: the kernel's
             // point must then lie on the host's surface, the ray along it.
@@ -169,7 +164,7 @@ fn the_kernels_bspline_curves_are_the_hosts() {
                 // Where the tangent is within f32's rounding of +-z, the angle's frame is
                 // singular (Mitsuba's (0, 1, 0) there, exact equality): f32 and f64 take
                 // different sides of it (the zig-zag's turning points, seen from the side).
-                let s = q.bspline.as_ref().unwrap();
+                let s = q.bspline().unwrap();
                 let singular = s.at(s.v_of(p)).dc.normalize().z.abs() > 1.0 - 1e-6;
                 assert!(duv <= 1e-3 || singular, "{what}: kernel uv {:?}, host {uv:?}", hit.uv);
                 worst_uv = if singular { worst_uv } else { worst_uv.max(duv) };
@@ -192,7 +187,7 @@ fn the_unrolled_search_is_the_looped_one_and_lets_long_paths_through_many_segmen
     // Rays through the curves' boxes from around them.
     let mut rays = Vec::new();
     for q in &scene.quadrics {
-        let s = q.bspline.as_ref().unwrap();
+        let s = q.bspline().unwrap();
         for k in 0..60 {
             let target = s.at(k as f64 / 59.0).c + DVec3::new(0.0, 0.004 * (k % 7) as f64 - 0.012, 0.0);
             let origin = DVec3::new(0.4 + 0.1 * (k % 5) as f64, 2.2, 4.2 - 0.2 * (k % 3) as f64);

@@ -1313,8 +1313,8 @@ fn cylinder_chi_square(case: &QuadricCase, seed: u32) -> f64 {
 
 fn quadric_cases() -> Vec<QuadricCase> {
     use glam::{DAffine3, DVec3};
-    use pathlab::scene::{quadrics::cylinder_to_world, Quadric, QuadricKind};
-    let quadric = |kind, to_world| Quadric { kind, to_world, flip_normals: false, material: 0, two_sided_emission: false, curve: None, bspline: None, grid: None };
+    use pathlab::scene::{quadrics::cylinder_to_world, Quadric, QuadricData, QuadricKind};
+    let quadric = |kind, to_world| Quadric { kind, to_world, flip_normals: false, material: 0, two_sided_emission: false, data: QuadricData::Unit };
     // A disk stretched, sheared and tilted (its axes neither orthogonal nor of equal length).
     let sheared = DAffine3::from_cols_array(&[0.9, 0.1, 0.3, 0.4, 0.5, -0.2, 0.1, 0.2, 1.0, 0.2, 0.1, 1.5]);
     let small = DAffine3::from_scale_rotation_translation(DVec3::new(0.05, 0.08, 1.0), glam::DQuat::from_rotation_x(0.7), DVec3::new(0.3, -0.2, 2.0));

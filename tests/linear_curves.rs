@@ -61,11 +61,6 @@ fn scene_in(dir: &std::path::Path, toml: &str, curves: &str) -> Result<Scene, pa
     Scene::load(dir.join("scene.toml"))
 }
 
-/// The host's nearest entry over every segment: (t, quadric index).
-fn host_hit(scene: &Scene, o: DVec3, d: DVec3) -> Option<(f64, usize)> {
-    scene.quadrics.iter().enumerate().filter_map(|(i, q)| q.intersect(o, d, 0.0, f64::INFINITY).map(|t| (t, i))).min_by(|a, b| a.0.total_cmp(&b.0))
-}
-
 #[test]
 fn the_kernels_curves_are_the_hosts() {
     let dir = tempfile::tempdir().unwrap();
@@ -80,7 +75,7 @@ fn the_kernels_curves_are_the_hosts() {
     // beside it (grazing the surface, some missing it), and from inside a tube along it.
     let mut rays = Vec::new();
     for q in &scene.quadrics {
-        let c = q.curve.as_ref().unwrap();
+        let c = q.curve().unwrap();
         let axis = c.axis();
         let (side, up) = pathlab::scene::quadrics::angle_frame(axis);
         for a in 0..12 {
@@ -124,7 +119,7 @@ fn the_kernels_curves_are_the_hosts() {
     let segment_of = |object: u32| (object >= first_quadric && object < first_quadric + 7).then(|| order[(object - first_quadric) as usize]);
     // How far a point lies from segment q's surface (its contact sphere's).
     let off_surface = |q: &pathlab::scene::Quadric, p: DVec3| {
-        let c = q.curve.as_ref().unwrap();
+        let c = q.curve().unwrap();
         let v = c.v_local(p);
         ((p - c.p0.lerp(c.p1, v)).length() - (c.r0 + (c.r1 - c.r0) * v)).abs()
     };
@@ -132,7 +127,7 @@ fn the_kernels_curves_are_the_hosts() {
     let (mut worst_t, mut worst_n, mut worst_uv) = (0.0f64, 0.0f64, 0.0f64);
     for (&(o, d), hit) in rays.iter().zip(&hits) {
         let what = format!("ray from {o} along {d}");
-        match (host_hit(&scene, o, d), segment_of(hit.object)) {
+        match (common::nearest_quadric_hit(&scene, o, d), segment_of(hit.object)) {
             (None, None) => missed += 1,
             // A ray grazing a tube may meet it in one precision and not the other: the kernel's
             // point must then lie on the host's surface, the ray along it.

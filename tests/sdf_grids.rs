@@ -70,11 +70,6 @@ fn scene_in(dir: &std::path::Path, toml: &str) -> Result<Scene, pathlab::scene::
     Scene::load(dir.join("scene.toml"))
 }
 
-/// The host's nearest hit over every grid: (t, quadric index).
-fn host_hit(scene: &Scene, o: DVec3, d: DVec3) -> Option<(f64, usize)> {
-    scene.quadrics.iter().enumerate().filter_map(|(i, q)| q.intersect(o, d, 0.0, f64::INFINITY).map(|t| (t, i))).min_by(|a, b| a.0.total_cmp(&b.0))
-}
-
 /// How far object point p of grid q lies from its nearest cell face, in cells.
 fn face_distance(q: &pathlab::scene::Quadric, p: DVec3) -> f64 {
     let g = q.to_object().transform_point3(p) * q.sdf_grid().cells();
@@ -115,7 +110,7 @@ fn the_kernels_sdf_grids_are_the_hosts() {
     // torus, or the other grid.
     let mut leaving = Vec::new();
     for &(o, d) in rays.iter().step_by(7) {
-        if let Some((t, i)) = host_hit(&scene, o, d) {
+        if let Some((t, i)) = common::nearest_quadric_hit(&scene, o, d) {
             let p = o + d * t;
             let n = scene.quadrics[i].normal(p);
             let n = if n.dot(d) < 0.0 { n } else { -n };
@@ -134,7 +129,7 @@ fn the_kernels_sdf_grids_are_the_hosts() {
     let v = |a: [f32; 3]| DVec3::from_array(a.map(f64::from));
     for (&(o, d), hit) in rays.iter().zip(&hits) {
         let what = format!("ray from {o} along {d}");
-        match (host_hit(&scene, o, d), grid_of(hit.object)) {
+        match (common::nearest_quadric_hit(&scene, o, d), grid_of(hit.object)) {
             (None, None) => missed += 1,
             // A ray grazing a surface may meet it in one precision and not the other: the
             // kernel's point must then lie on the host's surface, the ray along it.
@@ -186,7 +181,7 @@ fn sdf_grids_agree_with_mitsuba() {
     let defines = [("resx".to_string(), reference.width.to_string()), ("resy".to_string(), reference.height.to_string())];
     let scene = Scene::load_with(format!("{FIXTURE}/sdf_grids.xml"), &defines).unwrap();
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
-    let grids: Vec<_> = scene.quadrics.iter().filter_map(|q| q.grid.as_ref()).collect();
+    let grids: Vec<_> = scene.quadrics.iter().filter_map(|q| q.grid()).collect();
     assert_eq!(grids.iter().map(|g| (g.res[0], g.smooth)).collect::<Vec<_>>(), [(24, true), (8, false), (8, true)]);
     // `convert` writes `[[sdf_grids]]`, which load as the same scene.
     let dir = tempfile::tempdir().unwrap();
@@ -202,7 +197,7 @@ fn a_file_placed_twice_is_read_and_uploaded_once() {
     let dir = tempfile::tempdir().unwrap();
     let twice = format!("{SCENE}\n[[sdf_grids]]\nfile = \"torus.vol\"\nmaterial = \"grey\"\ntransform = {{ translate = [-3, 0, 0] }}\n");
     let scene = scene_in(dir.path(), &twice).unwrap();
-    let grid = |k: usize| scene.quadrics[k].grid.clone().unwrap();
+    let grid = |k: usize| scene.quadrics[k].grid().cloned().unwrap();
     assert!(std::sync::Arc::ptr_eq(&grid(0), &grid(2)) && !std::sync::Arc::ptr_eq(&grid(0), &grid(1)));
     let mut data = pathlab::scene::BsdfData::default();
     let records = pathlab::gpu::SceneBuffers::pack_quadrics(&scene, &mut data);

@@ -189,7 +189,7 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
             let grids = scene
                 .quadrics
                 .iter()
-                .filter_map(|q| q.grid.as_ref())
+                .filter_map(|q| q.grid())
                 .map(|g| format!("{}x{}x{} ({} normals), ", g.res[0], g.res[1], g.res[2], if g.smooth { "smooth" } else { "analytic" }))
                 .collect::<Vec<_>>();
             let grids = if grids.is_empty() { String::new() } else { format!("{} signed distance grids: {}", grids.len(), grids.concat()) };

@@ -182,7 +182,7 @@ impl SceneFeatures {
             } else {
                 SharedVertices::default()
             },
-            has_shading_normals: scene.meshes.iter().any(|m| !m.normals.is_empty()) || scene.quadrics.iter().any(|q| q.grid.as_ref().is_some_and(|g| g.smooth)),
+            has_shading_normals: scene.meshes.iter().any(|m| !m.normals.is_empty()) || scene.quadrics.iter().any(|q| q.grid().is_some_and(|g| g.smooth)),
             has_uvs: scene.materials.iter().any(|m| m.reads_uv()),
             has_masks: scene.materials.iter().any(|m| m.opacity.is_some()),
             textured_opacity: scene.materials.iter().any(|m| m.opacity.as_ref().is_some_and(|o| o.texture().is_some())),

@@ -162,7 +162,7 @@ impl LoopBound {
         let grids: u64 = scene
             .quadrics
             .iter()
-            .filter_map(|q| q.grid.as_ref())
+            .filter_map(|q| q.grid())
             .map(|g| g.res.iter().map(|&n| n as u64 - 1).sum::<u64>() + 1 + REGULA_FALSI_STEPS as u64 + SDF_NORMAL_LOOPS)
             .sum();
         let per_bspline = if key.bspline_unrolled { 0 } else { (BSPLINE_PIECES + 2 * BSPLINE_NEWTON_STEPS) as u64 };

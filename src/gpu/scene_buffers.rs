@@ -579,7 +579,7 @@ impl SceneBuffers {
             .map(|(k, i)| {
                 let q = &scene.quadrics[i];
                 let sign = if q.flip_normals { -1.0 } else { 1.0 };
-                let ([object_x, object_y, object_z], [world_x, world_y, world_z]) = match &q.curve {
+                let ([object_x, object_y, object_z], [world_x, world_y, world_z]) = match q.curve() {
                     // A curve segment (quadrics/linear_curve.wgsl's layout): its ends and radii,
                     // the frame of the angle around its axis, its number and the shape's count,
                     // whether it starts its curve.
@@ -589,7 +589,7 @@ impl SceneBuffers {
                         let v4 = |v: DVec3, w: f64| [v.x as f32, v.y as f32, v.z as f32, w as f32];
                         ([v4(c.p0, c.r0), v4(c.p1, c.r1), v4(u_rot, c.index as f64)], [v4(u_rad, c.count as f64), v4(axis, if c.first { 1.0 } else { 0.0 }), [0.0; 4]])
                     }
-                    None => match &q.bspline {
+                    None => match q.bspline() {
                         // A B-spline segment (quadrics/bspline_curve.wgsl's layout): its control
                         // points and radii, its number, the shape's count and its margin.
                         Some(s) => {
@@ -601,7 +601,7 @@ impl SceneBuffers {
                 };
                 // An SDF grid (quadrics/sdf_grid.wgsl's layout): where its record starts in the
                 // BSDF data (the bits of normal.x), 1 for smooth normals (normal.y).
-                let normal = match &q.grid {
+                let normal = match q.grid() {
                     Some(g) => {
                         let start = match grids.iter().find(|(p, _)| std::ptr::eq(*p, Arc::as_ptr(g))) {
                             Some(&(_, start)) => start,

@@ -273,14 +273,14 @@ pub fn canonical_encoding(scene: &Scene) -> String {
             line(&format!("quadric.{i}.flip_normals"), (q.flip_normals as u8).to_string());
             line(&format!("quadric.{i}.material"), q.material.to_string());
             line(&format!("quadric.{i}.two_sided"), (q.two_sided_emission as u8).to_string());
-            if let Some(c) = &q.curve {
+            if let Some(c) = q.curve() {
                 line(&format!("quadric.{i}.curve"), format!("{},{},{},{},{},{}", vec3(c.p0), real(c.r0), vec3(c.p1), real(c.r1), c.index, c.count));
             }
-            if let Some(s) = &q.bspline {
+            if let Some(s) = q.bspline() {
                 let points: Vec<String> = (0..4).map(|k| format!("{},{}", vec3(s.p[k]), real(s.r[k]))).collect();
                 line(&format!("quadric.{i}.bspline"), format!("{},{},{}", points.join(","), s.index, s.count));
             }
-            if let Some(g) = &q.grid {
+            if let Some(g) = q.grid() {
                 line(&format!("quadric.{i}.grid"), format!("{}x{}x{},{},{}", g.res[0], g.res[1], g.res[2], g.content_hash, if g.smooth { "smooth" } else { "analytic" }));
             }
         }

@@ -43,7 +43,7 @@ pub use camera::{Camera, Fov, Projection};
 pub use diagnostic::{Diagnostic, SceneError, Severity};
 pub use emitters::{AliasTable, DirectionalLight, EmitterKind, EnvDistribution, EnvironmentMap, Light, PointLight, ProjectorLight, SpotLight, SpotTexture};
 pub use mesh::Mesh;
-pub use quadrics::{Quadric, QuadricKind, MAX_QUADRICS};
+pub use quadrics::{Quadric, QuadricData, QuadricKind, MAX_QUADRICS};
 pub use overrides::{OverrideError, Overrides, Reframing};
 pub use technique::{BsdfTargets, LightShapes, Technique, TechniqueError};
 pub use transform::Transform;

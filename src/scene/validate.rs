@@ -17,7 +17,7 @@ use super::mesh::{self, shapes, Mesh, MeshData, Shading};
 use super::emitters::{DirectionalLight, PointLight, ProjectorLight, SpotLight, SpotTexture, BEAM_WIDTH_OF_CUTOFF, DEFAULT_CUTOFF_ANGLE};
 use super::textures::Texture;
 use super::raw::{RawColor, RawColorOrTexture, RawEnvironmentMap, RawMaterial, RawRotations, RawScale, RawScene, RawTransform};
-use super::quadrics::{self, Quadric, QuadricKind, MAX_QUADRICS};
+use super::quadrics::{self, Quadric, QuadricData, QuadricKind, MAX_QUADRICS};
 use super::transform::Transform;
 use super::{
     Camera, Diagnostic, Fov, Material, Projection, Opacity, Plane, RenderSettings, Scene, SceneError, Severity, Sphere, MAX_DELTA_LIGHTS,
@@ -676,9 +676,7 @@ fn check_quadrics(ck: &mut Checker, raw: &RawScene, materials: &[Material], reso
             flip_normals: flag(&s.flip_normals),
             material,
             two_sided_emission: flag(&s.two_sided_emission),
-            curve: None,
-            bspline: None,
-            grid: None,
+            data: QuadricData::Unit,
         });
     }
     for (i, c) in raw.cylinders.iter().enumerate() {
@@ -724,7 +722,7 @@ fn check_quadrics(ck: &mut Checker, raw: &RawScene, materials: &[Material], reso
         if uneven && materials.get(material).is_some_and(Material::is_emissive) {
             ck.error(at.clone(), format!("{table}.transform"), format!("material \"{}\" emits light: an emissive cylinder must not be sheared or scaled unevenly across its axis (its area, and so its sampling density, would be Mitsuba's approximation)", c.material.get_ref()));
         }
-        quadrics.push(Quadric { kind: QuadricKind::Cylinder, to_world, flip_normals: flag(&c.flip_normals), material, two_sided_emission: flag(&c.two_sided_emission), curve: None, bspline: None, grid: None });
+        quadrics.push(Quadric { kind: QuadricKind::Cylinder, to_world, flip_normals: flag(&c.flip_normals), material, two_sided_emission: flag(&c.two_sided_emission), data: QuadricData::Unit });
     }
     let base = ck.file.parent().map(Path::to_path_buf).unwrap_or_default();
     let curves = raw.linear_curves.iter().map(|c| (c, 2)).chain(raw.bspline_curves.iter().map(|c| (c, 4)));
@@ -764,14 +762,14 @@ fn check_quadrics(ck: &mut Checker, raw: &RawScene, materials: &[Material], reso
         };
         let to_world = DAffine3::from_mat4(transform.matrix);
         let beyond_f32 = |p: &DVec3| !p.is_finite() || p.abs().max_element() > f32::MAX as f64;
-        let curve = |kind, curve, bspline| Quadric { kind, to_world: DAffine3::IDENTITY, flip_normals: false, material, two_sided_emission: false, curve, bspline, grid: None };
+        let curve = |kind, data| Quadric { kind, to_world: DAffine3::IDENTITY, flip_normals: false, material, two_sided_emission: false, data };
         if !linear {
             let segments = quadrics::bspline_segments(&curves, &to_world);
             if let Some(s) = segments.iter().find(|s| s.p.iter().any(beyond_f32)) {
                 ck.error(c.transform.as_ref().map_or(c.file.span(), Spanned::span), format!("{table}.transform"), format!("moves segment {} of {} beyond 32-bit floats", s.index, file.display()));
                 continue;
             }
-            quadrics.extend(segments.into_iter().map(|s| curve(QuadricKind::BsplineSegment, None, Some(s))));
+            quadrics.extend(segments.into_iter().map(|s| curve(QuadricKind::BsplineSegment, QuadricData::Bspline(s))));
             continue;
         }
         let segments = quadrics::segments(&curves, &to_world);
@@ -785,7 +783,7 @@ fn check_quadrics(ck: &mut Checker, raw: &RawScene, materials: &[Material], reso
             ck.error(c.file.span(), format!("{table}.file"), format!("segment {} of {} has one end sphere inside the other (length {} against radii {} and {}): it has no side", s.index, file.display(), (s.p1 - s.p0).length(), s.r0, s.r1));
             continue;
         }
-        quadrics.extend(segments.into_iter().map(|s| curve(QuadricKind::CurveSegment, Some(s), None)));
+        quadrics.extend(segments.into_iter().map(|s| curve(QuadricKind::CurveSegment, QuadricData::Curve(s))));
     }
     let mut grids_read: Vec<(std::path::PathBuf, bool, std::sync::Arc<quadrics::SdfGrid>)> = Vec::new();
     for (i, g) in raw.sdf_grids.iter().enumerate() {
@@ -816,7 +814,7 @@ fn check_quadrics(ck: &mut Checker, raw: &RawScene, materials: &[Material], reso
         let file = base.join(g.file.get_ref());
         // A file read once, however many shapes (an instanced group's copies) place it.
         if let Some((_, _, grid)) = grids_read.iter().find(|(f, s, _)| *f == file && *s == smooth) {
-            quadrics.push(Quadric { kind: QuadricKind::SdfGrid, to_world: DAffine3::from_mat4(transform.matrix), flip_normals: false, material, two_sided_emission: false, curve: None, bspline: None, grid: Some(grid.clone()) });
+            quadrics.push(Quadric { kind: QuadricKind::SdfGrid, to_world: DAffine3::from_mat4(transform.matrix), flip_normals: false, material, two_sided_emission: false, data: QuadricData::Grid(grid.clone()) });
             continue;
         }
         let grid = crate::scene::vol_file::read_vol(&file).and_then(|vol| {
@@ -829,7 +827,7 @@ fn check_quadrics(ck: &mut Checker, raw: &RawScene, materials: &[Material], reso
             Ok(grid) => {
                 let grid = std::sync::Arc::new(grid);
                 grids_read.push((file, smooth, grid.clone()));
-                quadrics.push(Quadric { kind: QuadricKind::SdfGrid, to_world: DAffine3::from_mat4(transform.matrix), flip_normals: false, material, two_sided_emission: false, curve: None, bspline: None, grid: Some(grid) });
+                quadrics.push(Quadric { kind: QuadricKind::SdfGrid, to_world: DAffine3::from_mat4(transform.matrix), flip_normals: false, material, two_sided_emission: false, data: QuadricData::Grid(grid) });
             }
             Err(e) => ck.error(g.file.span(), format!("{table}.file"), format!("signed distance grid {}: {e}", file.display())),
         }

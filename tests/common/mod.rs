@@ -319,6 +319,12 @@ pub fn agrees_with_reference(reference: &Film, scene: &Scene, methods: &[Method]
     films
 }
 
+/// The host's nearest hit of the ray o + t d (t > 0) over the scene's quadrics (disks,
+/// cylinders, curve segments, SDF grids), each by its f64 definition: (t, quadric index).
+pub fn nearest_quadric_hit(scene: &Scene, o: glam::DVec3, d: glam::DVec3) -> Option<(f64, usize)> {
+    scene.quadrics.iter().enumerate().filter_map(|(i, q)| q.intersect(o, d, 0.0, f64::INFINITY).map(|t| (t, i))).min_by(|a, b| a.0.total_cmp(&b.0))
+}
+
 /// What `intersect_scene` returns for one ray (`Hit`, intersect.wgsl).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TracedHit {

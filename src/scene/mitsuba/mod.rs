@@ -1882,6 +1882,27 @@ impl Translator<'_> {
         }
     }
 
+    /// The file a curve or grid shape reads (its `filename`, found as Mitsuba finds it), with
+    /// `flip_normals` refused (`why_no_flip` says why) and a missing `filename` (`needs` adds
+    /// what it is) or file (`what` names it) reported at the shape; None after an error.
+    fn shape_file(&mut self, o: &Object, file: Option<(String, usize)>, flip: bool, why_no_flip: &str, needs: &str, what: &str) -> Option<Spanned<String>> {
+        if flip {
+            self.error(o.at, "flip_normals", format!("flip_normals of a <shape type=\"{}\"> is not supported ({why_no_flip})", o.plugin));
+            return None;
+        }
+        let Some((file, _)) = file else {
+            self.error(o.at, "filename", format!("<shape type=\"{}\"> needs <string name=\"filename\">{needs}", o.plugin));
+            return None;
+        };
+        match self.loaded.resolve(&file, &o.dir) {
+            Ok(path) => Some(spanned(o.at, path.display().to_string())),
+            Err(message) => {
+                self.error(o.at, "filename", format!("{what} {message}"));
+                None
+            }
+        }
+    }
+
     /// `<shape type="instance">` with a `<ref>` to one shape group and a `to_world`: the group's
     /// shapes flattened into the scene, each with the instance's transform after its own
     /// (Mitsuba's instance to_world times the shape's), as world-space shapes.
@@ -2039,45 +2060,17 @@ impl Translator<'_> {
             "linearcurve" | "bsplinecurve" => {
                 let file = self.string(&mut p, "filename");
                 self.finish(p, "filename, to_world");
-                if flip.is_some() {
-                    self.error(o.at, "flip_normals", format!("flip_normals of a <shape type=\"{}\"> is not supported (Mitsuba culls its back faces)", o.plugin));
-                    return;
-                }
-                let Some((file, _)) = file else {
-                    self.error(o.at, "filename", format!("<shape type=\"{}\"> needs <string name=\"filename\">", o.plugin));
-                    return;
-                };
-                let path = match self.loaded.resolve(&file, &o.dir) {
-                    Ok(path) => path,
-                    Err(message) => {
-                        self.error(o.at, "filename", format!("curve file {message}"));
-                        return;
-                    }
-                };
-                let curve = spanned(o.at, RawCurve { file: spanned(o.at, path.display().to_string()), material, transform });
+                let Some(file) = self.shape_file(o, file, flip.is_some(), "Mitsuba culls its back faces", "", "curve file") else { return };
+                let curve = spanned(o.at, RawCurve { file, material, transform });
                 if o.plugin == "linearcurve" { shapes.linear_curves.push(curve) } else { shapes.bspline_curves.push(curve) }
             }
             "sdfgrid" => {
                 let file = self.string(&mut p, "filename");
-                let normals = self.string(&mut p, "normals");
+                let normals = self.string(&mut p, "normals").map(|(n, at)| spanned(at, n));
                 self.finish(p, "filename, normals, to_world");
-                if flip.is_some() {
-                    self.error(o.at, "flip_normals", "flip_normals of a <shape type=\"sdfgrid\"> is not supported (Mitsuba's sdfgrid does not read it)");
-                    return;
-                }
-                let Some((file, _)) = file else {
-                    self.error(o.at, "filename", "<shape type=\"sdfgrid\"> needs <string name=\"filename\"> (a .vol grid; a `grid` tensor can be given from Python alone)");
-                    return;
-                };
-                let path = match self.loaded.resolve(&file, &o.dir) {
-                    Ok(path) => path,
-                    Err(message) => {
-                        self.error(o.at, "filename", format!("signed distance grid {message}"));
-                        return;
-                    }
-                };
-                let normals = normals.map(|(n, at)| spanned(at, n));
-                shapes.sdf_grids.push(spanned(o.at, RawSdfGrid { file: spanned(o.at, path.display().to_string()), material, transform, normals }));
+                let needs = " (a .vol grid; a `grid` tensor can be given from Python alone)";
+                let Some(file) = self.shape_file(o, file, flip.is_some(), "Mitsuba's sdfgrid does not read it", needs, "signed distance grid") else { return };
+                shapes.sdf_grids.push(spanned(o.at, RawSdfGrid { file, material, transform, normals }));
             }
             "cylinder" => {
                 let p0 = self.point(&mut p, "p0").map(|v| spanned(o.at, v.to_array()));

@@ -66,12 +66,21 @@ pub struct Quadric {
     /// Emits on both sides (pathlab's `two_sided_emission`; Mitsuba's area emitters emit on the
     /// normal's side only).
     pub two_sided_emission: bool,
-    /// A curve segment's ends and radii (`QuadricKind::CurveSegment`), None for the others.
-    pub curve: Option<CurveSegment>,
-    /// A B-spline segment's control points (`QuadricKind::BsplineSegment`), None for the others.
-    pub bspline: Option<BsplineSegment>,
-    /// An SDF grid's values (`QuadricKind::SdfGrid`), None for the others.
-    pub grid: Option<Arc<SdfGrid>>,
+    /// What it holds beyond its kind's unit shape.
+    pub data: QuadricData,
+}
+
+/// What a quadric holds beyond the unit shape of its kind.
+#[derive(Debug, Clone, PartialEq)]
+pub enum QuadricData {
+    /// A disk or a cylinder: its `to_world` is all.
+    Unit,
+    /// A curve segment's ends and radii (`QuadricKind::CurveSegment`).
+    Curve(CurveSegment),
+    /// A B-spline segment's control points (`QuadricKind::BsplineSegment`).
+    Bspline(BsplineSegment),
+    /// An SDF grid's values (`QuadricKind::SdfGrid`), shared by the quadrics that place one file.
+    Grid(Arc<SdfGrid>),
 }
 
 impl Quadric {
@@ -90,18 +99,41 @@ impl Quadric {
         }
     }
 
-    fn segment(&self) -> &CurveSegment {
-        self.curve.as_ref().expect("a curve segment has its segment")
+    /// A curve segment's ends and radii.
+    pub fn curve(&self) -> Option<&CurveSegment> {
+        match &self.data {
+            QuadricData::Curve(c) => Some(c),
+            _ => None,
+        }
     }
 
     /// A B-spline segment's control points.
-    pub fn bspline_segment(&self) -> &BsplineSegment {
-        self.bspline.as_ref().expect("a B-spline segment has its control points")
+    pub fn bspline(&self) -> Option<&BsplineSegment> {
+        match &self.data {
+            QuadricData::Bspline(s) => Some(s),
+            _ => None,
+        }
     }
 
     /// An SDF grid's values.
+    pub fn grid(&self) -> Option<&Arc<SdfGrid>> {
+        match &self.data {
+            QuadricData::Grid(g) => Some(g),
+            _ => None,
+        }
+    }
+
+    fn segment(&self) -> &CurveSegment {
+        self.curve().expect("a curve segment has its segment")
+    }
+
+    fn bspline_segment(&self) -> &BsplineSegment {
+        self.bspline().expect("a B-spline segment has its control points")
+    }
+
+    /// An SDF grid's values (of a quadric of kind `SdfGrid`).
     pub fn sdf_grid(&self) -> &SdfGrid {
-        self.grid.as_ref().expect("an SDF grid has its values")
+        self.grid().expect("an SDF grid has its values")
     }
 
     /// Nearest ray parameter t in (t_min, t_max) where the ray o + t d meets the surface.
@@ -138,7 +170,7 @@ impl Quadric {
     /// where it has `normals = "smooth"` (0 where the blend of its cells' normals cancels),
     /// else the surface normal.
     pub fn shading_normal(&self, p: DVec3) -> DVec3 {
-        match &self.grid {
+        match self.grid() {
             Some(g) if g.smooth => {
                 let n = g.smooth_normal(self.to_object().transform_point3(p));
                 let inverse_transpose: DMat3 = DMat3::from(self.to_world.matrix3).inverse().transpose();
@@ -167,10 +199,10 @@ impl Quadric {
     /// The corners of a box around it in world space: the image of its object space's
     /// [-1, 1]^2 x [0, 0] (a disk) or [0, 1] (a cylinder), or [0, 1]^3 (an SDF grid).
     pub fn box_corners(&self) -> [DVec3; 8] {
-        if let Some(c) = &self.curve {
+        if let Some(c) = self.curve() {
             return c.box_corners();
         }
-        if let Some(s) = &self.bspline {
+        if let Some(s) = self.bspline() {
             return s.box_corners();
         }
         let top = if self.kind == QuadricKind::Disk { 0.0 } else { 1.0 };
@@ -251,7 +283,7 @@ mod tests {
     use super::*;
 
     fn quadric(kind: QuadricKind, to_world: DAffine3) -> Quadric {
-        Quadric { kind, to_world, flip_normals: false, material: 0, two_sided_emission: false, curve: None, bspline: None, grid: None }
+        Quadric { kind, to_world, flip_normals: false, material: 0, two_sided_emission: false, data: QuadricData::Unit }
     }
 
     #[test]
