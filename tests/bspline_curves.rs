@@ -241,17 +241,13 @@ fn bad_bspline_curves_are_refused() {
     let bumped = SCENE.replace("[materials.grey]\ndiffuse = 0.5", "[materials.grey]\ndiffuse = 0.5\nbump_map = { scale = 0.02, texture = \"bitmap\", filename = \"h.png\" }");
     let e = scene_in(dir.path(), &bumped, good).unwrap_err().to_string();
     assert!(e.contains("bspline_curves[0].material") && e.contains("normal or bump map"), "{e}");
-    let xml = |shape: &str| {
-        format!("<scene version=\"3.0.0\"><sensor type=\"perspective\"><float name=\"fov\" value=\"40\"/></sensor>\n<shape type=\"rectangle\"><emitter type=\"area\"><rgb name=\"radiance\" value=\"1\"/></emitter></shape>\n{shape}\n</scene>")
-    };
     std::fs::write(dir.path().join("c.txt"), good).unwrap();
     for (shape, expected) in [
         ("<shape type=\"bsplinecurve\"><string name=\"filename\" value=\"c.txt\"/><boolean name=\"flip_normals\" value=\"true\"/></shape>", "flip_normals"),
         ("<shape type=\"bsplinecurve\"/>", "needs <string name=\"filename\">"),
         ("<shape type=\"bsplinecurve\"><string name=\"filename\" value=\"missing.txt\"/></shape>", "curve file"),
     ] {
-        std::fs::write(dir.path().join("bad.xml"), xml(shape)).unwrap();
-        let e = Scene::load(dir.path().join("bad.xml")).unwrap_err().to_string();
+        let e = common::xml_shape_error(dir.path(), shape);
         assert!(e.contains("bad.xml:3:") && e.contains(expected), "{shape}: {e}");
     }
 }

@@ -207,17 +207,13 @@ fn bad_curves_are_refused_at_their_line() {
     let emissive = SCENE.replace("[materials.grey]\ndiffuse = 0.5", "[materials.grey]\ndiffuse = 0.5\nemission = 1");
     let e = scene_in(dir.path(), &emissive, CURVES).unwrap_err().to_string();
     assert!(e.contains("cannot be a light"), "{e}");
-    let xml = |shape: &str| {
-        format!("<scene version=\"3.0.0\"><sensor type=\"perspective\"><float name=\"fov\" value=\"40\"/></sensor>\n<shape type=\"rectangle\"><emitter type=\"area\"><rgb name=\"radiance\" value=\"1\"/></emitter></shape>\n{shape}\n</scene>")
-    };
     std::fs::write(dir.path().join("c.txt"), CURVES).unwrap();
     for (shape, expected) in [
         ("<shape type=\"linearcurve\"><string name=\"filename\" value=\"c.txt\"/><boolean name=\"flip_normals\" value=\"true\"/></shape>", "flip_normals"),
         ("<shape type=\"linearcurve\"/>", "needs <string name=\"filename\">"),
         ("<shape type=\"linearcurve\"><string name=\"filename\" value=\"missing.txt\"/></shape>", "curve file"),
     ] {
-        std::fs::write(dir.path().join("bad.xml"), xml(shape)).unwrap();
-        let e = Scene::load(dir.path().join("bad.xml")).unwrap_err().to_string();
+        let e = common::xml_shape_error(dir.path(), shape);
         assert!(e.contains("bad.xml:3:") && e.contains(expected), "{shape}: {e}");
     }
 }

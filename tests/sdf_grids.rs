@@ -209,11 +209,11 @@ fn a_file_placed_twice_is_read_and_uploaded_once() {
 #[test]
 fn bad_grids_and_settings_are_refused() {
     let dir = tempfile::tempdir().unwrap();
-    let vol = |name: &str, res: [u32; 3], values: &[f32]| std::fs::write(dir.path().join(name), pathlab::scene::vol_file::write_vol_bytes(res, values)).unwrap();
+    let vol = |name: &str, res: [u32; 3], values: &[f32]| std::fs::write(dir.path().join(name), vol_bytes(res, values)).unwrap();
     vol("flat.vol", [2, 2, 2], &[1.0; 8]);
     vol("thin.vol", [2, 1, 2], &[1.0, -1.0, 1.0, -1.0]);
     vol("nan.vol", [2, 2, 2], &[1.0, -1.0, 1.0, f32::NAN, 1.0, 1.0, 1.0, 1.0]);
-    let mut three = pathlab::scene::vol_file::write_vol_bytes([2, 2, 2], &[0.5; 24]);
+    let mut three = vol_bytes([2, 2, 2], &[0.5; 24]);
     three[20..24].copy_from_slice(&3i32.to_le_bytes());
     std::fs::write(dir.path().join("rgb.vol"), three).unwrap();
     let grid = |file: &str, extra: &str| SCENE.replace("file = \"sphere.vol\"", &format!("file = \"{file}\"{extra}"));
@@ -229,17 +229,26 @@ fn bad_grids_and_settings_are_refused() {
         let e = scene_in(dir.path(), &toml).unwrap_err().to_string();
         assert!(e.contains("sdf_grids[1]") && e.contains(expected), "{expected}: {e}");
     }
-    let xml = |shape: &str| {
-        format!("<scene version=\"3.0.0\"><sensor type=\"perspective\"><float name=\"fov\" value=\"40\"/></sensor>\n<shape type=\"rectangle\"><emitter type=\"area\"><rgb name=\"radiance\" value=\"1\"/></emitter></shape>\n{shape}\n</scene>")
-    };
     for (shape, expected) in [
         ("<shape type=\"sdfgrid\"><string name=\"filename\" value=\"torus.vol\"/><boolean name=\"flip_normals\" value=\"true\"/></shape>", "flip_normals"),
         ("<shape type=\"sdfgrid\"/>", "needs <string name=\"filename\">"),
         ("<shape type=\"sdfgrid\"><string name=\"filename\" value=\"missing.vol\"/></shape>", "signed distance grid"),
         ("<shape type=\"sdfgrid\"><string name=\"filename\" value=\"torus.vol\"/><string name=\"normals\" value=\"flat\"/></shape>", "normals \"flat\""),
     ] {
-        std::fs::write(dir.path().join("bad.xml"), xml(shape)).unwrap();
-        let e = Scene::load(dir.path().join("bad.xml")).unwrap_err().to_string();
+        let e = common::xml_shape_error(dir.path(), shape);
         assert!(e.contains("bad.xml:3:") && e.contains(expected), "{shape}: {e}");
     }
+}
+
+/// The bytes of a Mitsuba `.vol` file of one channel holding `data` (x fastest), its box the
+/// unit cube (`scene::vol_file`'s format).
+fn vol_bytes(res: [u32; 3], data: &[f32]) -> Vec<u8> {
+    let mut bytes = b"VOL\x03".to_vec();
+    for v in [1i32, res[0] as i32, res[1] as i32, res[2] as i32, 1] {
+        bytes.extend(v.to_le_bytes());
+    }
+    for v in [0.0f32, 0.0, 0.0, 1.0, 1.0, 1.0].iter().chain(data) {
+        bytes.extend(v.to_le_bytes());
+    }
+    bytes
 }

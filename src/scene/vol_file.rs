@@ -66,16 +66,3 @@ pub fn read_vol(path: &Path) -> Result<VolFile, String> {
     let data: Vec<f32> = bytes[48..].chunks_exact(4).map(|c| f32::from_le_bytes(c.try_into().expect("4 bytes"))).collect();
     Ok(VolFile { res: [nx as u32, ny as u32, nz as u32], channels: channels as u32, data, bbox })
 }
-
-/// The bytes of a `.vol` file of one channel holding `data` (x fastest), its box the unit cube
-/// (for tests and scripts' grids).
-pub fn write_vol_bytes(res: [u32; 3], data: &[f32]) -> Vec<u8> {
-    let mut bytes = b"VOL\x03".to_vec();
-    for v in [1i32, res[0] as i32, res[1] as i32, res[2] as i32, 1] {
-        bytes.extend(v.to_le_bytes());
-    }
-    for v in [0.0f32, 0.0, 0.0, 1.0, 1.0, 1.0].iter().chain(data) {
-        bytes.extend(v.to_le_bytes());
-    }
-    bytes
-}

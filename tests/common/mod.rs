@@ -319,6 +319,14 @@ pub fn agrees_with_reference(reference: &Film, scene: &Scene, methods: &[Method]
     films
 }
 
+/// The error of loading `dir/bad.xml`, a Mitsuba scene of a camera and a rectangle light on
+/// its first two lines and `shape` on its third.
+pub fn xml_shape_error(dir: &std::path::Path, shape: &str) -> String {
+    let xml = format!("<scene version=\"3.0.0\"><sensor type=\"perspective\"><float name=\"fov\" value=\"40\"/></sensor>\n<shape type=\"rectangle\"><emitter type=\"area\"><rgb name=\"radiance\" value=\"1\"/></emitter></shape>\n{shape}\n</scene>");
+    std::fs::write(dir.join("bad.xml"), xml).unwrap();
+    Scene::load(dir.join("bad.xml")).unwrap_err().to_string()
+}
+
 /// The host's nearest hit of the ray o + t d (t > 0) over the scene's quadrics (disks,
 /// cylinders, curve segments, SDF grids), each by its f64 definition: (t, quadric index).
 pub fn nearest_quadric_hit(scene: &Scene, o: glam::DVec3, d: glam::DVec3) -> Option<(f64, usize)> {
