@@ -30,9 +30,9 @@
 // angle of normals. A reflection-only material needs every normal whose mirror direction of wo
 // is above the surface; a rough dielectric every normal wo sees (it refracts about them).
 //
-// kind `light` — sampling a point on a light, for spherical lights, triangle lights or both: a
-// file defines the pair of functions of each shape it samples, and lights of a shape it does
-// not define keep the built-in strategy (the host finds which it defines). Spherical lights,
+// kind `light` — sampling a point on a light, for spherical, triangle, disk or cylinder lights,
+// any of them: a file defines the pair of functions of each shape it samples, and lights of a
+// shape it does not define keep the built-in strategy (the host finds which it defines). Spherical lights,
 // seen from outside, in place of the uniform cone (from inside a light, its area is still
 // sampled uniformly):
 //   fn sample_light_technique(x: vec3f, n: vec3f, light: SphereLight, u: vec2f) -> vec3f
@@ -41,14 +41,22 @@
 // `--triangle-sampling` (area or solid angle):
 //   fn sample_triangle_light_technique(x: vec3f, n: vec3f, light: TriangleLight, u: vec2f) -> vec3f
 //   fn pdf_triangle_light_technique(x: vec3f, n: vec3f, light: TriangleLight, p: vec3f) -> f32
+// disk lights (Mitsuba's disk with an area emitter, an ellipse where its to_world stretches it),
+// and cylinder lights (Mitsuba's cylinder, open at both ends), in place of sampling their area
+// uniformly:
+//   fn sample_disk_light_technique(x: vec3f, n: vec3f, light: DiskLight, u: vec2f) -> vec3f
+//   fn pdf_disk_light_technique(x: vec3f, n: vec3f, light: DiskLight, p: vec3f) -> f32
+//   fn sample_cylinder_light_technique(x: vec3f, n: vec3f, light: CylinderLight, u: vec2f) -> vec3f
+//   fn pdf_cylinder_light_technique(x: vec3f, n: vec3f, light: CylinderLight, p: vec3f) -> f32
 // in world space: x is the shading point, n its unit shading normal on the viewer's side (a
 // technique may ignore it). sample_ returns a point p on the light's surface; pdf_ returns, for
 // a point p of the light that x sees, the density per unit solid angle at x of the direction
 // towards p with which sample_ produces it. A point sample_ returns on the far side of a
-// sphere, hidden from x by the sphere itself, is no sample of that direction: it contributes
-// nothing (drawing the near side only wastes no samples). Which side of a triangle emits is
-// pathlab's business: a technique samples the whole triangle, and pathlab is not asked about
-// points seen from the triangle's own plane (they receive nothing).
+// sphere or a cylinder, hidden from x by the light itself, is no sample of that direction: it
+// contributes nothing (drawing only what x sees wastes no samples). Which side of a triangle
+// or a disk emits, and whether a cylinder emits outwards, inwards or both, is pathlab's
+// business: a technique samples the whole shape, and pathlab is not asked about points seen
+// from a triangle's or a disk's own plane (they receive nothing).
 //
 // kind `env` — sampling a direction towards the environment map where next event estimation
 // samples the environment (`+env`), in place of the map's luminance distribution:
@@ -101,6 +109,26 @@ struct TriangleLight {
     p0: vec3f,
     p1: vec3f,
     p2: vec3f,
+}
+
+// A disk light: the points center + a axis_u + b axis_v with a^2 + b^2 <= 1 (a circle of radius
+// |axis_u| where the axes are orthogonal and equally long, an ellipse otherwise); its area is
+// pi |cross(axis_u, axis_v)|, its plane's normal along cross(axis_u, axis_v).
+struct DiskLight {
+    center: vec3f,
+    axis_u: vec3f,
+    axis_v: vec3f,
+}
+
+// A cylinder light, open at both ends: the points base + cos(phi) axis_u + sin(phi) axis_v +
+// z axis with phi in [0, 2 pi), z in [0, 1] (a circular cylinder of radius |axis_u| where
+// axis_u, axis_v and axis are orthogonal and the first two equally long; elliptical or
+// leaning where to_world makes it so). Its area element is |cross(dp/dphi, axis)| dphi dz.
+struct CylinderLight {
+    base: vec3f,
+    axis_u: vec3f,
+    axis_v: vec3f,
+    axis: vec3f,
 }
 
 // Loop iterations of the current call, and the faults of the current sample (TECHNIQUE_FAULT_*).
@@ -271,6 +299,96 @@ fn sample_triangle_light_with_technique(tri: TriangleLight, x: vec3f, n: vec3f, 
     technique_iterations = 0u;
     let pdf = technique_density(pdf_triangle_light_technique(x, n, tri, p));
     return LightSample(to_p / dist, dist, pdf);
+}
+
+// ---- kind light, disks and cylinders: the wrappers emitters/disk.wgsl and cylinder.wgsl call ----
+
+// A disk or cylinder light as a technique sees it: the world images of its object space's
+// origin and axes (quadrics/quadric.wgsl's rows, read by columns).
+fn disk_light_of(q: Quadric) -> DiskLight {
+    return DiskLight(vec3f(q.world_x.w, q.world_y.w, q.world_z.w), quadric_vector_to_world(q, vec3f(1.0, 0.0, 0.0)), quadric_vector_to_world(q, vec3f(0.0, 1.0, 0.0)));
+}
+
+fn cylinder_light_of(q: Quadric) -> CylinderLight {
+    let base = vec3f(q.world_x.w, q.world_y.w, q.world_z.w);
+    return CylinderLight(base, quadric_vector_to_world(q, vec3f(1.0, 0.0, 0.0)), quadric_vector_to_world(q, vec3f(0.0, 1.0, 0.0)), quadric_vector_to_world(q, vec3f(0.0, 0.0, 1.0)));
+}
+
+// Whether x lies in disk q's plane (to 1e-5 of the unit disk, in its object space), where it
+// sees none of it: the technique is not asked there.
+fn technique_in_disk_plane(q: Quadric, x: vec3f) -> bool {
+    return abs(quadric_point_to_object(q, x).z) <= 1e-5;
+}
+
+// Solid-angle density at x with which the technique gives direction wi: its density at the
+// point where the ray (x, wi) meets the disk (0 where it misses it).
+fn pdf_disk_light_with_technique(q: Quadric, x: vec3f, n: vec3f, wi: vec3f) -> f32 {
+    let t = intersect_disk(q, x, wi, 0.0, INFINITY);
+    if (!(t > 0.0) || technique_in_disk_plane(q, x)) {
+        return 0.0;
+    }
+    technique_iterations = 0u;
+    return technique_density(pdf_disk_light_technique(x, n, disk_light_of(q), x + wi * t));
+}
+
+// A direction from x towards the point the technique draws on disk q, with the technique's
+// density at that point. A point off the disk (in its object space, farther than 1e-3 from the
+// unit disk's plane or beyond its rim) is a fault.
+fn sample_disk_light_with_technique(q: Quadric, x: vec3f, n: vec3f, u: vec2f) -> LightSample {
+    if (technique_in_disk_plane(q, x)) {
+        return LightSample(q.normal, 0.0, 0.0);
+    }
+    technique_iterations = 0u;
+    let p = sample_disk_light_technique(x, n, disk_light_of(q), u);
+    let l = quadric_point_to_object(q, p);
+    let on = abs(l.z) <= 1e-3 && dot(l.xy, l.xy) <= (1.0 + 1e-3) * (1.0 + 1e-3);
+    let to_p = p - x;
+    let dist = length(to_p);
+    if (!technique_finite3(p) || !on || !(dist > 0.0)) {
+        technique_faults |= TECHNIQUE_FAULT_VALUE;
+        return LightSample(q.normal, 0.0, 0.0);
+    }
+    technique_iterations = 0u;
+    return LightSample(to_p / dist, dist, technique_density(pdf_disk_light_technique(x, n, disk_light_of(q), p)));
+}
+
+// Solid-angle density at x with which the technique gives direction wi: its density at the
+// first point beyond t_min where the ray (x, wi) meets cylinder q, the point x sees (0 where it
+// misses it). t_min > 0 skips the root at x where x lies on the cylinder itself.
+fn pdf_cylinder_light_with_technique(q: Quadric, x: vec3f, n: vec3f, wi: vec3f, t_min: f32) -> f32 {
+    let t = intersect_cylinder(q, x, wi, t_min, INFINITY);
+    if (!(t > 0.0)) {
+        return 0.0;
+    }
+    technique_iterations = 0u;
+    return technique_density(pdf_cylinder_light_technique(x, n, cylinder_light_of(q), x + wi * t));
+}
+
+// A direction from x towards the point the technique draws on cylinder q, with the technique's
+// density at that point, and the cylinder's normal there. A point off the cylinder (in its
+// object space, farther than 1e-3 from the unit circle or beyond its ends) is a fault; a point
+// the cylinder hides from x (the ray meets it first elsewhere) gets density 0: it contributes
+// nothing.
+fn sample_cylinder_light_with_technique(q: Quadric, x: vec3f, n: vec3f, u: vec2f, t_min: f32) -> CylinderLightSample {
+    technique_iterations = 0u;
+    let p = sample_cylinder_light_technique(x, n, cylinder_light_of(q), u);
+    let l = quadric_point_to_object(q, p);
+    let on = abs(length(l.xy) - 1.0) <= 1e-3 && l.z >= -1e-3 && l.z <= 1.0 + 1e-3;
+    let to_p = p - x;
+    let dist = length(to_p);
+    if (!technique_finite3(p) || !on || !(dist > 0.0)) {
+        technique_faults |= TECHNIQUE_FAULT_VALUE;
+        return CylinderLightSample(LightSample(vec3f(0.0, 0.0, 1.0), 0.0, 0.0), vec3f(0.0, 0.0, 1.0));
+    }
+    let wi = to_p / dist;
+    // The point x sees along wi: p itself, unless the ray meets the cylinder well before it.
+    let t = intersect_cylinder(q, x, wi, t_min, INFINITY);
+    let normal = cylinder_normal(q, p);
+    if (!(t > 0.0 && t >= dist * (1.0 - 1e-3))) {
+        return CylinderLightSample(LightSample(wi, dist, 0.0), normal);
+    }
+    technique_iterations = 0u;
+    return CylinderLightSample(LightSample(wi, dist, technique_density(pdf_cylinder_light_technique(x, n, cylinder_light_of(q), p))), normal);
 }
 
 // ---- kind env: the wrappers emitters/environment.wgsl calls for a map ----

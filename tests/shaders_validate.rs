@@ -1,7 +1,8 @@
 //! naga validates the assembled path tracer for every combination of `override` constants,
 //! after specialisation, exactly as the pipelines give it to wgpu (`shaders::specialise`: the
 //! constants substituted, the branches they decide pruned) (with the example
-//! techniques of `examples/techniques/` spliced in and switched on in half of them).
+//! techniques of `examples/techniques/` spliced in, a light technique for every shape, and
+//! switched on in half of them).
 
 use pathlab::gpu::{pipeline_constants, PipelineKey, NO_TRAVERSAL_GUARD};
 use pathlab::method::{BsdfSampling, EnvSampling, LightSampling, LightSelect, LobeSelection, Method, MicrofacetSampling, Sampler, TechniqueKind, TechniqueName, TriangleSampling};
@@ -24,7 +25,12 @@ fn every_override_permutation_validates() {
     // With the example techniques in their kinds' places (compiled in where `on`).
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/techniques");
     let bsdf = Technique::load(TechniqueKind::Bsdf, dir.join("phong_lobe.wgsl")).unwrap();
-    let light = Technique::load(TechniqueKind::Light, dir.join("sphere_area.wgsl")).unwrap();
+    // A light technique for every shape: the sphere, triangle, disk and cylinder examples in one
+    // file (their functions do not collide).
+    let text = |f: &str| std::fs::read_to_string(dir.join(f)).unwrap();
+    let all_shapes = ["sphere_area.wgsl", "triangle_area.wgsl", "quadric_area.wgsl"].map(text).join("\n");
+    let light = Technique::from_text(TechniqueKind::Light, TechniqueName::new("sphere_area").unwrap(), dir.join("sphere_area.wgsl"), &all_shapes);
+    assert_eq!(light.light_shapes(), pathlab::scene::LightShapes { spheres: true, triangles: true, disks: true, cylinders: true });
     let env = Technique::load(TechniqueKind::Env, dir.join("env_cosine_mix.wgsl")).unwrap();
     let with_techniques = shaders::path_tracer_source_with(12, shaders::TechniqueFiles { bsdf: Some(&bsdf), light: Some(&light), env: Some(&env) });
     // Each source parsed and validated once, then specialised per permutation as the pipelines

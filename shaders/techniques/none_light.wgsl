@@ -1,5 +1,5 @@
 // techniques/none_light.wgsl — stands in for the spherical-light functions of a `light`
-// technique where none is loaded or the loaded one samples triangle lights only
+// technique where none is loaded or the loaded one does not sample spherical lights
 // (LIGHT_TECHNIQUE_SPHERES is then false, and these are never called).
 
 fn sample_light_technique(x: vec3f, n: vec3f, light: SphereLight, u: vec2f) -> vec3f {

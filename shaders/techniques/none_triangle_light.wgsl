@@ -1,5 +1,5 @@
 // techniques/none_triangle_light.wgsl — stands in for the triangle functions of a `light`
-// technique where none is loaded or the loaded one samples spherical lights only
+// technique where none is loaded or the loaded one does not sample triangle lights
 // (LIGHT_TECHNIQUE_TRIANGLES is then false, and these are never called).
 
 fn sample_triangle_light_technique(x: vec3f, n: vec3f, light: TriangleLight, u: vec2f) -> vec3f {

@@ -112,9 +112,12 @@ impl Technique {
 
     /// The lights a `light` technique samples (none for other kinds): spherical lights where the
     /// file defines `sample_light_technique` or `pdf_light_technique`, triangle lights where it
-    /// defines `sample_triangle_light_technique` or `pdf_triangle_light_technique` (a shape's
-    /// two functions go together: one without the other is refused by validation, which names
-    /// the missing one). Lights of a shape it does not define keep the built-in strategy.
+    /// defines `sample_triangle_light_technique` or `pdf_triangle_light_technique`, disk and
+    /// cylinder lights where it defines `sample_disk_light_technique` or
+    /// `pdf_disk_light_technique`, `sample_cylinder_light_technique` or
+    /// `pdf_cylinder_light_technique` (a shape's two functions go together: one without the
+    /// other is refused by validation, which names the missing one). Lights of a shape it does
+    /// not define keep the built-in strategy.
     pub fn light_shapes(&self) -> LightShapes {
         if self.kind != TechniqueKind::Light {
             return LightShapes::default();
@@ -124,6 +127,8 @@ impl Technique {
         LightShapes {
             spheres: has("sample_light_technique") || has("pdf_light_technique"),
             triangles: has("sample_triangle_light_technique") || has("pdf_triangle_light_technique"),
+            disks: has("sample_disk_light_technique") || has("pdf_disk_light_technique"),
+            cylinders: has("sample_cylinder_light_technique") || has("pdf_cylinder_light_technique"),
         }
     }
 
@@ -157,6 +162,8 @@ pub struct BsdfTargets {
 pub struct LightShapes {
     pub spheres: bool,
     pub triangles: bool,
+    pub disks: bool,
+    pub cylinders: bool,
 }
 
 /// What a result records of the techniques `method` uses (`loaded` holds their files):
@@ -331,7 +338,7 @@ mod tests {
         let src = "// fn commented_out() {}\nfn sample_triangle_light_technique(x: vec3f) -> vec3f { return x; }\n/* fn sample_light_technique() */\nfn  helper_fn2 (a: f32) -> f32 { let fn_like = a; return fn_like; }\n";
         assert_eq!(defined_functions(src), ["sample_triangle_light_technique", "helper_fn2"]);
         let t = Technique::from_text(TechniqueKind::Light, TechniqueName::new("t").unwrap(), "t.wgsl", src);
-        assert_eq!(t.light_shapes(), LightShapes { spheres: false, triangles: true });
+        assert_eq!(t.light_shapes(), LightShapes { triangles: true, ..Default::default() });
         let t = Technique::from_text(TechniqueKind::Bsdf, TechniqueName::new("t").unwrap(), "t.wgsl", src);
         assert_eq!(t.light_shapes(), LightShapes::default());
     }

@@ -12,7 +12,8 @@
 //! the centre) and a far one (30 radii), with the shading normal towards the light and tilted 70
 //! degrees from it; up to four distinct triangles of the scene's triangle lights (a right
 //! triangle where it has none), each from near on its normal, near at 60 degrees, at 80 degrees
-//! and far (`triangle_configurations`).
+//! and far (`triangle_configurations`); disks likewise, and up to four distinct cylinders, each
+//! from near, near one end, far and inside (`quadric_lights`).
 //!
 //! Each configuration is two tests: the chi-square test, and the coverage test, a z-test of the
 //! technique's estimate of an integral against the built-in strategy's (both with the
@@ -29,6 +30,7 @@
 //! 1e-3, samples where the pdf is 0, a reported pdf that is not the pdf function's).
 
 mod histogram;
+mod quadric_lights;
 
 use std::path::Path;
 
@@ -250,7 +252,15 @@ pub fn configurations(technique: &Technique, scene: &Scene) -> (Vec<Configuratio
         }
         TechniqueKind::Light => {
             let shapes = technique.light_shapes();
-            gather(scene, &[(shapes.spheres, sphere_configurations), (shapes.triangles, triangle_configurations)])
+            gather(
+                scene,
+                &[
+                    (shapes.spheres, sphere_configurations),
+                    (shapes.triangles, triangle_configurations),
+                    (shapes.disks, quadric_lights::disk_configurations),
+                    (shapes.cylinders, quadric_lights::cylinder_configurations),
+                ],
+            )
         }
         TechniqueKind::Env => match &scene.environment_map {
             Some(map) => {
