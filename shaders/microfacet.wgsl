@@ -163,11 +163,11 @@ fn smith_g1_beckmann_exact(v: vec3f, m: vec3f, alpha_uv: vec2f) -> f32 {
 
 // Density of the pipeline's normal sampling at m, for the incident direction wi and the
 // roughness (alpha_u, alpha_v): a researcher's technique's where one samples microfacet normals
-// (technique.wgsl; isotropic, of alpha_u: the host refuses techniques for anisotropic
+// (technique.wgsl; one of one alpha is given alpha_u: the host refuses it for anisotropic
 // materials), else D(m) cos(theta_m) (ndf) or the visible normals' density (vndf).
 fn pdf_microfacet_uv(wi: vec3f, m: vec3f, alpha_uv: vec2f, distribution: u32) -> f32 {
     if (BSDF_TECHNIQUE && BSDF_TECHNIQUE_MICROFACET) {
-        return pdf_microfacet_with_technique(wi, m, alpha_uv.x, distribution);
+        return pdf_microfacet_with_technique(wi, m, alpha_uv, distribution);
     }
     if (MICROFACET_SAMPLING == MICROFACET_NDF) {
         return eval_microfacet_d_uv(m, alpha_uv, distribution) * m.z;
@@ -316,11 +316,11 @@ fn sample_microfacet_vndf(wi: vec3f, u: vec2f, alpha_uv: vec2f, distribution: u3
 }
 
 // A normal by the pipeline's strategy for the roughness (alpha_u, alpha_v) (a researcher's
-// technique where one samples microfacet normals, of alpha_u), with its density
+// technique where one samples microfacet normals), with its density
 // (pdf_microfacet_uv).
 fn sample_microfacet_uv(wi: vec3f, u: vec2f, alpha_uv: vec2f, distribution: u32) -> MicrofacetSample {
     if (BSDF_TECHNIQUE && BSDF_TECHNIQUE_MICROFACET) {
-        return sample_microfacet_with_technique(wi, u, alpha_uv.x, distribution);
+        return sample_microfacet_with_technique(wi, u, alpha_uv, distribution);
     }
     var m: vec3f;
     if (MICROFACET_SAMPLING == MICROFACET_NDF) {

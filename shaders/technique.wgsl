@@ -29,6 +29,14 @@
 // returns a unit normal m with m.z > 0; pdf_ the density with which it draws m, per unit solid
 // angle of normals. A reflection-only material needs every normal whose mirror direction of wo
 // is above the surface; a rough dielectric every normal wo sees (it refracts about them).
+// These sample isotropic materials only (a scene with an anisotropic one is refused); for
+// anisotropic roughness too, a file defines instead
+//   fn sample_microfacet_uv_technique(wo: vec3f, alpha_uv: vec2f, distribution: u32, u: vec2f) -> vec3f
+//   fn pdf_microfacet_uv_technique(wo: vec3f, m: vec3f, alpha_uv: vec2f, distribution: u32) -> f32
+// alpha_uv = (alpha_u, alpha_v), the roughness along the frame's x (the surface's dp/du, made
+// orthogonal to the normal) and y; (alpha, alpha) for an isotropic material. The `_uv` forms of
+// microfacet.wgsl (eval_microfacet_d_uv, smith_g1_uv, sample_microfacet_ndf_uv) are the
+// technique's to call. A file defines one of the two pairs, not both.
 //
 // kind `light` — sampling a point on a light, for spherical, triangle, disk or cylinder lights,
 // any of them: a file defines the pair of functions of each shape it samples, and lights of a
@@ -195,24 +203,33 @@ fn sample_phong_technique(m: Phong, n_s: vec3f, wo: vec3f, u_dir: vec2f, u_lobe:
 
 // ---- kind bsdf, microfacet normals: the wrappers microfacet.wgsl calls ----
 
-// Density over normals of the technique at m.
-fn pdf_microfacet_with_technique(wo: vec3f, m: vec3f, alpha: f32, distribution: u32) -> f32 {
+// Density over normals of the technique at m, for the roughness alpha_uv (the one-alpha pair
+// is given alpha_u: the host refuses it for anisotropic materials).
+fn pdf_microfacet_with_technique(wo: vec3f, m: vec3f, alpha_uv: vec2f, distribution: u32) -> f32 {
     technique_iterations = 0u;
-    return technique_density(pdf_microfacet_technique(wo, m, alpha, distribution));
+    if (BSDF_TECHNIQUE_MICROFACET_UV) {
+        return technique_density(pdf_microfacet_uv_technique(wo, m, alpha_uv, distribution));
+    }
+    return technique_density(pdf_microfacet_technique(wo, m, alpha_uv.x, distribution));
 }
 
 // A normal drawn by the technique, with its density. A normal that is not unit or not above
 // the surface is a fault (the sample then contributes 0).
-fn sample_microfacet_with_technique(wo: vec3f, u: vec2f, alpha: f32, distribution: u32) -> MicrofacetSample {
+fn sample_microfacet_with_technique(wo: vec3f, u: vec2f, alpha_uv: vec2f, distribution: u32) -> MicrofacetSample {
     technique_iterations = 0u;
-    let m = sample_microfacet_technique(wo, alpha, distribution, u);
+    var m: vec3f;
+    if (BSDF_TECHNIQUE_MICROFACET_UV) {
+        m = sample_microfacet_uv_technique(wo, alpha_uv, distribution, u);
+    } else {
+        m = sample_microfacet_technique(wo, alpha_uv.x, distribution, u);
+    }
     let len = length(m);
     if (!technique_finite3(m) || abs(len - 1.0) > 1e-3 || !(m.z > 0.0)) {
         technique_faults |= TECHNIQUE_FAULT_VALUE;
         return MicrofacetSample(vec3f(0.0, 0.0, 1.0), 0.0);
     }
     let unit = m / len;
-    return MicrofacetSample(unit, pdf_microfacet_with_technique(wo, unit, alpha, distribution));
+    return MicrofacetSample(unit, pdf_microfacet_with_technique(wo, unit, alpha_uv, distribution));
 }
 
 // ---- kind light: the wrappers emitters/sphere.wgsl calls from outside a light ----

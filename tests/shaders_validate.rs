@@ -24,10 +24,13 @@ fn every_override_permutation_validates() {
     let source = shaders::path_tracer_source();
     // With the example techniques in their kinds' places (compiled in where `on`).
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/techniques");
-    let bsdf = Technique::load(TechniqueKind::Bsdf, dir.join("phong_lobe.wgsl")).unwrap();
+    let text = |f: &str| std::fs::read_to_string(dir.join(f)).unwrap();
+    // A bsdf technique for Phong materials and, of two alphas, microfacet normals.
+    let phong_and_caps = ["phong_lobe.wgsl", "ggx_spherical_caps.wgsl"].map(text).join("\n");
+    let bsdf = Technique::from_text(TechniqueKind::Bsdf, TechniqueName::new("phong_lobe").unwrap(), dir.join("phong_lobe.wgsl"), &phong_and_caps);
+    assert_eq!(bsdf.bsdf_targets(), pathlab::scene::BsdfTargets { phong: true, microfacet: false, microfacet_uv: true });
     // A light technique for every shape: the sphere, triangle, disk and cylinder examples in one
     // file (their functions do not collide).
-    let text = |f: &str| std::fs::read_to_string(dir.join(f)).unwrap();
     let all_shapes = ["sphere_area.wgsl", "triangle_area.wgsl", "quadric_area.wgsl"].map(text).join("\n");
     let light = Technique::from_text(TechniqueKind::Light, TechniqueName::new("sphere_area").unwrap(), dir.join("sphere_area.wgsl"), &all_shapes);
     assert_eq!(light.light_shapes(), pathlab::scene::LightShapes { spheres: true, triangles: true, disks: true, cylinders: true });

@@ -126,7 +126,7 @@ pub fn with_technique_rows(names: Option<Vec<String>>, scene: &Scene) -> anyhow:
                 // A technique that samples microfacet normals (and no Phong material) replaces
                 // `--microfacet-sampling`: methods that differ only in it give one row.
                 let targets = t.bsdf_targets();
-                let m = if targets.microfacet && !targets.phong { Method { microfacet: pathlab::method::MicrofacetSampling::Vndf, ..m } } else { m };
+                let m = if targets.samples_microfacet() && !targets.phong { Method { microfacet: pathlab::method::MicrofacetSampling::Vndf, ..m } } else { m };
                 let row = m.with_technique(t.kind, t.name).name();
                 if !rows.contains(&row) {
                     rows.push(row);

@@ -63,9 +63,9 @@ pub enum TechniqueError {
     Invalid { message: String },
     #[error("the method uses the {kind} technique `{name}`, which no --technique (or the scene's [techniques]) loads")]
     NotLoaded { kind: TechniqueKind, name: String },
-    /// A microfacet technique (of one alpha, the contract's interface) for a scene with
+    /// A microfacet technique of one alpha (the contract's first microfacet pair) for a scene with
     /// anisotropic roughness.
-    #[error("technique {label} samples microfacet normals of one alpha (the contract's interface), and material `{material}` has anisotropic roughness: render it without the technique, or make the material isotropic")]
+    #[error("technique {label} samples microfacet normals of one alpha (sample_microfacet_technique), and material `{material}` has anisotropic roughness: define sample_microfacet_uv_technique and pdf_microfacet_uv_technique instead, of (alpha_u, alpha_v) (shaders/technique.wgsl), render it without the technique, or make the material isotropic")]
     Anisotropic { label: String, material: String },
     /// Its check failed and it is not allowed unproven: the check's report.
     #[error("technique {label} is refused:\n{report}(allow it unproven to render with it anyway: --allow-unproven, or allow_unproven=True in Python)")]
@@ -135,7 +135,9 @@ impl Technique {
     /// The materials a `bsdf` technique samples (none for other kinds): Phong materials where
     /// the file defines `sample_bsdf_technique` or `pdf_bsdf_technique`, the microfacet normals of
     /// every rough kind (roughconductor, roughdielectric, roughplastic, principled's specular)
-    /// where it defines `sample_microfacet_technique` or `pdf_microfacet_technique`. Materials it
+    /// where it defines `sample_microfacet_technique` or `pdf_microfacet_technique` (one alpha:
+    /// isotropic materials only) or `sample_microfacet_uv_technique` or
+    /// `pdf_microfacet_uv_technique` (alpha_u and alpha_v: anisotropic materials too). Materials it
     /// does not sample keep the built-in strategies.
     pub fn bsdf_targets(&self) -> BsdfTargets {
         if self.kind != TechniqueKind::Bsdf {
@@ -146,6 +148,7 @@ impl Technique {
         BsdfTargets {
             phong: has("sample_bsdf_technique") || has("pdf_bsdf_technique"),
             microfacet: has("sample_microfacet_technique") || has("pdf_microfacet_technique"),
+            microfacet_uv: has("sample_microfacet_uv_technique") || has("pdf_microfacet_uv_technique"),
         }
     }
 }
@@ -154,7 +157,17 @@ impl Technique {
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct BsdfTargets {
     pub phong: bool,
+    /// The microfacet pair of one alpha.
     pub microfacet: bool,
+    /// The microfacet pair of two, (alpha_u, alpha_v).
+    pub microfacet_uv: bool,
+}
+
+impl BsdfTargets {
+    /// Whether it samples microfacet normals, by either pair.
+    pub fn samples_microfacet(&self) -> bool {
+        self.microfacet || self.microfacet_uv
+    }
 }
 
 /// The shapes of light a `light` technique samples (`Technique::light_shapes`).

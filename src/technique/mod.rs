@@ -154,7 +154,7 @@ impl Default for CheckOptions {
 /// Validates `technique` (no GPU), then tests it on `scene`'s configurations.
 pub fn check(gpu: &Gpu, technique: &Technique, scene: &Scene, options: CheckOptions, mut progress: impl FnMut(usize, usize, &str)) -> Result<Verdict, TechniqueError> {
     shaders::validate_technique(technique)?;
-    if technique.kind == TechniqueKind::Bsdf && technique.bsdf_targets().microfacet {
+    if technique.kind == TechniqueKind::Bsdf && technique.bsdf_targets().microfacet && !technique.bsdf_targets().microfacet_uv {
         if let Some(m) = scene.materials.iter().find(|m| m.bsdf.is_anisotropic()) {
             return Err(TechniqueError::Anisotropic { label: technique.label(), material: m.name.clone() });
         }
@@ -248,7 +248,7 @@ pub fn configurations(technique: &Technique, scene: &Scene) -> (Vec<Configuratio
     match technique.kind {
         TechniqueKind::Bsdf => {
             let targets = technique.bsdf_targets();
-            gather(scene, &[(targets.phong, phong_configurations), (targets.microfacet, microfacet_configurations)])
+            gather(scene, &[(targets.phong, phong_configurations), (targets.samples_microfacet(), microfacet_configurations)])
         }
         TechniqueKind::Light => {
             let shapes = technique.light_shapes();
@@ -322,76 +322,115 @@ fn phong_configurations(scene: &Scene) -> (Vec<Configuration>, String) {
 const MAX_MICROFACET_MATERIALS: usize = 4;
 
 /// A microfacet technique's configurations: up to `MAX_MICROFACET_MATERIALS` distinct
-/// (distribution, roughness, transmits) of the scene's rough materials (a texture's mean
-/// roughness; principled's alpha max(0.001, roughness^2) of GGX; where it has none, GGX of 0.1
-/// and 0.5 and Beckmann of 0.3, reflecting), each at incidences 0, 45 and 80 degrees.
+/// (distribution, alpha_u, alpha_v, transmits) of the scene's rough materials, the first of each
+/// class (distribution, transmits, anisotropic) before the others (a texture's mean
+/// roughness; principled's alpha max(0.001, roughness^2) of GGX, divided and multiplied by
+/// sqrt(1 - 0.9 anisotropic) along u and v; where it has none, GGX of 0.1 and 0.5 and Beckmann
+/// of 0.3, reflecting), each at incidences 0, 45 and 80 degrees (for an anisotropic roughness,
+/// at 30 degrees of azimuth from u: along neither axis).
 fn microfacet_configurations(scene: &Scene) -> (Vec<Configuration>, String) {
     use crate::scene::Distribution;
-    let mut materials: Vec<(Distribution, f64, bool)> = Vec::new();
+    let mut materials: Vec<(Distribution, [f64; 2], bool)> = Vec::new();
+    let uv = |r: &crate::scene::Roughness| [r.alpha, r.alpha_v.unwrap_or(r.alpha)];
+    // Principled's (alpha_u, alpha_v) of its roughness and anisotropy.
+    let principled = |roughness: f64, anisotropic: f64| {
+        let (r2, aspect) = (roughness.powi(2), (1.0 - 0.9 * anisotropic).sqrt());
+        [(r2 / aspect).max(0.001), (r2 * aspect).max(0.001)]
+    };
     for m in &scene.materials {
         let key = match &m.bsdf {
-            Bsdf::RoughConductor(c) => (c.distribution, c.roughness.alpha, false),
-            Bsdf::RoughPlastic(p) => (p.distribution, p.alpha, false),
-            Bsdf::RoughDielectric(d) => (d.distribution, d.roughness.alpha, true),
-            Bsdf::Principled(p) => (Distribution::Ggx, p.weight("roughness").powi(2).max(0.001), m.bsdf.transmits()),
-            Bsdf::PrincipledThin(p) => (Distribution::Ggx, p.weight("roughness").powi(2).max(0.001), false),
-            Bsdf::PolarizedPlastic(p) => (p.distribution, p.roughness.alpha, false),
+            Bsdf::RoughConductor(c) => (c.distribution, uv(&c.roughness), false),
+            Bsdf::RoughPlastic(p) => (p.distribution, [p.alpha; 2], false),
+            Bsdf::RoughDielectric(d) => (d.distribution, uv(&d.roughness), true),
+            Bsdf::Principled(p) => (Distribution::Ggx, principled(p.weight("roughness"), p.anisotropic.value), m.bsdf.transmits()),
+            Bsdf::PrincipledThin(p) => (Distribution::Ggx, principled(p.weight("roughness"), p.weight("anisotropic")), false),
+            Bsdf::PolarizedPlastic(p) => (p.distribution, uv(&p.roughness), false),
             _ => continue,
         };
-        if !materials.contains(&key) && materials.len() < MAX_MICROFACET_MATERIALS {
+        if !materials.contains(&key) {
             materials.push(key);
         }
     }
+    // The first material of each class (distribution, transmits, anisotropic), then the others
+    // in the scene's order, up to MAX_MICROFACET_MATERIALS.
+    let class = |&(d, alpha_uv, transmits): &(Distribution, [f64; 2], bool)| (d, transmits, alpha_uv[0] != alpha_uv[1]);
+    let (mut firsts, mut rest): (Vec<_>, Vec<_>) = (Vec::new(), Vec::new());
+    for m in materials {
+        if firsts.iter().any(|f| class(f) == class(&m)) {
+            rest.push(m);
+        } else {
+            firsts.push(m);
+        }
+    }
+    let mut materials: Vec<_> = firsts.into_iter().chain(rest).take(MAX_MICROFACET_MATERIALS).collect();
     let source = if materials.is_empty() {
-        materials = vec![(Distribution::Ggx, 0.1, false), (Distribution::Ggx, 0.5, false), (Distribution::Beckmann, 0.3, false)];
+        materials = vec![(Distribution::Ggx, [0.1; 2], false), (Distribution::Ggx, [0.5; 2], false), (Distribution::Beckmann, [0.3; 2], false)];
         "GGX of alpha 0.1 and 0.5 and Beckmann of 0.3, reflecting (the scene has no microfacet material, where a microfacet technique applies)".to_string()
     } else {
         format!("the scene's {} microfacet material(s)", materials.len())
     };
     let configs = materials
         .iter()
-        .flat_map(|&(d, alpha, transmits)| [0.0, 45.0, 80.0].map(move |theta| microfacet_configuration(d, alpha, transmits, theta)))
+        .flat_map(|&(d, alpha_uv, transmits)| [0.0, 45.0, 80.0].map(move |theta| microfacet_configuration(d, alpha_uv, transmits, theta)))
         .collect();
     (configs, source)
 }
 
-/// Microfacet normals of `distribution` and roughness `alpha` seen from incidence `theta`
-/// degrees (the macro-normal +z): the technique through `sample_microfacet` and
-/// `pdf_microfacet` (what every rough kind calls), and the built-in visible normals. Binned
-/// about the macro-normal, in s bins spaced geometrically from alpha^2 / 10 (a tenth of the
-/// normals' spread in s) up to alpha 0.3. The integrand is the visible normals' density over the
-/// normals the material needs: those whose mirror direction of wo is above the surface for a
-/// reflecting material, every visible one for one that `transmits` (a rough dielectric
-/// refracts about them): its integral is the share of visible normals that scatter, which
-/// the coverage test compares.
-fn microfacet_configuration(distribution: crate::scene::Distribution, alpha: f64, transmits: bool, theta: f64) -> Configuration {
+/// Microfacet normals of `distribution` and roughness `alpha_uv` seen from incidence `theta`
+/// degrees (the macro-normal +z; for an anisotropic roughness, at 30 degrees of azimuth from the
+/// frame's x, where alpha_u lies): the technique through `sample_microfacet_uv` and
+/// `pdf_microfacet_uv` (what every rough kind calls), and the built-in visible normals (the
+/// anisotropic formulas compiled in, `ANISOTROPIC_ROUGHNESS`, where alpha_u and alpha_v differ).
+/// Binned about the macro-normal, in s bins spaced geometrically from alpha^2 / 10 (a tenth of
+/// the normals' spread in s, of the smaller alpha) up to alpha 0.3. The integrand is the visible
+/// normals' density over the normals the material needs: those whose mirror direction of wo is
+/// above the surface for a reflecting material, every visible one for one that `transmits` (a
+/// rough dielectric refracts about them): its integral is the share of visible normals that
+/// scatter, which the coverage test compares.
+fn microfacet_configuration(distribution: crate::scene::Distribution, alpha_uv: [f64; 2], transmits: bool, theta: f64) -> Configuration {
     let t = theta.to_radians();
+    let anisotropic = alpha_uv[0] != alpha_uv[1];
+    let phi = if anisotropic { 30f64.to_radians() } else { 0.0 };
     let common = format!(
-        "const ROUTINE_WO: vec3f = vec3f({:?}, 0.0, {:?});\n\
-         const ROUTINE_ALPHA: f32 = {:?};\n\
+        "const ROUTINE_WO: vec3f = vec3f({:?}, {:?}, {:?});\n\
+         const ROUTINE_ALPHA_UV: vec2f = vec2f({:?}, {:?});\n\
          const ROUTINE_DISTRIBUTION: u32 = {}u;\n\
          const ROUTINE_TRANSMITS: bool = {transmits};\n\
          fn routine_integrand(d: vec3f) -> f32 {{\n\
-             let visible = pdf_visible_normals(ROUTINE_WO, d, vec2f(ROUTINE_ALPHA), ROUTINE_DISTRIBUTION);\n\
+             let visible = pdf_visible_normals(ROUTINE_WO, d, ROUTINE_ALPHA_UV, ROUTINE_DISTRIBUTION);\n\
              let mirrored = 2.0 * dot(ROUTINE_WO, d) * d - ROUTINE_WO;\n\
              return select(0.0, visible, d.z > 0.0 && (ROUTINE_TRANSMITS || mirrored.z > 0.0));\n\
          }}\n\
-         fn routine_pdf(d: vec3f) -> f32 {{ return select(0.0, pdf_microfacet(ROUTINE_WO, d, ROUTINE_ALPHA, ROUTINE_DISTRIBUTION), d.z > 0.0); }}\n\
+         fn routine_pdf(d: vec3f) -> f32 {{ return select(0.0, pdf_microfacet_uv(ROUTINE_WO, d, ROUTINE_ALPHA_UV, ROUTINE_DISTRIBUTION), d.z > 0.0); }}\n\
          fn routine_sample(u: vec2f, u_lobe: f32) -> Drawn {{\n\
-             let s = sample_microfacet(ROUTINE_WO, u, ROUTINE_ALPHA, ROUTINE_DISTRIBUTION);\n\
+             let s = sample_microfacet_uv(ROUTINE_WO, u, ROUTINE_ALPHA_UV, ROUTINE_DISTRIBUTION);\n\
              let estimate = select(0.0, routine_integrand(s.m) / s.pdf, s.pdf > 0.0);\n\
              return Drawn(vec4f(s.m, s.pdf), vec4f(0.0, 0.0, estimate, 0.0));\n\
          }}\n",
-        t.sin() as f32,
+        (t.sin() * phi.cos()) as f32,
+        (t.sin() * phi.sin()) as f32,
         t.cos() as f32,
-        alpha as f32,
+        alpha_uv[0] as f32,
+        alpha_uv[1] as f32,
         distribution.constant(),
     );
-    let name = format!("{} alpha={alpha} ({}) at {theta} degrees", distribution.name(), if transmits { "reflecting and refracting" } else { "reflecting" });
+    // (To 4 decimals: a principled material's alpha is a product.)
+    let [u, v] = alpha_uv.map(|a| (a * 1e4).round() / 1e4);
+    let roughness = if anisotropic { format!("alpha_u={u} alpha_v={v}") } else { format!("alpha={u}") };
+    let azimuth = if anisotropic { ", 30 degrees from u" } else { "" };
+    let name = format!("{} {roughness} ({}) at {theta} degrees{azimuth}", distribution.name(), if transmits { "reflecting and refracting" } else { "reflecting" });
+    let with = |constant: (&'static str, f64)| {
+        let mut constants = vec![constant];
+        if anisotropic {
+            constants.push(("ANISOTROPIC_ROUGHNESS", 1.0));
+        }
+        constants
+    };
+    let alpha = alpha_uv[0].min(alpha_uv[1]);
     Pair {
         name,
-        technique: (common.clone(), vec![("BSDF_TECHNIQUE", 1.0)]),
-        builtin: (common, vec![("MICROFACET_SAMPLING", crate::method::MicrofacetSampling::Vndf.constant() as f64)]),
+        technique: (common.clone(), with(("BSDF_TECHNIQUE", 1.0))),
+        builtin: (common, with(("MICROFACET_SAMPLING", crate::method::MicrofacetSampling::Vndf.constant() as f64))),
         s_split: if alpha <= 0.3 { -(alpha * alpha / 10.0).max(1e-12) } else { 2.0 },
         pdf_tolerance: 1e-3,
         pdf_floor: 1e-30,
