@@ -52,11 +52,12 @@ fn hidden_emitters_in_a_scene_with_media_agree_with_mitsuba() {
     let scene = Scene::load_with(file, &defines).unwrap();
     assert!(scene.render.hide_emitters && !scene.media.is_empty());
     assert!(scene.warnings.is_empty(), "{:?}", scene.warnings);
-    // `nee+all`, not `nee`: NEE alone from points in the medium near the light inside it is
-    // heavy-tailed (area sampling's variance grows without bound as the point nears the light),
-    // and power selection picks that small light one time in 60, which leaves 4x4 blocks of
-    // the fog 10-20% dark at 2048 spp while the image mean moves either way (see the note of
-    // 2026-12-06); every light sampled at every vertex keeps the tail rare enough to z-test.
+    // `nee+all`, not `nee`: NEE alone from points in the medium near the light inside it has
+    // infinite variance (area sampling's second moment grows as 1 / h^2 at height h above the
+    // light, and free flights reach every h: README, "Participating media"), and power
+    // selection picks that small light one time in 60, which leaves 4x4 blocks of the fog
+    // 13-25% dark at 2048 spp, different blocks for each seed, never a bright one; every light
+    // sampled at every vertex keeps the tail rare enough to z-test.
     let methods: Vec<Method> = ["mis", "nee+all"].iter().map(|m| Method::from_name(m).unwrap()).collect();
     agrees_with_reference(&reference, &scene, &methods, |_| (1024, 4), 5200, Preset::Mis.method());
     let shown = Scene { render: pathlab::scene::RenderSettings { hide_emitters: false, ..scene.render.clone() }, ..scene.clone() };
