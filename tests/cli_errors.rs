@@ -5,6 +5,8 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use crate::common::scratch_dir;
+
 const VALID: &str = r#"[camera]
 position = [0, 0, 1]
 look_at = [0, 0, 0]
@@ -72,12 +74,6 @@ const CASES: &[Case] = &[
     Case { name: "gamma with srgb", edit: ("material = \"grey\"", "material = \"grey\"\n\n[display]\ngamma = 2.2"), line: 32, field: "display.gamma" },
 ];
 
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("pathlab-cli-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
 
 fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
     let p = dir.join(name);
@@ -87,7 +83,7 @@ fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
 
 #[test]
 fn the_valid_scene_is_valid() {
-    let dir = temp_dir("valid");
+    let dir = scratch_dir("cli-valid");
     let scene = write(&dir, "ok.toml", VALID);
     let out = pathlab().arg("check").arg(&scene).output().unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
@@ -95,7 +91,7 @@ fn the_valid_scene_is_valid() {
 
 #[test]
 fn each_validation_error_names_file_line_and_field_and_writes_nothing() {
-    let dir = temp_dir("errors");
+    let dir = scratch_dir("cli-errors");
     for case in CASES {
         assert!(VALID.contains(case.edit.0), "{}: edit does not apply", case.name);
         let scene = write(&dir, "bad.toml", &VALID.replacen(case.edit.0, case.edit.1, 1));
@@ -122,7 +118,7 @@ fn each_validation_error_names_file_line_and_field_and_writes_nothing() {
 
 #[test]
 fn warnings_do_not_fail() {
-    let dir = temp_dir("warnings");
+    let dir = scratch_dir("cli-warnings");
     let cases = [
         ("unused material", VALID.replace("[[planes]]", "[materials.spare]\ndiffuse = 0.1\n\n[[planes]]"), "never used"),
         ("not energy conserving", VALID.replace("specular = 0.2", "specular = 0.7"), "not energy conserving"),
@@ -139,7 +135,7 @@ fn warnings_do_not_fail() {
 
 #[test]
 fn bad_command_line_values_are_refused() {
-    let dir = temp_dir("args");
+    let dir = scratch_dir("cli-args");
     let scene = write(&dir, "ok.toml", VALID);
     for args in [&["--spp", "0"][..], &["--width", "0"], &["--time", "-1"], &["--method", "nonsense"]] {
         let out = pathlab().arg("render").arg(&scene).args(args).arg("-o").arg(dir.join("x.exr")).output().unwrap();

@@ -7,6 +7,8 @@ use std::time::{Duration, Instant};
 
 use pathlab::output::read_exr;
 
+use crate::common::scratch_dir;
+
 fn pathlab() -> Command {
     Command::new(env!("CARGO_BIN_EXE_pathlab"))
 }
@@ -15,12 +17,6 @@ fn study() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/study.toml")
 }
 
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("pathlab-render-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
 
 fn meta<'a>(metadata: &'a [(String, String)], key: &str) -> &'a str {
     metadata.iter().find(|(k, _)| k == key).map(|(_, v)| v.as_str()).unwrap_or_else(|| panic!("no {key}"))
@@ -28,7 +24,7 @@ fn meta<'a>(metadata: &'a [(String, String)], key: &str) -> &'a str {
 
 #[test]
 fn default_output_metadata_png_and_variance() {
-    let dir = temp_dir("default");
+    let dir = scratch_dir("render-default");
     let out = pathlab()
         .current_dir(&dir)
         .arg("render")
@@ -63,7 +59,7 @@ fn default_output_metadata_png_and_variance() {
 /// render goes ahead.
 #[test]
 fn a_new_framing_and_flags_without_effect_are_noted_once() {
-    let dir = temp_dir("notes");
+    let dir = scratch_dir("render-notes");
     let out = pathlab()
         .current_dir(&dir)
         .arg("render")
@@ -90,7 +86,7 @@ fn a_new_framing_and_flags_without_effect_are_noted_once() {
 
 #[test]
 fn same_seed_gives_identical_exr_pixels() {
-    let dir = temp_dir("seed");
+    let dir = scratch_dir("render-seed");
     let run = |name: &str, seed: &str| {
         let out = pathlab()
             .current_dir(&dir)
@@ -112,7 +108,7 @@ fn same_seed_gives_identical_exr_pixels() {
 #[cfg(unix)]
 #[test]
 fn ctrl_c_writes_the_partial_image() {
-    let dir = temp_dir("sigint");
+    let dir = scratch_dir("render-sigint");
     let target = dir.join("partial.exr");
     std::fs::write(&target, b"old").unwrap();
     let mut child = pathlab()
@@ -140,7 +136,7 @@ fn ctrl_c_writes_the_partial_image() {
 /// With no Vulkan driver at all, the error says how to install lavapipe, and nothing is written.
 #[test]
 fn no_adapter_explains_how_to_install_lavapipe() {
-    let dir = temp_dir("noadapter");
+    let dir = scratch_dir("render-noadapter");
     let out = pathlab()
         .current_dir(&dir)
         .env("VK_ICD_FILENAMES", dir.join("none.json"))
@@ -185,7 +181,7 @@ fn bench_json_records() {
 #[test]
 fn outputs_follow_the_umask() {
     use std::os::unix::fs::PermissionsExt;
-    let dir = temp_dir("umask");
+    let dir = scratch_dir("render-umask");
     for (umask, mode) in [("022", 0o644), ("027", 0o640)] {
         let (exr, png) = (dir.join(format!("u{umask}.exr")), dir.join(format!("u{umask}.png")));
         let status = Command::new("sh")
@@ -212,7 +208,7 @@ fn outputs_follow_the_umask() {
 /// session directory.
 #[test]
 fn headless_commands_print_no_windowing_noise() {
-    let dir = temp_dir("headless");
+    let dir = scratch_dir("render-headless");
     for args in [vec!["adapters"], vec!["render", "--width", "8", "--height", "4", "--spp", "1", "--quiet", "-o", "h.exr"]] {
         let mut cmd = pathlab();
         cmd.current_dir(&dir).env_remove("XDG_RUNTIME_DIR").env_remove("NODEVICE_SELECT").arg(args[0]);

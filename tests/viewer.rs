@@ -5,7 +5,7 @@
 //! Needs `Xvfb` (Debian package `xvfb`); without it the tests say so and pass, except under CI
 //! (`CI` set), where they fail. The viewer tests run one at a time (they share two cores).
 
-use crate::common;
+use crate::common::{self, scratch_dir};
 
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
@@ -25,25 +25,18 @@ fn study() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/study.toml")
 }
 
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("pathlab-viewer-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
 
 /// A private X server, stopped on drop.
 struct Xvfb {
     child: Child,
     display: String,
-    runtime_dir: PathBuf,
+    runtime_dir: common::ScratchDir,
 }
 
 impl Drop for Xvfb {
     fn drop(&mut self) {
         let _ = self.child.kill();
         let _ = self.child.wait();
-        let _ = std::fs::remove_dir_all(&self.runtime_dir);
     }
 }
 
@@ -65,7 +58,7 @@ fn xvfb(name: &str) -> Option<Xvfb> {
         .stderr(Stdio::null())
         .spawn()
         .expect("start Xvfb");
-    let runtime_dir = temp_dir(&format!("xdg-{name}"));
+    let runtime_dir = scratch_dir(&format!("viewer-xdg-{name}"));
     #[cfg(unix)]
     {
         use std::os::unix::fs::PermissionsExt;
@@ -83,7 +76,7 @@ fn xvfb(name: &str) -> Option<Xvfb> {
 
 fn viewer(x: &Xvfb) -> Command {
     let mut c = pathlab();
-    c.env("DISPLAY", &x.display).env("XDG_RUNTIME_DIR", &x.runtime_dir).env_remove("WAYLAND_DISPLAY").env("WINIT_X11_SCALE_FACTOR", "1");
+    c.env("DISPLAY", &x.display).env("XDG_RUNTIME_DIR", x.runtime_dir.as_os_str()).env_remove("WAYLAND_DISPLAY").env("WINIT_X11_SCALE_FACTOR", "1");
     c.arg("view").args(["--window", &format!("{}x{}", WINDOW.0, WINDOW.1), "--log-stats"]);
     c
 }
@@ -144,7 +137,7 @@ fn rect(v: &serde_json::Value) -> [f64; 4] {
 fn study_scene_converges_in_the_window() {
     let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let Some(x) = xvfb("converges") else { return };
-    let dir = temp_dir("converges");
+    let dir = scratch_dir("viewer-converges");
     let shot = dir.join("shot.png");
     let out = viewer(&x).arg(study()).args(["--size", "256x128", "--frames", "60", "--screenshot"]).arg(&shot).output().unwrap();
     let r = report(&out);
@@ -186,7 +179,7 @@ fn study_scene_converges_in_the_window() {
 fn split_view_with_reference_draws_both_halves_and_the_plot() {
     let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let Some(x) = xvfb("split") else { return };
-    let dir = temp_dir("split");
+    let dir = scratch_dir("viewer-split");
     let reference = dir.join("reference.exr");
     let made = pathlab()
         .arg("render")
@@ -241,7 +234,7 @@ fn split_view_with_reference_draws_both_halves_and_the_plot() {
 
 #[test]
 fn a_broken_scene_at_start_is_an_error_not_a_crash() {
-    let dir = temp_dir("broken");
+    let dir = scratch_dir("viewer-broken");
     let scene = dir.join("broken.toml");
     std::fs::write(&scene, std::fs::read_to_string(study()).unwrap().replace("max_depth   = 2", "max_depth   = -2")).unwrap();
     // No display needed: the scene is checked before any window or device is opened.
@@ -266,7 +259,7 @@ fn without_a_display_it_says_so_and_suggests_render() {
 fn a_failed_reload_shows_the_error_and_keeps_the_last_image() {
     let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|e| e.into_inner());
     let Some(x) = xvfb("reload") else { return };
-    let dir = temp_dir("reload");
+    let dir = scratch_dir("viewer-reload");
     let scene = dir.join("scene.toml");
     let good = std::fs::read_to_string(study()).unwrap();
     std::fs::write(&scene, &good).unwrap();

@@ -36,9 +36,7 @@ fn frames_add_samples_split_alternates_and_save_writes_exr_and_png() {
     }
     assert_eq!(before, driver.slots.iter().map(|s| s.spp()).collect::<Vec<_>>());
 
-    let dir = std::env::temp_dir().join(format!("pathlab-viewer-driver-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::common::scratch_dir("viewer-driver");
     let files = driver.save(&dir, View::Radiance).unwrap();
     assert_eq!(files.len(), 4, "{files:?}");
     for (slot, name, seed) in [(0, "mis", "7"), (1, "plain", "8")] {

@@ -410,3 +410,26 @@ pub fn trace_hits_keyed(scene: &Scene, key: pathlab::gpu::PipelineKey, rays: &[(
         .map(|h| TracedHit { t: h[0][3], normal: [h[1][0], h[1][1], h[1][2]], object: h[0][2].to_bits(), uv: [h[0][0], h[0][1]], shading_normal: [h[2][0], h[2][1], h[2][2]] })
         .collect()
 }
+
+/// A scratch folder for one test's files (`pathlab-<name>-XXXXXX` in the system's temporary
+/// folder), removed when it is dropped; it derefs to its path.
+#[allow(dead_code)]
+pub struct ScratchDir(tempfile::TempDir);
+
+#[allow(dead_code)]
+pub fn scratch_dir(name: &str) -> ScratchDir {
+    ScratchDir(tempfile::Builder::new().prefix(&format!("pathlab-{name}-")).tempdir().unwrap())
+}
+
+impl std::ops::Deref for ScratchDir {
+    type Target = std::path::Path;
+    fn deref(&self) -> &std::path::Path {
+        self.0.path()
+    }
+}
+
+impl AsRef<std::path::Path> for ScratchDir {
+    fn as_ref(&self) -> &std::path::Path {
+        self.0.path()
+    }
+}
