@@ -18,6 +18,10 @@ fn max3(v: vec3f) -> f32 {
     return max(v.x, max(v.y, v.z));
 }
 
+fn min3(v: vec3f) -> f32 {
+    return min(min(v.x, v.y), v.z);
+}
+
 // exp(x) - 1 without cancellation near 0 (Taylor series to x^5 where |x| < 1e-2).
 fn expm1_stable(x: f32) -> f32 {
     if (abs(x) < 1e-2) {

@@ -104,6 +104,13 @@ fn the_kernels_bspline_curves_are_the_hosts() {
         let (side, up) = pathlab::scene::quadrics::angle_frame(b.dc.normalize());
         rays.push((b.c, b.dc.normalize()));
         rays.push((b.c, side));
+        // Along the axes (two zero components: the kernel's pass over the segments' bounds
+        // must keep its slabs finite), through the centre line.
+        for e in [DVec3::X, DVec3::Y, DVec3::Z] {
+            for sign in [1.0, -1.0] {
+                rays.push((b.c + e * (3.0 * sign), -e * sign));
+            }
+        }
         for a in 0..8 {
             for v in [0.02, 0.5, 0.98] {
                 let b = s.at(v);

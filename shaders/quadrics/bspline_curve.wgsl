@@ -122,6 +122,17 @@ fn bspline_chain(q: Quadric, o: vec3f, d: vec3f, t_min: f32, t_max: f32, margin:
     return chain;
 }
 
+// Whether the ray o + t d, t in [0, t_max], meets the bounds of segment q: the box of its four
+// control points widened by its largest radius, which holds the tube (a uniform B-spline's
+// point is a convex combination of its control points, its radius one of theirs), and by
+// 1e-4 of its size and the margin more (a hit's v may pass [0, 1] by BSPLINE_V_SLACK).
+fn bspline_bounds_met(q: Quadric, o: vec3f, d: vec3f, t_max: f32) -> bool {
+    let lo = min(min(q.object_x.xyz, q.object_y.xyz), min(q.object_z.xyz, q.world_x.xyz));
+    let hi = max(max(q.object_x.xyz, q.object_y.xyz), max(q.object_z.xyz, q.world_x.xyz));
+    let r = max(max(q.object_x.w, q.object_y.w), max(q.object_z.w, q.world_x.w));
+    return ray_meets_box(lo, hi, r + q.world_y.z + 1e-4 * (max3(hi - lo) + r), o, d, t_max);
+}
+
 // (t, v) where the ray o + t d enters segment q, t in (t_min, t_max), or t = -1. Candidates
 // are the entries into a chain of BSPLINE_PIECES swept spheres along the centre line's chords,
 // widened by the record's margin (the tube lies inside them); Newton's method runs from the

@@ -47,3 +47,15 @@ fn quadric_point_to_world(q: Quadric, p: vec3f) -> vec3f {
 fn quadric_vector_to_world(q: Quadric, v: vec3f) -> vec3f {
     return vec3f(dot(q.world_x.xyz, v), dot(q.world_y.xyz, v), dot(q.world_z.xyz, v));
 }
+
+// Whether the ray o + t d, t in [0, t_max], meets the box [lo - pad, hi + pad]: the slabs'
+// intervals intersected. A direction's zero components are made tiny, so that the slabs stay
+// finite.
+fn ray_meets_box(lo: vec3f, hi: vec3f, pad: f32, o: vec3f, d: vec3f, t_max: f32) -> bool {
+    let inv = 1.0 / select(d, vec3f(1e-30), d == vec3f(0.0));
+    let t0 = (lo - vec3f(pad) - o) * inv;
+    let t1 = (hi + vec3f(pad) - o) * inv;
+    let near = max(max3(min(t0, t1)), 0.0);
+    let far = min(min3(max(t0, t1)), t_max);
+    return near <= far;
+}

@@ -155,8 +155,9 @@ impl LoopBound {
     /// The bound with the scene's shapes whose tests loop: each ray walks each SDF grid's cells
     /// (at most one step per cell plane it crosses, and one), runs the regula falsi steps in one
     /// of them (`intersect_sdf_grid`, quadrics/sdf_grid.wgsl) and the normals' loops at its hit;
-    /// and, unless `key` unrolls them, searches each B-spline segment's chords and runs two
-    /// Newton solves (`intersect_bspline_curve`, quadrics/bspline_curve.wgsl).
+    /// and passes over every B-spline segment's bounds (`bspline_candidates`, intersect.wgsl),
+    /// then, unless `key` unrolls them, searches each segment's chords and runs two Newton solves
+    /// (`intersect_bspline_curve`, quadrics/bspline_curve.wgsl).
     pub fn with_shape_loops(mut self, scene: &crate::scene::Scene, key: &PipelineKey) -> LoopBound {
         use crate::scene::quadrics::{BSPLINE_NEWTON_STEPS, BSPLINE_PIECES, REGULA_FALSI_STEPS};
         let grids: u64 = scene
@@ -165,7 +166,9 @@ impl LoopBound {
             .filter_map(|q| q.grid())
             .map(|g| g.res.iter().map(|&n| n as u64 - 1).sum::<u64>() + 1 + REGULA_FALSI_STEPS as u64 + SDF_NORMAL_LOOPS)
             .sum();
-        let per_bspline = if key.bspline_unrolled { 0 } else { (BSPLINE_PIECES + 2 * BSPLINE_NEWTON_STEPS) as u64 };
+        // Each segment's search (its loops, where not unrolled), and the pass over every
+        // segment's bounds before the searches (intersect.wgsl's bspline_candidates).
+        let per_bspline = if key.bspline_unrolled { 0 } else { (BSPLINE_PIECES + 2 * BSPLINE_NEWTON_STEPS) as u64 } + 1;
         self.fixed += self.rays * (grids + key.features.num_bspline_segments as u64 * per_bspline);
         self
     }
