@@ -646,63 +646,110 @@ fn sphere_configuration(radius: f64, ratio: f64, tilt: f64) -> Configuration {
     Pair::light(name, (technique, vec![("LIGHT_TECHNIQUE", 1.0)]), (builtin, vec![]), s_cap, chi2::DEFAULT_BINS, Vec::new())
 }
 
-/// Triangle `k` with vertices `p` seen from a point at `dist` times its size (sqrt(area)) from its
-/// centroid, `angle` degrees off its winding normal (towards its first edge), whose shading
-/// normal is tilted `tilt` degrees from the direction to the centroid: the technique through
-/// `sample_triangle_light_with_technique` and `pdf_triangle_light_technique` (what the path
-/// tracer calls), and the built-in solid-angle strategy. Coordinates are taken relative to the
-/// centroid (the technique's maths is the same anywhere; f32 keeps its precision). The samples
-/// are binned where they land on the triangle, on the unit square it is the image of under the
-/// area warp (u0 = (b1 + b2)^2, u1 = b2 / (b1 + b2)), written as the direction at phi = 2 pi u1,
-/// s = 1 - cos = 2 u0: 64 x 64 cells tile the triangle exactly, none cut by an edge. The density
-/// there is the solid-angle density at x times d(omega) / d(bins) = |cos(theta_light)| / dist^2
-/// x area / (4 pi), finite even where the sight line grazes the triangle. The integrand is that
-/// Jacobian (1 over the directions that meet the triangle): the coverage test compares
-/// estimates of its solid angle.
-fn triangle_configuration(k: usize, p: [glam::DVec3; 3], dist: f64, angle: f64, tilt: f64) -> Configuration {
-    let centroid = (p[0] + p[1] + p[2]) / 3.0;
-    let p = p.map(|v| v - centroid);
-    let c = (p[1] - p[0]).cross(p[2] - p[0]);
-    let (area, normal) = (0.5 * c.length(), c.normalize());
-    let size = area.sqrt();
-    let along = (p[1] - p[0]).normalize();
+/// WGSL of the unit square (u0, u1) written as binning directions, s = 1 - cos = 2 u0 and
+/// phi = 2 pi u1, for lights binned on a square they are the image of (the harness's cells then
+/// tile the square): `routine_s`, `routine_uv` (a binning direction's (u0, u1)) and
+/// `routine_dir` (back). d(binning solid angle) = 4 pi du0 du1.
+const SQUARE_AS_DIRECTIONS: &str = "\
+fn routine_s(d: vec3f) -> f32 { return select(1.0 - d.z, (d.x * d.x + d.y * d.y) / (1.0 + d.z), d.z > 0.0); }
+// (u0, u1) of a binning direction, and the binning direction of (u0, u1).
+fn routine_uv(d: vec3f) -> vec2f {
+    var u1 = atan2_accurate(d.y, d.x) * (0.5 * INV_PI);
+    u1 = u1 - floor(u1);
+    return vec2f(clamp(0.5 * routine_s(d), 0.0, 1.0), u1);
+}
+fn routine_dir(uv: vec2f) -> vec3f {
+    let s = 2.0 * uv.x;
+    let sin_t = safe_sqrt(s * (2.0 - s));
+    return vec3f(sin_t * cos(2.0 * PI * uv.y), sin_t * sin(2.0 * PI * uv.y), 1.0 - s);
+}
+";
+
+/// A planar light (a triangle, a disk) of `area` and unit `normal` seen from a point at `dist`
+/// times its size (sqrt(area)) from its centre (the origin), `angle` degrees off its normal
+/// (towards `along`, in its plane), whose shading normal is tilted `tilt` degrees from the
+/// direction to the centre: the point x and its shading normal n.
+fn planar_viewpoint(normal: glam::DVec3, along: glam::DVec3, area: f64, dist: f64, angle: f64, tilt: f64) -> (glam::DVec3, glam::DVec3) {
     let (a, t) = (angle.to_radians(), tilt.to_radians());
-    let x = dist * size * (a.cos() * normal + a.sin() * along);
+    let x = dist * area.sqrt() * (a.cos() * normal + a.sin() * along);
     let towards = (-x).normalize();
     let side = towards.cross(normal).try_normalize().unwrap_or(along);
-    let n = t.cos() * towards + t.sin() * side;
-    let v = |v: glam::DVec3| v3(v.to_array());
+    (x, t.cos() * towards + t.sin() * side)
+}
+
+/// The configuration of a planar light binned on a unit square it is the image of by an
+/// area-preserving map (`light`: WGSL defining its constants, `routine_point(uv)` and
+/// `routine_uv_of(p)`), seen from x (`ROUTINE_X`, shading normal `ROUTINE_N`; its plane's
+/// normal `ROUTINE_NT`, area `ROUTINE_AREA`): the density in the square is the solid-angle
+/// density at x times d(omega) / d(bins) = |cos(theta_light)| / dist^2 x area / (4 pi), finite
+/// even where the sight line grazes the light, and the integrand that Jacobian (1 over the
+/// directions that meet the light: the coverage test compares estimates of its solid angle).
+/// The technique is asked its density at p (`technique_pdf`, a WGSL expression of p) and
+/// sampled by `technique_sample` (of u, giving a LightSample), the built-in likewise.
+fn planar_light_configuration(name: String, light: String, technique: (&str, &str), builtin: (&str, &str), builtin_constants: Vec<(&'static str, f64)>) -> Configuration {
     let common = format!(
-        "const ROUTINE_P0: vec3f = {};\nconst ROUTINE_P1: vec3f = {};\nconst ROUTINE_P2: vec3f = {};\n\
-         const ROUTINE_X: vec3f = {};\nconst ROUTINE_N: vec3f = {};\nconst ROUTINE_NT: vec3f = {};\nconst ROUTINE_AREA: f32 = {:?};\n\
-         fn routine_tri() -> TriangleLight {{ return TriangleLight(ROUTINE_P0, ROUTINE_P1, ROUTINE_P2); }}\n\
-         // The triangle's point at (u0, u1) of the area warp.\n\
-         fn routine_point(uv: vec2f) -> vec3f {{ let s = sqrt(uv.x); return (1.0 - s) * ROUTINE_P0 + (s * (1.0 - uv.y)) * ROUTINE_P1 + (s * uv.y) * ROUTINE_P2; }}\n\
-         fn routine_s(d: vec3f) -> f32 {{ return select(1.0 - d.z, (d.x * d.x + d.y * d.y) / (1.0 + d.z), d.z > 0.0); }}\n\
-         // (u0, u1) of a binning direction, and the binning direction of (u0, u1).\n\
-         fn routine_uv(d: vec3f) -> vec2f {{\n\
-             var u1 = atan2_accurate(d.y, d.x) * (0.5 * INV_PI);\n\
-             u1 = u1 - floor(u1);\n\
-             return vec2f(clamp(0.5 * routine_s(d), 0.0, 1.0), u1);\n\
-         }}\n\
-         fn routine_dir(uv: vec2f) -> vec3f {{\n\
-             let s = 2.0 * uv.x;\n\
-             let sin_t = safe_sqrt(s * (2.0 - s));\n\
-             return vec3f(sin_t * cos(2.0 * PI * uv.y), sin_t * sin(2.0 * PI * uv.y), 1.0 - s);\n\
-         }}\n\
-         // (u0, u1) of a point of the triangle, from its barycentrics b1, b2.\n\
-         fn routine_uv_of(p: vec3f) -> vec2f {{\n\
-             let b = plane_barycentrics(ROUTINE_P0, ROUTINE_P1, ROUTINE_P2, p);\n\
-             let sum = clamp(b.x + b.y, 0.0, 1.0);\n\
-             return vec2f(sum * sum, select(0.0, clamp(b.y / sum, 0.0, 0.99999994), sum > 0.0));\n\
-         }}\n\
-         // d(solid angle at x) / d(binning solid angle) at the triangle's point p.\n\
+        "{light}{SQUARE_AS_DIRECTIONS}\
+         // d(solid angle at x) / d(binning solid angle) at the light's point p.\n\
          fn routine_jacobian(p: vec3f) -> f32 {{\n\
              let to_x = ROUTINE_X - p;\n\
              let dist2 = dot(to_x, to_x);\n\
              return abs(dot(ROUTINE_NT, to_x)) / (sqrt(dist2) * dist2) * ROUTINE_AREA * (0.25 * INV_PI);\n\
          }}\n\
-         fn routine_integrand(d: vec3f) -> f32 {{ return routine_jacobian(routine_point(routine_uv(d))); }}\n",
+         fn routine_integrand(d: vec3f) -> f32 {{ return routine_jacobian(routine_point(routine_uv(d))); }}\n"
+    );
+    let routines = |pdf: &str, sample: &str| {
+        format!(
+            "{common}\
+             fn routine_pdf(d: vec3f) -> f32 {{ let p = routine_point(routine_uv(d)); return {pdf} * routine_jacobian(p); }}\n\
+             fn routine_sample(u: vec2f, u_lobe: f32) -> Drawn {{\n\
+                 let ls = {sample};\n\
+                 let d = routine_dir(routine_uv_of(ROUTINE_X + ls.wi * ls.dist));\n\
+                 let estimate = select(0.0, 1.0 / ls.pdf, ls.pdf > 0.0);\n\
+                 // (A technique reports no density of its own: pathlab asks its pdf, as here.)\n\
+                 return Drawn(vec4f(d, routine_pdf(d)), vec4f(0.0, 0.0, estimate, 0.0));\n\
+             }}\n"
+        )
+    };
+    // The technique's density at the point p itself, its iterations counted from 0.
+    let technique_routines = format!(
+        "fn routine_technique_pdf(p: vec3f) -> f32 {{\n\
+             technique_iterations = 0u;\n\
+             return technique_density({});\n\
+         }}\n{}",
+        technique.0,
+        routines("routine_technique_pdf(p)", technique.1)
+    );
+    Pair::light(name, (technique_routines, vec![("LIGHT_TECHNIQUE", 1.0)]), (routines(builtin.0, builtin.1), builtin_constants), 2.0, (64, 64), Vec::new())
+}
+
+/// Triangle `k` with vertices `p` seen from a point at `dist` times its size (sqrt(area)) from its
+/// centroid, `angle` degrees off its winding normal (towards its first edge), whose shading
+/// normal is tilted `tilt` degrees from the direction to the centroid (`planar_viewpoint`): the
+/// technique through `sample_triangle_light_with_technique` and `pdf_triangle_light_technique`
+/// (what the path tracer calls), and the built-in solid-angle strategy. Coordinates are taken
+/// relative to the centroid (the technique's maths is the same anywhere; f32 keeps its
+/// precision). The samples are binned where they land on the triangle, on the unit square it
+/// is the image of under the area warp (u0 = (b1 + b2)^2, u1 = b2 / (b1 + b2)): 64 x 64 cells
+/// tile the triangle exactly, none cut by an edge (`planar_light_configuration`).
+fn triangle_configuration(k: usize, p: [glam::DVec3; 3], dist: f64, angle: f64, tilt: f64) -> Configuration {
+    let centroid = (p[0] + p[1] + p[2]) / 3.0;
+    let p = p.map(|v| v - centroid);
+    let c = (p[1] - p[0]).cross(p[2] - p[0]);
+    let (area, normal) = (0.5 * c.length(), c.normalize());
+    let (x, n) = planar_viewpoint(normal, (p[1] - p[0]).normalize(), area, dist, angle, tilt);
+    let v = |v: glam::DVec3| v3(v.to_array());
+    let light = format!(
+        "const ROUTINE_P0: vec3f = {};\nconst ROUTINE_P1: vec3f = {};\nconst ROUTINE_P2: vec3f = {};\n\
+         const ROUTINE_X: vec3f = {};\nconst ROUTINE_N: vec3f = {};\nconst ROUTINE_NT: vec3f = {};\nconst ROUTINE_AREA: f32 = {:?};\n\
+         fn routine_tri() -> TriangleLight {{ return TriangleLight(ROUTINE_P0, ROUTINE_P1, ROUTINE_P2); }}\n\
+         // The triangle's point at (u0, u1) of the area warp.\n\
+         fn routine_point(uv: vec2f) -> vec3f {{ let s = sqrt(uv.x); return (1.0 - s) * ROUTINE_P0 + (s * (1.0 - uv.y)) * ROUTINE_P1 + (s * uv.y) * ROUTINE_P2; }}\n\
+         // (u0, u1) of a point of the triangle, from its barycentrics b1, b2.\n\
+         fn routine_uv_of(p: vec3f) -> vec2f {{\n\
+             let b = plane_barycentrics(ROUTINE_P0, ROUTINE_P1, ROUTINE_P2, p);\n\
+             let sum = clamp(b.x + b.y, 0.0, 1.0);\n\
+             return vec2f(sum * sum, select(0.0, clamp(b.y / sum, 0.0, 0.99999994), sum > 0.0));\n\
+         }}\n",
         v(p[0]),
         v(p[1]),
         v(p[2]),
@@ -711,37 +758,16 @@ fn triangle_configuration(k: usize, p: [glam::DVec3; 3], dist: f64, angle: f64, 
         v(normal),
         area as f32,
     );
-    let technique = format!(
-        "{common}\
-         fn routine_technique_pdf(p: vec3f) -> f32 {{\n\
-             technique_iterations = 0u;\n\
-             return technique_density(pdf_triangle_light_technique(ROUTINE_X, ROUTINE_N, routine_tri(), p));\n\
-         }}\n\
-         fn routine_pdf(d: vec3f) -> f32 {{ let p = routine_point(routine_uv(d)); return routine_technique_pdf(p) * routine_jacobian(p); }}\n\
-         fn routine_sample(u: vec2f, u_lobe: f32) -> Drawn {{\n\
-             let ls = sample_triangle_light_with_technique(routine_tri(), ROUTINE_X, ROUTINE_N, u);\n\
-             let d = routine_dir(routine_uv_of(ROUTINE_X + ls.wi * ls.dist));\n\
-             let estimate = select(0.0, 1.0 / ls.pdf, ls.pdf > 0.0);\n\
-             // (The technique reports no density of its own: pathlab asks its pdf, as here.)\n\
-             return Drawn(vec4f(d, routine_pdf(d)), vec4f(0.0, 0.0, estimate, 0.0));\n\
-         }}\n"
-    );
-    let builtin = format!(
-        "{common}\
-         fn routine_pdf(d: vec3f) -> f32 {{\n\
-             let p = routine_point(routine_uv(d));\n\
-             return pdf_triangle_light(ROUTINE_P0, ROUTINE_P1, ROUTINE_P2, ROUTINE_X, normalize(p - ROUTINE_X)) * routine_jacobian(p);\n\
-         }}\n\
-         fn routine_sample(u: vec2f, u_lobe: f32) -> Drawn {{\n\
-             let ls = sample_triangle_light(ROUTINE_P0, ROUTINE_P1, ROUTINE_P2, ROUTINE_X, u);\n\
-             let d = routine_dir(routine_uv_of(ROUTINE_X + ls.wi * ls.dist));\n\
-             let estimate = select(0.0, 1.0 / ls.pdf, ls.pdf > 0.0);\n\
-             return Drawn(vec4f(d, routine_pdf(d)), vec4f(0.0, 0.0, estimate, 0.0));\n\
-         }}\n"
-    );
-    let name = format!("triangle {k} (area {area:.4}) seen from {dist} sizes, {angle} degrees off its normal, normal tilted {tilt} degrees");
-    let solid_angle = vec![("TRIANGLE_SAMPLING", crate::method::TriangleSampling::SolidAngle.constant() as f64)];
-    Pair::light(name, (technique, vec![("LIGHT_TECHNIQUE", 1.0)]), (builtin, solid_angle), 2.0, (64, 64), Vec::new())
+    planar_light_configuration(
+        format!("triangle {k} (area {area:.4}) seen from {dist} sizes, {angle} degrees off its normal, normal tilted {tilt} degrees"),
+        light,
+        ("pdf_triangle_light_technique(ROUTINE_X, ROUTINE_N, routine_tri(), p)", "sample_triangle_light_with_technique(routine_tri(), ROUTINE_X, ROUTINE_N, u)"),
+        (
+            "pdf_triangle_light(ROUTINE_P0, ROUTINE_P1, ROUTINE_P2, ROUTINE_X, normalize(p - ROUTINE_X))",
+            "sample_triangle_light(ROUTINE_P0, ROUTINE_P1, ROUTINE_P2, ROUTINE_X, u)",
+        ),
+        vec![("TRIANGLE_SAMPLING", crate::method::TriangleSampling::SolidAngle.constant() as f64)],
+    )
 }
 
 /// The environment map `packed` (`EnvironmentMap::pack`) seen from a point with shading normal

@@ -9,7 +9,7 @@
 
 use glam::{DAffine3, DVec3};
 
-use super::{v3, Configuration, Pair};
+use super::{planar_light_configuration, planar_viewpoint, v3, Configuration, Pair, SQUARE_AS_DIRECTIONS};
 use crate::scene::{EmitterKind, Light, Scene};
 
 /// Lights of each shape a technique is checked on, at most.
@@ -68,56 +68,28 @@ pub(super) fn disk_configurations(scene: &Scene) -> (Vec<Configuration>, String)
 
 /// Disk `k` (the unit disk placed by `m`, centred at the origin) seen from a point at `dist`
 /// times its size from its centre, `angle` degrees off its normal (towards its first axis),
-/// whose shading normal is tilted `tilt` degrees from the direction to the centre. The samples
-/// are binned where they land on the disk, on the unit square it is the image of under the
-/// polar area map (u0 = r^2, u1 = phi / 2 pi of its object space), written as the direction at
-/// phi = 2 pi u1, s = 1 - cos = 2 u0: the cells tile the disk exactly. The density there is
-/// the solid-angle density at x times d(omega) / d(bins) = |cos(theta_light)| / dist^2 x area /
-/// (4 pi) (the polar map has the constant area density of its square). The integrand is that
-/// Jacobian: the coverage test compares estimates of the disk's solid angle.
+/// whose shading normal is tilted `tilt` degrees from the direction to the centre
+/// (`planar_viewpoint`). The samples are binned where they land on the disk, on the unit square
+/// it is the image of under the polar area map (u0 = r^2, u1 = phi / 2 pi of its object space,
+/// of constant area density): the cells tile the disk exactly (`planar_light_configuration`).
 fn disk_configuration(k: usize, m: DAffine3, dist: f64, angle: f64, tilt: f64) -> Configuration {
     let (u, v) = (m.matrix3.x_axis, m.matrix3.y_axis);
     let c = u.cross(v);
     let (area, normal) = (std::f64::consts::PI * c.length(), c.normalize());
-    let size = area.sqrt();
-    let along = u.normalize();
-    let (a, t) = (angle.to_radians(), tilt.to_radians());
-    let x = dist * size * (a.cos() * normal + a.sin() * along);
-    let towards = (-x).normalize();
-    let side = towards.cross(normal).try_normalize().unwrap_or(along);
-    let n = t.cos() * towards + t.sin() * side;
-    let common = format!(
+    let (x, n) = planar_viewpoint(normal, u.normalize(), area, dist, angle, tilt);
+    let light = format!(
         "const ROUTINE_X: vec3f = {};\nconst ROUTINE_N: vec3f = {};\nconst ROUTINE_NT: vec3f = {};\nconst ROUTINE_AREA: f32 = {:?};\n\
          const ROUTINE_U: vec3f = {};\nconst ROUTINE_V: vec3f = {};\n\
          fn routine_q() -> Quadric {{ return {}; }}\n\
          // The disk's point at (u0, u1) of the polar area map.\n\
          fn routine_point(uv: vec2f) -> vec3f {{ let r = sqrt(uv.x); return r * (cos(2.0 * PI * uv.y) * ROUTINE_U + sin(2.0 * PI * uv.y) * ROUTINE_V); }}\n\
-         fn routine_s(d: vec3f) -> f32 {{ return select(1.0 - d.z, (d.x * d.x + d.y * d.y) / (1.0 + d.z), d.z > 0.0); }}\n\
-         // (u0, u1) of a binning direction, and the binning direction of (u0, u1).\n\
-         fn routine_uv(d: vec3f) -> vec2f {{\n\
-             var u1 = atan2_accurate(d.y, d.x) * (0.5 * INV_PI);\n\
-             u1 = u1 - floor(u1);\n\
-             return vec2f(clamp(0.5 * routine_s(d), 0.0, 1.0), u1);\n\
-         }}\n\
-         fn routine_dir(uv: vec2f) -> vec3f {{\n\
-             let s = 2.0 * uv.x;\n\
-             let sin_t = safe_sqrt(s * (2.0 - s));\n\
-             return vec3f(sin_t * cos(2.0 * PI * uv.y), sin_t * sin(2.0 * PI * uv.y), 1.0 - s);\n\
-         }}\n\
          // (u0, u1) of a point of the disk, from its object-space polar coordinates.\n\
          fn routine_uv_of(p: vec3f) -> vec2f {{\n\
              let l = quadric_point_to_object(routine_q(), p);\n\
              var u1 = atan2_accurate(l.y, l.x) * (0.5 * INV_PI);\n\
              u1 = u1 - floor(u1);\n\
              return vec2f(clamp(dot(l.xy, l.xy), 0.0, 1.0), clamp(u1, 0.0, 0.99999994));\n\
-         }}\n\
-         // d(solid angle at x) / d(binning solid angle) at the disk's point p.\n\
-         fn routine_jacobian(p: vec3f) -> f32 {{\n\
-             let to_x = ROUTINE_X - p;\n\
-             let dist2 = dot(to_x, to_x);\n\
-             return abs(dot(ROUTINE_NT, to_x)) / (sqrt(dist2) * dist2) * ROUTINE_AREA * (0.25 * INV_PI);\n\
-         }}\n\
-         fn routine_integrand(d: vec3f) -> f32 {{ return routine_jacobian(routine_point(routine_uv(d))); }}\n",
+         }}\n",
         v3(x.to_array()),
         v3(n.to_array()),
         v3(normal.to_array()),
@@ -126,36 +98,13 @@ fn disk_configuration(k: usize, m: DAffine3, dist: f64, angle: f64, tilt: f64) -
         v3(v.to_array()),
         quadric_literal(m, area),
     );
-    let technique = format!(
-        "{common}\
-         fn routine_technique_pdf(p: vec3f) -> f32 {{\n\
-             technique_iterations = 0u;\n\
-             return technique_density(pdf_disk_light_technique(ROUTINE_X, ROUTINE_N, disk_light_of(routine_q()), p));\n\
-         }}\n\
-         fn routine_pdf(d: vec3f) -> f32 {{ let p = routine_point(routine_uv(d)); return routine_technique_pdf(p) * routine_jacobian(p); }}\n\
-         fn routine_sample(u: vec2f, u_lobe: f32) -> Drawn {{\n\
-             let ls = sample_disk_light_with_technique(routine_q(), ROUTINE_X, ROUTINE_N, u);\n\
-             let d = routine_dir(routine_uv_of(ROUTINE_X + ls.wi * ls.dist));\n\
-             let estimate = select(0.0, 1.0 / ls.pdf, ls.pdf > 0.0);\n\
-             // (The technique reports no density of its own: pathlab asks its pdf, as here.)\n\
-             return Drawn(vec4f(d, routine_pdf(d)), vec4f(0.0, 0.0, estimate, 0.0));\n\
-         }}\n"
-    );
-    let builtin = format!(
-        "{common}\
-         fn routine_pdf(d: vec3f) -> f32 {{\n\
-             let p = routine_point(routine_uv(d));\n\
-             return pdf_disk_light(routine_q(), ROUTINE_X, normalize(p - ROUTINE_X)) * routine_jacobian(p);\n\
-         }}\n\
-         fn routine_sample(u: vec2f, u_lobe: f32) -> Drawn {{\n\
-             let ls = sample_disk_light(routine_q(), ROUTINE_X, u);\n\
-             let d = routine_dir(routine_uv_of(ROUTINE_X + ls.wi * ls.dist));\n\
-             let estimate = select(0.0, 1.0 / ls.pdf, ls.pdf > 0.0);\n\
-             return Drawn(vec4f(d, routine_pdf(d)), vec4f(0.0, 0.0, estimate, 0.0));\n\
-         }}\n"
-    );
-    let name = format!("disk {k} (area {area:.4}) seen from {dist} sizes, {angle} degrees off its normal, normal tilted {tilt} degrees");
-    Pair::light(name, (technique, vec![("LIGHT_TECHNIQUE", 1.0)]), (builtin, vec![]), 2.0, (64, 64), Vec::new())
+    planar_light_configuration(
+        format!("disk {k} (area {area:.4}) seen from {dist} sizes, {angle} degrees off its normal, normal tilted {tilt} degrees"),
+        light,
+        ("pdf_disk_light_technique(ROUTINE_X, ROUTINE_N, disk_light_of(routine_q()), p)", "sample_disk_light_with_technique(routine_q(), ROUTINE_X, ROUTINE_N, u)"),
+        ("pdf_disk_light(routine_q(), ROUTINE_X, normalize(p - ROUTINE_X))", "sample_disk_light(routine_q(), ROUTINE_X, u)"),
+        vec![],
+    )
 }
 
 /// A cylinder technique's configurations: each cylinder seen from points of its object space
@@ -213,18 +162,7 @@ fn cylinder_configuration(k: usize, m: DAffine3, rho: f64, z: f64, tilt: f64) ->
          fn routine_phi(u0: f32) -> f32 {{ return ROUTINE_PHI_START + 2.0 * PI * u0; }}\n\
          fn routine_point(uv: vec2f) -> vec3f {{ let phi = routine_phi(uv.x); return ROUTINE_BASE + cos(phi) * ROUTINE_U + sin(phi) * ROUTINE_V + uv.y * ROUTINE_W; }}\n\
          fn routine_visible(uv: vec2f) -> bool {{ return uv.x <= ROUTINE_ARC; }}\n\
-         fn routine_s(d: vec3f) -> f32 {{ return select(1.0 - d.z, (d.x * d.x + d.y * d.y) / (1.0 + d.z), d.z > 0.0); }}\n\
-         // (u0, u1) of a binning direction (u0 from s, u1 from its angle), and back.\n\
-         fn routine_uv(d: vec3f) -> vec2f {{\n\
-             var u1 = atan2_accurate(d.y, d.x) * (0.5 * INV_PI);\n\
-             u1 = u1 - floor(u1);\n\
-             return vec2f(clamp(0.5 * routine_s(d), 0.0, 1.0), u1);\n\
-         }}\n\
-         fn routine_dir(uv: vec2f) -> vec3f {{\n\
-             let s = 2.0 * uv.x;\n\
-             let sin_t = safe_sqrt(s * (2.0 - s));\n\
-             return vec3f(sin_t * cos(2.0 * PI * uv.y), sin_t * sin(2.0 * PI * uv.y), 1.0 - s);\n\
-         }}\n\
+         {SQUARE_AS_DIRECTIONS}\
          // (u0, u1) of a point of the cylinder, from its object-space angle and height.\n\
          fn routine_uv_of(p: vec3f) -> vec2f {{\n\
              let l = quadric_point_to_object(routine_q(), p);\n\
