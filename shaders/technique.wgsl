@@ -89,8 +89,9 @@
 // a point off the light is a fault: that sample contributes 0, and faults are counted and
 // reported.
 
-// Whether a technique samples Phong materials / spherical lights / the environment map (set by
-// the method's `+bsdf=NAME` / `+light=NAME` / `+env=NAME`).
+// Whether a technique samples materials / lights / the environment map (set by the method's
+// `+bsdf=NAME` / `+light=NAME` / `+env=NAME`; which materials and lights: the generated
+// BSDF_TECHNIQUE_* and LIGHT_TECHNIQUE_* constants).
 override BSDF_TECHNIQUE: bool = false;
 override LIGHT_TECHNIQUE: bool = false;
 override ENV_TECHNIQUE: bool = false;
