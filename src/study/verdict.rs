@@ -169,9 +169,31 @@ pub fn verdict(scene: &Scene, method: &StudyMethod, films: &[Film], reference: &
 
 #[cfg(test)]
 mod tests {
-    use super::{block_for, meets_emission_by_chance};
+    use super::{block_for, meets_emission_by_chance, verdict};
+    use crate::film::Film;
     use crate::method::Method;
     use crate::scene::Scene;
+
+    /// A verdict that blocks alone reject (the image mean agreeing) says it may be a heavy tail;
+    /// one the image mean rejects says BIASED; neither, no bias.
+    #[test]
+    fn block_only_flags_are_worded_apart_from_a_biased_mean() {
+        let scene = Scene::load(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/study.toml")).unwrap();
+        let nee = super::StudyMethod::by_name("nee").unwrap();
+        let (w, h) = (64u32, 32u32);
+        // 1 everywhere, each pixel's mean with variance 1e-3, at 1024 spp: tested per pixel.
+        let film = |value: &dyn Fn(usize) -> f32| Film { width: w, height: h, spp: 1024, mean: (0..(w * h) as usize).map(|i| [value(i); 3]).collect(), variance: vec![[1e-3; 3]; (w * h) as usize] };
+        let reference = film(&|_| 1.0);
+        let judge = |f: Film| verdict(&scene, &nee, &[f], &reference, 1);
+        let same = judge(film(&|_| 1.0));
+        assert!(!same.bias_detected && same.text.starts_with("no bias detected"), "{}", same.text);
+        // 8 pixels 0.5 brighter, 8 darker (|z| 11 each, 0.78% of the channels): the mean agrees.
+        let blocks = judge(film(&|i| if i < 8 { 1.5 } else if i < 16 { 0.5 } else { 1.0 }));
+        assert!(blocks.bias_detected && blocks.text.starts_with("BIASED IN BLOCKS, or heavy-tailed"), "{}", blocks.text);
+        // Every pixel 1% brighter: the image mean's |z| is 10.
+        let mean = judge(film(&|_| 1.01));
+        assert!(mean.bias_detected && mean.text.starts_with("BIASED:"), "{}", mean.text);
+    }
 
     #[test]
     fn blocks_hold_enough_samples_and_leave_enough_blocks() {
