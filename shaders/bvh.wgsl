@@ -437,20 +437,39 @@ fn bvh_traverse_stack(o: vec3f, d: vec3f, t_max: f32, any: bool) -> TriangleHit 
     return best;
 }
 
-// The stackless traversal (after Hapala et al. 2011 and Áfra and Szirmay-Kalos 2014): the nodes still to visit
-// are a trail of bits, one per level from the root down to the current node, set where that
-// level's farther child waits. Descending shifts a bit in; where no child is entered, the
-// traversal climbs the parents (shifting bits out) to the deepest level whose bit is set and
-// goes to the sibling there. That is the order a stack of farther children gives, so every hit
-// is the one the stack found; but the trail lives in two registers, where a private array
-// indexed per lane costs lavapipe a store or load per lane with a branch each (80-triangle
-// icosphere +36% samples/s, Veach's scene +45%). Levels: at most BVH_MAX_DEPTH (48), in a
-// 64-bit trail (x: the lower word).
+// The trail (x: its lower word) shifted down by z < 64 levels.
+fn trail_shifted(trail: vec2u, z: u32) -> vec2u {
+    if (z >= 32u) {
+        return vec2u(trail.y >> (z - 32u), 0u);
+    }
+    return vec2u((trail.x >> z) | select(0u, trail.y << ((32u - z) & 31u), z > 0u), trail.y >> z);
+}
+
+// The stackless traversal (after Hapala et al. 2011 and Áfra and Szirmay-Kalos 2014): the nodes
+// still to visit are a trail of bits, one per level from the root down to the current node, set
+// where that level's farther child waits. Descending shifts a bit in; where no child is entered,
+// the traversal goes up to the deepest level whose bit is set and over to the farther child
+// there. That is the order a stack of farther children gives, so every hit is the one the stack
+// found (`Bvh::closest`); but the trail lives in two registers, where a private array indexed per
+// lane costs lavapipe a store or load per lane with a branch each (80-triangle icosphere +36%
+// samples/s, Veach's scene +45%). Levels: at most BVH_MAX_DEPTH (48), in a 64-bit trail.
 //
-// The guard counts a step per node visited, per triangle tested and per level climbed, and
-// what llvmpipe charges beyond its back-edges for entering a loop: three per leaf, two per
-// climb (measured on the worst case of tests/bvh.rs, where counting two and one let llvmpipe's
-// count run ahead by a quarter). `LoopBound::steps_per_ray` bounds the sum.
+// How it goes over to the waiting child (2026-12-06, README "Meshes on lavapipe"):
+// - The last eight farther children pushed are also kept in two vec4u registers, shifted by
+//   selects (constant indices only, so no per-lane memory). Where one is kept, the traversal
+//   jumps to it: the levels it goes up are the trail's trailing zeros. Only where the eight have
+//   overflowed does it climb the parents (`bvh_parent`), a texel load per level.
+// - The loops are while-while (Aila and Laine 2009): an inner loop walks interior nodes to the
+//   next leaf, then the leaf's triangles are tested, once every lane has left the inner loop;
+//   climbs run in the outer loop too. lavapipe runs a loop's whole body, every branch under the
+//   lanes' mask, for as long as any lane is in it, and a nested loop at least once: with a leaf
+//   or a climb inside the node loop, every node step paid for a leaf's tests and a climb.
+//
+// The guard counts a step per pass of the inner loop, per triangle tested and per level climbed,
+// and what llvmpipe charges beyond them for entering a loop: three per leaf, three per climb
+// (llvmpipe counts every pass of every loop, the one that leaves it included, and enters a
+// nested loop at least once; measured on the worst case of tests/bvh.rs).
+// `LoopBound::steps_per_ray` bounds the sum.
 fn bvh_traverse_stackless(o: vec3f, d: vec3f, t_max: f32, any: bool) -> TriangleHit {
     var best = TriangleHit(t_max, INVALID, vec2f(0.0));
     let ray = sheared_ray(o, d);
@@ -461,47 +480,92 @@ fn bvh_traverse_stackless(o: vec3f, d: vec3f, t_max: f32, any: bool) -> Triangle
     if (intersect_node(root.lo, root.hi, o, inv_d, t_max) < 0.0) {
         return best;
     }
+    // Whether the traversal leaves `node` before its next step (a leaf tested, or a node whose
+    // children were both missed), and whether it must climb the parents to do so.
+    var leave = false;
+    var climb = false;
+    // The farther children pushed last, newest in recent_a.x; how many are kept (at most 8).
+    var recent_a = vec4u(0u);
+    var recent_b = vec4u(0u);
+    var recent_count = 0u;
     loop {
-        if (!traversal_step()) {
-            break;
-        }
-        let n = bvh_node(node);
-        // Whether no child of this node is entered (a leaf, or both boxes missed).
-        var climbing = true;
-        if (n.count > 0u) {
-            traversal_steps += 3u;
-            bvh_test_leaf(ray, n, &best, any);
-            if (any && best.index != INVALID) {
-                break;
-            }
-        } else {
-            // The nearer child next; the farther one's bit set where both are entered.
-            let l = n.first;
-            let r = n.first + 1u;
-            let entry = bvh_enter_children(n, o, inv_d, best.t);
-            let tl = entry.x;
-            let tr = entry.y;
-            climbing = tl < 0.0 && tr < 0.0;
-            if (!climbing) {
-                let both = tl >= 0.0 && tr >= 0.0;
-                trail = vec2u((trail.x << 1u) | select(0u, 1u, both), (trail.y << 1u) | (trail.x >> 31u));
-                node = select(r, l, tl >= 0.0 && (tr < 0.0 || tl <= tr));
-            }
-        }
-        if (climbing) {
-            // Up to the deepest level whose farther child waits, and over to it.
-            if (all(trail == vec2u(0u))) {
-                break;
-            }
+        if (climb) {
+            // Up the parents to the deepest level whose farther child waits, and over to it.
             traversal_steps += 2u;
             while ((trail.x & 1u) == 0u) {
                 traversal_steps += 1u;
                 trail = vec2u((trail.x >> 1u) | (trail.y << 31u), trail.y >> 1u);
                 node = bvh_parent(node);
             }
-            trail.x ^= 1u;
             node = bvh_sibling(node);
+            trail.x ^= 1u;
+            leave = false;
+            climb = false;
         }
+        // Through interior nodes to the next leaf (count 0: none is left, the traversal must
+        // climb, or the guard stopped it).
+        var leaf = BvhNode(vec3f(0.0), 0u, vec3f(0.0), 0u);
+        loop {
+            if (!traversal_step()) {
+                break;
+            }
+            if (leave) {
+                if (all(trail == vec2u(0u))) {
+                    break;
+                }
+                if (recent_count == 0u) {
+                    traversal_steps += 1u;
+                    climb = true;
+                    break;
+                }
+                // Over to the newest farther child kept: up as many levels as the trail's
+                // trailing zeros, then that level's bit cleared (its farther child taken).
+                let z = select(32u + countTrailingZeros(trail.y), countTrailingZeros(trail.x), trail.x != 0u);
+                trail = trail_shifted(trail, z);
+                trail.x ^= 1u;
+                node = recent_a.x;
+                recent_a = vec4u(recent_a.yzw, recent_b.x);
+                recent_b = vec4u(recent_b.yzw, 0u);
+                recent_count -= 1u;
+                leave = false;
+            }
+            let n = bvh_node(node);
+            if (n.count > 0u) {
+                leaf = n;
+                break;
+            }
+            // The nearer child next; where both are entered, the farther one's bit set and the
+            // child kept.
+            let l = n.first;
+            let r = n.first + 1u;
+            let entry = bvh_enter_children(n, o, inv_d, best.t);
+            let tl = entry.x;
+            let tr = entry.y;
+            leave = tl < 0.0 && tr < 0.0;
+            if (!leave) {
+                let both = tl >= 0.0 && tr >= 0.0;
+                let near_left = tl >= 0.0 && (tr < 0.0 || tl <= tr);
+                trail = vec2u((trail.x << 1u) | select(0u, 1u, both), (trail.y << 1u) | (trail.x >> 31u));
+                node = select(r, l, near_left);
+                if (both) {
+                    recent_b = vec4u(recent_a.w, recent_b.xyz);
+                    recent_a = vec4u(select(l, r, near_left), recent_a.xyz);
+                    recent_count = min(recent_count + 1u, 8u);
+                }
+            }
+        }
+        if (climb) {
+            continue;
+        }
+        if (leaf.count == 0u) {
+            break;
+        }
+        traversal_steps += 3u;
+        bvh_test_leaf(ray, leaf, &best, any);
+        if (any && best.index != INVALID) {
+            break;
+        }
+        leave = true;
     }
     return best;
 }

@@ -371,8 +371,8 @@ fn a_worst_case_traversal_trips_the_guard_and_only_then() {
     let ray = [(Vec3::ZERO, Vec3::Z, f32::INFINITY, f32::INFINITY)];
     assert!(brute(&tris, Vec3::ZERO, Vec3::Z, f32::INFINITY).is_none(), "the slivers must not cover the axis");
     // The host's bound on the kernel's count of a full traversal (`LoopBound::steps_per_ray`):
-    // four per node (visited, climbed out of, a climb started, two steps), three per leaf,
-    // every triangle. A full traversal takes more than half of it.
+    // four per node (visited, climbed out of, a climb started at half of them, three steps),
+    // three per leaf, every triangle. A full traversal takes more than half of it.
     let bvh = Bvh::build(&tris);
     let steps = (4 * bvh.nodes.len() + 3 * bvh.nodes.iter().filter(|n| n.count > 0).count()) as u32 + 3000;
     let deep = slivers(100_000);

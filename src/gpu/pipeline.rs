@@ -140,9 +140,11 @@ pub struct LoopBound {
     /// Rays (camera, scattered and shadow rays) one sample traces at most.
     pub rays: u64,
     /// Traversal steps of one ray at worst, as the kernel's guard counts them (bvh.wgsl): every
-    /// node visited once, climbed out of once, and at most once the start of a climb, which
-    /// costs llvmpipe two back-edges of its own; every triangle tested once, and three more per
-    /// leaf for its loop (those costs measured: tests/bvh.rs).
+    /// node visited once (a pass of the stackless traversal's inner loop) and climbed out of at
+    /// most once; a climb up the parents started at most once per interior node (half the
+    /// nodes), three steps for llvmpipe's passes of its loops; every triangle tested once, and
+    /// three more per leaf for its loop (those costs measured: tests/bvh.rs). The stack's
+    /// traversal takes fewer.
     pub steps_per_ray: u64,
 }
 
