@@ -469,7 +469,11 @@ fn trail_shifted(trail: vec2u, z: u32) -> vec2u {
 // and what llvmpipe charges beyond them for entering a loop: three per leaf, three per climb
 // (llvmpipe counts every pass of every loop, the one that leaves it included, and enters a
 // nested loop at least once; measured on the worst case of tests/bvh.rs).
-// `LoopBound::steps_per_ray` bounds the sum.
+// `LoopBound::steps_per_ray` bounds the sum. llvmpipe's count is kept per SIMD group of 8 lanes
+// (one limiter per run of its compiled function: Mesa 22.3, lp_bld_ir_common.c), the guard's per
+// lane: where a group's lanes take turns (one walks the inner loop while the others wait at
+// their leaves), the group's passes exceed its busiest lane's. The host's budget leaves a
+// quarter of the limit for that (render/renderer.rs); tests/bvh.rs measures one ray.
 fn bvh_traverse_stackless(o: vec3f, d: vec3f, t_max: f32, any: bool) -> TriangleHit {
     var best = TriangleHit(t_max, INVALID, vec2f(0.0));
     let ray = sheared_ray(o, d);
