@@ -5,7 +5,7 @@
 # and GPU memory (`pathlab check`), and rays per second (`pathlab bench`). Only ratios within
 # one run mean anything: the machine's speed swings with load.
 #
-# PATHLAB=path/to/pathlab measures another build.
+# PATHLAB=path/to/pathlab measures another build; KEEP=dir keeps the scenes.
 # Usage: [SECONDS=3] [LEVELS="2 3 5 6 8"] scripts/triangle_scaling.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -13,8 +13,14 @@ pathlab=${PATHLAB:-$(pwd)/target/release/pathlab}
 [ -x "$pathlab" ] || cargo build --release
 seconds=${SECONDS_PER_SIZE:-${SECONDS:-3}}
 levels=${LEVELS:-2 3 5 6 8}
-dir=$(mktemp -d)
-trap 'rm -rf "$dir"' EXIT
+# KEEP=dir keeps the scenes there (sceneK.toml and icoK.ply), for scripts/compare_builds.sh.
+if [ -n "${KEEP:-}" ]; then
+    dir=$KEEP
+    mkdir -p "$dir"
+else
+    dir=$(mktemp -d)
+    trap 'rm -rf "$dir"' EXIT
+fi
 echo "triangles,bvh_nodes,bvh_depth,build_ms,gpu_mib,M_rays_per_s,M_samples_per_s"
 for k in $levels; do
     python3 scripts/icosphere_ply.py "$k" "$dir/ico$k.ply"
