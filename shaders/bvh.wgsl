@@ -488,10 +488,10 @@ fn bvh_traverse_stackless(o: vec3f, d: vec3f, t_max: f32, any: bool) -> Triangle
     // children were both missed), and whether it must climb the parents to do so.
     var leave = false;
     var climb = false;
-    // The farther children pushed last, newest in recent_a.x; how many are kept (at most 8).
+    // The farther children pushed last, newest in recent_a.x; 0 marks an empty slot (node 0,
+    // the root, is no node's child).
     var recent_a = vec4u(0u);
     var recent_b = vec4u(0u);
-    var recent_count = 0u;
     loop {
         if (climb) {
             // Up the parents to the deepest level whose farther child waits, and over to it.
@@ -517,7 +517,7 @@ fn bvh_traverse_stackless(o: vec3f, d: vec3f, t_max: f32, any: bool) -> Triangle
                 if (all(trail == vec2u(0u))) {
                     break;
                 }
-                if (recent_count == 0u) {
+                if (recent_a.x == 0u) {
                     traversal_steps += 1u;
                     climb = true;
                     break;
@@ -530,7 +530,6 @@ fn bvh_traverse_stackless(o: vec3f, d: vec3f, t_max: f32, any: bool) -> Triangle
                 node = recent_a.x;
                 recent_a = vec4u(recent_a.yzw, recent_b.x);
                 recent_b = vec4u(recent_b.yzw, 0u);
-                recent_count -= 1u;
                 leave = false;
             }
             let n = bvh_node(node);
@@ -554,7 +553,6 @@ fn bvh_traverse_stackless(o: vec3f, d: vec3f, t_max: f32, any: bool) -> Triangle
                 if (both) {
                     recent_b = vec4u(recent_a.w, recent_b.xyz);
                     recent_a = vec4u(select(l, r, near_left), recent_a.xyz);
-                    recent_count = min(recent_count + 1u, 8u);
                 }
             }
         }
