@@ -307,7 +307,7 @@ fn traversal_step() -> bool {
     return true;
 }
 
-// The small scenes' tests, `load_small_triangles()` and `triangles_brute_force(o, d, t_max)`,
+// The small scenes' tests, `load_small_triangles()` and `triangles_brute_force(o, d, t_max, shadow)`,
 // are generated after this file (src/shaders/generated.rs): one step per triangle at constant
 // indices, SMALL_TRIANGLE_TESTS of them (the module is assembled per triangle count; steps
 // past NUM_TRIANGLES fold away). Every entry point that traces rays
@@ -321,10 +321,11 @@ fn traversal_step() -> bool {
 // copy; see the README's "How the kernel is made fast".
 
 // The nearest triangle along (o, d) closer than t_max (brute force for small scenes, else the
-// BVH); with `any`, the first one found (shadow rays).
+// BVH); with `any`, the first one found (shadow rays towards lights, which in small scenes skip
+// the faces of the scene's hull: `Scene::shadow_tests_of`).
 fn triangles_closest(o: vec3f, d: vec3f, t_max: f32, any: bool) -> TriangleHit {
     if (NUM_TRIANGLES <= SMALL_TRIANGLE_TESTS) {
-        return triangles_brute_force(o, d, t_max);
+        return triangles_brute_force(o, d, t_max, any);
     }
     return bvh_traverse(o, d, t_max, any);
 }

@@ -216,7 +216,8 @@ fn brute_main(@builtin(global_invocation_id) gid: vec3u) {
 }
 
 // The small scenes' unrolled tests (generated: `triangles_brute_force`, on shared vertices),
-// for a module assembled with them unrolled to the scene's triangle count.
+// for a module assembled with them unrolled to the scene's triangle count: the closest hit, then
+// a shadow ray's (only the triangles SMALL_SHADOW_TESTS_<k> keeps).
 @compute @workgroup_size(64)
 fn small_main(@builtin(global_invocation_id) gid: vec3u) {
     load_small_triangles();
@@ -225,8 +226,10 @@ fn small_main(@builtin(global_invocation_id) gid: vec3u) {
         return;
     }
     let r = test_rays[i];
-    let best = triangles_brute_force(r.o.xyz, r.d.xyz, r.o.w);
-    test_out[i] = vec4f(select(-1.0, best.t, best.index != INVALID), bitcast<f32>(best.index), best.bary);
+    let best = triangles_brute_force(r.o.xyz, r.d.xyz, r.o.w, false);
+    test_out[2u * i] = vec4f(select(-1.0, best.t, best.index != INVALID), bitcast<f32>(best.index), best.bary);
+    let shadow = triangles_brute_force(r.o.xyz, r.d.xyz, r.o.w, true);
+    test_out[2u * i + 1u] = vec4f(select(-1.0, shadow.t, shadow.index != INVALID), bitcast<f32>(shadow.index), shadow.bary);
 }
 "#;
 
@@ -415,16 +418,20 @@ fn every_node_but_the_root_finds_its_parent() {
 
 // ----- the small scenes' unrolled tests on shared vertices (generated, bvh.wgsl) -------------
 
+type SmallHit = (f32, u32, [f32; 2]);
+
 /// The path tracer's unrolled small-scene tests (`triangles_brute_force`, each distinct vertex
 /// sheared once per ray, the corners `override` constants: `accel::SharedVertices`) for `rays`
-/// (origin, direction, t_max) over `tris` in their order: (t or -1, triangle index,
-/// barycentrics of its second and third corners) per ray.
-fn gpu_small_scene(tris: &[Triangle], rays: &[(Vec3, Vec3, f32)]) -> Vec<(f32, u32, [f32; 2])> {
+/// (origin, direction, t_max) over `tris` in their order, as a closest-hit query and as a shadow
+/// ray's, which tests the triangles whose bit `shadow_tests` sets: (t or -1, triangle index,
+/// barycentrics of its second and third corners) per ray, for each.
+fn gpu_small_scene(tris: &[Triangle], rays: &[(Vec3, Vec3, f32)], shadow_tests: u64) -> Vec<(SmallHit, SmallHit)> {
     use pathlab::accel::SharedVertices;
     use pathlab::gpu::KernelRun;
     use pathlab::shaders::{self, bindings, files};
     let corners: Vec<[[f32; 3]; 3]> = tris.iter().map(|t| t.map(|v| v.to_array())).collect();
     let (shared, positions) = SharedVertices::of(&corners).expect("a small scene");
+    let shared = shared.with_shadow_tests(shadow_tests);
     let source = shaders::assemble_unrolled(&[files::COMMON, files::BVH], BVH_KERNEL, tris.len() as u32);
     let ordered = common::gpu().info.device_type != wgpu::DeviceType::Cpu;
     let mut constants = vec![("NUM_TRIANGLES", tris.len() as f64), ("ORDERED_EDGES", ordered as u32 as f64)];
@@ -439,11 +446,12 @@ fn gpu_small_scene(tris: &[Triangle], rays: &[(Vec3, Vec3, f32)]) -> Vec<(f32, u
         inputs: vec![(0, bytemuck::cast_slice(&ray_data).to_vec())],
         uniforms: vec![(bindings::SMALL_VERTICES.number, bytemuck::cast_slice(&vertices).to_vec())],
         texel_tables: vec![],
-        output: (1, rays.len() as u64 * 16),
+        output: (1, rays.len() as u64 * 32),
         workgroups: (rays.len() as u32).div_ceil(64),
     };
     let out: Vec<[f32; 4]> = bytemuck::pod_collect_to_vec(&run.run(common::gpu()).expect("small-scene kernel"));
-    out.iter().map(|o| (o[0], o[1].to_bits(), [o[2], o[3]])).collect()
+    let hit = |o: &[f32; 4]| (o[0], o[1].to_bits(), [o[2], o[3]]);
+    out.chunks(2).map(|pair| (hit(&pair[0]), hit(&pair[1]))).collect()
 }
 
 /// The small scenes' tests, which shear each distinct vertex once per ray and read every
@@ -454,7 +462,9 @@ fn gpu_small_scene(tris: &[Triangle], rays: &[(Vec3, Vec3, f32)]) -> Vec<(f32, u
 /// a random ray's distance must equal the CPU twin's bit for bit (the same operations in the
 /// same order), and the triangle it names must give that distance and those barycentrics
 /// itself (a tie resolves to either); on any adapter every ray from inside the closed mesh must hit (watertight), and a
-/// ray aimed at an edge or vertex the CPU hits must hit at its distance.
+/// ray aimed at an edge or vertex the CPU hits must hit at its distance. The shadow rays' query,
+/// which leaves out the triangles `SharedVertices::with_shadow_tests` clears (here every third),
+/// finds what the CPU finds among the rest, by the same rules.
 #[test]
 fn the_small_scenes_tests_on_shared_vertices_agree_with_the_cpu_and_are_watertight() {
     let mut rng = Rng(31);
@@ -489,11 +499,27 @@ fn the_small_scenes_tests_on_shared_vertices_agree_with_the_cpu_and_are_watertig
             rays.push((o, d, t * 0.5));
         }
     }
-    let got = gpu_small_scene(&tris, &rays);
+    // Shadow rays leave every third triangle out (as the faces of a scene's hull:
+    // `Scene::shadow_tests_of`), so positions first used by a left-out one are sheared later.
+    let shadow_tests = (0..tris.len()).filter(|k| k % 3 != 1).fold(0u64, |m, k| m | 1 << k);
+    let kept: Vec<Triangle> = tris.iter().enumerate().filter(|(k, _)| shadow_tests >> k & 1 == 1).map(|(_, t)| *t).collect();
+    let got = gpu_small_scene(&tris, &rays, shadow_tests);
     let cpu_arithmetic = common::gpu().info.device_type == wgpu::DeviceType::Cpu;
     let mut mismatches = Vec::new();
     let mut hits = 0;
-    for (k, (&(o, d, t_max), &(t, index, bary))) in rays.iter().zip(&got).enumerate() {
+    for (k, (&(o, d, t_max), &((t, index, bary), (ts, index_s, _)))) in rays.iter().zip(&got).enumerate() {
+        // The shadow ray's query: what the CPU finds among the kept triangles, and only those.
+        let expected_s = brute(&kept, o, d, t_max);
+        let agrees_s = if k < aimed {
+            expected_s.is_none_or(|te| ts > 0.0 && (ts - te).abs() <= 1e-6 * te)
+        } else if cpu_arithmetic {
+            expected_s.map_or(ts < 0.0, |te| te == ts)
+        } else {
+            expected_s.is_some() == (ts > 0.0)
+        };
+        if !agrees_s || (ts > 0.0 && shadow_tests >> index_s & 1 == 0) {
+            mismatches.push(format!("shadow ray {k} ({o:?} + t {d:?}, t_max {t_max}): kernel t {ts} (triangle {index_s}), the CPU's {expected_s:?} among the kept"));
+        }
         let expected = brute(&tris, o, d, t_max);
         hits += (t > 0.0) as usize;
         // The hit triangle's own test gives the kernel's distance (a tie resolves to either).

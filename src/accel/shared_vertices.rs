@@ -24,11 +24,22 @@ pub struct SharedVertices {
     /// numbered in order of first use). The kernel shears a position there, just before the
     /// first test that reads it, so that its value lives no longer than it must.
     pub first_uses: [u8; BRUTE_FORCE_TRIANGLES as usize],
+    /// Bit k: shadow rays test triangle k (`Scene::shadow_tests_of`: a face of the scene's hull
+    /// cannot block one); every triangle by default.
+    pub shadow_tests: u64,
+    /// `first_uses` among the triangles shadow rays test: where their test shears a position.
+    pub shadow_first_uses: [u8; BRUTE_FORCE_TRIANGLES as usize],
 }
 
 impl Default for SharedVertices {
     fn default() -> Self {
-        SharedVertices { count: 0, corners: [[0; 3]; BRUTE_FORCE_TRIANGLES as usize], first_uses: [0; BRUTE_FORCE_TRIANGLES as usize] }
+        SharedVertices {
+            count: 0,
+            corners: [[0; 3]; BRUTE_FORCE_TRIANGLES as usize],
+            first_uses: [0; BRUTE_FORCE_TRIANGLES as usize],
+            shadow_tests: u64::MAX,
+            shadow_first_uses: [0; BRUTE_FORCE_TRIANGLES as usize],
+        }
     }
 }
 
@@ -58,7 +69,28 @@ impl SharedVertices {
             }
         }
         shared.count = positions.len() as u32;
+        shared.shadow_first_uses = shared.first_uses;
         Some((shared, positions))
+    }
+
+    /// The same with shadow rays testing only the triangles whose bit is set in `tests`: each
+    /// position is sheared at its first use among those.
+    pub fn with_shadow_tests(mut self, tests: u64) -> SharedVertices {
+        self.shadow_tests = tests;
+        self.shadow_first_uses = [0; BRUTE_FORCE_TRIANGLES as usize];
+        let mut seen = vec![false; self.count as usize];
+        for (k, corners) in self.corners.iter().enumerate() {
+            if tests & (1 << k) == 0 {
+                continue;
+            }
+            for (j, &i) in corners.iter().enumerate() {
+                if (i as u32) < self.count && !seen[i as usize] {
+                    seen[i as usize] = true;
+                    self.shadow_first_uses[k] |= 1 << j;
+                }
+            }
+        }
+        self
     }
 }
 
@@ -75,6 +107,11 @@ mod tests {
         assert_eq!(&shared.corners[..2], &[[0, 1, 2], [0, 2, 3]]);
         assert_eq!(&shared.first_uses[..2], &[0b111, 0b100]);
         assert!(shared.corners[2..].iter().all(|c| *c == [0, 0, 0]));
+        // Shadow rays testing the second triangle alone shear all its corners there.
+        assert_eq!(shared.shadow_first_uses, shared.first_uses);
+        let second = shared.with_shadow_tests(0b10);
+        assert_eq!(&second.shadow_first_uses[..2], &[0, 0b111]);
+        assert_eq!(second.first_uses, shared.first_uses);
     }
 
     #[test]

@@ -36,9 +36,10 @@ pub struct SceneFeatures {
     pub num_projector_lights: u32,
     pub num_triangles: u32,
     /// A small scene's distinct vertex positions and each triangle's corners among them
-    /// (`accel::SharedVertices`; the default where the scene traverses the BVH): the
-    /// `NUM_SMALL_VERTICES`, `SMALL_CORNER_<k>_<j>` and `SMALL_FIRST_USES_<k>` overrides
-    /// (`shaders::small_vertex_constants`).
+    /// (`accel::SharedVertices`; the default where the scene traverses the BVH), and the
+    /// triangles shadow rays test: the `NUM_SMALL_VERTICES`, `SMALL_CORNER_<k>_<j>`,
+    /// `SMALL_FIRST_USES_<k>`, `SMALL_SHADOW_TESTS_<k>` and `SMALL_SHADOW_FIRST_USES_<k>`
+    /// overrides (`shaders::small_vertex_constants`).
     pub small_vertices: SharedVertices,
     /// Some mesh has vertex normals (interpolated as shading normals), or some SDF grid smooth
     /// normals.
@@ -178,7 +179,9 @@ impl SceneFeatures {
             num_triangles: scene.num_triangles() as u32,
             small_vertices: if scene.num_triangles() <= crate::accel::BRUTE_FORCE_TRIANGLES as usize {
                 // The kernel's order of the triangles (the BVH's leaves): cheap at this size.
-                super::PackedTriangles::new(scene, false).shared_vertices().map_or(SharedVertices::default(), |(s, _)| s)
+                // Shadow rays skip the faces of the scene's hull (`Scene::shadow_tests_of`).
+                let packed = super::PackedTriangles::new(scene, false);
+                packed.shared_vertices().map_or(SharedVertices::default(), |(s, _)| s.with_shadow_tests(scene.shadow_tests_of(&packed.corners())))
             } else {
                 SharedVertices::default()
             },
@@ -235,6 +238,7 @@ impl SceneFeatures {
             has_environment: true,
             microfacet_distributions: 3,
             num_occluding_planes: self.num_planes,
+            small_vertices: self.small_vertices.with_shadow_tests(u64::MAX),
             light_interiors_reachable: true,
             ..self
         }

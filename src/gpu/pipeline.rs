@@ -35,8 +35,8 @@ impl PipelineKey {
     /// The key of `method` on a scene with `features`: `default_select` (the scene's,
     /// `Scene::default_light_select`) where the method leaves the selection open, no traversal
     /// guard. The environment is a light of the table only where the method samples it
-    /// (`Method::environment`, with light sampling on); every plane can then block a shadow
-    /// ray, which runs to infinity.
+    /// (`Method::environment`, with light sampling on); every plane and every triangle can then
+    /// block a shadow ray, which runs to infinity.
     pub fn new(method: Method, mut features: SceneFeatures, default_select: LightSelect) -> PipelineKey {
         let select = Some(method.select.unwrap_or(default_select));
         if !(method.environment && method.lights != LightSampling::None) {
@@ -44,6 +44,7 @@ impl PipelineKey {
         }
         if features.num_environment_lights > 0 {
             features.num_occluding_planes = features.num_planes;
+            features.small_vertices = features.small_vertices.with_shadow_tests(u64::MAX);
         }
         PipelineKey { method: Method { select, ..method }, features, traversal_budget: NO_TRAVERSAL_GUARD, bspline_unrolled: false }
     }

@@ -233,8 +233,12 @@ impl PackedTriangles {
     /// The distinct vertex positions of a small scene's triangles (kernel order) and each
     /// triangle's corners among them; None where the kernel traverses the BVH.
     pub fn shared_vertices(&self) -> Option<(crate::accel::SharedVertices, Vec<[f32; 3]>)> {
-        let corners: Vec<[[f32; 3]; 3]> = self.triangles.iter().map(|t| [t.p0, t.p1, t.p2]).collect();
-        crate::accel::SharedVertices::of(&corners)
+        crate::accel::SharedVertices::of(&self.corners())
+    }
+
+    /// Each triangle's corners p0, p1, p2 (kernel order).
+    pub fn corners(&self) -> Vec<[[f32; 3]; 3]> {
+        self.triangles.iter().map(|t| [t.p0, t.p1, t.p2]).collect()
     }
 
     /// Builds the BVH over every mesh triangle and lays the triangles out in its leaf order,

@@ -291,13 +291,27 @@ pub fn small_first_use_names() -> &'static [String] {
     &NAMES
 }
 
+/// The names of the `override` constants that say whether shadow rays test triangle k
+/// (`SMALL_SHADOW_TESTS_<k>`, 1 or 0) and where their tests shear its corners
+/// (`SMALL_SHADOW_FIRST_USES_<k>`): `accel::SharedVertices::shadow_tests`.
+pub fn small_shadow_names() -> &'static [[String; 2]] {
+    static NAMES: std::sync::LazyLock<Vec<[String; 2]>> = std::sync::LazyLock::new(|| {
+        (0..crate::accel::BRUTE_FORCE_TRIANGLES).map(|k| [format!("SMALL_SHADOW_TESTS_{k}"), format!("SMALL_SHADOW_FIRST_USES_{k}")]).collect()
+    });
+    &NAMES
+}
+
 /// The `override` constants of a small scene's shared vertices (`accel::SharedVertices`):
-/// `NUM_SMALL_VERTICES`, and per triangle its corners and first uses.
+/// `NUM_SMALL_VERTICES`, and per triangle its corners, first uses, and whether and where
+/// shadow rays test it.
 pub fn small_vertex_constants(shared: &crate::accel::SharedVertices) -> Vec<(&'static str, f64)> {
     let mut constants = vec![("NUM_SMALL_VERTICES", shared.count as f64)];
     for (k, (names, corners)) in small_corner_names().iter().zip(shared.corners).enumerate() {
         constants.extend([0, 1, 2].map(|j| (names[j].as_str(), corners[j] as f64)));
         constants.push((small_first_use_names()[k].as_str(), shared.first_uses[k] as f64));
+        let [tests, first_uses] = &small_shadow_names()[k];
+        constants.push((tests.as_str(), (shared.shadow_tests >> k & 1) as f64));
+        constants.push((first_uses.as_str(), shared.shadow_first_uses[k] as f64));
     }
     constants
 }
@@ -321,8 +335,15 @@ pub fn small_triangle_tests(n: u32) -> String {
          // scene traverses the BVH), and each triangle's corners among them.\n\
          override NUM_SMALL_VERTICES: u32 = 0u;\n",
     );
-    for (names, first) in small_corner_names().iter().zip(small_first_use_names()) {
-        s += &format!("override {}: u32 = 0u;\noverride {}: u32 = 0u;\noverride {}: u32 = 0u;\noverride {first}: u32 = 0u;\n", names[0], names[1], names[2]);
+    s += "// Whether shadow rays test triangle k, and where they shear its corners: by default every\n\
+          // triangle, as the other rays (a face of the scene's hull cannot block one:\n\
+          // `Scene::shadow_tests_of`).\n";
+    for ((names, first), [shadow, shadow_first]) in small_corner_names().iter().zip(small_first_use_names()).zip(small_shadow_names()) {
+        s += &format!(
+            "override {}: u32 = 0u;\noverride {}: u32 = 0u;\noverride {}: u32 = 0u;\noverride {first}: u32 = 0u;\n\
+             override {shadow}: u32 = 1u;\noverride {shadow_first}: u32 = {first};\n",
+            names[0], names[1], names[2]
+        );
     }
     s += &format!(
         "\n// The triangle tests unrolled in this module: a scene of at most this many triangles\n\
@@ -340,19 +361,23 @@ pub fn small_triangle_tests(n: u32) -> String {
     }
     s += "}\n\n\
           // The nearest triangle along (o, d) closer than t_max, every triangle tested in turn on\n\
-          // its corners sheared once per ray.\n\
-          fn triangles_brute_force(o: vec3f, d: vec3f, t_max: f32) -> TriangleHit {\n    \
+          // its corners sheared once per ray; for a shadow ray towards a light (`shadow`, a\n\
+          // constant at each call), only those SMALL_SHADOW_TESTS_<k> keeps.\n\
+          fn triangles_brute_force(o: vec3f, d: vec3f, t_max: f32, shadow: bool) -> TriangleHit {\n    \
           var best = TriangleHit(t_max, INVALID, vec2f(0.0));\n";
     if n == 0 {
         return s + "    return best;\n}\n";
     }
     s += &format!("    let ray = sheared_ray(o, d);\n    var sheared: array<vec3f, {}>;\n    var bary: vec2f;\n", 3 * n);
     for (k, names) in small_corner_names().iter().enumerate().take(n as usize) {
-        s += &format!("    if ({k}u < NUM_TRIANGLES) {{\n");
-        // Each position sheared at its first use (SMALL_FIRST_USES_<k>, bit j), just before
-        // the first test that reads it.
+        let [shadow_tests, shadow_first] = &small_shadow_names()[k];
+        s += &format!("    if ({k}u < NUM_TRIANGLES && (!shadow || {shadow_tests} != 0u)) {{\n");
+        s += &format!("        let first_uses = select({}, {shadow_first}, shadow);\n", small_first_use_names()[k]);
+        // Each position sheared at its first use (SMALL_FIRST_USES_<k>, bit j; among the
+        // triangles shadow rays test, SMALL_SHADOW_FIRST_USES_<k>), just before the first test
+        // that reads it.
         for (j, name) in names.iter().enumerate() {
-            s += &format!("        if (({} & {}u) != 0u) {{ sheared[{name}] = shear_vertex(ray, small_vertex_cache[{name}]); }}\n", small_first_use_names()[k], 1 << j);
+            s += &format!("        if ((first_uses & {}u) != 0u) {{ sheared[{name}] = shear_vertex(ray, small_vertex_cache[{name}]); }}\n", 1 << j);
         }
         s += &format!(
             "        \
