@@ -403,13 +403,17 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
         }
         if let Some((shared, _)) = packed.shared_vertices() {
             let hull = packed.triangles.len() as u32 - scene.shadow_tests_of(&packed.corners()).count_ones().min(packed.triangles.len() as u32);
+            let skipped = if hull > 0 {
+                format!("; shadow rays to lights skip the {hull} on the scene's hull (unless next event estimation samples the environment)")
+            } else {
+                String::new()
+            };
             println!(
-                "Small scene: on a CPU adapter the kernel tests all {} triangles in turn (at most {}), on {} distinct vertices sheared once per ray ({} corners); shadow rays to lights skip the {hull} on the scene's hull{}",
+                "Small scene: on a CPU adapter the kernel tests all {} triangles in turn (at most {}), on {} distinct vertices sheared once per ray ({} corners){skipped}",
                 packed.triangles.len(),
                 pathlab::accel::BRUTE_FORCE_TRIANGLES,
                 shared.count,
                 3 * packed.triangles.len(),
-                if hull > 0 { " (unless next event estimation samples the environment)" } else { "" }
             );
         }
     }
