@@ -126,6 +126,7 @@ fn overrides_set_by_the_host_are_those_the_module_declares() {
         has_environment: true,
         has_environment_map: true,
         light_interiors_reachable: true,
+        uniform_light_powers: false,
         hide_emitters: true,
         num_media: 1,
         camera_medium: 0,

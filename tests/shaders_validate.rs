@@ -129,6 +129,8 @@ fn every_override_permutation_validates() {
                                     has_environment: on,
                                     has_environment_map: on,
                                     light_interiors_reachable: on,
+                                    // Power selection stays power (uniform selection is a method of its own).
+                                    uniform_light_powers: false,
                                     // Media on and off (two, the camera in one or in none),
                                     // with every light sampling and selection.
                                     num_media: if (checked / 37) % 2 == 0 { 2 } else { 0 },

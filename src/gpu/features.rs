@@ -110,6 +110,12 @@ pub struct SceneFeatures {
     /// False when no path vertex can be inside a light: sampling lights from inside (by area)
     /// is compiled out, leaving cone sampling alone.
     pub light_interiors_reachable: bool,
+    /// Every light of the table (the environment left out) has the same probability under power
+    /// selection, exactly as the kernel reads it (1 / n in f32, each alias slot keeping its own
+    /// light): power selection then draws what uniform selection draws, with the same
+    /// probability, and the kernel selects uniformly without reading the table
+    /// (`pipeline_constants`).
+    pub uniform_light_powers: bool,
     /// Participating media (`Scene::media`): the kernel's `NUM_MEDIA`; 0 compiles every
     /// volumetric step out (volpath.wgsl).
     pub num_media: u32,
@@ -219,6 +225,13 @@ impl SceneFeatures {
             has_environment_map: scene.environment_map.is_some(),
             num_occluding_planes: scene.occluding_planes().len() as u32,
             light_interiors_reachable: scene.light_interiors_reachable(),
+            uniform_light_powers: {
+                let lights = scene.sampled_lights(false);
+                let weights: Vec<f64> = lights.iter().map(|&l| scene.light_power(l)).collect();
+                let table = crate::scene::AliasTable::new(&weights);
+                let n = lights.len().max(1) as f32;
+                table.prob.iter().zip(&table.threshold).all(|(&p, &t)| p as f32 == 1.0 / n && t as f32 == 1.0)
+            },
             num_media: scene.media.len() as u32,
             camera_medium: scene.camera_medium.map_or(crate::shaders::flags::NO_MEDIUM, |m| m as u32),
             max_null_collisions: crate::scene::media::max_null_collisions(&scene.media),
@@ -240,6 +253,7 @@ impl SceneFeatures {
             num_occluding_planes: self.num_planes,
             small_vertices: self.small_vertices.with_shadow_tests(u64::MAX),
             light_interiors_reachable: true,
+            uniform_light_powers: false,
             ..self
         }
     }
@@ -290,5 +304,24 @@ mod tests {
         assert_eq!(plane_order(&s), vec![1, 0]);
         let f = SceneFeatures::of(&s);
         assert_eq!((f.num_spheres, f.num_sphere_lights, f.num_lights(), f.num_occluding_planes), (3, 2, 2, 1));
+        // Two lamps of one size and emission: power selection is uniform selection.
+        assert!(f.uniform_light_powers);
+        let s = Scene::parse(&text.replace("[-3, 0, -5]\nradius = 1", "[-3, 0, -5]\nradius = 1.5"), "test.toml").unwrap();
+        assert!(!SceneFeatures::of(&s).uniform_light_powers);
+    }
+
+    #[test]
+    fn power_selection_over_equal_lights_compiles_as_uniform_selection() {
+        use crate::method::{LightSelect, Method};
+        let s = Scene::load(concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes/cornell_box.toml")).unwrap();
+        let f = SceneFeatures::of(&s);
+        assert!(f.uniform_light_powers, "the Cornell box's light: two triangles of one rectangle");
+        let select = |name: &str| {
+            let key = crate::gpu::PipelineKey::new(Method::from_name(name).unwrap(), f, s.default_light_select());
+            crate::gpu::pipeline::pipeline_constants(&key).into_iter().find(|(n, _)| *n == "LIGHT_SELECT").unwrap().1
+        };
+        assert_eq!(select("mis"), LightSelect::Uniform.constant() as f64);
+        assert_eq!(select("mis+power"), LightSelect::Uniform.constant() as f64);
+        assert_eq!(select("mis+all"), LightSelect::All.constant() as f64);
     }
 }
