@@ -225,13 +225,7 @@ impl SceneFeatures {
             has_environment_map: scene.environment_map.is_some(),
             num_occluding_planes: scene.occluding_planes().len() as u32,
             light_interiors_reachable: scene.light_interiors_reachable(),
-            uniform_light_powers: {
-                let lights = scene.sampled_lights(false);
-                let weights: Vec<f64> = lights.iter().map(|&l| scene.light_power(l)).collect();
-                let table = crate::scene::AliasTable::new(&weights);
-                let n = lights.len().max(1) as f32;
-                table.prob.iter().zip(&table.threshold).all(|(&p, &t)| p as f32 == 1.0 / n && t as f32 == 1.0)
-            },
+            uniform_light_powers: scene.light_selection(false).1.draws_uniformly_in_f32(),
             num_media: scene.media.len() as u32,
             camera_medium: scene.camera_medium.map_or(crate::shaders::flags::NO_MEDIUM, |m| m as u32),
             max_null_collisions: crate::scene::media::max_null_collisions(&scene.media),

@@ -14,7 +14,7 @@ use glam::DVec3;
 use wgpu::util::DeviceExt;
 
 use crate::accel::{Bvh, BvhNode};
-use crate::scene::{AliasTable, BsdfData, EmitterKind, Light, Scene, MAX_DELTA_LIGHTS, MAX_MATERIALS, MAX_PLANES, MAX_QUADRICS, MAX_SPHERES};
+use crate::scene::{BsdfData, EmitterKind, Light, Scene, MAX_DELTA_LIGHTS, MAX_MATERIALS, MAX_PLANES, MAX_QUADRICS, MAX_SPHERES};
 use crate::shaders::bindings::{self, Binding};
 use crate::shaders::flags::{MATERIAL_EMISSIVE, MATERIAL_ONE_SIDED, NO_BACK, NO_BLEND, NO_BUMP_MAP, NO_EMISSION_TEXTURE, NO_LIGHT_TEXTURE, NO_NORMAL_MAP, TRIANGLE_HAS_NORMALS, TRIANGLE_HAS_UVS, TRIANGLE_TWO_SIDED};
 
@@ -249,7 +249,7 @@ impl PackedTriangles {
         let refs: Vec<(usize, usize)> =
             scene.meshes.iter().enumerate().flat_map(|(m, mesh)| (0..mesh.triangles.len()).map(move |t| (m, t))).collect();
         let first: Vec<usize> = scene.meshes.iter().scan(0, |n, mesh| Some(std::mem::replace(n, *n + mesh.triangles.len()))).collect();
-        let lights = scene.sampled_lights(sample_environment);
+        let (lights, alias) = scene.light_selection(sample_environment);
         let mut light_of = vec![u32::MAX; refs.len()];
         for (l, light) in lights.iter().enumerate() {
             if let Light::Triangle { mesh, triangle } = *light {
@@ -301,8 +301,6 @@ impl PackedTriangles {
         // The light table, each kind's lights one range in `EmitterKind` order: sphere light l
         // is kernel sphere l, a triangle is named by its index in leaf order, the environment
         // by nothing.
-        let weights: Vec<f64> = lights.iter().map(|&l| scene.light_power(l)).collect();
-        let alias = AliasTable::new(&weights);
         let lights = lights
             .iter()
             .enumerate()

@@ -23,6 +23,15 @@ impl Scene {
     pub fn default_light_select(&self) -> LightSelect {
         if self.has_triangle_lights() { LightSelect::Power } else { LightSelect::All }
     }
+
+    /// The lights of the table (`sampled_lights`) and power selection's alias table over them:
+    /// the one place the table's weights are decided.
+    pub fn light_selection(&self, sample_environment: bool) -> (Vec<super::Light>, AliasTable) {
+        let lights = self.sampled_lights(sample_environment);
+        let weights: Vec<f64> = lights.iter().map(|&l| self.light_power(l)).collect();
+        let table = AliasTable::new(&weights);
+        (lights, table)
+    }
 }
 
 /// Walker's alias table (Vose's construction): slot i keeps item i with probability
@@ -61,6 +70,13 @@ impl AliasTable {
             alias[i] = i as u32;
         }
         AliasTable { prob, threshold, alias }
+    }
+
+    /// Whether the table, as the kernel reads it (f32), draws exactly as uniform selection does:
+    /// every item's probability 1/n and every slot keeping its own item.
+    pub fn draws_uniformly_in_f32(&self) -> bool {
+        let n = self.prob.len().max(1) as f32;
+        self.prob.iter().zip(&self.threshold).all(|(&p, &t)| p as f32 == 1.0 / n && t as f32 == 1.0)
     }
 
     /// The probability of each item under the table (for checking it): (1/n) sum over slots.
