@@ -15,7 +15,7 @@
 
 use std::f64::consts::PI;
 
-use crate::gpu::{Gpu, GpuError, KernelRun};
+use crate::gpu::{Gpu, GpuError, Kernel, KernelData, KernelLayout};
 use crate::shaders;
 
 /// Cells in phi and in s, by default (`Routine::bins`).
@@ -235,25 +235,51 @@ pub fn source(routine: &Routine, techniques: shaders::TechniqueFiles) -> String 
     shaders::assemble_with(parts, &format!("{}\n{integrand}{KERNEL}", routine.wgsl), crate::accel::BRUTE_FORCE_TRIANGLES, techniques)
 }
 
-/// Runs `entry` of the routine's kernel over `items` invocations and returns its output.
-pub fn run(gpu: &Gpu, source: &str, routine: &Routine, entry: &str, mut inputs: Vec<(u32, Vec<u8>)>, out_vec4s: usize, items: usize) -> Result<Vec<[f32; 4]>, GpuError> {
-    if !routine.bsdf_data.is_empty() {
-        inputs.push((shaders::bindings::BSDF_DATA.number, bytemuck::cast_slice(&routine.bsdf_data).to_vec()));
+/// The routine's kernel, compiled once: its sampling entry (`sample_main`) and its pdf entry
+/// (`pdf_main`), dispatched as often as a test needs.
+pub struct RoutineKernel<'a> {
+    kernel: Kernel,
+    routine: &'a Routine,
+}
+
+impl<'a> RoutineKernel<'a> {
+    /// Compiles `source` (`source(routine, ..)`, or a kernel of the caller's with `entries`) for
+    /// the routine's constants, with its BSDF data and environment map bound.
+    pub fn new(gpu: &Gpu, source: &str, routine: &'a Routine, entries: &[&str], inputs: &[u32]) -> Result<Self, GpuError> {
+        let mut storage = inputs.to_vec();
+        storage.extend(Self::data(routine).iter().map(|(b, _)| *b));
+        let layout = KernelLayout { storage: &storage, uniforms: &[], texel_tables: &[], output: 1 };
+        Ok(RoutineKernel { kernel: Kernel::new(gpu, source, entries, &routine.constants, &layout)?, routine })
     }
-    if !routine.environment_map.is_empty() {
-        inputs.push((shaders::bindings::ENVIRONMENT_MAP.number, bytemuck::cast_slice(&routine.environment_map).to_vec()));
+
+    /// The routine's own data bindings: its BSDF data and environment map, where it has them.
+    fn data(routine: &Routine) -> Vec<(u32, &[u8])> {
+        let mut data = Vec::new();
+        if !routine.bsdf_data.is_empty() {
+            data.push((shaders::bindings::BSDF_DATA.number, bytemuck::cast_slice(&routine.bsdf_data)));
+        }
+        if !routine.environment_map.is_empty() {
+            data.push((shaders::bindings::ENVIRONMENT_MAP.number, bytemuck::cast_slice(&routine.environment_map)));
+        }
+        data
     }
-    let run = KernelRun {
-        source,
-        entry,
-        constants: &routine.constants,
-        inputs,
-        uniforms: vec![],
-        texel_tables: vec![],
-        output: (1, (out_vec4s * 16) as u64),
-        workgroups: (items as u32).div_ceil(64),
-    };
-    Ok(bytemuck::pod_collect_to_vec(&run.run(gpu)?))
+
+    /// Runs `entry` over `items` invocations with `inputs` (binding, bytes) and returns its
+    /// output of `out_vec4s` vec4s (binding 1).
+    pub fn run(&self, gpu: &Gpu, entry: &str, inputs: &[(u32, &[u8])], out_vec4s: usize, items: usize) -> Result<Vec<[f32; 4]>, GpuError> {
+        let mut storage = inputs.to_vec();
+        storage.extend(Self::data(self.routine));
+        let data = KernelData { storage: &storage, uniforms: &[], texel_tables: &[] };
+        self.kernel.dispatch(gpu, entry, &data, (out_vec4s * 16) as u64, (items as u32).div_ceil(64))
+    }
+}
+
+/// Runs `entry` of the routine's kernel over `items` invocations and returns its output
+/// (a kernel compiled for this one dispatch).
+pub fn run(gpu: &Gpu, source: &str, routine: &Routine, entry: &str, inputs: Vec<(u32, Vec<u8>)>, out_vec4s: usize, items: usize) -> Result<Vec<[f32; 4]>, GpuError> {
+    let numbers: Vec<u32> = inputs.iter().map(|(b, _)| *b).collect();
+    let slices: Vec<(u32, &[u8])> = inputs.iter().map(|(b, bytes)| (*b, bytes.as_slice())).collect();
+    RoutineKernel::new(gpu, source, routine, &[entry], &numbers)?.run(gpu, entry, &slices, out_vec4s, items)
 }
 
 /// What a fault flag (`TECHNIQUE_FAULT_*` bits) means.
@@ -287,7 +313,11 @@ pub fn binned(gpu: &Gpu, routine: &Routine, techniques: shaders::TechniqueFiles,
     let source = source(routine, techniques);
     let kernel = |e: GpuError| Chi2Failure::Kernel(e.to_string());
     let params: [u32; 4] = [samples, seed, 0, 0];
-    let drawn = run(gpu, &source, routine, "sample_main", vec![(0, bytemuck::cast_slice(&params).to_vec())], 2 * samples as usize, samples as usize).map_err(kernel)?;
+    // One module, two pipelines: the pdf's serves the cells and, where a support boundary
+    // crosses some, their sub-cells.
+    let compiled = RoutineKernel::new(gpu, &source, routine, &["sample_main", "pdf_main"], &[0, 2]).map_err(kernel)?;
+    let params_bytes: &[u8] = bytemuck::cast_slice(&params);
+    let drawn = compiled.run(gpu, "sample_main", &[(0, params_bytes)], 2 * samples as usize, samples as usize).map_err(kernel)?;
 
     // Faults of a researcher's technique come first: nothing else about such samples means much.
     let faulted: Vec<u32> = drawn.chunks(2).map(|pair| pair[1][3] as u32).filter(|&f| f != 0).collect();
@@ -320,16 +350,7 @@ pub fn binned(gpu: &Gpu, routine: &Routine, techniques: shaders::TechniqueFiles,
     }
     let cell_points = points.len();
     points.extend(drawn.iter().step_by(2).map(|d| [d[0], d[1], d[2], 0.0]));
-    let pdfs = run(
-        gpu,
-        &source,
-        routine,
-        "pdf_main",
-        vec![(0, bytemuck::cast_slice(&params).to_vec()), (2, bytemuck::cast_slice(&points).to_vec())],
-        points.len(),
-        points.len(),
-    )
-    .map_err(kernel)?;
+    let pdfs = compiled.run(gpu, "pdf_main", &[(0, params_bytes), (2, bytemuck::cast_slice(&points))], points.len(), points.len()).map_err(kernel)?;
     let faulted = pdfs.iter().filter(|p| p[2] != 0.0).count() as u64;
     if faulted > 0 {
         let bits = pdfs.iter().fold(0u32, |a, p| a | p[2] as u32);
@@ -395,16 +416,7 @@ pub fn binned(gpu: &Gpu, routine: &Routine, techniques: shaders::TechniqueFiles,
                 }
             }
         }
-        let sub_pdfs = run(
-            gpu,
-            &source,
-            routine,
-            "pdf_main",
-            vec![(0, bytemuck::cast_slice(&params).to_vec()), (2, bytemuck::cast_slice(&sub_points).to_vec())],
-            sub_points.len(),
-            sub_points.len(),
-        )
-        .map_err(kernel)?;
+        let sub_pdfs = compiled.run(gpu, "pdf_main", &[(0, params_bytes), (2, bytemuck::cast_slice(&sub_points))], sub_points.len(), sub_points.len()).map_err(kernel)?;
         let per_cell = refine * refine * 16;
         for (n, &c) in crossed.iter().enumerate() {
             let range = n * per_cell..(n + 1) * per_cell;
