@@ -10,6 +10,7 @@ mod anisotropic;
 mod analytic_scenes;
 mod bump_maps;
 mod blends;
+mod build_features;
 mod bvh;
 mod checkpoint;
 mod chi2_sampling;
