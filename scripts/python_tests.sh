@@ -21,7 +21,11 @@ start=$SECONDS
 "$venv/bin/pip" install --quiet --disable-pip-version-check pytest scikit-image tqdm numpy mypy
 echo "python tests: test dependencies ready in $((SECONDS - start)) s"
 start=$SECONDS
-"$venv/bin/pip" install --quiet --disable-pip-version-check --force-reinstall --no-deps "$repo/python"
+# With the extension's `viewer` feature (never called from Python), the build resolves every crate
+# it shares with `cargo test`'s to the same features and reuses them: pyo3, numpy and the
+# extension compile, not the library again (python/Cargo.toml, tests/build_features.rs).
+MATURIN_PEP517_ARGS="--features viewer" \
+    "$venv/bin/pip" install --quiet --disable-pip-version-check --force-reinstall --no-deps "$repo/python"
 echo "python tests: pip install ./python took $((SECONDS - start)) s"
 
 scratch="$(mktemp -d)"

@@ -1,25 +1,25 @@
 //! The Python extension's build reuses what `cargo test` built. `scripts/python_tests.sh` runs
 //! `pip install ./python` after the suite, into the same `target/`; cargo reuses a crate only
 //! where both builds resolve it to the same features (and the same for everything it depends
-//! on), so a crate whose features differ compiles again, with every crate above it. The
-//! extension therefore depends on the library with its default features (the viewer's eframe
-//! sets features of wgpu), and the library asks syn 3 for the features pyo3's macros ask (a
-//! build-dependency, see Cargo.toml); otherwise CI compiled the library, naga, wgpu, image, exr
-//! and serde a second time (265 s on a clean checkout, 57 units).
+//! on), so a crate whose features differ compiles again, with every crate above it. The script
+//! therefore builds the extension with its `viewer` feature (the library's viewer built in: its
+//! eframe sets features of wgpu and its parts), and the library asks syn 3 for the features
+//! pyo3's macros ask (a build-dependency, see Cargo.toml); otherwise CI compiled the library,
+//! naga, wgpu, image, exr and serde a second time (265 s on a clean checkout, 57 units).
 //!
-//! Every crate the extension's build shares with the suite's must resolve, in the extension's
-//! build, to feature sets the suite's build has too (`cargo tree`, offline, on the lock file).
-//! Without the build-dependency this fails on syn 3; with the library's default features off
-//! in python/Cargo.toml, on wgpu and its parts.
+//! Every crate the extension's build (with `viewer`) shares with the suite's must resolve, in
+//! the extension's build, to feature sets the suite's build has too (`cargo tree`, offline, on
+//! the lock file). Without the build-dependency this fails on syn 3; without `viewer`, on wgpu
+//! and its parts.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::process::Command;
 
-/// Package (name and version) -> the feature sets it resolves to in `package`'s build (host
-/// and target builds of one package may differ, so a set of them).
-fn resolved(package: &str, edges: &str) -> BTreeMap<String, BTreeSet<String>> {
+/// Package (name and version) -> the feature sets it resolves to in `package`'s build with
+/// `features` (host and target builds of one package may differ, so a set of them).
+fn resolved(package: &str, features: &str, edges: &str) -> BTreeMap<String, BTreeSet<String>> {
     let out = Command::new(env!("CARGO"))
-        .args(["tree", "--offline", "--locked", "--package", package, "--edges", edges, "--prefix", "none", "--format", "{p} [{f}]"])
+        .args(["tree", "--offline", "--locked", "--package", package, "--features", features, "--edges", edges, "--prefix", "none", "--format", "{p} [{f}]"])
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .output()
         .expect("cargo runs");
@@ -38,8 +38,9 @@ fn resolved(package: &str, edges: &str) -> BTreeMap<String, BTreeSet<String>> {
 #[test]
 fn the_python_extension_resolves_the_crates_it_shares_with_the_suite_as_the_suite_does() {
     // What `cargo test` builds: the library, the CLI and the tests, dev-dependencies included.
-    let suite = resolved("pathlab", "normal,build,dev");
-    let python = resolved("pathlab-python", "normal,build");
+    let suite = resolved("pathlab", "", "normal,build,dev");
+    // As scripts/python_tests.sh builds it (MATURIN_PEP517_ARGS="--features viewer").
+    let python = resolved("pathlab-python", "viewer", "normal,build");
     assert!(suite.keys().any(|id| id.starts_with("wgpu ")) && python.keys().any(|id| id.starts_with("pyo3 ")), "cargo tree listed no packages");
     let differ: Vec<String> = python
         .iter()
