@@ -32,8 +32,10 @@ fn hidden_emitters_agree_with_mitsuba_and_shown_ones_do_not() {
     // The same scene with its emitters shown: rejected on its blocks.
     let shown = Scene { render: pathlab::scene::RenderSettings { hide_emitters: false, ..scene.render.clone() }, ..scene.clone() };
     assert_ne!(shown.content_hash(), scene.content_hash(), "hide_emitters is part of the scene's content");
-    let film = render(&shown, Preset::Mis.method(), 1024, 2200);
+    // 64 spp: the shown lights and sky differ from the reference by far more than its noise.
+    let film = render(&shown, Preset::Mis.method(), 64, 2200);
     let z = pathlab::stats::z_test(&reference.downsample(2), &film.downsample(2), 0.01);
+    println!("emitters shown (64 spp, 2x2 blocks): {:.4} of channels pass", z.pass_fraction);
     assert!(z.pass_fraction < 0.9975, "the emitters shown pass as hidden: {:.4} of channels pass", z.pass_fraction);
 }
 
@@ -61,8 +63,9 @@ fn hidden_emitters_in_a_scene_with_media_agree_with_mitsuba() {
     let methods: Vec<Method> = ["mis", "nee+all"].iter().map(|m| Method::from_name(m).unwrap()).collect();
     agrees_with_reference(&reference, &scene, &methods, |_| (1024, 4), 5200, Preset::Mis.method());
     let shown = Scene { render: pathlab::scene::RenderSettings { hide_emitters: false, ..scene.render.clone() }, ..scene.clone() };
-    let film = render(&shown, Preset::Mis.method(), 1024, 5210);
+    let film = render(&shown, Preset::Mis.method(), 64, 5210);
     let z = pathlab::stats::z_test(&reference.downsample(4), &film.downsample(4), 0.01);
+    println!("emitters shown (64 spp, 4x4 blocks): {:.4} of channels pass", z.pass_fraction);
     assert!(z.pass_fraction < 0.9975, "the emitters shown pass as hidden: {:.4} of channels pass", z.pass_fraction);
 }
 
