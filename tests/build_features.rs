@@ -8,9 +8,9 @@
 //! naga, wgpu, image, exr and serde a second time (265 s on a clean checkout, 57 units).
 //!
 //! Every crate the extension's build (with `viewer`) shares with the suite's must resolve, in
-//! the extension's build, to feature sets the suite's build has too (`cargo tree`, offline, on
-//! the lock file). Without the build-dependency this fails on syn 3; without `viewer`, on wgpu
-//! and its parts.
+//! the extension's build, to feature sets the suite's build has too (`cargo tree` on the lock
+//! file; on a fresh machine it downloads pyo3 and numpy, which `cargo test` does not need).
+//! Without the build-dependency this fails on syn 3; without `viewer`, on wgpu and its parts.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::process::Command;
@@ -19,7 +19,7 @@ use std::process::Command;
 /// `features` (host and target builds of one package may differ, so a set of them).
 fn resolved(package: &str, features: &str, edges: &str) -> BTreeMap<String, BTreeSet<String>> {
     let out = Command::new(env!("CARGO"))
-        .args(["tree", "--offline", "--locked", "--package", package, "--features", features, "--edges", edges, "--prefix", "none", "--format", "{p} [{f}]"])
+        .args(["tree", "--locked", "--package", package, "--features", features, "--edges", edges, "--prefix", "none", "--format", "{p} [{f}]"])
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .output()
         .expect("cargo runs");
