@@ -233,6 +233,13 @@ fn hit_triangle(o: DVec3, d: DVec3, [p0, p1, p2]: [DVec3; 3]) -> Option<f64> {
     (u >= 0.0 && v >= 0.0 && u + v <= 1.0 && t > 0.0).then_some(t)
 }
 
+/// Whether the ray from o along d meets the box [lo, hi] ahead of o (the slab test).
+fn meets_box(o: DVec3, d: DVec3, (lo, hi): &(DVec3, DVec3)) -> bool {
+    let (a, b) = ((*lo - o) / d, (*hi - o) / d);
+    let (near, far) = (a.min(b).max_element(), a.max(b).min_element());
+    near <= far && far >= 0.0
+}
+
 /// The light as Lambert's formula reads it: world-space vertices and front-facing-ready faces.
 struct Light {
     vertices: Vec<DVec3>,
@@ -281,6 +288,13 @@ fn exact_image(scene: &Scene) -> Vec<Option<f64>> {
     let half_w = (deg.to_radians() / 2.0).tan();
     let half_h = half_w * h as f64 / w as f64;
     let tris = world_triangles(scene);
+    // The emissive triangles' bounding box, grown by a relative 1e-6 (a ray through a corner).
+    let light_box = {
+        let points = tris.iter().filter(|(_, e)| *e).flat_map(|(t, _)| *t);
+        let (lo, hi) = points.fold((DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)), |(lo, hi), p| (lo.min(p), hi.max(p)));
+        let pad = DVec3::splat(1e-6 * (hi - lo).max_element().max(1.0));
+        (lo - pad, hi + pad)
+    };
     let lamp = scene.meshes.iter().find(|m| scene.materials[m.material].is_emissive()).unwrap();
     let light = Light {
         vertices: lamp.positions.clone(),
@@ -299,8 +313,11 @@ fn exact_image(scene: &Scene) -> Vec<Option<f64>> {
                         let ndc_x = 2.0 * (px as f64 + (sx as f64 + 0.5) / SUB as f64) / w as f64 - 1.0;
                         let ndc_y = 1.0 - 2.0 * (py as f64 + (sy as f64 + 0.5) / SUB as f64) / h as f64;
                         let d = (forward + ndc_x * half_w * right + ndc_y * half_h * up).normalize();
+                        // The light's triangles only where the ray meets their bounding box.
+                        let near_light = meets_box(cam.position, d, &light_box);
                         let nearest = tris
                             .iter()
+                            .filter(|(_, e)| !e || near_light)
                             .filter_map(|(t, e)| hit_triangle(cam.position, d, *t).map(|dist| (dist, *t, *e)))
                             .min_by(|a, b| a.0.total_cmp(&b.0));
                         let Some((dist, tri, emissive)) = nearest else { continue };

@@ -1,7 +1,6 @@
 //! Path-tracing pipelines, specialised through WGSL `override` constants to a method and to the
 //! features of a scene, created once per (method, features) and cached.
 
-use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
@@ -9,6 +8,7 @@ use wgpu::util::DeviceExt;
 
 use crate::method::{LightSampling, LightSelect, Method};
 use super::features::SceneFeatures;
+use super::recent::Recent;
 use crate::scene::{BsdfKind, EmitterKind};
 use crate::shaders::specialise::{self, ParsedModule};
 use crate::shaders::{self, bindings};
@@ -312,19 +312,27 @@ pub struct PipelineStats {
 /// The researchers' techniques a module holds: their files' SHA-256 by kind.
 type TechniqueKey = (Option<String>, Option<String>, Option<String>);
 
+/// Pipelines a `PathTracerPipelines` keeps (the most recently used): every method of a study
+/// or a test file of one scene, at 10-20 MB each on lavapipe.
+pub const CACHED_PIPELINES: usize = 48;
+
+/// Parsed path-tracer modules it keeps (one per unrolled triangle count and set of techniques).
+const CACHED_MODULES: usize = 4;
+
 /// The path tracer's shader modules, bind group layout and a cache of specialised pipelines.
 pub struct PathTracerPipelines {
     /// One parsed module per count its small-scene triangle tests are unrolled to
     /// (`shaders::unrolled_triangles`) and researchers' techniques (their SHA-256s), parsed on
     /// first use and specialised per pipeline (`shaders::specialise`).
-    modules: Mutex<HashMap<(u32, TechniqueKey), Arc<ParsedModule>>>,
+    modules: Mutex<Recent<(u32, TechniqueKey), Arc<ParsedModule>>>,
     /// The tuning to the adapter's kind.
     tuning: AdapterTuning,
     /// The Halton bases, bound at `bindings::HALTON_PRIMES`.
     pub halton_primes: wgpu::Buffer,
     pub bind_group_layout: wgpu::BindGroupLayout,
     layout: wgpu::PipelineLayout,
-    cache: Mutex<HashMap<(PipelineKey, TechniqueKey), (Arc<wgpu::ComputePipeline>, PipelineStats)>>,
+    /// The most recently used pipelines (`CACHED_PIPELINES`).
+    cache: Mutex<Recent<(PipelineKey, TechniqueKey), (Arc<wgpu::ComputePipeline>, PipelineStats)>>,
 }
 
 impl PathTracerPipelines {
@@ -349,7 +357,7 @@ impl PathTracerPipelines {
             contents: &shaders::halton_primes_bytes(),
             usage: wgpu::BufferUsages::UNIFORM,
         });
-        PathTracerPipelines { modules: Mutex::new(HashMap::new()), tuning, halton_primes, bind_group_layout, layout, cache: Mutex::new(HashMap::new()) }
+        PathTracerPipelines { modules: Mutex::new(Recent::new(CACHED_MODULES)), tuning, halton_primes, bind_group_layout, layout, cache: Mutex::new(Recent::new(CACHED_PIPELINES)) }
     }
 
     /// The pipeline for `key` with `techniques` (those its method names), compiled on first
@@ -366,14 +374,17 @@ impl PathTracerPipelines {
         let unrolled = shaders::unrolled_triangles(key.features.num_triangles, self.tuning.brute_force_limit);
         let parsed = {
             let mut modules = self.modules.lock().unwrap_or_else(|e| e.into_inner());
-            modules
-                .entry((unrolled, technique_key.clone()))
-                .or_insert_with(|| {
+            let module_key = (unrolled, technique_key.clone());
+            match modules.get(&module_key) {
+                Some(parsed) => parsed.clone(),
+                None => {
                     let source = shaders::path_tracer_source_with(unrolled, techniques);
                     // The assembled kernel and validated techniques: an error here is pathlab's.
-                    Arc::new(specialise::parse(&source).unwrap_or_else(|e| panic!("the path tracer does not parse:\n{e}")))
-                })
-                .clone()
+                    let parsed = Arc::new(specialise::parse(&source).unwrap_or_else(|e| panic!("the path tracer does not parse:\n{e}")));
+                    modules.insert(module_key, parsed.clone());
+                    parsed
+                }
+            }
         };
         // The kernel reduced to what this key's constants reach: the driver compiles no more.
         let specialised = specialise::specialise(&parsed, shaders::PATH_TRACER_ENTRY, &constants)

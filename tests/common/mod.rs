@@ -1,4 +1,5 @@
-//! Shared helpers of the integration tests: one GPU device and pipeline cache per test binary.
+//! Shared helpers of the integration tests: two GPU devices, each with its pipeline cache, a
+//! test on the one fewer running tests use (`slot`).
 #![allow(dead_code)]
 
 use std::sync::atomic::AtomicBool;
@@ -10,9 +11,38 @@ use pathlab::render::{Budget, Readback, Renderer};
 use pathlab::film::Film;
 use pathlab::scene::Scene;
 
+/// Devices the tests share. libtest runs each test on a thread of its own, two at once on this
+/// 2-core machine; a device has one queue, which runs its dispatches one after another, so two
+/// tests on one device wait for each other's, and as a dispatch ends, the few workgroups left
+/// keep one core busy and the other idle (the suite ran 14% idle with one device, README
+/// "Tests"). On two devices lavapipe's compute threads, one pool for all of its devices, take
+/// the dispatches of both queues at once.
+const DEVICES: usize = 2;
+
+/// The device of this test (its thread): the one fewest running tests use, taken at the test's
+/// first call and given back when its thread ends.
+fn slot() -> usize {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    static USERS: [AtomicUsize; DEVICES] = [const { AtomicUsize::new(0) }; DEVICES];
+    struct Taken(usize);
+    impl Drop for Taken {
+        fn drop(&mut self) {
+            USERS[self.0].fetch_sub(1, Ordering::Relaxed);
+        }
+    }
+    thread_local! {
+        static SLOT: Taken = {
+            let k = (0..DEVICES).min_by_key(|&k| USERS[k].load(Ordering::Relaxed)).unwrap();
+            USERS[k].fetch_add(1, Ordering::Relaxed);
+            Taken(k)
+        };
+    }
+    SLOT.with(|s| s.0)
+}
+
 pub fn gpu() -> &'static Gpu {
-    static GPU: OnceLock<Gpu> = OnceLock::new();
-    GPU.get_or_init(|| Gpu::new(None).expect("a Vulkan adapter (lavapipe in CI)"))
+    static GPUS: [OnceLock<Gpu>; DEVICES] = [const { OnceLock::new() }; DEVICES];
+    GPUS[slot()].get_or_init(|| Gpu::new(None).expect("a Vulkan adapter (lavapipe in CI)"))
 }
 
 /// How much more work a test that must be interrupted mid-way gives a GPU than lavapipe: its
@@ -23,9 +53,10 @@ pub fn work_scale() -> u64 {
     if gpu().info.device_type == wgpu::DeviceType::Cpu { 1 } else { 200 }
 }
 
+/// The pipeline cache of this test's device.
 pub fn pipelines() -> &'static PathTracerPipelines {
-    static PIPELINES: OnceLock<PathTracerPipelines> = OnceLock::new();
-    PIPELINES.get_or_init(|| PathTracerPipelines::new(&gpu()))
+    static PIPELINES: [OnceLock<PathTracerPipelines>; DEVICES] = [const { OnceLock::new() }; DEVICES];
+    PIPELINES[slot()].get_or_init(|| PathTracerPipelines::new(&gpu()))
 }
 
 pub fn scene(text: &str) -> Scene {
