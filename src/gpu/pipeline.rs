@@ -313,7 +313,8 @@ pub struct PipelineStats {
 type TechniqueKey = (Option<String>, Option<String>, Option<String>);
 
 /// Pipelines a `PathTracerPipelines` keeps (the most recently used): every method of a study
-/// or a test file of one scene, at 10-20 MB each on lavapipe.
+/// or of a test of one scene; lavapipe holds 20 MB (the Cornell box) to 600 MB (a heterogeneous
+/// medium) a pipeline.
 pub const CACHED_PIPELINES: usize = 48;
 
 /// Parsed path-tracer modules it keeps (one per unrolled triangle count and set of techniques).
@@ -362,6 +363,12 @@ impl PathTracerPipelines {
 
     /// The pipeline for `key` with `techniques` (those its method names), compiled on first
     /// use.
+    /// Drops all but the `keep` most recently used pipelines (a long-lived process between
+    /// jobs: the test suite between tests). Renderers keep the pipelines they hold.
+    pub fn retain_recent(&self, keep: usize) {
+        self.cache.lock().unwrap_or_else(|e| e.into_inner()).truncate(keep);
+    }
+
     pub fn get(&self, device: &wgpu::Device, key: PipelineKey, techniques: shaders::TechniqueFiles) -> (Arc<wgpu::ComputePipeline>, PipelineStats) {
         let mut cache = self.cache.lock().unwrap_or_else(|e| e.into_inner());
         let technique_key = techniques.key();

@@ -1,8 +1,8 @@
 //! A map that keeps only its most recently used entries: the pipeline cache's store. A
 //! long-lived process (the test suite, a study of many methods, the viewer switching scenes)
-//! makes pipelines for many keys, and lavapipe holds 10-20 MB of compiled code and NIR per
-//! path-tracer pipeline (the Cornell box's 22 methods: a 462 MB peak), so an unbounded cache
-//! grew the test suite past 24 GiB.
+//! makes pipelines for many keys, and lavapipe holds each pipeline's compiled code (a test of
+//! the Cornell box's 22 methods peaked at 462 MB, one of a heterogeneous medium's two at 1.24
+//! GB), so an unbounded cache grew the test suite past 24 GiB (2026-12-07, three tests at once).
 
 use std::collections::HashMap;
 use std::hash::Hash;
@@ -30,12 +30,17 @@ impl<K: Eq + Hash + Clone, V> Recent<K, V> {
         })
     }
 
-    /// Inserts `key`, dropping the least recently used entries beyond the capacity (a linear
-    /// scan: capacities are tens, and an insert follows a compilation).
+    /// Inserts `key`, dropping the least recently used entries beyond the capacity.
     pub fn insert(&mut self, key: K, value: V) {
         self.clock += 1;
         self.entries.insert(key, (value, self.clock));
-        while self.entries.len() > self.capacity {
+        self.truncate(self.capacity);
+    }
+
+    /// Drops the least recently used entries until at most `keep` are left (a linear scan per
+    /// entry dropped: capacities are tens, and an insert follows a compilation).
+    pub fn truncate(&mut self, keep: usize) {
+        while self.entries.len() > keep {
             let Some(oldest) = self.entries.iter().min_by_key(|(_, (_, used))| *used).map(|(k, _)| k.clone()) else { break };
             self.entries.remove(&oldest);
         }
@@ -66,5 +71,8 @@ mod tests {
         r.insert("a", 4);
         r.insert("d", 5);
         assert_eq!((r.get(&"a").copied(), r.get(&"c").copied(), r.get(&"d").copied()), (Some(4), None, Some(5)));
+        // Truncated to one: the last looked up ("d") stays.
+        r.truncate(1);
+        assert_eq!((r.len(), r.get(&"a").copied(), r.get(&"d").copied()), (1, None, Some(5)));
     }
 }

@@ -19,6 +19,16 @@ use pathlab::scene::Scene;
 /// the dispatches of both queues at once.
 const DEVICES: usize = 2;
 
+static GPUS: [OnceLock<Gpu>; DEVICES] = [const { OnceLock::new() }; DEVICES];
+static PIPELINES: [OnceLock<PathTracerPipelines>; DEVICES] = [const { OnceLock::new() }; DEVICES];
+
+/// Pipelines a device's cache keeps once no running test uses it, for the tests after it (the
+/// study scene's presets), without holding every test's: lavapipe keeps each pipeline's code,
+/// and a test of one heterogeneous medium peaked at 1.24 GB with its two, the Cornell box's
+/// test at 462 MB with its 22; the 48 of `CACHED_PIPELINES` on each device held the suite at
+/// 10.6 GB (2026-12-07).
+const KEPT_BETWEEN_TESTS: usize = 4;
+
 /// The device of this test (its thread): the one fewest running tests use, taken at the test's
 /// first call and given back when its thread ends.
 fn slot() -> usize {
@@ -27,7 +37,11 @@ fn slot() -> usize {
     struct Taken(usize);
     impl Drop for Taken {
         fn drop(&mut self) {
-            USERS[self.0].fetch_sub(1, Ordering::Relaxed);
+            if USERS[self.0].fetch_sub(1, Ordering::Relaxed) == 1 {
+                if let Some(pipelines) = PIPELINES[self.0].get() {
+                    pipelines.retain_recent(KEPT_BETWEEN_TESTS);
+                }
+            }
         }
     }
     thread_local! {
@@ -41,7 +55,6 @@ fn slot() -> usize {
 }
 
 pub fn gpu() -> &'static Gpu {
-    static GPUS: [OnceLock<Gpu>; DEVICES] = [const { OnceLock::new() }; DEVICES];
     GPUS[slot()].get_or_init(|| Gpu::new(None).expect("a Vulkan adapter (lavapipe in CI)"))
 }
 
@@ -55,7 +68,6 @@ pub fn work_scale() -> u64 {
 
 /// The pipeline cache of this test's device.
 pub fn pipelines() -> &'static PathTracerPipelines {
-    static PIPELINES: [OnceLock<PathTracerPipelines>; DEVICES] = [const { OnceLock::new() }; DEVICES];
     PIPELINES[slot()].get_or_init(|| PathTracerPipelines::new(&gpu()))
 }
 
