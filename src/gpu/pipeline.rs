@@ -361,14 +361,14 @@ impl PathTracerPipelines {
         PathTracerPipelines { modules: Mutex::new(Recent::new(CACHED_MODULES)), tuning, halton_primes, bind_group_layout, layout, cache: Mutex::new(Recent::new(CACHED_PIPELINES)) }
     }
 
-    /// The pipeline for `key` with `techniques` (those its method names), compiled on first
-    /// use.
     /// Drops all but the `keep` most recently used pipelines (a long-lived process between
     /// jobs: the test suite between tests). Renderers keep the pipelines they hold.
     pub fn retain_recent(&self, keep: usize) {
         self.cache.lock().unwrap_or_else(|e| e.into_inner()).truncate(keep);
     }
 
+    /// The pipeline for `key` with `techniques` (those its method names), compiled on first
+    /// use (or again, once `CACHED_PIPELINES` others have been used since).
     pub fn get(&self, device: &wgpu::Device, key: PipelineKey, techniques: shaders::TechniqueFiles) -> (Arc<wgpu::ComputePipeline>, PipelineStats) {
         let mut cache = self.cache.lock().unwrap_or_else(|e| e.into_inner());
         let technique_key = techniques.key();
