@@ -315,7 +315,7 @@ type TechniqueKey = (Option<String>, Option<String>, Option<String>);
 /// Pipelines a `PathTracerPipelines` keeps (the most recently used): every method of a study
 /// or of a test of one scene; lavapipe holds 20 MB (the Cornell box) to 600 MB (a heterogeneous
 /// medium) a pipeline.
-pub const CACHED_PIPELINES: usize = 48;
+const CACHED_PIPELINES: usize = 48;
 
 /// Parsed path-tracer modules it keeps (one per unrolled triangle count and set of techniques).
 const CACHED_MODULES: usize = 4;
