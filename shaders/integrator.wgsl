@@ -112,11 +112,18 @@ struct CameraRay {
 // disk (Shirley-Chiu concentric map of u_lens, in the plane of the image's right and up axes).
 // Every ray through one point of the plane in focus carries the same weight 1.
 // (ORTHOGRAPHIC) As Mitsuba's orthographic: the pixel's point of the rectangle about the
-// camera's origin, along the view direction; weight 1.
+// camera's origin, along the view direction; weight 1. The direction, the same for every pixel,
+// is XORed with px & frame.opaque_zero (always 0: the same bits) so that no branch on it reads
+// as uniform-only: lavapipe (Mesa 22.3, lvp_find_inlinable_uniforms) records the uniform-buffer
+// offsets such branches read in a table of 4 per buffer, but indexes it with a stride of 32, so
+// a branch on the eighth uniform buffer (small_vertices: the unrolled triangle tests of camera
+// rays that all share one direction) wrote past the table and corrupted the heap at random
+// (README, "Tests"; checked by tests/lavapipe_inline_uniforms.rs).
 fn camera_ray(px: u32, py: u32, jitter: vec2f, u_lens: vec2f) -> CameraRay {
     if (ORTHOGRAPHIC) {
         let s = image_point(px, py, jitter);
-        return CameraRay(frame.camera_origin + s.x * frame.camera_right + s.y * frame.camera_up, frame.camera_forward);
+        let forward = bitcast<vec3f>(bitcast<vec3u>(frame.camera_forward) ^ vec3u(px & frame.opaque_zero));
+        return CameraRay(frame.camera_origin + s.x * frame.camera_right + s.y * frame.camera_up, forward);
     }
     let d = camera_ray_direction(px, py, jitter);
     if (!THIN_LENS) {

@@ -139,9 +139,9 @@ struct FrameParams {
 // (GPUs: the constant cache; lavapipe: a scalar load, where a storage read is a per-lane loop).
 @group(0) @binding(BINDING_FRAME) var<uniform> frame: FrameParams;
 @group(0) @binding(BINDING_SPHERES) var<uniform> spheres: array<Sphere, MAX_SPHERES>;
-// The planes and the quadrics share one uniform buffer: lavapipe (Mesa 22.3) crashed, at random,
-// compiling kernels that read eight uniform buffers (tests/quadrics.rs renders in fresh
-// processes to catch it).
+// The planes and the quadrics share one uniform buffer: with a ninth buffer of their own,
+// lavapipe (Mesa 22.3) overflowed a table of its compiler and crashed at random
+// (tests/lavapipe_inline_uniforms.rs tells which buffers it may record).
 struct Surfaces {
     planes: array<Plane, MAX_PLANES>,
     quadrics: array<Quadric, MAX_QUADRICS>,

@@ -235,23 +235,3 @@ fn a_plane_between_the_camera_and_a_disk_light_is_tested_by_shadow_rays() {
         assert_eq!(scene.occluding_planes().len(), occluding as usize, "{disk}");
     }
 }
-
-/// lavapipe (Mesa 22.3) crashed at random, in about half of fresh processes, compiling the
-/// kernel of a scene with quadrics while they had a uniform buffer of their own (the kernel's
-/// eighth): they now share the planes' (`Surfaces`, scene.wgsl). A crash is a matter of the
-/// process, not of the render, so the CLI renders the fixture in six fresh processes: with the
-/// crash's rate, all six pass by chance with probability about 1/64.
-#[test]
-fn scenes_with_quadrics_render_in_fresh_processes() {
-    let dir = tempfile::tempdir().unwrap();
-    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/quadrics/quadrics.xml");
-    for k in 0..6 {
-        let out = dir.path().join(format!("q{k}.exr"));
-        let run = std::process::Command::new(env!("CARGO_BIN_EXE_pathlab"))
-            .args(["render", scene, "--method", "mis", "--spp", "1", "--width", "8", "--height", "8", "-q", "--output"])
-            .arg(&out)
-            .output()
-            .unwrap();
-        assert!(run.status.success(), "render {k}: {:?}\n{}", run.status, String::from_utf8_lossy(&run.stderr));
-    }
-}

@@ -40,6 +40,7 @@ mod masks;
 mod media;
 mod mesh_attributes;
 mod normal_maps;
+mod lavapipe_inline_uniforms;
 mod orthographic;
 mod mesh_scenes;
 mod metrics_fixtures;
