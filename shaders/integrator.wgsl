@@ -520,6 +520,7 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
 fn render_main(@builtin(global_invocation_id) gid: vec3u) {
     // First, outside every branch: see bvh.wgsl.
     load_small_triangles();
+    sampler_opaque_zero = frame.opaque_zero;
     if (gid.x >= frame.tile_width || gid.y >= frame.tile_height) {
         return;
     }

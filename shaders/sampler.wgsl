@@ -16,8 +16,18 @@ override SAMPLER: u32 = SAMPLER_INDEPENDENT;
 // loads storage per lane even at a uniform index, as the dimension is here).
 @group(0) @binding(BINDING_HALTON_PRIMES) var<uniform> halton_primes: array<vec4u, HALTON_DIMENSIONS / 4u>;
 
+// Always 0: the path tracer's entry point sets it from frame.opaque_zero (a test kernel leaves
+// it 0). Added to the dimension before its prime is read, it makes the read's offset one the
+// compiler cannot fold: lavapipe (Mesa 22.3) records every read of a uniform buffer at a constant
+// offset that a branch or a loop's exit depends on (the radical inverse's digit loops divide by
+// the prime) in a table it overflows from its fourth buffer on, and the primes are its fifth
+// (tests/lavapipe_inline_uniforms.rs). The read is per lane then, as lavapipe serves a
+// non-constant offset.
+var<private> sampler_opaque_zero: u32;
+
 fn halton_base(dim: u32) -> u32 {
-    return halton_primes[dim / 4u][dim % 4u];
+    let d = dim + sampler_opaque_zero;
+    return halton_primes[d / 4u][d % 4u];
 }
 
 // ---------------------------------------------------------------------------------------------

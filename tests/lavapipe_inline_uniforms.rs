@@ -7,9 +7,12 @@
 //! path tracer has eight uniform buffers; with an orthographic camera the unrolled triangle
 //! tests of camera rays, which all share one direction, branched on the eighth
 //! (`small_vertices`) alone, and the suite aborted at random ("corrupted double-linked list",
-//! about one process in twenty) while the orthographic fixture's test ran (README, "Tests").
+//! about one process in twenty) while the orthographic fixture's test ran (README, "Tests");
+//! under the Halton samplers the radical inverse's digit loops, which divide by the dimension's
+//! prime, read the fifth (`halton_primes`) at constant offsets and wrote past it too.
 //!
-//! The check watches that store. Each fixture scene's path-tracer pipeline is made in a child
+//! The check watches that store. The study scene's pipelines (every preset and sampler) and each
+//! fixture scene's (`mis`) are made in a child
 //! process (this binary's ignored `child_makes_pipelines`, no dispatch) under gdb, with a
 //! breakpoint on the store's instruction, found in libvulkan_lvp.so by its bytes; every index
 //! written must stay inside the table (< 128), and the breakpoint must have been hit (the
@@ -31,8 +34,9 @@ const TABLE_ENTRIES: u64 = 128;
 
 const CHILD_SCENES: &str = "PATHLAB_CHILD_PIPELINE_SCENES";
 
-/// The path tracer's pipeline (`mis`, and `best` and `plain` for the first scene) of each scene
-/// listed in PATHLAB_CHILD_PIPELINE_SCENES, made and dropped; run by the test below.
+/// The path tracer's pipeline (`mis`; every preset and sampler for the first scene, the study
+/// scene) of each scene listed in PATHLAB_CHILD_PIPELINE_SCENES, made and dropped; run by the
+/// test below.
 #[test]
 #[ignore = "run by lavapipe_inline_uniforms_stay_in_their_table, in a child process under gdb"]
 fn child_makes_pipelines() {
@@ -41,9 +45,15 @@ fn child_makes_pipelines() {
     let pipelines = pathlab::gpu::PathTracerPipelines::new(&gpu);
     for (k, path) in list.lines().enumerate() {
         let scene = pathlab::scene::Scene::load(path).unwrap_or_else(|e| panic!("{path}: {e}"));
-        let methods: &[&str] = if k == 0 { &["mis", "best", "plain"] } else { &["mis"] };
-        for m in methods {
-            let method = pathlab::method::Method::from_name(m).unwrap();
+        let methods: Vec<pathlab::method::Method> = if k == 0 {
+            let presets = pathlab::method::Preset::ALL.map(|p| p.method());
+            let samplers = pathlab::method::Sampler::ALL.map(|sampler| pathlab::method::Method { sampler, ..pathlab::method::Preset::Mis.method() });
+            presets.into_iter().chain(samplers).collect()
+        } else {
+            vec![pathlab::method::Preset::Mis.method()]
+        };
+        for method in methods {
+            let m = method.name();
             if pathlab::render::Renderer::new(&gpu, &pipelines, &scene, method, 1).is_ok() {
                 println!("SCENE {path} {m}");
             }
@@ -112,10 +122,10 @@ fn lavapipe_inline_uniforms_stay_in_their_table() {
         .filter(|p| p.extension().is_some_and(|e| e == "xml"))
         .collect();
     scenes.sort();
-    // The orthographic fixture first (it gets every preset), the one that overflowed.
-    let first = scenes.iter().position(|p| p.ends_with("orthographic/orthographic.xml")).unwrap();
-    let ortho = scenes.remove(first);
-    scenes.insert(0, ortho);
+    // The study scene first (every preset and sampler: the Halton primes' buffer, the fifth,
+    // overflowed under the Halton samplers), then the fixtures (the orthographic one overflowed
+    // on the eighth, `small_vertices`).
+    scenes.insert(0, Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/study.toml"));
     let list: Vec<String> = scenes.iter().map(|p| p.display().to_string()).collect();
     let dir = tempfile::tempdir().unwrap();
     let script = dir.path().join("store.gdb");
@@ -142,7 +152,8 @@ fn lavapipe_inline_uniforms_stay_in_their_table() {
             writes.push((scene.to_string(), std::mem::take(&mut pending)));
         }
     }
-    assert_eq!(writes.len(), scenes.len() + 2, "a pipeline was not made:\n{out}");
+    let first_scene = pathlab::method::Preset::ALL.len() + pathlab::method::Sampler::ALL.len();
+    assert_eq!(writes.len(), scenes.len() - 1 + first_scene, "a pipeline was not made:\n{out}");
     let total: usize = writes.iter().map(|(_, w)| w.len()).sum();
     println!("{} pipelines, {total} offsets recorded, largest index {}", writes.len(), writes.iter().flat_map(|(_, w)| w).max().unwrap_or(&0));
     assert!(total > 0, "the breakpoint was never hit: the check saw nothing\n{out}");
