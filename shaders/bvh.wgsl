@@ -1,8 +1,10 @@
 // bvh.wgsl — triangles and the bounding volume hierarchy over them (built on the host, whose
-// `Bvh::closest` and `Bvh::any` are this traversal's CPU twins, checked against brute force). Nodes are 32 bytes; an interior node's two
-// children are adjacent; a leaf's triangles are a contiguous range of `triangles` (the host
-// stores them in leaf order). Traversal visits the nearer child first and keeps the farther on
-// a stack or in a trail of bits, one per level, BVH_MAX_DEPTH levels at most (bvh_traverse).
+// `Bvh::closest` and `Bvh::any` are this traversal's CPU twins, checked against brute force). An
+// interior node's two children are adjacent nodes; a leaf's triangles are a contiguous range of
+// `triangles` (the host stores them in leaf order). Each node is read as one 64-byte record of
+// its children's boxes (BvhRecord). Traversal visits the nearer child first and keeps the
+// farther on a stack or in a trail of bits, one per level, BVH_MAX_DEPTH levels at most
+// (bvh_traverse).
 
 // Triangles of the scene (0: the mesh code compiles out), and whether any has vertex normals.
 override NUM_TRIANGLES: u32 = 0u;
@@ -47,17 +49,34 @@ struct TriangleUvs {
     uv2: vec2f,
 }
 
-struct BvhNode {
-    lo: vec3f,
-    // Interior (count 0): index of the first child; leaf: first triangle.
+// Node x's record (`accel::BvhRecord`): an interior node's children's boxes, so that a traversal
+// step reads one record (Aila and Laine 2009), with the triangle ranges of the children that are
+// leaves, so that the step into a leaf child reads nothing more; a leaf's own record (reached by
+// a jump or a climb) has its range as the left child's and BVH_SELF_LEAF in `counts`.
+struct BvhRecord {
+    lo_left: vec3f,
+    // The left child's node (the right child's is the next).
+    left: u32,
+    hi_left: vec3f,
+    // The left child's first triangle where it is a leaf.
+    first_left: u32,
+    lo_right: vec3f,
+    first_right: u32,
+    hi_right: vec3f,
+    // The children's triangle counts where they are leaves (0: interior), BVH_COUNT_BITS each,
+    // left in the low bits; or a leaf's own count and BVH_SELF_LEAF.
+    counts: u32,
+}
+
+// A leaf: its triangles first .. first + count (count 0: none).
+struct BvhLeaf {
     first: u32,
-    hi: vec3f,
     count: u32,
 }
 
-// The triangles (three texels each) and the BVH's nodes (two each) are texel tables
+// The triangles (three texels each) and the BVH's node records (four each) are texel tables
 // (src/shaders/bindings.rs, `Kind::TexelTable`): rgba32uint texels of TEXEL_TABLE_WIDTH per
-// row, read by `triangle_record` and `bvh_node`. The traversal reads them at a per-lane index
+// row, read by `triangle_record` and `bvh_record`. The traversal reads them at a per-lane index
 // in its inner loop, where lavapipe serves a texel as one branch-free 16-byte load per lane and
 // a storage-buffer record as a loop over the lanes with two branches per lane and component.
 @group(0) @binding(BINDING_TRIANGLES) var triangles: texture_storage_2d<rgba32uint, read>;
@@ -79,11 +98,23 @@ fn triangle_record(i: u32) -> Triangle {
     return Triangle(bitcast<vec3f>(a.xyz), a.w, bitcast<vec3f>(b.xyz), b.w, bitcast<vec3f>(c.xyz), c.w);
 }
 
-// Node i of the BVH (texels 2i and 2i + 1).
-fn bvh_node(i: u32) -> BvhNode {
-    let a = textureLoad(bvh_nodes, texel_coords(2u * i));
-    let b = textureLoad(bvh_nodes, texel_coords(2u * i + 1u));
-    return BvhNode(bitcast<vec3f>(a.xyz), a.w, bitcast<vec3f>(b.xyz), b.w);
+// The record of node i of the BVH (texels 4i to 4i + 3).
+fn bvh_record(i: u32) -> BvhRecord {
+    let a = textureLoad(bvh_nodes, texel_coords(4u * i));
+    let b = textureLoad(bvh_nodes, texel_coords(4u * i + 1u));
+    let c = textureLoad(bvh_nodes, texel_coords(4u * i + 2u));
+    let e = textureLoad(bvh_nodes, texel_coords(4u * i + 3u));
+    return BvhRecord(bitcast<vec3f>(a.xyz), a.w, bitcast<vec3f>(b.xyz), b.w, bitcast<vec3f>(c.xyz), c.w, bitcast<vec3f>(e.xyz), e.w);
+}
+
+// The left child's leaf in record r, or a leaf's own (count 0: the left child is interior).
+fn bvh_leaf_left(r: BvhRecord) -> BvhLeaf {
+    return BvhLeaf(r.first_left, r.counts & ((1u << BVH_COUNT_BITS) - 1u));
+}
+
+// The right child's leaf in record r (count 0: interior).
+fn bvh_leaf_right(r: BvhRecord) -> BvhLeaf {
+    return BvhLeaf(r.first_right, (r.counts >> BVH_COUNT_BITS) & ((1u << BVH_COUNT_BITS) - 1u));
 }
 // Scenes of at most BRUTE_FORCE_TRIANGLES triangles (generated from src/accel/mod.rs) also
 // have them in a uniform buffer. Where the module unrolls their tests (SMALL_TRIANGLE_TESTS,
@@ -342,10 +373,10 @@ fn bvh_sibling(x: u32) -> u32 {
     return ((x - 1u) ^ 1u) + 1u;
 }
 
-// Tests the triangles of leaf n in turn, keeping the nearest hit in `best`; with `any`, stops
+// Tests the triangles of a leaf in turn, keeping the nearest hit in `best`; with `any`, stops
 // at the first. Each triangle is one step of the traversal guard.
-fn bvh_test_leaf(ray: ShearedRay, n: BvhNode, best: ptr<function, TriangleHit>, any: bool) {
-    for (var i = n.first; i < n.first + n.count; i++) {
+fn bvh_test_leaf(ray: ShearedRay, leaf: BvhLeaf, best: ptr<function, TriangleHit>, any: bool) {
+    for (var i = leaf.first; i < leaf.first + leaf.count; i++) {
         if (!traversal_step()) {
             break;
         }
@@ -361,12 +392,10 @@ fn bvh_test_leaf(ray: ShearedRay, n: BvhNode, best: ptr<function, TriangleHit>, 
     }
 }
 
-// The entry distances of the ray into interior node n's children, nodes n.first and
-// n.first + 1 (-1: missed, or entered beyond t_max).
-fn bvh_enter_children(n: BvhNode, o: vec3f, inv_d: vec3f, t_max: f32) -> vec2f {
-    let nl = bvh_node(n.first);
-    let nr = bvh_node(n.first + 1u);
-    return vec2f(intersect_node(nl.lo, nl.hi, o, inv_d, t_max), intersect_node(nr.lo, nr.hi, o, inv_d, t_max));
+// The entry distances of the ray into the children of the interior node of record r (-1:
+// missed, or entered beyond t_max).
+fn bvh_enter_children(r: BvhRecord, o: vec3f, inv_d: vec3f, t_max: f32) -> vec2f {
+    return vec2f(intersect_node(r.lo_left, r.hi_left, o, inv_d, t_max), intersect_node(r.lo_right, r.hi_right, o, inv_d, t_max));
 }
 
 // The nearest triangle along (o, d) closer than t_max through the BVH; with `any`, the first
@@ -391,39 +420,53 @@ fn bvh_traverse_stack(o: vec3f, d: vec3f, t_max: f32, any: bool) -> TriangleHit 
     var stack: array<u32, BVH_MAX_DEPTH>;
     var top = 0u;
     var node = 0u;
-    let root = bvh_node(0u);
-    if (intersect_node(root.lo, root.hi, o, inv_d, t_max) < 0.0) {
-        return best;
-    }
     loop {
         if (!traversal_step()) {
             break;
         }
-        let n = bvh_node(node);
+        let r = bvh_record(node);
         var next = INVALID;
-        if (n.count > 0u) {
+        var leaf = BvhLeaf(0u, 0u);
+        if ((r.counts & BVH_SELF_LEAF) != 0u) {
+            leaf = bvh_leaf_left(r);
+        } else {
+            // The nearer child next (its triangles now, where it is a leaf), the farther on the
+            // stack.
+            let l = r.left;
+            let rr = r.left + 1u;
+            let entry = bvh_enter_children(r, o, inv_d, best.t);
+            let tl = entry.x;
+            let tr = entry.y;
+            var near_left = false;
+            if (tl >= 0.0 && tr >= 0.0) {
+                near_left = tl <= tr;
+                next = select(rr, l, near_left);
+                stack[top] = select(l, rr, near_left);
+                top++;
+            } else if (tl >= 0.0) {
+                near_left = true;
+                next = l;
+            } else if (tr >= 0.0) {
+                next = rr;
+            }
+            if (next != INVALID) {
+                if (near_left) {
+                    leaf = bvh_leaf_left(r);
+                } else {
+                    leaf = bvh_leaf_right(r);
+                }
+                if (leaf.count > 0u) {
+                    next = INVALID;
+                }
+            }
+        }
+        if (leaf.count > 0u) {
             // Entering a leaf's loop costs llvmpipe about two back-edges of its own (measured:
             // tests/bvh.rs), counted here so that the guard always trips first.
             traversal_steps += 2u;
-            bvh_test_leaf(ray, n, &best, any);
+            bvh_test_leaf(ray, leaf, &best, any);
             if (any && best.index != INVALID) {
                 break;
-            }
-        } else {
-            // The nearer child next, the farther on the stack.
-            let l = n.first;
-            let r = n.first + 1u;
-            let entry = bvh_enter_children(n, o, inv_d, best.t);
-            let tl = entry.x;
-            let tr = entry.y;
-            if (tl >= 0.0 && tr >= 0.0) {
-                next = select(r, l, tl <= tr);
-                stack[top] = select(l, r, tl <= tr);
-                top++;
-            } else if (tl >= 0.0) {
-                next = l;
-            } else if (tr >= 0.0) {
-                next = r;
             }
         }
         if (next == INVALID) {
@@ -481,10 +524,6 @@ fn bvh_traverse_stackless(o: vec3f, d: vec3f, t_max: f32, any: bool) -> Triangle
     let inv_d = 1.0 / d;
     var trail = vec2u(0u);
     var node = 0u;
-    let root = bvh_node(0u);
-    if (intersect_node(root.lo, root.hi, o, inv_d, t_max) < 0.0) {
-        return best;
-    }
     // Whether the traversal leaves `node` before its next step (a leaf tested, or a node whose
     // children were both missed), and whether it must climb the parents to do so.
     var leave = false;
@@ -509,7 +548,7 @@ fn bvh_traverse_stackless(o: vec3f, d: vec3f, t_max: f32, any: bool) -> Triangle
         }
         // Through interior nodes to the next leaf (count 0: none is left, the traversal must
         // climb, or the guard stopped it).
-        var leaf = BvhNode(vec3f(0.0), 0u, vec3f(0.0), 0u);
+        var leaf = BvhLeaf(0u, 0u);
         loop {
             if (!traversal_step()) {
                 break;
@@ -533,16 +572,17 @@ fn bvh_traverse_stackless(o: vec3f, d: vec3f, t_max: f32, any: bool) -> Triangle
                 recent_b = vec4u(recent_b.yzw, 0u);
                 leave = false;
             }
-            let n = bvh_node(node);
-            if (n.count > 0u) {
-                leaf = n;
+            let rec = bvh_record(node);
+            if ((rec.counts & BVH_SELF_LEAF) != 0u) {
+                // A leaf reached by a jump or a climb.
+                leaf = bvh_leaf_left(rec);
                 break;
             }
             // The nearer child next; where both are entered, the farther one's bit set and the
             // child kept.
-            let l = n.first;
-            let r = n.first + 1u;
-            let entry = bvh_enter_children(n, o, inv_d, best.t);
+            let l = rec.left;
+            let r = rec.left + 1u;
+            let entry = bvh_enter_children(rec, o, inv_d, best.t);
             let tl = entry.x;
             let tr = entry.y;
             leave = tl < 0.0 && tr < 0.0;
@@ -554,6 +594,15 @@ fn bvh_traverse_stackless(o: vec3f, d: vec3f, t_max: f32, any: bool) -> Triangle
                 if (both) {
                     recent_b = vec4u(recent_a.w, recent_b.xyz);
                     recent_a = vec4u(select(l, r, near_left), recent_a.xyz);
+                }
+                // Where the nearer child is a leaf, its range is in this record: its triangles
+                // are tested next without a step to its own.
+                let ll = bvh_leaf_left(rec);
+                let lr = bvh_leaf_right(rec);
+                let near_count = select(lr.count, ll.count, near_left);
+                if (near_count > 0u) {
+                    leaf = BvhLeaf(select(lr.first, ll.first, near_left), near_count);
+                    break;
                 }
             }
         }

@@ -281,7 +281,7 @@ fn gpu_kernel(tris: &[Triangle], rays: &[(Vec3, Vec3, f32, f32)], budget: u32, e
         uniforms: vec![],
         texel_tables: vec![
             (bindings::TRIANGLES.number, bytemuck::cast_slice(&gpu_tris).to_vec()),
-            (bindings::BVH_NODES.number, bytemuck::cast_slice(&bvh.nodes).to_vec()),
+            (bindings::BVH_NODES.number, bytemuck::cast_slice(&bvh.records()).to_vec()),
             (bindings::BVH_PARENTS.number, bytemuck::cast_slice(&bvh.pair_parents()).to_vec()),
         ],
         output: (1, rays.len() as u64 * 16),
@@ -414,6 +414,57 @@ fn every_node_but_the_root_finds_its_parent() {
         }
         assert_eq!(found, bvh.nodes.len() - 1, "{n} triangles: every node but the root is a child");
     }
+}
+
+/// The kernel's node records (`Bvh::records`): an interior node's record holds its children's
+/// boxes and, for each child that is a leaf, its triangle range; a leaf's own record its range
+/// and the self-leaf flag.
+#[test]
+fn every_record_holds_its_childrens_boxes_and_leaf_ranges() {
+    use pathlab::accel::bvh::{COUNT_BITS, SELF_LEAF};
+    use pathlab::accel::BvhRecord;
+    // A scene without triangles has one zeroed node (`PackedTriangles`), and one zeroed record.
+    let empty = Bvh { nodes: vec![bytemuck::Zeroable::zeroed()], order: Vec::new(), depth: 0 };
+    assert_eq!(empty.records(), vec![<BvhRecord as bytemuck::Zeroable>::zeroed()]);
+    let mut rng = Rng(9);
+    for n in [1, 2, 9, 57, 3000] {
+        let tris = soup(&mut rng, n, (0.01, 0.4), 2.0, Vec3::ZERO);
+        let bvh = Bvh::build(&tris);
+        let records = bvh.records();
+        assert_eq!(records.len(), bvh.nodes.len());
+        let mask = (1 << COUNT_BITS) - 1;
+        for (node, r) in bvh.nodes.iter().zip(&records) {
+            if node.count > 0 {
+                assert_eq!((r.first_left, r.counts), (node.first, node.count | SELF_LEAF));
+                continue;
+            }
+            let (l, rr) = (&bvh.nodes[node.first as usize], &bvh.nodes[node.first as usize + 1]);
+            assert_eq!(r.left, node.first);
+            assert_eq!((r.lo_left, r.hi_left, r.lo_right, r.hi_right), (l.lo, l.hi, rr.lo, rr.hi));
+            assert_eq!((r.counts & mask, r.counts >> COUNT_BITS), (l.count, rr.count), "no flag on an interior record");
+            if l.count > 0 {
+                assert_eq!(r.first_left, l.first);
+            }
+            if rr.count > 0 {
+                assert_eq!(r.first_right, rr.first);
+            }
+        }
+    }
+}
+
+/// A record counts a leaf's triangles in 15 bits: where no plane separates the centroids (here
+/// 100,000 copies of one triangle, which the SAH cannot split), the builder halves the range
+/// instead, and every leaf stays within `MAX_LEAF_TRIANGLES`, every triangle in one leaf.
+#[test]
+fn no_leaf_outgrows_a_records_count() {
+    use pathlab::accel::bvh::MAX_LEAF_TRIANGLES;
+    let tri = [Vec3::new(0.0, 0.0, 1.0), Vec3::new(1.0, 0.0, 1.0), Vec3::new(0.0, 1.0, 1.0)];
+    let tris = vec![tri; 100_000];
+    let bvh = Bvh::build(&tris);
+    let leaves: Vec<_> = bvh.nodes.iter().filter(|n| n.count > 0).collect();
+    assert!(leaves.iter().all(|n| n.count as usize <= MAX_LEAF_TRIANGLES), "largest leaf {}", leaves.iter().map(|n| n.count).max().unwrap());
+    assert_eq!(leaves.iter().map(|n| n.count as usize).sum::<usize>(), tris.len());
+    assert_eq!(bvh.closest(&tris, Vec3::new(0.2, 0.2, 0.0), Vec3::Z, f32::INFINITY).map(|h| h.0), Some(1.0));
 }
 
 // ----- the small scenes' unrolled tests on shared vertices (generated, bvh.wgsl) -------------

@@ -9,7 +9,7 @@ use std::mem::{offset_of, size_of};
 use naga::proc::Layouter;
 
 use pathlab::film::AccumPixel;
-use pathlab::accel::BvhNode;
+use pathlab::accel::BvhRecord;
 use pathlab::gpu::{pipeline_constants, FrameParams, GpuDeltaLight, GpuLight, GpuMaterial, GpuPlane, GpuQuadric, GpuSphere, GpuTriangle, GpuTriangleNormals, PipelineKey};
 use pathlab::gpu::{GpuSphereAxes, GpuTriangleUvs};
 use pathlab::method::{BsdfSampling, LightSampling, LightSelect, Preset, Sampler, TriangleSampling};
@@ -62,7 +62,12 @@ fn shared_structs_match_the_wgsl() {
     check_struct(&pt, "TriangleNormals", size_of::<GpuTriangleNormals>(), fields!(GpuTriangleNormals: n0, n1, n2));
     check_struct(&pt, "TriangleUvs", size_of::<GpuTriangleUvs>(), fields!(GpuTriangleUvs: uv0, uv1, uv2));
     check_struct(&pt, "SphereAxes", size_of::<GpuSphereAxes>(), fields!(GpuSphereAxes: x, y, z));
-    check_struct(&pt, "BvhNode", size_of::<BvhNode>(), fields!(BvhNode: lo, first, hi, count));
+    check_struct(
+        &pt,
+        "BvhRecord",
+        size_of::<BvhRecord>(),
+        fields!(BvhRecord: lo_left, left, hi_left, first_left, lo_right, first_right, hi_right, counts),
+    );
     check_struct(&pt, "LightEntry", size_of::<GpuLight>(), fields!(GpuLight: object, power_prob, alias_index, threshold, kind));
     check_struct(&pt, "DeltaLight", size_of::<GpuDeltaLight>(), fields!(GpuDeltaLight: position, cos_cutoff, direction, cos_beam, intensity, cutoff, x_axis, inv_transition, y_axis, texture, uv_scale));
     let display = module(&shaders::display_source());
@@ -207,6 +212,8 @@ fn the_bvh_stack_and_triangle_flags_are_the_rust_ones() {
     let pt = module(&shaders::path_tracer_source());
     assert_eq!(const_u32(&pt, "BVH_MAX_DEPTH"), Some(pathlab::accel::bvh::MAX_DEPTH as u32));
     assert_eq!(const_u32(&pt, "BRUTE_FORCE_TRIANGLES"), Some(pathlab::accel::BRUTE_FORCE_TRIANGLES));
+    assert_eq!(const_u32(&pt, "BVH_COUNT_BITS"), Some(pathlab::accel::bvh::COUNT_BITS));
+    assert_eq!(const_u32(&pt, "BVH_SELF_LEAF"), Some(pathlab::accel::bvh::SELF_LEAF));
     use pathlab::shaders::flags;
     assert_eq!(const_u32(&pt, "TRIANGLE_TWO_SIDED"), Some(flags::TRIANGLE_TWO_SIDED));
     assert_eq!(const_u32(&pt, "MATERIAL_EMISSIVE"), Some(flags::MATERIAL_EMISSIVE));

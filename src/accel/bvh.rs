@@ -1,7 +1,8 @@
 //! A bounding volume hierarchy over triangles, built on the CPU with a binned surface area
 //! heuristic (12 bins along the widest axis of the centroids, as pbrt-v4's `BVHAggregate`),
-//! laid out flat for the GPU: 32-byte nodes whose two children are adjacent, and a leaf's
-//! triangles a contiguous range of `order`. Traversal (here the CPU twin of the kernel's) visits
+//! laid out flat: 32-byte nodes whose two children are adjacent, and a leaf's triangles a
+//! contiguous range of `order`; the kernel reads each node as a 64-byte record of its children's
+//! boxes (`BvhRecord`, `Bvh::records`). Traversal (here the CPU twin of the kernel's) visits
 //! the nearer child first with a stack of at most `MAX_DEPTH` entries: the builder makes a leaf
 //! rather than a node deeper than that, so the stack can never overflow.
 
@@ -16,6 +17,14 @@ pub const MAX_DEPTH: usize = 48;
 const BINS: usize = 12;
 /// Triangles a leaf holds at most where splitting is possible and pays: lavapipe's 8 lanes.
 const MAX_LEAF: usize = 8;
+/// Bits of one leaf's triangle count in a kernel record (`BvhRecord::counts`, where two counts
+/// and the `SELF_LEAF` flag share a word).
+pub const COUNT_BITS: u32 = 15;
+/// Most triangles one leaf holds: the builder splits larger ones, even where the SAH would not.
+pub const MAX_LEAF_TRIANGLES: usize = (1 << COUNT_BITS) - 1;
+/// `BvhRecord::counts` flag: the record is a leaf's own (reached by a jump or a climb rather than
+/// from its parent's record).
+pub const SELF_LEAF: u32 = 1 << 31;
 /// Cost of visiting a node, relative to one triangle test, in the SAH. Measured on lavapipe
 /// (2026-12-05, `scripts/triangle_scaling.sh`, M rays/s against leaves of at most 4 at a node
 /// cost of 1): a node step of the stackless traversal (its bounds, the climb, the trail of bits,
@@ -33,6 +42,29 @@ pub struct BvhNode {
     pub first: u32,
     pub hi: [f32; 3],
     pub count: u32,
+}
+
+/// Node x's record in the kernel's table (`bvh_record`, bvh.wgsl): four texels. An interior
+/// node's record holds its two children's boxes, so that one step of the traversal reads one
+/// record (the layout of Aila and Laine 2009), and the triangle ranges of the children that are
+/// leaves, so that the step into a leaf child reads nothing more. A leaf's own record (for
+/// traversals that arrive at it by a jump or a climb) holds its range and `SELF_LEAF`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct BvhRecord {
+    pub lo_left: [f32; 3],
+    /// The left child's node index (the right child's is the next).
+    pub left: u32,
+    pub hi_left: [f32; 3],
+    /// The left child's first triangle where it is a leaf (or a leaf's own first triangle).
+    pub first_left: u32,
+    pub lo_right: [f32; 3],
+    /// The right child's first triangle where it is a leaf.
+    pub first_right: u32,
+    pub hi_right: [f32; 3],
+    /// The left child's triangle count (bits 0-14; 0: interior) and the right's (bits 15-29)
+    /// where they are leaves; a leaf's own record: its count and `SELF_LEAF`.
+    pub counts: u32,
 }
 
 /// The hierarchy: nodes (the root is node 0) and the triangle order the leaves index.
@@ -91,7 +123,14 @@ impl Bvh {
             let bb = range.iter().fold(Aabb::EMPTY, |b, &i| b.union(boxes[i as usize]));
             nodes[node].lo = bb.min.to_array();
             nodes[node].hi = bb.max.to_array();
-            let split = if d + 1 < MAX_DEPTH && count > 1 { sah_split(range, &boxes, &centroids, bb) } else { None };
+            let mut split = if d + 1 < MAX_DEPTH && count > 1 { sah_split(range, &boxes, &centroids, bb) } else { None };
+            // Halves by index where the SAH leaves a leaf too large for a record's count, or the
+            // depth left could not bring the range down to one: a node at depth d then holds at
+            // most MAX_LEAF_TRIANGLES << (MAX_DEPTH - 1 - d), so one at MAX_DEPTH - 1 fits.
+            let halve_above = (MAX_LEAF_TRIANGLES as u64).checked_shl((MAX_DEPTH as u32).saturating_sub(d as u32 + 2)).unwrap_or(u64::MAX);
+            if d + 1 < MAX_DEPTH && (count as u64 > halve_above || (split.is_none() && count > MAX_LEAF_TRIANGLES)) {
+                split = Some(count / 2);
+            }
             match split {
                 Some(left) => {
                     let child = nodes.len();
@@ -109,6 +148,33 @@ impl Bvh {
             }
         }
         Bvh { nodes, order, depth }
+    }
+
+    /// The kernel's records of the nodes (`BvhRecord`), one per node, in node order.
+    pub fn records(&self) -> Vec<BvhRecord> {
+        self.nodes
+            .iter()
+            .map(|n| {
+                let mut r = BvhRecord::zeroed();
+                if n.count > 0 {
+                    r.first_left = n.first;
+                    r.counts = n.count | SELF_LEAF;
+                    return r;
+                }
+                if n.first == 0 {
+                    // The one zeroed node of a BVH without triangles (no node's children start at 0).
+                    return r;
+                }
+                let (l, rr) = (&self.nodes[n.first as usize], &self.nodes[n.first as usize + 1]);
+                debug_assert!(l.count as usize <= MAX_LEAF_TRIANGLES && rr.count as usize <= MAX_LEAF_TRIANGLES);
+                r.left = n.first;
+                (r.lo_left, r.hi_left, r.lo_right, r.hi_right) = (l.lo, l.hi, rr.lo, rr.hi);
+                r.first_left = if l.count > 0 { l.first } else { 0 };
+                r.first_right = if rr.count > 0 { rr.first } else { 0 };
+                r.counts = l.count | rr.count << COUNT_BITS;
+                r
+            })
+            .collect()
     }
 
     /// The parents of the nodes, for the kernel's stackless traversal (bvh.wgsl): every node

@@ -386,7 +386,7 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
             packed.gpu_bytes() as f64 / (1 << 20) as f64,
             (packed.triangles.len() * 48) as f64 / (1 << 20) as f64,
             (packed.normals.len() * 48) as f64 / (1 << 20) as f64,
-            (b.nodes.len() * 32) as f64 / (1 << 20) as f64,
+            (b.nodes.len() * std::mem::size_of::<pathlab::accel::BvhRecord>()) as f64 / (1 << 20) as f64,
         );
         let names = scene.mesh_attribute_names();
         if !names.is_empty() {

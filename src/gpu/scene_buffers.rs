@@ -191,11 +191,11 @@ pub struct GpuLight {
 /// Most triangles an adapter holds whose largest storage binding is `binding_limit` bytes and
 /// whose 2D textures are at most `texture_rows` texels high: the vertex normals' storage array
 /// takes 48 bytes per triangle, and the texel tables (`bindings::Kind::TexelTable`) 3 texels per
-/// triangle and 2 per BVH node, of which there are fewer than 2 per triangle (so 4 texels per
-/// triangle bound both).
+/// triangle and 4 per BVH node record, of which there are fewer than 2 per triangle (so 8 texels
+/// per triangle bound both).
 pub fn max_triangles(binding_limit: u64, texture_rows: u64) -> u64 {
     let in_binding = binding_limit / std::mem::size_of::<GpuTriangleNormals>() as u64;
-    let in_texel_tables = crate::shaders::bindings::TEXEL_TABLE_WIDTH as u64 * texture_rows / 4;
+    let in_texel_tables = crate::shaders::bindings::TEXEL_TABLE_WIDTH as u64 * texture_rows / 8;
     in_binding.min(in_texel_tables)
 }
 
@@ -225,7 +225,7 @@ impl PackedTriangles {
             + std::mem::size_of_val(&self.normals[..])
             + std::mem::size_of_val(&self.uvs[..])
             + std::mem::size_of_val(&self.attributes[..])
-            + std::mem::size_of_val(&self.bvh.nodes[..])
+            + self.bvh.nodes.len() * std::mem::size_of::<crate::accel::BvhRecord>()
             + std::mem::size_of_val(&self.bvh.pair_parents()[..])
             + std::mem::size_of_val(&self.lights[..])
     }
@@ -377,7 +377,7 @@ impl SceneBuffers {
             contents(bindings::TRIANGLE_NORMALS, "triangle normals", storage_array(&packed.normals)),
             contents(bindings::TRIANGLE_UVS, "triangle uvs", storage_array(&packed.uvs)),
             contents(bindings::MESH_ATTRIBUTES, "mesh attributes", storage_array(&packed.attributes)),
-            contents(bindings::BVH_NODES, "bvh nodes", storage_array(&packed.bvh.nodes)),
+            contents(bindings::BVH_NODES, "bvh nodes", storage_array(&packed.bvh.records())),
             contents(bindings::BVH_PARENTS, "bvh parents", storage_array(&packed.bvh.pair_parents())),
             contents(bindings::LIGHTS, "lights", storage_array(&packed.lights)),
             contents(bindings::SPHERE_AXES, "sphere axes", storage_array(&Self::pack_sphere_axes(scene))),
@@ -684,7 +684,7 @@ mod tests {
     }
 
     /// The refusal bound holds every table of the largest scene it admits: the normals in one
-    /// storage binding, triangles (3 texels) and BVH nodes (2 texels, fewer than 2 per
+    /// storage binding, triangles (3 texels) and BVH node records (4 texels, fewer than 2 per
     /// triangle) in textures of at most the adapter's rows.
     #[test]
     fn the_triangle_limit_fits_the_binding_and_the_texel_tables() {
@@ -693,7 +693,7 @@ mod tests {
             let n = max_triangles(binding, rows);
             assert!(n * std::mem::size_of::<GpuTriangleNormals>() as u64 <= binding);
             assert!((3 * n).div_ceil(width) <= rows, "triangles of {n}");
-            assert!((2 * (2 * n - 1)).div_ceil(width) <= rows, "nodes of {n}");
+            assert!((4 * (2 * n - 1)).div_ceil(width) <= rows, "nodes of {n}");
         }
         // lavapipe's 128 MiB binding, not its textures, bounds it there.
         assert_eq!(max_triangles(128 << 20, 16384), (128 << 20) / 48);

@@ -54,7 +54,7 @@ pub const ACCUM: Binding = Binding { number: 5, name: "ACCUM", kind: Kind::Stora
 pub const HALTON_PRIMES: Binding = Binding { number: 6, name: "HALTON_PRIMES", kind: Kind::Uniform };
 
 /// The triangles in BVH leaf order (`Triangle`, bvh.wgsl: three texels each), their vertex
-/// normals, the BVH nodes (`BvhNode`: two texels each).
+/// normals, the BVH nodes' records (`BvhRecord`: four texels each).
 pub const TRIANGLES: Binding = Binding { number: 7, name: "TRIANGLES", kind: Kind::TexelTable };
 pub const TRIANGLE_NORMALS: Binding = Binding { number: 8, name: "TRIANGLE_NORMALS", kind: Kind::Storage { read_only: true } };
 pub const BVH_NODES: Binding = Binding { number: 9, name: "BVH_NODES", kind: Kind::TexelTable };

@@ -24,6 +24,9 @@ pub fn generated_constants() -> String {
          const MAX_DELTA_LIGHTS: u32 = {MAX_DELTA_LIGHTS}u;\n\
          // The BVH traversal stack: the deepest node the builder makes (src/accel/bvh.rs).\n\
          const BVH_MAX_DEPTH: u32 = {}u;\n\
+         // A node record's leaf counts: bits per count, and the flag of a leaf's own record.\n\
+         const BVH_COUNT_BITS: u32 = {}u;\n\
+         const BVH_SELF_LEAF: u32 = {}u;\n\
          // Scenes of at most this many triangles test them all from a uniform buffer (src/accel/mod.rs),\n\
          // sheared once per distinct vertex position, of which there are at most MAX_SHARED_VERTICES.\n\
          const BRUTE_FORCE_TRIANGLES: u32 = {}u;\n\
@@ -71,6 +74,8 @@ pub fn generated_constants() -> String {
          // Binding numbers of group 0 (src/shaders/bindings.rs).\n\
          {}{}",
         crate::accel::bvh::MAX_DEPTH,
+        crate::accel::bvh::COUNT_BITS,
+        crate::accel::bvh::SELF_LEAF,
         crate::accel::BRUTE_FORCE_TRIANGLES,
         crate::accel::MAX_SHARED_VERTICES,
         bindings::TEXEL_TABLE_WIDTH,
