@@ -13,19 +13,23 @@
 
 use super::BRUTE_FORCE_TRIANGLES;
 
-/// Corners of up to `BRUTE_FORCE_TRIANGLES` triangles, by index into the distinct positions.
+/// Corners of up to `BRUTE_FORCE_TRIANGLES` triangles, by index into the distinct positions,
+/// in the order the kernel tests them: test k (a "slot") tests triangle `triangle[k]`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct SharedVertices {
     /// Distinct positions: at most 3 per triangle.
     pub count: u32,
-    /// Triangle k's corners p0, p1, p2 (kernel order); zero past the scene's triangles.
+    /// The triangle (kernel order) test k tests (`SMALL_TRIANGLE_<k>`): an order that keeps
+    /// few sheared positions alive at once (`test_order`); k past the scene's triangles: k.
+    pub triangle: [u8; BRUTE_FORCE_TRIANGLES as usize],
+    /// Test k's triangle's corners p0, p1, p2; zero past the scene's triangles.
     pub corners: [[u16; 3]; BRUTE_FORCE_TRIANGLES as usize],
-    /// Bit j of entry k: triangle k's corner j is its position's first use (positions are
+    /// Bit j of entry k: test k's corner j is its position's first use (positions are
     /// numbered in order of first use). The kernel shears a position there, just before the
     /// first test that reads it, so that its value lives no longer than it must.
     pub first_uses: [u8; BRUTE_FORCE_TRIANGLES as usize],
-    /// Bit k: shadow rays test triangle k (`Scene::shadow_tests_of`: a face of the scene's hull
-    /// cannot block one); every triangle by default.
+    /// Bit k: shadow rays run test k (`Scene::shadow_tests_of`: a face of the scene's hull
+    /// cannot block one); every test by default.
     pub shadow_tests: u64,
     /// `first_uses` among the triangles shadow rays test: where their test shears a position.
     pub shadow_first_uses: [u8; BRUTE_FORCE_TRIANGLES as usize],
@@ -35,6 +39,7 @@ impl Default for SharedVertices {
     fn default() -> Self {
         SharedVertices {
             count: 0,
+            triangle: std::array::from_fn(|k| k as u8),
             corners: [[0; 3]; BRUTE_FORCE_TRIANGLES as usize],
             first_uses: [0; BRUTE_FORCE_TRIANGLES as usize],
             shadow_tests: u64::MAX,
@@ -58,8 +63,9 @@ impl SharedVertices {
         let mut shared = SharedVertices::default();
         let mut positions: Vec<[f32; 3]> = Vec::new();
         let mut index: std::collections::HashMap<[u32; 3], u16> = std::collections::HashMap::new();
-        for (k, triangle) in triangles.iter().enumerate() {
-            for (j, p) in triangle.iter().enumerate() {
+        for (k, &t) in test_order(triangles).iter().enumerate() {
+            shared.triangle[k] = t as u8;
+            for (j, p) in triangles[t].iter().enumerate() {
                 let i = *index.entry(p.map(f32::to_bits)).or_insert_with(|| {
                     positions.push(*p);
                     shared.first_uses[k] |= 1 << j;
@@ -73,10 +79,11 @@ impl SharedVertices {
         Some((shared, positions))
     }
 
-    /// The same with shadow rays testing only the triangles whose bit is set in `tests`: each
-    /// position is sheared at its first use among those.
+    /// The same with shadow rays testing only the triangles whose bit is set in `tests` (bit t:
+    /// triangle t, kernel order): each position is sheared at its first use among those.
     pub fn with_shadow_tests(mut self, tests: u64) -> SharedVertices {
-        self.shadow_tests = tests;
+        self.shadow_tests = (0..BRUTE_FORCE_TRIANGLES as usize).filter(|&k| tests >> self.triangle[k] & 1 != 0).fold(0, |b, k| b | 1 << k);
+        let tests = self.shadow_tests;
         self.shadow_first_uses = [0; BRUTE_FORCE_TRIANGLES as usize];
         let mut seen = vec![false; self.count as usize];
         for (k, corners) in self.corners.iter().enumerate() {
@@ -92,6 +99,52 @@ impl SharedVertices {
         }
         self
     }
+}
+
+/// The order in which the kernel tests `triangles`, chosen so that few sheared positions are
+/// alive at once (each lives from its first use to its last; the Cornell box in BVH order had
+/// up to 17 of 28, more than the registers hold): greedily, the triangle whose test adds the
+/// fewest positions not yet alive less those it uses for the last time, the lowest index on a
+/// tie.
+pub fn test_order(triangles: &[[[f32; 3]; 3]]) -> Vec<usize> {
+    let mut ids: std::collections::HashMap<[u32; 3], usize> = std::collections::HashMap::new();
+    let corners: Vec<[usize; 3]> = triangles
+        .iter()
+        .map(|t| t.map(|p| {
+            let n = ids.len();
+            *ids.entry(p.map(f32::to_bits)).or_insert(n)
+        }))
+        .collect();
+    let mut uses = vec![0usize; ids.len()];
+    for c in corners.iter().flatten() {
+        uses[*c] += 1;
+    }
+    let mut live = vec![false; ids.len()];
+    let mut done = vec![false; triangles.len()];
+    let mut order = Vec::with_capacity(triangles.len());
+    for _ in 0..triangles.len() {
+        let score = |t: usize| {
+            let mut distinct = corners[t].to_vec();
+            distinct.sort_unstable();
+            distinct.dedup();
+            let new = distinct.iter().filter(|&&c| !live[c]).count() as i64;
+            let retired = distinct.iter().filter(|&&c| uses[c] == corners[t].iter().filter(|&&x| x == c).count()).count() as i64;
+            new - retired
+        };
+        let next = (0..triangles.len()).filter(|&t| !done[t]).min_by_key(|&t| (score(t), t)).expect("a triangle left");
+        done[next] = true;
+        order.push(next);
+        for &c in &corners[next] {
+            live[c] = true;
+            uses[c] -= 1;
+        }
+        for &c in &corners[next] {
+            if uses[c] == 0 {
+                live[c] = false;
+            }
+        }
+    }
+    order
 }
 
 #[cfg(test)]
@@ -112,6 +165,28 @@ mod tests {
         let second = shared.with_shadow_tests(0b10);
         assert_eq!(&second.shadow_first_uses[..2], &[0, 0b111]);
         assert_eq!(second.first_uses, shared.first_uses);
+    }
+
+    /// Two quads given interleaved (A1, B1, A2, B2) are tested quad by quad: A2 right after A1,
+    /// whose diagonal it shares, so at most 4 sheared positions are alive (6 in the given
+    /// order); shadow tests given by triangle follow their triangles to their tests.
+    #[test]
+    fn tests_are_ordered_to_keep_few_positions_alive() {
+        let quad = |x: f32| {
+            let (a, b, c, d) = ([x, 0.0, 0.0], [x + 1.0, 0.0, 0.0], [x + 1.0, 1.0, 0.0], [x, 1.0, 0.0]);
+            ([a, b, c], [a, c, d])
+        };
+        let ((a1, a2), (b1, b2)) = (quad(0.0), quad(5.0));
+        let triangles = [a1, b1, a2, b2];
+        assert_eq!(test_order(&triangles), vec![0, 2, 1, 3]);
+        let (shared, positions) = SharedVertices::of(&triangles).unwrap();
+        assert_eq!(&shared.triangle[..4], &[0, 2, 1, 3]);
+        assert_eq!(positions.len(), 8);
+        assert_eq!(&shared.corners[..4], &[[0, 1, 2], [0, 2, 3], [4, 5, 6], [4, 6, 7]]);
+        assert_eq!(&shared.triangle[4..6], &[4, 5], "tests past the scene's triangles keep their own index");
+        // Shadow rays testing triangles 1 and 2 (B1 and A2) run tests 2 and 1.
+        assert_eq!(shared.with_shadow_tests(0b0110).shadow_tests, 0b0110);
+        assert_eq!(shared.with_shadow_tests(0b0010).shadow_tests, 0b0100);
     }
 
     #[test]

@@ -288,6 +288,14 @@ pub fn small_corner_names() -> &'static [[String; 3]] {
     &NAMES
 }
 
+/// The names of the `override` constants that give the triangle test k tests
+/// (`accel::SharedVertices::triangle`): `SMALL_TRIANGLE_<k>`.
+pub fn small_triangle_names() -> &'static [String] {
+    static NAMES: std::sync::LazyLock<Vec<String>> =
+        std::sync::LazyLock::new(|| (0..crate::accel::BRUTE_FORCE_TRIANGLES).map(|k| format!("SMALL_TRIANGLE_{k}")).collect());
+    &NAMES
+}
+
 /// The names of the `override` constants that say which corners of triangle k are their
 /// positions' first uses (`accel::SharedVertices::first_uses`): `SMALL_FIRST_USES_<k>`.
 pub fn small_first_use_names() -> &'static [String] {
@@ -313,6 +321,7 @@ pub fn small_vertex_constants(shared: &crate::accel::SharedVertices) -> Vec<(&'s
     let mut constants = vec![("NUM_SMALL_VERTICES", shared.count as f64)];
     for (k, (names, corners)) in small_corner_names().iter().zip(shared.corners).enumerate() {
         constants.extend([0, 1, 2].map(|j| (names[j].as_str(), corners[j] as f64)));
+        constants.push((small_triangle_names()[k].as_str(), shared.triangle[k] as f64));
         constants.push((small_first_use_names()[k].as_str(), shared.first_uses[k] as f64));
         let [tests, first_uses] = &small_shadow_names()[k];
         constants.push((tests.as_str(), (shared.shadow_tests >> k & 1) as f64));
@@ -343,11 +352,11 @@ pub fn small_triangle_tests(n: u32) -> String {
     s += "// Whether shadow rays test triangle k, and where they shear its corners: by default every\n\
           // triangle, as the other rays (a face of the scene's hull cannot block one:\n\
           // `Scene::shadow_tests_of`).\n";
-    for ((names, first), [shadow, shadow_first]) in small_corner_names().iter().zip(small_first_use_names()).zip(small_shadow_names()) {
+    for (k, ((names, first), [shadow, shadow_first])) in small_corner_names().iter().zip(small_first_use_names()).zip(small_shadow_names()).enumerate() {
         s += &format!(
             "override {}: u32 = 0u;\noverride {}: u32 = 0u;\noverride {}: u32 = 0u;\noverride {first}: u32 = 0u;\n\
-             override {shadow}: u32 = 1u;\noverride {shadow_first}: u32 = {first};\n",
-            names[0], names[1], names[2]
+             override {shadow}: u32 = 1u;\noverride {shadow_first}: u32 = {first};\noverride {}: u32 = {k}u;\n",
+            names[0], names[1], names[2], small_triangle_names()[k]
         );
     }
     s += &format!(
@@ -387,9 +396,9 @@ pub fn small_triangle_tests(n: u32) -> String {
         s += &format!(
             "        \
              let t = intersect_sheared(sheared[{}], sheared[{}], sheared[{}], best.t, &bary);\n        \
-             if (t > 0.0) {{ best = TriangleHit(t, {k}u, bary); }}\n    \
+             if (t > 0.0) {{ best = TriangleHit(t, {}, bary); }}\n    \
              }}\n",
-            names[0], names[1], names[2]
+            names[0], names[1], names[2], small_triangle_names()[k]
         );
     }
     s + "    return best;\n}\n"

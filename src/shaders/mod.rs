@@ -17,7 +17,7 @@ use std::fmt::Write as _;
 use crate::method::TechniqueKind;
 use crate::scene::{Technique, TechniqueError};
 
-pub use generated::{bsdf_dispatch, bspline_unrolled, emitter_dispatch, generated_constants, light_counts, small_corner_names, small_first_use_names, small_triangle_tests, small_vertex_constants};
+pub use generated::{bsdf_dispatch, bspline_unrolled, emitter_dispatch, generated_constants, light_counts, small_corner_names, small_first_use_names, small_triangle_names, small_triangle_tests, small_vertex_constants};
 
 /// Number of Halton dimensions with their own prime base; later dimensions fall back to the
 /// independent sampler. A multiple of 4: the primes are packed four to a `vec4u`.
