@@ -53,7 +53,7 @@ pub const MAX_SHARED_VERTICES: u32 = 3 * BRUTE_FORCE_TRIANGLES;
 
 impl SharedVertices {
     /// The distinct positions of `triangles` (kernel order, corners p0, p1, p2), in order of
-    /// first use, and each triangle's corners among them. Positions are the same when their
+    /// first use by the tests (`test_order`), and each test's corners among them. Positions are the same when their
     /// bits are (so 0 and -0 stay apart: their sheared values may differ in sign). None where
     /// there are more than `BRUTE_FORCE_TRIANGLES` triangles (the kernel traverses the BVH).
     pub fn of(triangles: &[[[f32; 3]; 3]]) -> Option<(SharedVertices, Vec<[f32; 3]>)> {
@@ -62,16 +62,18 @@ impl SharedVertices {
         }
         let mut shared = SharedVertices::default();
         let mut positions: Vec<[f32; 3]> = Vec::new();
-        let mut index: std::collections::HashMap<[u32; 3], u16> = std::collections::HashMap::new();
-        for (k, &t) in test_order(triangles).iter().enumerate() {
+        let ids = position_ids(triangles);
+        // Each position's number among `positions` (u16::MAX: not used yet).
+        let mut number = vec![u16::MAX; 3 * triangles.len()];
+        for (k, &t) in test_order(&ids).iter().enumerate() {
             shared.triangle[k] = t as u8;
-            for (j, p) in triangles[t].iter().enumerate() {
-                let i = *index.entry(p.map(f32::to_bits)).or_insert_with(|| {
-                    positions.push(*p);
+            for (j, &id) in ids[t].iter().enumerate() {
+                if number[id] == u16::MAX {
+                    number[id] = positions.len() as u16;
+                    positions.push(triangles[t][j]);
                     shared.first_uses[k] |= 1 << j;
-                    (positions.len() - 1) as u16
-                });
-                shared.corners[k][j] = i;
+                }
+                shared.corners[k][j] = number[id];
             }
         }
         shared.count = positions.len() as u32;
@@ -101,28 +103,37 @@ impl SharedVertices {
     }
 }
 
-/// The order in which the kernel tests `triangles`, chosen so that few sheared positions are
-/// alive at once (each lives from its first use to its last; the Cornell box in BVH order had
-/// up to 17 of 28, more than the registers hold): greedily, the triangle whose test adds the
-/// fewest positions not yet alive less those it uses for the last time, the lowest index on a
-/// tie.
-pub fn test_order(triangles: &[[[f32; 3]; 3]]) -> Vec<usize> {
+/// Each triangle's corners as numbers of distinct positions, in order of first appearance.
+/// Positions are the same when their bits are (so 0 and -0 stay apart: their sheared values may
+/// differ in sign).
+fn position_ids(triangles: &[[[f32; 3]; 3]]) -> Vec<[usize; 3]> {
     let mut ids: std::collections::HashMap<[u32; 3], usize> = std::collections::HashMap::new();
-    let corners: Vec<[usize; 3]> = triangles
+    triangles
         .iter()
-        .map(|t| t.map(|p| {
-            let n = ids.len();
-            *ids.entry(p.map(f32::to_bits)).or_insert(n)
-        }))
-        .collect();
-    let mut uses = vec![0usize; ids.len()];
+        .map(|t| {
+            t.map(|p| {
+                let n = ids.len();
+                *ids.entry(p.map(f32::to_bits)).or_insert(n)
+            })
+        })
+        .collect()
+}
+
+/// The order in which the kernel tests the triangles of `corners` (each one's position numbers,
+/// `position_ids`), chosen so that few sheared positions are alive at once (each lives from its
+/// first use to its last; the Cornell box in BVH order had up to 17 of 28, more than the
+/// registers hold): greedily, the triangle whose test adds the fewest positions not yet alive
+/// less those it uses for the last time, the lowest index on a tie.
+pub fn test_order(corners: &[[usize; 3]]) -> Vec<usize> {
+    let positions = corners.iter().flatten().max().map_or(0, |&m| m + 1);
+    let mut uses = vec![0usize; positions];
     for c in corners.iter().flatten() {
         uses[*c] += 1;
     }
-    let mut live = vec![false; ids.len()];
-    let mut done = vec![false; triangles.len()];
-    let mut order = Vec::with_capacity(triangles.len());
-    for _ in 0..triangles.len() {
+    let mut live = vec![false; positions];
+    let mut done = vec![false; corners.len()];
+    let mut order = Vec::with_capacity(corners.len());
+    for _ in 0..corners.len() {
         let score = |t: usize| {
             let mut distinct = corners[t].to_vec();
             distinct.sort_unstable();
@@ -131,7 +142,7 @@ pub fn test_order(triangles: &[[[f32; 3]; 3]]) -> Vec<usize> {
             let retired = distinct.iter().filter(|&&c| uses[c] == corners[t].iter().filter(|&&x| x == c).count()).count() as i64;
             new - retired
         };
-        let next = (0..triangles.len()).filter(|&t| !done[t]).min_by_key(|&t| (score(t), t)).expect("a triangle left");
+        let next = (0..corners.len()).filter(|&t| !done[t]).min_by_key(|&t| (score(t), t)).expect("a triangle left");
         done[next] = true;
         order.push(next);
         for &c in &corners[next] {
@@ -178,7 +189,7 @@ mod tests {
         };
         let ((a1, a2), (b1, b2)) = (quad(0.0), quad(5.0));
         let triangles = [a1, b1, a2, b2];
-        assert_eq!(test_order(&triangles), vec![0, 2, 1, 3]);
+        assert_eq!(test_order(&position_ids(&triangles)), vec![0, 2, 1, 3]);
         let (shared, positions) = SharedVertices::of(&triangles).unwrap();
         assert_eq!(&shared.triangle[..4], &[0, 2, 1, 3]);
         assert_eq!(positions.len(), 8);

@@ -279,8 +279,9 @@ pub fn light_counts() -> String {
     s
 }
 
-/// The names of the `override` constants that give triangle k's corner j among the small
-/// scene's distinct vertex positions (`accel::SharedVertices`), for k below
+/// The names of the `override` constants that give test k's corner j among the small scene's
+/// distinct vertex positions (`accel::SharedVertices`: test k tests triangle
+/// `SMALL_TRIANGLE_<k>`), for k below
 /// `BRUTE_FORCE_TRIANGLES`: `SMALL_CORNER_<k>_<j>`.
 pub fn small_corner_names() -> &'static [[String; 3]] {
     static NAMES: std::sync::LazyLock<Vec<[String; 3]>> =
@@ -296,7 +297,7 @@ pub fn small_triangle_names() -> &'static [String] {
     &NAMES
 }
 
-/// The names of the `override` constants that say which corners of triangle k are their
+/// The names of the `override` constants that say which corners of test k are their
 /// positions' first uses (`accel::SharedVertices::first_uses`): `SMALL_FIRST_USES_<k>`.
 pub fn small_first_use_names() -> &'static [String] {
     static NAMES: std::sync::LazyLock<Vec<String>> =
@@ -304,7 +305,7 @@ pub fn small_first_use_names() -> &'static [String] {
     &NAMES
 }
 
-/// The names of the `override` constants that say whether shadow rays test triangle k
+/// The names of the `override` constants that say whether shadow rays run test k
 /// (`SMALL_SHADOW_TESTS_<k>`, 1 or 0) and where their tests shear its corners
 /// (`SMALL_SHADOW_FIRST_USES_<k>`): `accel::SharedVertices::shadow_tests`.
 pub fn small_shadow_names() -> &'static [[String; 2]] {
@@ -315,8 +316,8 @@ pub fn small_shadow_names() -> &'static [[String; 2]] {
 }
 
 /// The `override` constants of a small scene's shared vertices (`accel::SharedVertices`):
-/// `NUM_SMALL_VERTICES`, and per triangle its corners, first uses, and whether and where
-/// shadow rays test it.
+/// `NUM_SMALL_VERTICES`, and per test its triangle, its corners, their first uses, and whether
+/// and where shadow rays run it.
 pub fn small_vertex_constants(shared: &crate::accel::SharedVertices) -> Vec<(&'static str, f64)> {
     let mut constants = vec![("NUM_SMALL_VERTICES", shared.count as f64)];
     for (k, (names, corners)) in small_corner_names().iter().zip(shared.corners).enumerate() {
@@ -349,8 +350,9 @@ pub fn small_triangle_tests(n: u32) -> String {
          // scene traverses the BVH), and each triangle's corners among them.\n\
          override NUM_SMALL_VERTICES: u32 = 0u;\n",
     );
-    s += "// Whether shadow rays test triangle k, and where they shear its corners: by default every\n\
-          // triangle, as the other rays (a face of the scene's hull cannot block one:\n\
+    s += "// Test k's triangle (SMALL_TRIANGLE_<k>: an order that keeps few sheared positions\n\
+          // alive), its corners, whether shadow rays run it and where they shear its corners: by\n\
+          // default every test, as the other rays (a face of the scene's hull cannot block one:\n\
           // `Scene::shadow_tests_of`).\n";
     for (k, ((names, first), [shadow, shadow_first])) in small_corner_names().iter().zip(small_first_use_names()).zip(small_shadow_names()).enumerate() {
         s += &format!(
