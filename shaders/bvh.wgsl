@@ -342,7 +342,8 @@ fn traversal_step() -> bool {
 // are generated after this file (src/shaders/generated.rs): one step per triangle at constant
 // indices, SMALL_TRIANGLE_TESTS of them (the module is assembled per triangle count; steps
 // past NUM_TRIANGLES fold away). Every entry point that traces rays
-// calls `load_small_triangles()` first, outside any branch or loop. Why, on lavapipe (Mesa
+// calls `load_small_triangles()` first, outside any branch or loop (through
+// `load_scene_registers()`, which copies the spheres and planes the same way). Why, on lavapipe (Mesa
 // 22.3, gallivm): inside a branch or loop even a constant-index uniform read is compiled as 8
 // lane-by-lane loads (LLVM could not merge them here), and at a loop counter's index always
 // (gallivm has no divergence analysis); before any branch, a constant-index read is one load

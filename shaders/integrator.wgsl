@@ -346,7 +346,7 @@ fn surface_vertex(id: SampleId, hit: Hit, ray_o: vec3f, ray_d: vec3f, dim_base: 
         // The hit point projected back onto its sphere (pbrt's refinement): rays that cross
         // a sphere leave from within 2e-5 of its surface, which o + t d misses by more
         // after a few bounces inside.
-        let s = spheres[hit.object];
+        let s = sphere_of(hit.object);
         x = s.center + s.radius * normalize(x - s.center);
     }
     let wo = -ray_d;
@@ -519,7 +519,7 @@ fn trace_path(id: SampleId, px: u32, py: u32) -> vec3f {
 @compute @workgroup_size(8, 8, 1)
 fn render_main(@builtin(global_invocation_id) gid: vec3u) {
     // First, outside every branch: see bvh.wgsl.
-    load_small_triangles();
+    load_scene_registers();
     sampler_opaque_zero = frame.opaque_zero;
     if (gid.x >= frame.tile_width || gid.y >= frame.tile_height) {
         return;

@@ -207,7 +207,7 @@ fn plane_uv(normal: vec3f, x: vec3f) -> vec2f {
 // pi to_world (1, 0, 0)).
 fn sphere_partials(i: u32, n: vec3f) -> Partials {
     let a = sphere_axes[i];
-    let r = spheres[i].radius;
+    let r = sphere_of(i).radius;
     let l = vec3f(dot(n, a.x), dot(n, a.y), dot(n, a.z));
     let rd = sqrt(l.x * l.x + l.y * l.y);
     let dv_l = select(vec3f(1.0, 0.0, 0.0), vec3f(l.z * (l.x / rd), l.z * (l.y / rd), -rd), rd != 0.0);
@@ -270,7 +270,7 @@ fn intersect_scene(o: vec3f, d: vec3f) -> Hit {
     var radius = 1.0;
     var plane_normal = vec3f(0.0);
     for (var i = 0u; i < NUM_SPHERES; i++) {
-        let s = spheres[i];
+        let s = sphere_at(i);
         let t = intersect_sphere(o, d, s.center, s.radius, 0.0, t_hit);
         let closer = t > 0.0;
         t_hit = select(t_hit, t, closer);
@@ -280,7 +280,7 @@ fn intersect_scene(o: vec3f, d: vec3f) -> Hit {
         radius = select(radius, s.radius, closer);
     }
     for (var j = 0u; j < NUM_PLANES; j++) {
-        let p = surfaces.planes[j];
+        let p = plane_at(j);
         let t = intersect_plane(o, d, p.normal, p.offset, 0.0, t_hit);
         let closer = t > 0.0;
         t_hit = select(t_hit, t, closer);
@@ -396,12 +396,12 @@ fn occluded(o: vec3f, d: vec3f, t_max: f32, skip: u32) -> bool {
     rays_traced += 1u;
     var blocked = false;
     for (var i = 0u; i < NUM_SPHERES; i++) {
-        let s = spheres[i];
+        let s = sphere_at(i);
         let t = intersect_sphere(o, d, s.center, s.radius, 0.0, t_max);
         blocked = blocked | ((t > 0.0) & (i != skip));
     }
     for (var j = 0u; j < NUM_OCCLUDING_PLANES; j++) {
-        let p = surfaces.planes[j];
+        let p = plane_at(j);
         blocked = blocked | (intersect_plane(o, d, p.normal, p.offset, 0.0, t_max) > 0.0);
     }
     if (NUM_DISKS > 0u) {

@@ -276,8 +276,10 @@ fn cornell_box_shards_merge_to_the_single_run_and_light_options_must_agree() {
 
 /// The two tunings of the kernel render the same images (`gpu::AdapterTuning`): a CPU
 /// adapter's (small scenes triangle by triangle, the stackless traversal, plain edge
-/// functions) and a GPU's (every scene through the BVH, with a stack, ordered edge functions),
-/// both run here, bit for bit. The Cornell box (36
+/// functions, spheres and planes read from registers) and a GPU's (every scene through the BVH,
+/// with a stack, ordered edge functions, spheres and planes read from their uniform buffers),
+/// both run here, bit for bit. The study scene (4 spheres, 4 planes) and Veach's scene (4
+/// spherical lights) hold the registers' copies to the uniform buffers. The Cornell box (36
 /// triangles) and Veach's scene (52) are the only CI coverage of small scenes through the BVH
 /// and of the traversal with a stack in a render; the lamps (404 triangles) hold the stackless
 /// traversal to it. Both ways find the nearest triangle with the same watertight test (the
@@ -291,8 +293,8 @@ fn the_cpu_and_gpu_tunings_render_the_same_images() {
     use pathlab::render::Renderer;
     let gpu_tuning = AdapterTuning::for_device(wgpu::DeviceType::DiscreteGpu);
     let mut cpu_tuning = AdapterTuning::for_device(wgpu::DeviceType::Cpu);
-    assert!(gpu_tuning.brute_force_limit == 0 && !gpu_tuning.stackless_traversal && gpu_tuning.ordered_edges);
-    assert!(cpu_tuning.stackless_traversal && !cpu_tuning.ordered_edges);
+    assert!(gpu_tuning.brute_force_limit == 0 && !gpu_tuning.stackless_traversal && gpu_tuning.ordered_edges && !gpu_tuning.scene_in_registers);
+    assert!(cpu_tuning.stackless_traversal && !cpu_tuning.ordered_edges && cpu_tuning.scene_in_registers);
     // Where the adapter fuses multiply-adds (a GPU), the CPU tuning's plain edge functions let
     // rays through shared edges (what ORDERED_EDGES is for): there both tunings run with the
     // edge functions this adapter needs, so that what differs is the traversal alone (the small
@@ -301,7 +303,7 @@ fn the_cpu_and_gpu_tunings_render_the_same_images() {
         cpu_tuning.ordered_edges = true;
     }
     let tuned = [gpu_tuning, cpu_tuning].map(|t| PathTracerPipelines::with_tuning(&gpu().device, t));
-    for file in ["cornell_box.toml", "veach_mis.xml", "lamps.xml"] {
+    for file in ["cornell_box.toml", "veach_mis.xml", "lamps.xml", "study.toml"] {
         let mut scene = Scene::load(format!("{}/assets/scenes/{file}", env!("CARGO_MANIFEST_DIR"))).unwrap();
         (scene.render.width, scene.render.height) = (24, 24);
         for preset in [Preset::Mis, Preset::Best] {

@@ -20,7 +20,7 @@ fn inside_light(s: u32, sphere: Sphere, ctx: LightSampleContext) -> bool {
 // A direction from ctx towards sphere light l: cone sampling (or a researcher's technique) from
 // outside, area sampling from inside.
 fn sample_sphere_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> EmitterSample {
-    let sphere = spheres[l];
+    let sphere = sphere_of(l);
     var ls: LightSample;
     if (inside_light(l, sphere, ctx)) {
         ls = sample_sphere_light_area(sphere.center, sphere.radius, ctx.x, u);
@@ -41,7 +41,7 @@ fn sample_sphere_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> EmitterSa
 
 // Solid-angle density with which sample_sphere_emitter gives wi from ctx.
 fn pdf_sphere_emitter(l: u32, ctx: LightSampleContext, wi: vec3f) -> f32 {
-    let sphere = spheres[l];
+    let sphere = sphere_of(l);
     let inside = inside_light(l, sphere, ctx);
     if (LIGHT_TECHNIQUE && LIGHT_TECHNIQUE_SPHERES && !inside) {
         return select(pdf_sphere_light_technique(sphere.center, sphere.radius, ctx.x, ctx.n, wi), 0.0, l == ctx.object);

@@ -442,3 +442,67 @@ pub fn emitter_dispatch() -> String {
     );
     s
 }
+
+/// Entries of each table the kernel copies into registers on CPU adapters (`SCENE_IN_REGISTERS`:
+/// spheres, planes, materials); a scene with more of one kind reads that kind from its uniform
+/// buffer.
+pub const REGISTER_ENTRIES: u32 = 8;
+
+/// The scene's small tables in registers (see `scene_registers`): each table's name in the
+/// WGSL, its element type, its uniform array and its count's `override`.
+const REGISTER_TABLES: [(&str, &str, &str, &str); 2] = [
+    ("sphere", "Sphere", "spheres", "NUM_SPHERES"),
+    ("plane", "Plane", "surfaces.planes", "NUM_PLANES"),
+];
+
+/// `load_scene_registers`, which copies the scene's spheres, planes and materials out of their
+/// uniform buffers into private arrays where `SCENE_IN_REGISTERS` (CPU adapters) and a table
+/// has at most `REGISTER_ENTRIES` entries, and the accessors the kernel reads them through:
+/// `<table>_at(i)` for an index the same in every lane (a loop's counter), `<table>_of(i)` for
+/// one that differs per lane (a hit's object or material), which selects among the copies.
+///
+/// Why, on lavapipe (Mesa 22.3, gallivm; bvh.wgsl says more): inside the bounce loop a uniform
+/// read is 8 lane-by-lane loads per component, even at a constant index; at kernel entry,
+/// outside every branch and loop, a constant-index read is one load for all 8 lanes. Selects
+/// run on all lanes at once, where a read at a per-lane index is a gather lane by lane. GPUs
+/// keep the uniform reads (their constant caches broadcast, and the copies would cost them
+/// registers).
+pub fn scene_registers() -> String {
+    let n = REGISTER_ENTRIES;
+    let mut s = format!(
+        "// The scene's spheres, planes and materials copied into registers on CPU adapters (where a\n\
+         // table has at most REGISTER_ENTRIES entries): see src/shaders/generated.rs.\n\
+         override SCENE_IN_REGISTERS: bool = false;\n\
+         const REGISTER_ENTRIES: u32 = {n}u;\n"
+    );
+    for (name, ty, _, _) in REGISTER_TABLES {
+        s += &format!("var<private> {name}_registers: array<{ty}, {n}>;\n");
+    }
+    s += "\n// Copies the tables into registers (and the small scenes' triangles: bvh.wgsl): called by\n\
+          // every entry point that traces rays, first, outside any branch or loop.\n\
+          fn load_scene_registers() {\n    load_small_triangles();\n";
+    for (name, _, array, count) in REGISTER_TABLES {
+        s += &format!("    if (SCENE_IN_REGISTERS && {count} <= {n}u) {{\n");
+        for k in 0..n {
+            s += &format!("        if ({k}u < {count}) {{ {name}_registers[{k}] = {array}[{k}]; }}\n");
+        }
+        s += "    }\n";
+    }
+    s += "}\n";
+    for (name, ty, array, count) in REGISTER_TABLES {
+        s += &format!(
+            "\n// {ty} i, i the same in every lane.\n\
+             fn {name}_at(i: u32) -> {ty} {{\n    \
+             if (SCENE_IN_REGISTERS && {count} <= {n}u) {{\n        return {name}_registers[i];\n    }}\n    \
+             return {array}[i];\n}}\n\
+             \n// {ty} i, i differing per lane: selected among the copies (at a constant i the selects fold).\n\
+             fn {name}_of(i: u32) -> {ty} {{\n    \
+             if (SCENE_IN_REGISTERS && {count} <= {n}u) {{\n        var x = {name}_registers[0];\n"
+        );
+        for k in 1..n {
+            s += &format!("        if ({k}u < {count} && i == {k}u) {{ x = {name}_registers[{k}]; }}\n");
+        }
+        s += &format!("        return x;\n    }}\n    return {array}[i];\n}}\n");
+    }
+    s
+}

@@ -396,7 +396,7 @@ struct ProbeRay { o: vec4f, d: vec4f }
 
 @compute @workgroup_size(64)
 fn trace_probe(@builtin(global_invocation_id) gid: vec3u) {
-    load_small_triangles();
+    load_scene_registers();
     let i = gid.x;
     if (i >= arrayLength(&probe_rays)) {
         return;
