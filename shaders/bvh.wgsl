@@ -354,7 +354,8 @@ fn traversal_step() -> bool {
 
 // The nearest triangle along (o, d) closer than t_max (brute force for small scenes, else the
 // BVH); with `any`, the first one found (shadow rays towards lights, which in small scenes skip
-// the faces of the scene's hull: `Scene::shadow_tests_of`).
+// the faces of the scene's hull and of closed convex meshes turned away from every light:
+// `Scene::shadow_tests_of`).
 fn triangles_closest(o: vec3f, d: vec3f, t_max: f32, any: bool) -> TriangleHit {
     if (NUM_TRIANGLES <= SMALL_TRIANGLE_TESTS) {
         return triangles_brute_force(o, d, t_max, any);

@@ -28,8 +28,9 @@ pub struct SharedVertices {
     /// numbered in order of first use). The kernel shears a position there, just before the
     /// first test that reads it, so that its value lives no longer than it must.
     pub first_uses: [u8; BRUTE_FORCE_TRIANGLES as usize],
-    /// Bit k: shadow rays run test k (`Scene::shadow_tests_of`: a face of the scene's hull
-    /// cannot block one); every test by default.
+    /// Bit k: shadow rays run test k (`Scene::shadow_tests_of`: a face of the scene's hull, or
+    /// of a closed convex mesh turned away from every light, need not be tested); every test by
+    /// default.
     pub shadow_tests: u64,
     /// `first_uses` among the triangles shadow rays test: where their test shears a position.
     pub shadow_first_uses: [u8; BRUTE_FORCE_TRIANGLES as usize],

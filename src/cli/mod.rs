@@ -404,7 +404,7 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
         if let Some((shared, _)) = packed.shared_vertices() {
             let hull = packed.triangles.len() as u32 - scene.shadow_tests_of(&packed.corners()).count_ones().min(packed.triangles.len() as u32);
             let skipped = if hull > 0 {
-                format!("; shadow rays to lights skip the {hull} on the scene's hull (unless next event estimation samples the environment)")
+                format!("; shadow rays to lights skip the {hull} they cannot meet first: faces of the scene's hull, and of closed convex meshes turned away from every light (unless next event estimation samples the environment)")
             } else {
                 String::new()
             };

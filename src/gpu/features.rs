@@ -185,7 +185,8 @@ impl SceneFeatures {
             num_triangles: scene.num_triangles() as u32,
             small_vertices: if scene.num_triangles() <= crate::accel::BRUTE_FORCE_TRIANGLES as usize {
                 // The kernel's order of the triangles (the BVH's leaves): cheap at this size.
-                // Shadow rays skip the faces of the scene's hull (`Scene::shadow_tests_of`).
+                // Shadow rays skip the faces of the scene's hull and of closed convex meshes
+                // turned away from every light (`Scene::shadow_tests_of`).
                 let packed = super::PackedTriangles::new(scene, false);
                 packed.shared_vertices().map_or(SharedVertices::default(), |(s, _)| s.with_shadow_tests(scene.shadow_tests_of(&packed.corners())))
             } else {

@@ -352,7 +352,8 @@ pub fn small_triangle_tests(n: u32) -> String {
     );
     s += "// Test k's triangle (SMALL_TRIANGLE_<k>: an order that keeps few sheared positions\n\
           // alive), its corners, whether shadow rays run it and where they shear its corners: by\n\
-          // default every test, as the other rays (a face of the scene's hull cannot block one:\n\
+          // default every test, as the other rays (a face of the scene's hull, or of a closed\n\
+          // convex mesh turned away from every light, need not be tested:\n\
           // `Scene::shadow_tests_of`).\n";
     for (k, ((names, first), [shadow, shadow_first])) in small_corner_names().iter().zip(small_first_use_names()).zip(small_shadow_names()).enumerate() {
         s += &format!(
