@@ -341,10 +341,10 @@ fn traversal_step() -> bool {
 // The small scenes' tests, `load_small_triangles()` and `triangles_brute_force(o, d, t_max, shadow)`,
 // are generated after this file (src/shaders/generated.rs): one step per triangle at constant
 // indices, SMALL_TRIANGLE_TESTS of them (the module is assembled per triangle count; steps
-// past NUM_TRIANGLES fold away). Every entry point that traces rays
-// calls `load_small_triangles()` first, outside any branch or loop (through
-// `load_scene_registers()`, which copies the spheres and planes the same way). Why, on lavapipe (Mesa
-// 22.3, gallivm): inside a branch or loop even a constant-index uniform read is compiled as 8
+// past NUM_TRIANGLES fold away). Every entry point that traces rays calls
+// `load_small_triangles()` first, outside any branch or loop (through `load_scene_registers()`,
+// which copies the spheres, planes and quadrics the same way). Why, on lavapipe (Mesa 22.3,
+// gallivm): inside a branch or loop even a constant-index uniform read is compiled as 8
 // lane-by-lane loads (LLVM could not merge them here), and at a loop counter's index always
 // (gallivm has no divergence analysis); before any branch, a constant-index read is one load
 // for all 8 lanes, and the copy then lives in registers and stack slots. On the Cornell box

@@ -272,7 +272,7 @@ fn light_of(object: u32) -> u32 {
         return triangle_at(object - first_triangle_object()).light;
     }
     if (is_quadric(object)) {
-        return surfaces.quadrics[object - first_quadric_object()].light;
+        return quadric_of(object - first_quadric_object()).light;
     }
     return INVALID;
 }

@@ -74,7 +74,7 @@ fn bspline_candidates(o: vec3f, d: vec3f, t_max: f32) -> vec2u {
     var first = INVALID;
     var last = 0u;
     for (var k = first_bspline_segment(); k < first_sdf_grid(); k++) {
-        let met = bspline_bounds_met(surfaces.quadrics[k], o, d, t_max);
+        let met = bspline_bounds_met(quadric_at(k), o, d, t_max);
         first = select(first, min(first, k), met);
         last = select(last, k, met);
     }
@@ -250,7 +250,7 @@ fn surface_partials(hit: Hit, x: vec3f) -> Partials {
     }
     if (is_quadric(hit.object)) {
         let k = hit.object - first_quadric_object();
-        return quadric_partials(k, surfaces.quadrics[k], x);
+        return quadric_partials(k, quadric_of(k), x);
     }
     let i = hit.object - first_triangle_object();
     return triangle_partials(i, triangle_at(i), hit.normal);
@@ -307,7 +307,7 @@ fn intersect_scene(o: vec3f, d: vec3f) -> Hit {
         var quadric = INVALID;
         if (NUM_DISKS > 0u) {
             for (var k = 0u; k < NUM_DISKS; k++) {
-                let t = intersect_disk(surfaces.quadrics[k], o, d, 0.0, hit.t);
+                let t = intersect_disk(quadric_at(k), o, d, 0.0, hit.t);
                 let closer = t > 0.0;
                 hit.t = select(hit.t, t, closer);
                 quadric = select(quadric, k, closer);
@@ -315,7 +315,7 @@ fn intersect_scene(o: vec3f, d: vec3f) -> Hit {
         }
         if (NUM_CYLINDERS > 0u) {
             for (var k = NUM_DISKS; k < NUM_DISKS + NUM_CYLINDERS; k++) {
-                let t = intersect_cylinder(surfaces.quadrics[k], o, d, 0.0, hit.t);
+                let t = intersect_cylinder(quadric_at(k), o, d, 0.0, hit.t);
                 let closer = t > 0.0;
                 hit.t = select(hit.t, t, closer);
                 quadric = select(quadric, k, closer);
@@ -323,7 +323,7 @@ fn intersect_scene(o: vec3f, d: vec3f) -> Hit {
         }
         if (NUM_CURVE_SEGMENTS > 0u) {
             for (var k = NUM_DISKS + NUM_CYLINDERS; k < first_bspline_segment(); k++) {
-                let t = intersect_linear_curve(surfaces.quadrics[k], o, d, 0.0, hit.t);
+                let t = intersect_linear_curve(quadric_at(k), o, d, 0.0, hit.t);
                 let closer = t > 0.0;
                 hit.t = select(hit.t, t, closer);
                 quadric = select(quadric, k, closer);
@@ -334,7 +334,7 @@ fn intersect_scene(o: vec3f, d: vec3f) -> Hit {
         if (NUM_BSPLINE_SEGMENTS > 0u) {
             let range = bspline_candidates(o, d, hit.t);
             for (var k = range.x; k <= range.y; k++) {
-                let h = intersect_bspline_curve(surfaces.quadrics[k], o, d, 0.0, hit.t);
+                let h = intersect_bspline_curve(quadric_at(k), o, d, 0.0, hit.t);
                 let closer = h.x > 0.0;
                 hit.t = select(hit.t, h.x, closer);
                 quadric = select(quadric, k, closer);
@@ -343,14 +343,14 @@ fn intersect_scene(o: vec3f, d: vec3f) -> Hit {
         }
         if (NUM_SDF_GRIDS > 0u) {
             for (var k = first_sdf_grid(); k < num_quadrics(); k++) {
-                let t = intersect_sdf_grid(surfaces.quadrics[k], o, d, hit.t);
+                let t = intersect_sdf_grid(quadric_at(k), o, d, hit.t);
                 let closer = t > 0.0;
                 hit.t = select(hit.t, t, closer);
                 quadric = select(quadric, k, closer);
             }
         }
         if (quadric != INVALID) {
-            let q = surfaces.quadrics[quadric];
+            let q = quadric_of(quadric);
             let x = o + d * hit.t;
             let n = quadric_normal(quadric, q, x, curve_v);
             var q_uv = vec2f(0.0);
@@ -406,28 +406,28 @@ fn occluded(o: vec3f, d: vec3f, t_max: f32, skip: u32) -> bool {
     }
     if (NUM_DISKS > 0u) {
         for (var k = 0u; k < NUM_DISKS; k++) {
-            blocked = blocked | (intersect_disk(surfaces.quadrics[k], o, d, 0.0, t_max) > 0.0);
+            blocked = blocked | (intersect_disk(quadric_at(k), o, d, 0.0, t_max) > 0.0);
         }
     }
     if (NUM_CYLINDERS > 0u) {
         for (var k = NUM_DISKS; k < NUM_DISKS + NUM_CYLINDERS; k++) {
-            blocked = blocked | (intersect_cylinder(surfaces.quadrics[k], o, d, 0.0, t_max) > 0.0);
+            blocked = blocked | (intersect_cylinder(quadric_at(k), o, d, 0.0, t_max) > 0.0);
         }
     }
     if (NUM_CURVE_SEGMENTS > 0u) {
         for (var k = NUM_DISKS + NUM_CYLINDERS; k < first_bspline_segment(); k++) {
-            blocked = blocked | (intersect_linear_curve(surfaces.quadrics[k], o, d, 0.0, t_max) > 0.0);
+            blocked = blocked | (intersect_linear_curve(quadric_at(k), o, d, 0.0, t_max) > 0.0);
         }
     }
     if (NUM_BSPLINE_SEGMENTS > 0u) {
         let range = bspline_candidates(o, d, t_max);
         for (var k = range.x; k <= range.y; k++) {
-            blocked = blocked | (intersect_bspline_curve(surfaces.quadrics[k], o, d, 0.0, t_max).x > 0.0);
+            blocked = blocked | (intersect_bspline_curve(quadric_at(k), o, d, 0.0, t_max).x > 0.0);
         }
     }
     if (NUM_SDF_GRIDS > 0u) {
         for (var k = first_sdf_grid(); k < num_quadrics(); k++) {
-            blocked = blocked | (intersect_sdf_grid(surfaces.quadrics[k], o, d, t_max) > 0.0);
+            blocked = blocked | (intersect_sdf_grid(quadric_at(k), o, d, t_max) > 0.0);
         }
     }
     if (NUM_TRIANGLES > 0u && !blocked) {

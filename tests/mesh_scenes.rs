@@ -276,10 +276,11 @@ fn cornell_box_shards_merge_to_the_single_run_and_light_options_must_agree() {
 
 /// The two tunings of the kernel render the same images (`gpu::AdapterTuning`): a CPU
 /// adapter's (small scenes triangle by triangle, the stackless traversal, plain edge
-/// functions, spheres and planes read from registers) and a GPU's (every scene through the BVH,
-/// with a stack, ordered edge functions, spheres and planes read from their uniform buffers),
-/// both run here, bit for bit. The study scene (4 spheres, 4 planes) and Veach's scene (4
-/// spherical lights) hold the registers' copies to the uniform buffers. The Cornell box (36
+/// functions, spheres, planes and quadrics read from registers) and a GPU's (every scene through
+/// the BVH, with a stack, ordered edge functions, the shapes read from their uniform buffers),
+/// both run here, bit for bit. The study scene (4 spheres, 4 planes), Veach's scene (4
+/// spherical lights) and the quadrics fixture (disks and cylinders, lights among them) hold the
+/// registers' copies to the uniform buffers. The Cornell box (36
 /// triangles) and Veach's scene (52) are the only CI coverage of small scenes through the BVH
 /// and of the traversal with a stack in a render; the lamps (404 triangles) hold the stackless
 /// traversal to it. Both ways find the nearest triangle with the same watertight test (the
@@ -303,8 +304,8 @@ fn the_cpu_and_gpu_tunings_render_the_same_images() {
         cpu_tuning.ordered_edges = true;
     }
     let tuned = [gpu_tuning, cpu_tuning].map(|t| PathTracerPipelines::with_tuning(&gpu().device, t));
-    for file in ["cornell_box.toml", "veach_mis.xml", "lamps.xml", "study.toml"] {
-        let mut scene = Scene::load(format!("{}/assets/scenes/{file}", env!("CARGO_MANIFEST_DIR"))).unwrap();
+    for file in ["assets/scenes/cornell_box.toml", "assets/scenes/veach_mis.xml", "assets/scenes/lamps.xml", "assets/scenes/study.toml", "tests/fixtures/quadrics/quadrics.xml"] {
+        let mut scene = Scene::load(format!("{}/{file}", env!("CARGO_MANIFEST_DIR"))).unwrap();
         (scene.render.width, scene.render.height) = (24, 24);
         for preset in [Preset::Mis, Preset::Best] {
             let [a, b] = [&tuned[0], &tuned[1]].map(|p| finish(Renderer::new(gpu(), p, &scene, preset.method(), 5).expect("renderer"), 16).film);

@@ -18,7 +18,7 @@ fn cylinder_emitter_t_min(l: u32, q: Quadric, ctx: LightSampleContext) -> f32 {
 
 // A direction from ctx towards cylinder light l.
 fn sample_cylinder_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> EmitterSample {
-    let q = surfaces.quadrics[light_table[l].object];
+    let q = quadric_of(light_table[l].object);
     var s: CylinderLightSample;
     if (LIGHT_TECHNIQUE && LIGHT_TECHNIQUE_CYLINDERS) {
         s = sample_cylinder_light_with_technique(q, ctx.x, ctx.n, u, cylinder_emitter_t_min(l, q, ctx));
@@ -33,7 +33,7 @@ fn sample_cylinder_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> Emitter
 // at the first point the ray meets). From a point of the cylinder itself, the root at that
 // point is skipped.
 fn pdf_cylinder_emitter(l: u32, ctx: LightSampleContext, wi: vec3f) -> f32 {
-    let q = surfaces.quadrics[light_table[l].object];
+    let q = quadric_of(light_table[l].object);
     if (LIGHT_TECHNIQUE && LIGHT_TECHNIQUE_CYLINDERS) {
         return pdf_cylinder_light_with_technique(q, ctx.x, ctx.n, wi, cylinder_emitter_t_min(l, q, ctx));
     }
@@ -43,6 +43,6 @@ fn pdf_cylinder_emitter(l: u32, ctx: LightSampleContext, wi: vec3f) -> f32 {
 // Radiance a ray along ray_d receives from the cylinder it hit: the emission on its emitting
 // side(s), else none.
 fn eval_cylinder_emitter(hit: Hit, ray_d: vec3f) -> vec3f {
-    let q = surfaces.quadrics[hit.object - first_quadric_object()];
+    let q = quadric_of(hit.object - first_quadric_object());
     return select(vec3f(0.0), materials[hit.material].emission, cylinder_emits_along(q, hit.normal, ray_d));
 }

@@ -13,7 +13,7 @@ fn disk_emits_along(q: Quadric, ray_d: vec3f) -> bool {
 
 // A direction from ctx towards disk light l.
 fn sample_disk_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> EmitterSample {
-    let q = surfaces.quadrics[light_table[l].object];
+    let q = quadric_of(light_table[l].object);
     var ls: LightSample;
     if (LIGHT_TECHNIQUE && LIGHT_TECHNIQUE_DISKS) {
         ls = sample_disk_light_with_technique(q, ctx.x, ctx.n, u);
@@ -26,7 +26,7 @@ fn sample_disk_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> EmitterSamp
 
 // Solid-angle density with which sample_disk_emitter gives wi from ctx.
 fn pdf_disk_emitter(l: u32, ctx: LightSampleContext, wi: vec3f) -> f32 {
-    let q = surfaces.quadrics[light_table[l].object];
+    let q = quadric_of(light_table[l].object);
     if (LIGHT_TECHNIQUE && LIGHT_TECHNIQUE_DISKS) {
         return pdf_disk_light_with_technique(q, ctx.x, ctx.n, wi);
     }
@@ -36,6 +36,6 @@ fn pdf_disk_emitter(l: u32, ctx: LightSampleContext, wi: vec3f) -> f32 {
 // Radiance a ray along ray_d receives from the disk it hit: the emission on its emitting
 // side(s), else none.
 fn eval_disk_emitter(hit: Hit, ray_d: vec3f) -> vec3f {
-    let q = surfaces.quadrics[hit.object - first_quadric_object()];
+    let q = quadric_of(hit.object - first_quadric_object());
     return select(vec3f(0.0), materials[hit.material].emission, disk_emits_along(q, ray_d));
 }

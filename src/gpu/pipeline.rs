@@ -270,7 +270,7 @@ pub struct AdapterTuning {
     /// The triangle test's edge functions are computed in one order for both triangles of an
     /// edge (`ORDERED_EDGES`, bvh.wgsl): watertight where the driver fuses multiply-adds.
     pub ordered_edges: bool,
-    /// The scene's spheres, planes and materials are copied into registers at kernel entry
+    /// The scene's spheres, planes and quadrics are copied into registers at kernel entry
     /// where each table is small (`SCENE_IN_REGISTERS`, src/shaders/generated.rs).
     pub scene_in_registers: bool,
 }
@@ -288,12 +288,13 @@ impl AdapterTuning {
     /// through the BVH) and the stack (80-triangle icosphere 3748 M samples/s against 3250
     /// stackless, 1.3 M triangles 642 against 446).
     ///
-    /// Spheres and planes in registers on CPU adapters only (`SCENE_IN_REGISTERS`, 2026-12-07):
-    /// lavapipe reads a uniform buffer inside the bounce loop lane by lane, and the study
-    /// scene's kernel took 364.9 M instructions with the reads, 226.7 M with the copies
+    /// Spheres, planes and quadrics in registers on CPU adapters only (`SCENE_IN_REGISTERS`,
+    /// 2026-12-07): lavapipe reads a uniform buffer inside the bounce loop lane by lane, and the
+    /// study scene's kernel took 364.9 M instructions with the reads, 226.7 M with the copies
     /// (callgrind, `pathlab render assets/scenes/study.toml --method mis --spp 64 --width 64
-    /// --height 64 --seed 3`); GPUs broadcast uniform reads from their constant caches, where
-    /// the copies would only take registers.
+    /// --height 64 --seed 3`; the quadrics fixture 470.1 M -> 389.8 M at 16 spp); GPUs
+    /// broadcast uniform reads from their constant caches, where the copies would only take
+    /// registers.
     ///
     /// Ordered edge functions on GPUs only: there the plain ones let rays through shared edges
     /// (the H200 fuses multiply-adds); lavapipe does not fuse, and ordering would cost its

@@ -445,22 +445,24 @@ pub fn emitter_dispatch() -> String {
 }
 
 /// Entries of each table the kernel copies into registers on CPU adapters (`SCENE_IN_REGISTERS`:
-/// spheres, planes, materials); a scene with more of one kind reads that kind from its uniform
+/// spheres, planes, quadrics); a scene with more of one kind reads that kind from its uniform
 /// buffer.
 pub const REGISTER_ENTRIES: u32 = 8;
 
 /// The scene's small tables in registers (see `scene_registers`): each table's name in the
-/// WGSL, its element type, its uniform array and its count's `override`.
-const REGISTER_TABLES: [(&str, &str, &str, &str); 2] = [
+/// WGSL, its element type, its uniform array and its count (of `override`s, so that the
+/// specialisation decides it).
+const REGISTER_TABLES: [(&str, &str, &str, &str); 3] = [
     ("sphere", "Sphere", "spheres", "NUM_SPHERES"),
     ("plane", "Plane", "surfaces.planes", "NUM_PLANES"),
+    ("quadric", "Quadric", "surfaces.quadrics", "(NUM_DISKS + NUM_CYLINDERS + NUM_CURVE_SEGMENTS + NUM_BSPLINE_SEGMENTS + NUM_SDF_GRIDS)"),
 ];
 
-/// `load_scene_registers`, which copies the scene's spheres, planes and materials out of their
+/// `load_scene_registers`, which copies the scene's spheres, planes and quadrics out of their
 /// uniform buffers into private arrays where `SCENE_IN_REGISTERS` (CPU adapters) and a table
 /// has at most `REGISTER_ENTRIES` entries, and the accessors the kernel reads them through:
 /// `<table>_at(i)` for an index the same in every lane (a loop's counter), `<table>_of(i)` for
-/// one that differs per lane (a hit's object or material), which selects among the copies.
+/// one that differs per lane (a hit's object, a light's), which selects among the copies.
 ///
 /// Why, on lavapipe (Mesa 22.3, gallivm; bvh.wgsl says more): inside the bounce loop a uniform
 /// read is 8 lane-by-lane loads per component, even at a constant index; at kernel entry,
@@ -471,7 +473,7 @@ const REGISTER_TABLES: [(&str, &str, &str, &str); 2] = [
 pub fn scene_registers() -> String {
     let n = REGISTER_ENTRIES;
     let mut s = format!(
-        "// The scene's spheres, planes and materials copied into registers on CPU adapters (where a\n\
+        "// The scene's spheres, planes and quadrics copied into registers on CPU adapters (where a\n\
          // table has at most REGISTER_ENTRIES entries): see src/shaders/generated.rs.\n\
          override SCENE_IN_REGISTERS: bool = false;\n\
          const REGISTER_ENTRIES: u32 = {n}u;\n"
