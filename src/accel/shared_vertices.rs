@@ -12,6 +12,7 @@
 //! per-triangle test used, so hits are the same bit for bit.
 
 use super::BRUTE_FORCE_TRIANGLES;
+use crate::scene::mesh::position_ids;
 
 /// Corners of up to `BRUTE_FORCE_TRIANGLES` triangles, by index into the distinct positions,
 /// in the order the kernel tests them: test k (a "slot") tests triangle `triangle[k]`.
@@ -102,22 +103,6 @@ impl SharedVertices {
         }
         self
     }
-}
-
-/// Each triangle's corners as numbers of distinct positions, in order of first appearance.
-/// Positions are the same when their bits are (so 0 and -0 stay apart: their sheared values may
-/// differ in sign).
-fn position_ids(triangles: &[[[f32; 3]; 3]]) -> Vec<[usize; 3]> {
-    let mut ids: std::collections::HashMap<[u32; 3], usize> = std::collections::HashMap::new();
-    triangles
-        .iter()
-        .map(|t| {
-            t.map(|p| {
-                let n = ids.len();
-                *ids.entry(p.map(f32::to_bits)).or_insert(n)
-            })
-        })
-        .collect()
 }
 
 /// The order in which the kernel tests the triangles of `corners` (each one's position numbers,

@@ -140,19 +140,13 @@ impl Scene {
             return 0;
         }
         // The distinct positions (by their bits, as the kernel shares them) and each corner's.
-        let mut ids: HashMap<[u32; 3], usize> = HashMap::new();
-        let mut positions: Vec<DVec3> = Vec::new();
-        let corners: Vec<[usize; 3]> = triangles
-            .iter()
-            .map(|t| {
-                t.map(|p| {
-                    *ids.entry(p.map(f32::to_bits)).or_insert_with(|| {
-                        positions.push(DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64));
-                        positions.len() - 1
-                    })
-                })
-            })
-            .collect();
+        let corners = super::mesh::position_ids(triangles);
+        let mut positions = vec![DVec3::ZERO; corners.iter().flatten().max().map_or(0, |&m| m + 1)];
+        for (c, t) in corners.iter().zip(triangles) {
+            for (&i, p) in c.iter().zip(t) {
+                positions[i] = DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64);
+            }
+        }
         // Connected parts: triangles sharing a position (union-find over positions).
         let mut parent: Vec<usize> = (0..positions.len()).collect();
         fn root(parent: &mut [usize], mut x: usize) -> usize {

@@ -450,12 +450,12 @@ pub fn emitter_dispatch() -> String {
 pub const REGISTER_ENTRIES: u32 = 8;
 
 /// The scene's small tables in registers (see `scene_registers`): each table's name in the
-/// WGSL, its element type, its uniform array and its count (of `override`s, so that the
-/// specialisation decides it).
+/// WGSL, its element type, its uniform array and its count (`num_quadrics()`, intersect.wgsl,
+/// sums the quadric kinds' counts).
 const REGISTER_TABLES: [(&str, &str, &str, &str); 3] = [
     ("sphere", "Sphere", "spheres", "NUM_SPHERES"),
     ("plane", "Plane", "surfaces.planes", "NUM_PLANES"),
-    ("quadric", "Quadric", "surfaces.quadrics", "(NUM_DISKS + NUM_CYLINDERS + NUM_CURVE_SEGMENTS + NUM_BSPLINE_SEGMENTS + NUM_SDF_GRIDS)"),
+    ("quadric", "Quadric", "surfaces.quadrics", "num_quadrics()"),
 ];
 
 /// `load_scene_registers`, which copies the scene's spheres, planes and quadrics out of their

@@ -274,6 +274,24 @@ pub(crate) fn check(path: &Path, data: &MeshData, line_of_vertex: impl Fn(usize)
     Ok(())
 }
 
+/// Each triangle's corners as numbers of distinct positions, in order of first appearance.
+/// Positions are the same when their bits are (so 0 and -0 stay apart: their sheared values may
+/// differ in sign). How the small scenes' kernel shares its sheared vertices
+/// (`accel::SharedVertices`) and `Scene::shadow_tests_of` finds the triangles that share
+/// positions.
+pub fn position_ids(triangles: &[[[f32; 3]; 3]]) -> Vec<[usize; 3]> {
+    let mut ids: std::collections::HashMap<[u32; 3], usize> = std::collections::HashMap::new();
+    triangles
+        .iter()
+        .map(|t| {
+            t.map(|p| {
+                let n = ids.len();
+                *ids.entry(p.map(f32::to_bits)).or_insert(n)
+            })
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
