@@ -372,13 +372,13 @@ fn surface_vertex(id: SampleId, hit: Hit, ray_o: vec3f, ray_d: vec3f, dim_base: 
         m.tangent = hit.tangent;
     }
     if (HAS_NORMAL_MAPS) {
-        let map = materials[hit.material].normal_map;
+        let map = material_record(hit.material).normal_map;
         if (map != NO_NORMAL_MAP) {
             m = normal_mapped(m, eval_texture(map, tex), hit.shading_normal, n_s, wo);
         }
     }
     if (HAS_BUMP_MAPS) {
-        let bump = materials[hit.material].bump_map;
+        let bump = material_record(hit.material).bump_map;
         if (bump != NO_BUMP_MAP) {
             let dp = surface_partials(hit, x);
             m = bump_mapped(m, bump, hit.uv, dp.du, dp.dv, hit.normal, hit.shading_normal, n_s, wo);
@@ -386,7 +386,7 @@ fn surface_vertex(id: SampleId, hit: Hit, ray_o: vec3f, ray_d: vec3f, dim_base: 
     }
     // A one-sided BSDF seen from behind (the side its surface normal points away from)
     // scatters nothing: Mitsuba's rule for BSDFs not wrapped in `twosided`.
-    let scatters = !from_inside || (materials[bsdf_material].flags & MATERIAL_ONE_SIDED) == 0u;
+    let scatters = !from_inside || (material_record(bsdf_material).flags & MATERIAL_ONE_SIDED) == 0u;
     return SurfaceVertex(x, wo, from_inside, n_g, n_s, m, u_lobe, scatters);
 }
 

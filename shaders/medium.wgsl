@@ -233,7 +233,7 @@ fn medium_segment_transmittance(m: Medium, o: vec3f, d: vec3f, length: f32, budg
 
 // Whether material i bounds a medium (Material::is_medium_boundary).
 fn is_medium_boundary(i: u32) -> bool {
-    return (materials[i].flags & MATERIAL_MEDIUM_BOUNDARY) != 0u;
+    return (material_record(i).flags & MATERIAL_MEDIUM_BOUNDARY) != 0u;
 }
 
 // The medium a ray leaving a surface of material i along d is in (Mitsuba's target_medium):
@@ -243,6 +243,6 @@ fn medium_after(i: u32, n: vec3f, d: vec3f, current: u32) -> u32 {
     if (!is_medium_boundary(i)) {
         return current;
     }
-    let f = materials[i].flags;
+    let f = material_record(i).flags;
     return select((f >> MEDIUM_INTERIOR_SHIFT) & 0xffu, (f >> MEDIUM_EXTERIOR_SHIFT) & 0xffu, dot(d, n) > 0.0);
 }

@@ -147,7 +147,25 @@ struct Surfaces {
     quadrics: array<Quadric, MAX_QUADRICS>,
 }
 @group(0) @binding(BINDING_SURFACES) var<uniform> surfaces: Surfaces;
-@group(0) @binding(BINDING_MATERIALS) var<uniform> materials: array<Material, MAX_MATERIALS>;
+// The materials in scene order, MATERIAL_TEXELS texels each (`GpuMaterial`'s bytes): a texel
+// table, as every hit reads its material at a per-lane index (lavapipe reads a texel as one
+// 16-byte load per lane, a uniform array element as one load per lane and component).
+@group(0) @binding(BINDING_MATERIALS) var material_texels: texture_storage_2d<rgba32uint, read>;
+
+// Material i, its bits as the host wrote them (texels MATERIAL_TEXELS i to MATERIAL_TEXELS i + 6;
+// the driver drops the loads of fields a caller does not read).
+fn material_record(i: u32) -> Material {
+    let j = MATERIAL_TEXELS * i;
+    let a = textureLoad(material_texels, texel_coords(j));
+    let p0 = textureLoad(material_texels, texel_coords(j + 1u));
+    let p1 = textureLoad(material_texels, texel_coords(j + 2u));
+    let p2 = textureLoad(material_texels, texel_coords(j + 3u));
+    let p3 = textureLoad(material_texels, texel_coords(j + 4u));
+    let b = textureLoad(material_texels, texel_coords(j + 5u));
+    let c = textureLoad(material_texels, texel_coords(j + 6u));
+    return Material(bitcast<vec3f>(a.xyz), a.w, bitcast<vec4f>(p0), bitcast<vec4f>(p1), bitcast<vec4f>(p2), bitcast<vec4f>(p3),
+        b.x, bitcast<f32>(b.y), b.z, b.w, c.x, c.y, bitcast<f32>(c.z), c.w);
+}
 // Read only for uvs, at the hit sphere: a storage buffer.
 @group(0) @binding(BINDING_SPHERE_AXES) var<storage, read> sphere_axes: array<SphereAxes>;
 
@@ -156,17 +174,18 @@ struct Surfaces {
 // `blend_pick`), or on its back its back material's where it has one (`material_on_side`), the
 // opacity of i's mask always (a mask wraps both sides and a blend).
 // Where a parameter slot holds a texture, it is looked up there (texture.wgsl, where some
-// material reads uvs). Its kind and third slot are read only where the pipeline has other
-// kinds than Phong (whose two slots are the rest): a dynamically indexed uniform read costs per
-// byte on SIMD CPU drivers (reading the whole 80-byte Material cost the study scene a quarter of
-// its speed).
+// material reads uvs). Its kind and last two slots are read only where the pipeline has other
+// kinds than Phong (whose two slots are the rest): a read at a per-lane index costs per texel
+// on SIMD CPU drivers (when materials were a uniform array, reading the whole Material cost the
+// study scene a quarter of its speed).
 fn material_bsdf(material: u32, bsdf_material: u32, from_inside: bool, ctx: TextureEvalContext) -> Bsdf {
     let i = material_on_side(bsdf_material, from_inside);
-    var b = Bsdf(BSDF_KIND_PHONG, materials[i].p0, materials[i].p1, vec4f(0.0), vec4f(0.0), false, 1.0, vec3f(0.0), vec3f(0.0));
+    let m = material_record(i);
+    var b = Bsdf(BSDF_KIND_PHONG, m.p0, m.p1, vec4f(0.0), vec4f(0.0), false, 1.0, vec3f(0.0), vec3f(0.0));
     if (bsdf_kinds_vary()) {
-        b.kind = materials[i].kind;
-        b.p2 = materials[i].p2;
-        b.p3 = materials[i].p3;
+        b.kind = m.kind;
+        b.p2 = m.p2;
+        b.p3 = m.p3;
     }
     if (HAS_UVS) {
         b = bsdf_apply_textures(b, ctx);
@@ -192,11 +211,11 @@ struct BlendPick {
 }
 
 fn blend_pick(i: u32, ctx: TextureEvalContext, u: f32) -> BlendPick {
-    let other = materials[i].blend;
+    let other = material_record(i).blend;
     if (!HAS_BLENDS || other == NO_BLEND) {
         return BlendPick(i, u);
     }
-    var w = materials[i].blend_weight;
+    var w = material_record(i).blend_weight;
     if (HAS_UVS && w < 0.0) {
         w = mask_opacity_of_texel(eval_texture(u32(-w - 1.0), ctx));
     }
@@ -213,8 +232,8 @@ override HAS_BACK_BSDFS: bool = false;
 // or on the back, where it has one, its back's (Mitsuba's twosided with two BSDFs: the back's
 // BSDF in the frame turned to the back, as the integrator turns n_s towards the viewer).
 fn material_on_side(i: u32, from_inside: bool) -> u32 {
-    if (HAS_BACK_BSDFS && from_inside && materials[i].back != NO_BACK) {
-        return materials[i].back;
+    if (HAS_BACK_BSDFS && from_inside && material_record(i).back != NO_BACK) {
+        return material_record(i).back;
     }
     return i;
 }
@@ -225,7 +244,7 @@ override TEXTURED_OPACITY: bool = true;
 // The opacity of material i at uv and world position p (Mitsuba's mask): its constant, or its
 // texture's value there.
 fn material_opacity(i: u32, ctx: TextureEvalContext) -> f32 {
-    let o = materials[i].opacity;
+    let o = material_record(i).opacity;
     if (!HAS_UVS || !TEXTURED_OPACITY || o >= 0.0) {
         return o;
     }

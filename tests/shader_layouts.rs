@@ -169,7 +169,7 @@ fn generated_values_and_bindings_are_the_rust_ones() {
         ("frame", bindings::FRAME),
         ("spheres", bindings::SPHERES),
         ("surfaces", bindings::SURFACES),
-        ("materials", bindings::MATERIALS),
+        ("material_texels", bindings::MATERIALS),
         ("accum", bindings::ACCUM),
         ("halton_primes", bindings::HALTON_PRIMES),
         ("triangles", bindings::TRIANGLES),

@@ -25,7 +25,7 @@ fn sample_cylinder_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> Emitter
     } else {
         s = sample_cylinder_light(q, ctx.x, u);
     }
-    let emission = select(vec3f(0.0), materials[q.material].emission, cylinder_emits_along(q, s.n, s.ls.wi));
+    let emission = select(vec3f(0.0), material_record(q.material).emission, cylinder_emits_along(q, s.n, s.ls.wi));
     return EmitterSample(s.ls.wi, s.ls.dist, s.ls.pdf, emission, INVALID, false);
 }
 
@@ -44,5 +44,5 @@ fn pdf_cylinder_emitter(l: u32, ctx: LightSampleContext, wi: vec3f) -> f32 {
 // side(s), else none.
 fn eval_cylinder_emitter(hit: Hit, ray_d: vec3f) -> vec3f {
     let q = quadric_of(hit.object - first_quadric_object());
-    return select(vec3f(0.0), materials[hit.material].emission, cylinder_emits_along(q, hit.normal, ray_d));
+    return select(vec3f(0.0), material_record(hit.material).emission, cylinder_emits_along(q, hit.normal, ray_d));
 }

@@ -20,7 +20,7 @@ fn sample_disk_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> EmitterSamp
     } else {
         ls = sample_disk_light(q, ctx.x, u);
     }
-    let emission = select(vec3f(0.0), materials[q.material].emission, disk_emits_along(q, ls.wi));
+    let emission = select(vec3f(0.0), material_record(q.material).emission, disk_emits_along(q, ls.wi));
     return EmitterSample(ls.wi, ls.dist, ls.pdf, emission, INVALID, false);
 }
 
@@ -37,5 +37,5 @@ fn pdf_disk_emitter(l: u32, ctx: LightSampleContext, wi: vec3f) -> f32 {
 // side(s), else none.
 fn eval_disk_emitter(hit: Hit, ray_d: vec3f) -> vec3f {
     let q = quadric_of(hit.object - first_quadric_object());
-    return select(vec3f(0.0), materials[hit.material].emission, disk_emits_along(q, ray_d));
+    return select(vec3f(0.0), material_record(hit.material).emission, disk_emits_along(q, ray_d));
 }

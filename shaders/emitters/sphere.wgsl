@@ -35,7 +35,7 @@ fn sample_sphere_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> EmitterSa
         ls = sample_sphere_light_cone(sphere.center, sphere.radius, ctx.x, u);
     }
     let on_outer_surface = l == ctx.object && !ctx.from_inside;
-    let emission = select(materials[sphere.material].emission, vec3f(0.0), on_outer_surface);
+    let emission = select(material_record(sphere.material).emission, vec3f(0.0), on_outer_surface);
     return EmitterSample(ls.wi, ls.dist, ls.pdf, emission, l, false);
 }
 
@@ -51,5 +51,5 @@ fn pdf_sphere_emitter(l: u32, ctx: LightSampleContext, wi: vec3f) -> f32 {
 
 // Radiance a ray receives from the sphere it hit: its material's emission, on both sides.
 fn eval_sphere_emitter(hit: Hit) -> vec3f {
-    return materials[hit.material].emission;
+    return material_record(hit.material).emission;
 }

@@ -20,7 +20,7 @@ fn sample_triangle_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> Emitter
     if (HAS_SHADING_NORMALS) {
         n_s = triangle_shading_normal(i, tri, normalize(n_s), triangle_barycentrics(tri, ctx.x + ls.wi * ls.dist));
     }
-    var radiance = materials[tri.material].emission;
+    var radiance = material_record(tri.material).emission;
     if (HAS_EMISSION_TEXTURES) {
         // The sampled point's barycentrics, and from them its uv parametrisation.
         let p = ctx.x + ls.wi * ls.dist;
@@ -44,7 +44,7 @@ fn pdf_triangle_emitter(l: u32, ctx: LightSampleContext, wi: vec3f) -> f32 {
 // side(s), else none.
 fn eval_triangle_emitter(hit: Hit, ray_d: vec3f) -> vec3f {
     let tri = triangle_at(hit.object - first_triangle_object());
-    var radiance = materials[hit.material].emission;
+    var radiance = material_record(hit.material).emission;
     if (HAS_EMISSION_TEXTURES) {
         radiance = triangle_emission(hit.material, texture_context(hit, vec3f(0.0)));
     }
@@ -60,9 +60,9 @@ override HAS_EMISSION_TEXTURES: bool = false;
 // one colour. Triangles alone carry emission textures (validation refuses them elsewhere); no
 // grid volumes (refused), so the context's point may be left out.
 fn triangle_emission(m: u32, ctx: TextureEvalContext) -> vec3f {
-    let t = materials[m].emission_texture;
+    let t = material_record(m).emission_texture;
     if (HAS_EMISSION_TEXTURES && HAS_UVS && t != NO_EMISSION_TEXTURE) {
         return eval_texture(t, ctx);
     }
-    return materials[m].emission;
+    return material_record(m).emission;
 }

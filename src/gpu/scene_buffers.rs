@@ -2,10 +2,12 @@
 //! rules: a vec3 is 16-byte aligned, 12 bytes long), checked against naga's reflection of the
 //! WGSL by `tests/shader_layouts.rs`.
 //!
-//! Spheres, planes with the quadrics, and materials go in uniform buffers of fixed capacity (the `MAX_*`
+//! Spheres and planes with the quadrics go in uniform buffers of fixed capacity (the `MAX_*`
 //! below, also generated into the WGSL): the kernel reads them at lane-uniform indices, which
 //! uniform buffers serve as broadcasts. Each stays under wgpu's default 64 KiB binding limit
-//! (`crate::scene::MAX_*`, enforced by scene validation).
+//! (`crate::scene::MAX_*`, enforced by scene validation). The materials go in a texel table
+//! (`MATERIAL_TEXELS` texels each, the bytes of `GpuMaterial`): each hit reads its own material,
+//! at an index that differs per lane.
 
 use std::sync::Arc;
 
@@ -14,7 +16,7 @@ use glam::DVec3;
 use wgpu::util::DeviceExt;
 
 use crate::accel::{Bvh, BvhNode};
-use crate::scene::{BsdfData, EmitterKind, Light, Scene, MAX_DELTA_LIGHTS, MAX_MATERIALS, MAX_PLANES, MAX_QUADRICS, MAX_SPHERES};
+use crate::scene::{BsdfData, EmitterKind, Light, Scene, MAX_DELTA_LIGHTS, MAX_PLANES, MAX_QUADRICS, MAX_SPHERES};
 use crate::shaders::bindings::{self, Binding};
 use crate::shaders::flags::{MATERIAL_EMISSIVE, MATERIAL_ONE_SIDED, NO_BACK, NO_BLEND, NO_BUMP_MAP, NO_EMISSION_TEXTURE, NO_LIGHT_TEXTURE, NO_NORMAL_MAP, TRIANGLE_HAS_NORMALS, TRIANGLE_HAS_UVS, TRIANGLE_TWO_SIDED};
 
@@ -369,7 +371,7 @@ impl SceneBuffers {
         vec![
             contents(bindings::SPHERES, "spheres", uniform_array(&Self::pack_spheres(scene), MAX_SPHERES)),
             contents(bindings::SURFACES, "planes and quadrics", surfaces),
-            contents(bindings::MATERIALS, "materials", uniform_array(&materials, MAX_MATERIALS)),
+            contents(bindings::MATERIALS, "materials", storage_array(&materials)),
             contents(bindings::DELTA_LIGHTS, "delta lights", uniform_array(&delta_lights, MAX_DELTA_LIGHTS)),
             contents(bindings::BSDF_DATA, "bsdf data", storage_array(&bsdf_data.0)),
             contents(bindings::ENVIRONMENT_MAP, "environment map", storage_array(&scene.environment_map.as_ref().map_or(Vec::new(), |m| m.pack()))),
@@ -680,7 +682,12 @@ mod tests {
         let limit = wgpu::Limits::default().max_uniform_buffer_binding_size as usize;
         assert!(MAX_SPHERES * std::mem::size_of::<GpuSphere>() <= limit);
         assert!(MAX_PLANES * std::mem::size_of::<GpuPlane>() + MAX_QUADRICS * std::mem::size_of::<GpuQuadric>() <= limit);
-        assert!(MAX_MATERIALS * std::mem::size_of::<GpuMaterial>() <= limit);
+    }
+
+    /// The most materials a scene may have fill less than one row of their texel table.
+    #[test]
+    fn the_material_limit_fits_one_texel_row() {
+        assert!(crate::scene::MAX_MATERIALS * std::mem::size_of::<GpuMaterial>() / 16 <= crate::shaders::bindings::TEXEL_TABLE_WIDTH as usize);
     }
 
     /// The refusal bound holds every table of the largest scene it admits: the normals in one

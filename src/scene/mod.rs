@@ -57,7 +57,7 @@ pub use transform::Transform;
 pub const MAX_SPHERES: usize = 1024;
 /// Most planes (32 bytes each).
 pub const MAX_PLANES: usize = 1024;
-/// Most materials (80 bytes each).
+/// Most materials (112 bytes, seven texels of their texel table, each).
 pub const MAX_MATERIALS: usize = 512;
 /// Most point, spot, directional and projector lights together (96 bytes each).
 pub const MAX_DELTA_LIGHTS: usize = 256;

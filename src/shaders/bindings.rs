@@ -47,7 +47,8 @@ pub const FRAME: Binding = Binding { number: 0, name: "FRAME", kind: Kind::Unifo
 /// that read eight uniform buffers.
 pub const SPHERES: Binding = Binding { number: 1, name: "SPHERES", kind: Kind::Uniform };
 pub const SURFACES: Binding = Binding { number: 2, name: "SURFACES", kind: Kind::Uniform };
-pub const MATERIALS: Binding = Binding { number: 3, name: "MATERIALS", kind: Kind::Uniform };
+/// The materials (`GpuMaterial`, seven texels each) are a texel table: every hit reads its own.
+pub const MATERIALS: Binding = Binding { number: 3, name: "MATERIALS", kind: Kind::TexelTable };
 /// One band's accumulator (accumulate.wgsl).
 pub const ACCUM: Binding = Binding { number: 5, name: "ACCUM", kind: Kind::Storage { read_only: false } };
 /// The Halton bases, `primes(HALTON_DIMENSIONS)` (sampler.wgsl).

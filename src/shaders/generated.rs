@@ -6,7 +6,7 @@ use crate::display::{Transfer, View};
 use crate::metrics::linear::REL_MSE_EPSILON;
 use crate::method::{BsdfSampling, LightSampling, LightSelect, EnvSampling, LobeSelection, MicrofacetSampling, Sampler, TriangleSampling};
 use crate::names::wgsl_constants;
-use crate::scene::{BsdfKind, Distribution, EmitterKind, MAX_DELTA_LIGHTS, MAX_MATERIALS, MAX_PLANES, MAX_QUADRICS, MAX_SPHERES};
+use crate::scene::{BsdfKind, Distribution, EmitterKind, MAX_DELTA_LIGHTS, MAX_PLANES, MAX_QUADRICS, MAX_SPHERES};
 
 use super::{bindings, flags, HALTON_DIMENSIONS};
 
@@ -20,7 +20,6 @@ pub fn generated_constants() -> String {
          const MAX_SPHERES: u32 = {MAX_SPHERES}u;\n\
          const MAX_PLANES: u32 = {MAX_PLANES}u;\n\
          const MAX_QUADRICS: u32 = {MAX_QUADRICS}u;\n\
-         const MAX_MATERIALS: u32 = {MAX_MATERIALS}u;\n\
          const MAX_DELTA_LIGHTS: u32 = {MAX_DELTA_LIGHTS}u;\n\
          // The BVH traversal stack: the deepest node the builder makes (src/accel/bvh.rs).\n\
          const BVH_MAX_DEPTH: u32 = {}u;\n\
@@ -33,6 +32,8 @@ pub fn generated_constants() -> String {
          const MAX_SHARED_VERTICES: u32 = {}u;\n\
          // Texels per row of a texel table (src/shaders/bindings.rs).\n\
          const TEXEL_TABLE_WIDTH: u32 = {}u;\n\
+         // Texels of one material in the materials' texel table (`GpuMaterial`, src/gpu/scene_buffers.rs).\n\
+         const MATERIAL_TEXELS: u32 = {}u;\n\
          // Loop iterations one call of a researcher's technique may run (src/scene/technique.rs).\n\
          const TECHNIQUE_MAX_ITERATIONS: u32 = {}u;\n\
          // Limits of the volumetric path tracer (src/scene/media/mod.rs).\n\
@@ -79,6 +80,7 @@ pub fn generated_constants() -> String {
         crate::accel::BRUTE_FORCE_TRIANGLES,
         crate::accel::MAX_SHARED_VERTICES,
         bindings::TEXEL_TABLE_WIDTH,
+        std::mem::size_of::<crate::gpu::GpuMaterial>() / 16,
         crate::scene::technique::TECHNIQUE_MAX_ITERATIONS,
         crate::scene::media::MAX_SHADOW_CROSSINGS,
         crate::scene::media::EXTRA_NULL_SEGMENTS,
