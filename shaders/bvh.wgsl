@@ -85,11 +85,6 @@ struct BvhLeaf {
 @group(0) @binding(BINDING_BVH_NODES) var bvh_nodes: texture_storage_2d<rgba32uint, read>;
 @group(0) @binding(BINDING_BVH_PARENTS) var bvh_parents: texture_storage_2d<rgba32uint, read>;
 
-// Texel j of a texel table: row j / TEXEL_TABLE_WIDTH, column j mod TEXEL_TABLE_WIDTH.
-fn texel_coords(j: u32) -> vec2u {
-    return vec2u(j % TEXEL_TABLE_WIDTH, j / TEXEL_TABLE_WIDTH);
-}
-
 // Triangle i of the table, its bits as the host wrote them (texels 3i, 3i + 1, 3i + 2).
 fn triangle_record(i: u32) -> Triangle {
     let a = textureLoad(triangles, texel_coords(3u * i));
@@ -129,11 +124,10 @@ fn bvh_leaf_right(r: BvhRecord) -> BvhLeaf {
 // unrolled tests.
 @group(0) @binding(BINDING_SMALL_VERTICES) var<uniform> small_vertices: array<vec4f, MAX_SHARED_VERTICES>;
 
-// Triangle i, from the uniform copy where the scene is small.
+// Triangle i (a hit's, a light's: an index that differs per lane), from the texel table, also
+// where the scene is small: lavapipe reads its three texels as three 16-byte loads per lane,
+// where the uniform copy cost a load per lane and component.
 fn triangle_at(i: u32) -> Triangle {
-    if (NUM_TRIANGLES <= SMALL_TRIANGLE_TESTS) {
-        return small_triangles[i];
-    }
     return triangle_record(i);
 }
 

@@ -10,6 +10,11 @@ const ONE_MINUS_EPSILON: f32 = 0.99999994;
 const INFINITY: f32 = 3.4028235e38;
 const INVALID: u32 = 0xffffffffu;
 
+// Texel j of a texel table: row j / TEXEL_TABLE_WIDTH, column j mod TEXEL_TABLE_WIDTH.
+fn texel_coords(j: u32) -> vec2u {
+    return vec2u(j % TEXEL_TABLE_WIDTH, j / TEXEL_TABLE_WIDTH);
+}
+
 fn safe_sqrt(x: f32) -> f32 {
     return sqrt(max(x, 0.0));
 }

@@ -38,7 +38,7 @@ struct EmitterSample {
 
 // A point, spot, directional or projector light (src/gpu/scene_buffers.rs GpuDeltaLight): the
 // point lights, the spot lights, the directional lights, then the projectors;
-// light_table[l].object names one.
+// light_entry(l).object names one.
 struct DeltaLight {
     // Point and spot: the position.
     position: vec3f,

@@ -1,8 +1,8 @@
 // light_table.wgsl — the scene's lights and how next event estimation picks among them.
 //
-// Light l is of kind light_table[l].kind (an EMITTER_KIND_*; each kind's lights are one range
-// of the table, the kinds in the registry's order, emitter.wgsl), light_table[l].object naming
-// its object where the kind needs one. NUM_LIGHTS and one NUM_<KIND>_LIGHTS per kind are
+// Each kind's lights (EMITTER_KIND_*) are one range of the table, the kinds in the registry's
+// order (emitter.wgsl), so light l's kind is its range's; light_entry(l).object names its object
+// where the kind needs one. NUM_LIGHTS and one NUM_<KIND>_LIGHTS per kind are
 // generated after this file. LIGHT_SELECT (values generated from
 // `method::LightSelect`):
 //   all:     every light gets its own shadow ray at every vertex (selection probability 1);
@@ -22,11 +22,18 @@ struct LightEntry {
     // Alias table slot of index l: the alias and the threshold below which l keeps it.
     alias_index: u32,
     threshold: f32,
-    // Its EMITTER_KIND_*.
-    kind: u32,
 }
 
-@group(0) @binding(BINDING_LIGHTS) var<storage, read> light_table: array<LightEntry>;
+// The table, one texel per light (`GpuLight`'s bytes): a light is read at an index that differs
+// per lane (the selected one), which lavapipe serves from a texel table as one 16-byte load per
+// lane, where a storage buffer read is a loop over the lanes with two branches per component.
+@group(0) @binding(BINDING_LIGHTS) var light_texels: texture_storage_2d<rgba32uint, read>;
+
+// Entry l of the light table.
+fn light_entry(l: u32) -> LightEntry {
+    let t = textureLoad(light_texels, texel_coords(l));
+    return LightEntry(t.x, bitcast<f32>(t.y), t.z, bitcast<f32>(t.w));
+}
 
 // Probability that the pipeline's selection picks light l.
 fn light_select_prob(l: u32) -> f32 {
@@ -35,7 +42,7 @@ fn light_select_prob(l: u32) -> f32 {
             return 1.0 / f32(max(NUM_LIGHTS, 1u));
         }
         case LIGHT_SELECT_POWER: {
-            return light_table[l].power_prob;
+            return light_entry(l).power_prob;
         }
         default: {
             return 1.0;
@@ -55,7 +62,7 @@ fn select_light(u: f32) -> SelectedLight {
     if (LIGHT_SELECT == LIGHT_SELECT_UNIFORM) {
         return SelectedLight(slot, 1.0 / f32(max(NUM_LIGHTS, 1u)));
     }
-    let entry = light_table[slot];
+    let entry = light_entry(slot);
     let l = select(entry.alias_index, slot, scaled - f32(slot) < entry.threshold);
-    return SelectedLight(l, light_table[l].power_prob);
+    return SelectedLight(l, light_entry(l).power_prob);
 }

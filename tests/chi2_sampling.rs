@@ -1374,7 +1374,7 @@ fn select_main(@builtin(global_invocation_id) gid: vec3u) {
 fn selection_chi_square(powers: &[f64], select: LightSelect, seed: u32) -> f64 {
     let table = pathlab::scene::AliasTable::new(powers);
     let entries: Vec<GpuLight> = (0..powers.len())
-        .map(|l| GpuLight { object: l as u32, power_prob: table.prob[l] as f32, alias_index: table.alias[l], threshold: table.threshold[l] as f32, kind: 0 })
+        .map(|l| GpuLight { object: l as u32, power_prob: table.prob[l] as f32, alias_index: table.alias[l], threshold: table.threshold[l] as f32 })
         .collect();
     let mut parts = shaders::LIBRARY.to_vec();
     parts.push(shaders::files::LIGHT_TABLE);
@@ -1385,9 +1385,9 @@ fn selection_chi_square(powers: &[f64], select: LightSelect, seed: u32) -> f64 {
         source: &source,
         entry: "select_main",
         constants: &constants,
-        inputs: vec![(0, bytemuck::cast_slice(&params).to_vec()), (pathlab::shaders::bindings::LIGHTS.number, bytemuck::cast_slice(&entries).to_vec())],
+        inputs: vec![(0, bytemuck::cast_slice(&params).to_vec())],
         uniforms: vec![],
-        texel_tables: vec![],
+        texel_tables: vec![(pathlab::shaders::bindings::LIGHTS.number, bytemuck::cast_slice(&entries).to_vec())],
         output: (1, SAMPLES as u64 * 8),
         workgroups: SAMPLES.div_ceil(64),
     };

@@ -68,7 +68,7 @@ fn shared_structs_match_the_wgsl() {
         size_of::<BvhRecord>(),
         fields!(BvhRecord: lo_left, left, hi_left, first_left, lo_right, first_right, hi_right, counts),
     );
-    check_struct(&pt, "LightEntry", size_of::<GpuLight>(), fields!(GpuLight: object, power_prob, alias_index, threshold, kind));
+    check_struct(&pt, "LightEntry", size_of::<GpuLight>(), fields!(GpuLight: object, power_prob, alias_index, threshold));
     check_struct(&pt, "DeltaLight", size_of::<GpuDeltaLight>(), fields!(GpuDeltaLight: position, cos_cutoff, direction, cos_beam, intensity, cutoff, x_axis, inv_transition, y_axis, texture, uv_scale));
     let display = module(&shaders::display_source());
     check_struct(&display, "AccumPixel", size_of::<AccumPixel>(), fields!(AccumPixel: sum, count, sum_err, rays_lo, sum_sq, rays_hi, sum_sq_err, faults));
@@ -176,7 +176,7 @@ fn generated_values_and_bindings_are_the_rust_ones() {
         ("triangle_normals", bindings::TRIANGLE_NORMALS),
         ("bvh_nodes", bindings::BVH_NODES),
         ("bvh_parents", bindings::BVH_PARENTS),
-        ("light_table", bindings::LIGHTS),
+        ("light_texels", bindings::LIGHTS),
         ("small_triangles", bindings::SMALL_TRIANGLES),
         ("triangle_uvs", bindings::TRIANGLE_UVS),
         ("sphere_axes", bindings::SPHERE_AXES),

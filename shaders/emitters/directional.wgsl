@@ -5,7 +5,7 @@
 
 // The direction from ctx towards directional light l: against the way the light travels.
 fn sample_directional_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> EmitterSample {
-    let light = delta_lights[light_table[l].object];
+    let light = delta_lights[light_entry(l).object];
     return EmitterSample(-light.direction, INFINITY, 1.0, light.intensity, INVALID, true);
 }
 

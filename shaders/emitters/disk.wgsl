@@ -1,6 +1,6 @@
 // emitters/disk.wgsl — an emissive disk (Mitsuba's disk with an area emitter): a diffuse area
 // light emitting on the side of its normal, or on both (src/scene/emitters/disk.rs).
-// light_table[l].object names the quadric (the light disks come first among them). It is
+// light_entry(l).object names the quadric (the light disks come first among them). It is
 // sampled as Mitsuba samples it: a point uniform in its area, its density converted to solid
 // angle at x (sample_disk_light, quadrics/disk.wgsl), or by a researcher's technique
 // (technique.wgsl).
@@ -13,7 +13,7 @@ fn disk_emits_along(q: Quadric, ray_d: vec3f) -> bool {
 
 // A direction from ctx towards disk light l.
 fn sample_disk_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> EmitterSample {
-    let q = quadric_of(light_table[l].object);
+    let q = quadric_of(light_entry(l).object);
     var ls: LightSample;
     if (LIGHT_TECHNIQUE && LIGHT_TECHNIQUE_DISKS) {
         ls = sample_disk_light_with_technique(q, ctx.x, ctx.n, u);
@@ -26,7 +26,7 @@ fn sample_disk_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> EmitterSamp
 
 // Solid-angle density with which sample_disk_emitter gives wi from ctx.
 fn pdf_disk_emitter(l: u32, ctx: LightSampleContext, wi: vec3f) -> f32 {
-    let q = quadric_of(light_table[l].object);
+    let q = quadric_of(light_entry(l).object);
     if (LIGHT_TECHNIQUE && LIGHT_TECHNIQUE_DISKS) {
         return pdf_disk_light_with_technique(q, ctx.x, ctx.n, wi);
     }

@@ -4,7 +4,7 @@
 
 // The direction from ctx towards point light l.
 fn sample_point_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> EmitterSample {
-    let light = delta_lights[light_table[l].object];
+    let light = delta_lights[light_entry(l).object];
     return sample_point_source(light.position, light.intensity, ctx.x);
 }
 

@@ -8,7 +8,7 @@
 // image's frustum (uv outside [0, 1]^2, or behind the projector), as Mitsuba's
 // sample_direction.
 fn sample_projector_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> EmitterSample {
-    let light = delta_lights[light_table[l].object];
+    let light = delta_lights[light_entry(l).object];
     var es = sample_point_source(light.position, light.intensity, ctx.x);
     let d = -es.wi;
     let cos_theta = dot(light.direction, d);

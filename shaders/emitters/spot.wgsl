@@ -14,7 +14,7 @@ fn spot_falloff(light: DeltaLight, cos_theta: f32) -> f32 {
 // the light's axis and the direction from the light to x, times its projected texture in that
 // direction (Mitsuba's spot `texture`, looked up only where the falloff is not 0).
 fn sample_spot_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> EmitterSample {
-    let light = delta_lights[light_table[l].object];
+    let light = delta_lights[light_entry(l).object];
     var es = sample_point_source(light.position, light.intensity, ctx.x);
     let falloff = spot_falloff(light, dot(light.direction, -es.wi));
     es.emission *= falloff;

@@ -1,13 +1,13 @@
 // emitters/triangle.wgsl — an emissive mesh triangle: a diffuse area light emitting on the side
 // of its winding normal, or on both (src/scene/emitters/triangle.rs), one colour or a texture
-// over its uv parametrisation (Material::emission_texture). light_table[l].object
+// over its uv parametrisation (Material::emission_texture). light_entry(l).object
 // names the triangle (its index in the BVH's leaf order); it is sampled by area or by solid
 // angle (TRIANGLE_SAMPLING, lights.wgsl), or by a researcher's technique (technique.wgsl).
 
 // A direction from ctx towards triangle light l. It emits towards x when x is on the front
 // side of the sampled point (in its shading frame), or it is two-sided.
 fn sample_triangle_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> EmitterSample {
-    let i = light_table[l].object;
+    let i = light_entry(l).object;
     let tri = triangle_at(i);
     var ls: LightSample;
     if (LIGHT_TECHNIQUE && LIGHT_TECHNIQUE_TRIANGLES) {
@@ -33,7 +33,7 @@ fn sample_triangle_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> Emitter
 
 // Solid-angle density with which sample_triangle_emitter gives wi from ctx.
 fn pdf_triangle_emitter(l: u32, ctx: LightSampleContext, wi: vec3f) -> f32 {
-    let tri = triangle_at(light_table[l].object);
+    let tri = triangle_at(light_entry(l).object);
     if (LIGHT_TECHNIQUE && LIGHT_TECHNIQUE_TRIANGLES) {
         return pdf_triangle_light_with_technique(TriangleLight(tri.p0, tri.p1, tri.p2), ctx.x, ctx.n, wi);
     }

@@ -186,8 +186,6 @@ pub struct GpuLight {
     pub power_prob: f32,
     pub alias_index: u32,
     pub threshold: f32,
-    /// Its `EmitterKind`.
-    pub kind: u32,
 }
 
 /// Most triangles an adapter holds whose largest storage binding is `binding_limit` bytes and
@@ -323,7 +321,6 @@ impl PackedTriangles {
                 power_prob: alias.prob[l] as f32,
                 alias_index: alias.alias[l],
                 threshold: alias.threshold[l] as f32,
-                kind: light.kind().constant(),
             })
             .collect();
         PackedTriangles { triangles, normals, uvs, attributes, bvh, lights }
@@ -674,7 +671,7 @@ mod tests {
         assert_eq!(std::mem::size_of::<GpuTriangleNormals>(), 48);
         assert_eq!(std::mem::size_of::<GpuTriangleUvs>(), 24);
         assert_eq!(std::mem::size_of::<GpuSphereAxes>(), 48);
-        assert_eq!(std::mem::size_of::<GpuLight>(), 20);
+        assert_eq!(std::mem::size_of::<GpuLight>(), 16);
     }
 
     #[test]

@@ -62,8 +62,9 @@ pub const BVH_NODES: Binding = Binding { number: 9, name: "BVH_NODES", kind: Kin
 /// The BVH nodes' parents, one per pair of children, four per texel (`Bvh::pair_parents`): the
 /// stackless traversal climbs them.
 pub const BVH_PARENTS: Binding = Binding { number: 17, name: "BVH_PARENTS", kind: Kind::TexelTable };
-/// The light table: objects and the power alias table (`LightEntry`, light_table.wgsl).
-pub const LIGHTS: Binding = Binding { number: 10, name: "LIGHTS", kind: Kind::Storage { read_only: true } };
+/// The light table: objects and the power alias table (`LightEntry`, light_table.wgsl), one texel
+/// per light.
+pub const LIGHTS: Binding = Binding { number: 10, name: "LIGHTS", kind: Kind::TexelTable };
 
 /// The triangles of a small scene again, in a uniform buffer (`small_triangles`, bvh.wgsl).
 pub const SMALL_TRIANGLES: Binding = Binding { number: 11, name: "SMALL_TRIANGLES", kind: Kind::Uniform };

@@ -411,20 +411,21 @@ pub fn small_triangle_tests(n: u32) -> String {
 
 /// The emitter dispatch, generated from the registry (`scene::EmitterKind`): `sample_emitter`
 /// and `pdf_emitter` calling each kind's entry points (`sample_<kind>_emitter`,
-/// `pdf_<kind>_emitter` in `shaders/emitters/<kind>.wgsl`) by light l's kind. A kind whose
-/// count is 0 compiles out; where every light is of one kind, its kind is not read from the
-/// table.
+/// `pdf_<kind>_emitter` in `shaders/emitters/<kind>.wgsl`) by light l's kind: the light
+/// table holds each kind's lights as one range, the kinds in the registry's order
+/// (`PackedTriangles::lights`), so the kind is the range l falls in. A kind whose count is 0
+/// compiles out; where every light is of one kind, l is not compared.
 pub fn emitter_dispatch() -> String {
     let mut s = String::new();
-    s += "// Whether light l is of `kind`, of which the scene has `count`.\n\
-          fn light_is(l: u32, kind: u32, count: u32) -> bool {\n    \
-          return count > 0u && (count == NUM_LIGHTS || light_table[l].kind == kind);\n}\n";
+    s += "// Whether light l is among the `count` lights from `start` (one kind's range of the table).\n\
+          fn light_in(l: u32, start: u32, count: u32) -> bool {\n    \
+          return count > 0u && (count == NUM_LIGHTS || l - start < count);\n}\n";
     let dispatch = |doc: &str, signature: &str, call: &str, none: &str| {
         let mut f = format!("\n// {doc}\nfn {signature} {{\n");
         for k in EmitterKind::ALL {
             f += &format!(
-                "    if (light_is(l, EMITTER_KIND_{}, {})) {{\n        return {};\n    }}\n",
-                k.name().to_uppercase(),
+                "    if (light_in(l, first_{}_light(), {})) {{\n        return {};\n    }}\n",
+                k.name(),
                 k.count_override(),
                 call.replace("{kind}", k.name())
             );
