@@ -25,9 +25,10 @@ pub struct SharedVertices {
     pub triangle: [u8; BRUTE_FORCE_TRIANGLES as usize],
     /// Test k's triangle's corners p0, p1, p2; zero past the scene's triangles.
     pub corners: [[u16; 3]; BRUTE_FORCE_TRIANGLES as usize],
-    /// Bit j of entry k: test k's corner j is its position's first use (positions are
-    /// numbered in order of first use). The kernel shears a position there, just before the
-    /// first test that reads it, so that its value lives no longer than it must.
+    /// Bit j of entry k: test k's corner j (j < 3; 3 + j: its partner's corner j, where
+    /// `paired`) is its position's first use among the tests of rays that look for the nearest
+    /// hit. The kernel shears a position there, just before the first test that reads it, so
+    /// that its value lives no longer than it must.
     pub first_uses: [u8; BRUTE_FORCE_TRIANGLES as usize],
     /// Bit k: shadow rays run test k (`Scene::shadow_tests_of`: a face of the scene's hull, or
     /// of a closed convex mesh turned away from every light, need not be tested); every test by
@@ -35,6 +36,18 @@ pub struct SharedVertices {
     pub shadow_tests: u64,
     /// `first_uses` among the triangles shadow rays test: where their test shears a position.
     pub shadow_first_uses: [u8; BRUTE_FORCE_TRIANGLES as usize],
+    /// Bit k: rays that look for the nearest hit run test k; every test by default. Clear for the
+    /// second face of a pair of opposite faces (`with_pairs`), which its first's test covers.
+    pub closest_tests: u64,
+    /// Bit k: test k is the first of a pair of opposite faces of a closed convex solid
+    /// (`Scene::front_face_pairs`): for rays that look for the nearest hit it tests its own
+    /// triangle where d . `facing[k]` <= 0, else `partner[k]` on `partner_corners[k]`.
+    pub paired: u64,
+    /// The outward unit normal of test k's triangle, as f32 bits, where `paired`.
+    pub facing: [[u32; 3]; BRUTE_FORCE_TRIANGLES as usize],
+    /// The opposite face's triangle and its corners, where `paired`.
+    pub partner: [u8; BRUTE_FORCE_TRIANGLES as usize],
+    pub partner_corners: [[u16; 3]; BRUTE_FORCE_TRIANGLES as usize],
 }
 
 impl Default for SharedVertices {
@@ -46,6 +59,11 @@ impl Default for SharedVertices {
             first_uses: [0; BRUTE_FORCE_TRIANGLES as usize],
             shadow_tests: u64::MAX,
             shadow_first_uses: [0; BRUTE_FORCE_TRIANGLES as usize],
+            closest_tests: u64::MAX,
+            paired: 0,
+            facing: [[0; 3]; BRUTE_FORCE_TRIANGLES as usize],
+            partner: [0; BRUTE_FORCE_TRIANGLES as usize],
+            partner_corners: [[0; 3]; BRUTE_FORCE_TRIANGLES as usize],
         }
     }
 }
@@ -98,6 +116,42 @@ impl SharedVertices {
                 if (i as u32) < self.count && !seen[i as usize] {
                     seen[i as usize] = true;
                     self.shadow_first_uses[k] |= 1 << j;
+                }
+            }
+        }
+        self
+    }
+
+    /// The same with each pair (a, b, n) of opposite faces (`Scene::front_face_pairs`: triangles
+    /// a and b, kernel order, n a's outward unit normal) tested once by rays that look for the
+    /// nearest hit: at the earlier of their two tests, which picks the face turned towards the
+    /// ray; the later one is left out. Each position is then sheared at its first use among
+    /// those tests.
+    pub fn with_pairs(mut self, pairs: &[(usize, usize, [f32; 3])]) -> SharedVertices {
+        self.closest_tests = u64::MAX;
+        self.paired = 0;
+        let slot = |t: usize| self.triangle.iter().position(|&x| x as usize == t);
+        for &(a, b, n) in pairs {
+            let (Some(sa), Some(sb)) = (slot(a), slot(b)) else { continue };
+            // The earlier test picks; its own triangle's outward normal decides.
+            let (head, other, n) = if sa < sb { (sa, sb, n) } else { (sb, sa, n.map(|c| -c)) };
+            self.paired |= 1 << head;
+            self.closest_tests &= !(1u64 << other);
+            self.facing[head] = n.map(f32::to_bits);
+            self.partner[head] = self.triangle[other];
+            self.partner_corners[head] = self.corners[other];
+        }
+        let mut seen = vec![false; self.count as usize];
+        for k in 0..BRUTE_FORCE_TRIANGLES as usize {
+            self.first_uses[k] = 0;
+            if self.closest_tests & (1 << k) == 0 {
+                continue;
+            }
+            let partner = if self.paired & (1 << k) != 0 { self.partner_corners[k].to_vec() } else { Vec::new() };
+            for (j, &i) in self.corners[k].iter().chain(&partner).enumerate() {
+                if (i as u32) < self.count && !seen[i as usize] {
+                    seen[i as usize] = true;
+                    self.first_uses[k] |= 1 << j;
                 }
             }
         }

@@ -403,11 +403,16 @@ fn check(path: &std::path::Path) -> anyhow::Result<()> {
         }
         if let Some((shared, _)) = packed.shared_vertices() {
             let hull = packed.triangles.len() as u32 - scene.shadow_tests_of(&packed.corners()).count_ones().min(packed.triangles.len() as u32);
-            let skipped = if hull > 0 {
+            let mut skipped = if hull > 0 {
                 format!("; shadow rays to lights skip the {hull} they cannot meet first: faces of the scene's hull, and of closed convex meshes turned away from every light (unless next event estimation samples the environment)")
             } else {
                 String::new()
             };
+            let materials: Vec<u32> = packed.triangles.iter().map(|t| t.material).collect();
+            let pairs = scene.front_face_pairs(&packed.corners(), &materials).len();
+            if pairs > 0 {
+                skipped += &format!("; other rays test one face of each of {pairs} pairs of opposite faces of closed convex meshes, the one turned towards them");
+            }
             println!(
                 "Small scene: on a CPU adapter the kernel tests all {} triangles in turn (at most {}), on {} distinct vertices sheared once per ray ({} corners){skipped}",
                 packed.triangles.len(),

@@ -186,9 +186,14 @@ impl SceneFeatures {
             small_vertices: if scene.num_triangles() <= crate::accel::BRUTE_FORCE_TRIANGLES as usize {
                 // The kernel's order of the triangles (the BVH's leaves): cheap at this size.
                 // Shadow rays skip the faces of the scene's hull and of closed convex meshes
-                // turned away from every light (`Scene::shadow_tests_of`).
+                // turned away from every light (`Scene::shadow_tests_of`); rays that look for the
+                // nearest hit test one of each pair of opposite faces of closed convex solids
+                // (`Scene::front_face_pairs`).
                 let packed = super::PackedTriangles::new(scene, false);
-                packed.shared_vertices().map_or(SharedVertices::default(), |(s, _)| s.with_shadow_tests(scene.shadow_tests_of(&packed.corners())))
+                let materials: Vec<u32> = packed.triangles.iter().map(|t| t.material).collect();
+                packed.shared_vertices().map_or(SharedVertices::default(), |(s, _)| {
+                    s.with_shadow_tests(scene.shadow_tests_of(&packed.corners())).with_pairs(&scene.front_face_pairs(&packed.corners(), &materials))
+                })
             } else {
                 SharedVertices::default()
             },
@@ -246,7 +251,7 @@ impl SceneFeatures {
             has_environment: true,
             microfacet_distributions: 3,
             num_occluding_planes: self.num_planes,
-            small_vertices: self.small_vertices.with_shadow_tests(u64::MAX),
+            small_vertices: self.small_vertices.with_shadow_tests(u64::MAX).with_pairs(&[]),
             light_interiors_reachable: true,
             uniform_light_powers: false,
             ..self

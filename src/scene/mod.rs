@@ -19,6 +19,7 @@ pub mod mesh;
 pub mod mitsuba;
 pub mod overrides;
 pub mod quadrics;
+mod convex_parts;
 mod shadow_hull;
 pub mod spectrum;
 mod raw;

@@ -24,7 +24,7 @@
 //!
 //! **Back faces of closed convex meshes** (`closed_back_faces`). Where the triangles of a
 //! connected part of the scene (sharing vertex positions) close a convex solid, every edge met
-//! once in each direction, a shadow segment that crosses one of its faces at a point and enters
+//! once in each direction (`convex_parts.rs` finds them), a shadow segment that crosses one of its faces at a point and enters
 //! the solid there must leave it again before it reaches the light, provided the light lies
 //! outside the solid: the last crossing is an exit, through a face G, moving along G's outward
 //! normal, so the light point lies strictly in front of G's plane. A face whose plane has every
@@ -49,10 +49,8 @@
 
 use glam::DVec3;
 
+use super::convex_parts::{closed_convex_parts, ON_PLANE};
 use super::Scene;
-
-/// Points of the scene within this relative distance of a plane lie on it.
-const ON_PLANE: f64 = 1e-6;
 /// Camera ray origins must lie further inside than this relative distance.
 const CAMERA_MARGIN: f64 = 1e-4;
 /// Lights must lie further than this relative distance in front of a closed mesh's separating
@@ -133,89 +131,21 @@ impl Scene {
     /// `scale`: the separating plane must leave the lights more than `SEPARATION` `scale` in
     /// front of the solid, so that the exit through a tested face comes before the ray stops.
     fn closed_back_faces(&self, triangles: &[[[f32; 3]; 3]], scale: f64) -> u64 {
-        use std::collections::HashMap;
         let triangles = &triangles[..triangles.len().min(64)];
         let lights = self.light_points();
         if lights.is_empty() {
             return 0;
         }
-        // The distinct positions (by their bits, as the kernel shares them) and each corner's.
-        let corners = super::mesh::position_ids(triangles);
-        let mut positions = vec![DVec3::ZERO; corners.iter().flatten().max().map_or(0, |&m| m + 1)];
-        for (c, t) in corners.iter().zip(triangles) {
-            for (&i, p) in c.iter().zip(t) {
-                positions[i] = DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64);
-            }
-        }
-        // Connected parts: triangles sharing a position (union-find over positions).
-        let mut parent: Vec<usize> = (0..positions.len()).collect();
-        fn root(parent: &mut [usize], mut x: usize) -> usize {
-            while parent[x] != x {
-                parent[x] = parent[parent[x]];
-                x = parent[x];
-            }
-            x
-        }
-        for c in &corners {
-            for j in 1..3 {
-                let (a, b) = (root(&mut parent, c[0]), root(&mut parent, c[j]));
-                parent[a] = b;
-            }
-        }
-        let mut parts: HashMap<usize, Vec<usize>> = HashMap::new();
-        for (k, c) in corners.iter().enumerate() {
-            parts.entry(root(&mut parent, c[0])).or_default().push(k);
-        }
         let tol = ON_PLANE * scale;
         let mut culled = 0u64;
-        for faces in parts.values() {
-            // Closed and consistently wound: every directed edge once, and its reverse once.
-            let mut edges: HashMap<(usize, usize), u32> = HashMap::new();
-            for &k in faces {
-                let c = corners[k];
-                for j in 0..3 {
-                    *edges.entry((c[j], c[(j + 1) % 3])).or_default() += 1;
-                }
-            }
-            if faces.len() < 4 || edges.iter().any(|(&(a, b), &n)| n != 1 || edges.get(&(b, a)) != Some(&1)) {
-                continue;
-            }
-            // Outward unit normals: the winding's, or its opposite where the enclosed signed
-            // volume is negative.
-            let verts: Vec<usize> = {
-                let mut v: Vec<usize> = faces.iter().flat_map(|&k| corners[k]).collect();
-                v.sort_unstable();
-                v.dedup();
-                v
-            };
-            let centre = verts.iter().map(|&v| positions[v]).sum::<DVec3>() / verts.len() as f64;
-            let volume: f64 = faces
-                .iter()
-                .map(|&k| {
-                    let [a, b, c] = corners[k].map(|v| positions[v] - centre);
-                    a.dot(b.cross(c))
-                })
-                .sum();
-            let planes: Option<Vec<(DVec3, DVec3)>> = faces
-                .iter()
-                .map(|&k| {
-                    let [a, b, c] = corners[k].map(|v| positions[v]);
-                    let n = (b - a).cross(c - a) * volume.signum();
-                    (n.length() > 0.0 && volume != 0.0).then(|| (n.normalize(), a))
-                })
-                .collect();
-            let Some(planes) = planes else { continue };
-            let side = |(n, p): (DVec3, DVec3), x: DVec3| n.dot(x - p);
-            // Convex: every vertex of the part on or behind every face's plane.
-            if !planes.iter().all(|&pl| verts.iter().all(|&v| side(pl, positions[v]) <= tol)) {
-                continue;
-            }
+        for part in closed_convex_parts(triangles, scale) {
+            let side = |i: usize, (y, r): (DVec3, f64)| (part.side(i, y) - r, part.side(i, y) + r);
             // The lights outside the solid: one face's plane has all of them strictly in front.
-            if !planes.iter().any(|&pl| lights.iter().all(|&(y, r)| side(pl, y) - r > SEPARATION * scale)) {
+            if !(0..part.faces.len()).any(|i| lights.iter().all(|&l| side(i, l).0 > SEPARATION * scale)) {
                 continue;
             }
-            for (&k, &pl) in faces.iter().zip(&planes) {
-                if lights.iter().all(|&(y, r)| side(pl, y) + r < -tol) {
+            for (i, &k) in part.faces.iter().enumerate() {
+                if lights.iter().all(|&l| side(i, l).1 < -tol) {
                     culled |= 1 << k;
                 }
             }

@@ -317,6 +317,32 @@ pub fn small_shadow_names() -> &'static [[String; 2]] {
     &NAMES
 }
 
+/// The names of the `override` constants of test k's pair of opposite faces
+/// (`accel::SharedVertices::with_pairs`): whether rays that look for the nearest hit run it
+/// (`SMALL_CLOSEST_TESTS_<k>`, 1 or 0), whether it picks between its triangle and a partner
+/// (`SMALL_PAIRED_<k>`), its triangle's outward normal (`SMALL_FACING_<k>_<i>`), the partner
+/// (`SMALL_PARTNER_<k>`) and the partner's corners (`SMALL_PARTNER_CORNER_<k>_<j>`).
+pub fn small_pair_names() -> &'static [[String; 9]] {
+    static NAMES: std::sync::LazyLock<Vec<[String; 9]>> = std::sync::LazyLock::new(|| {
+        (0..crate::accel::BRUTE_FORCE_TRIANGLES)
+            .map(|k| {
+                [
+                    format!("SMALL_CLOSEST_TESTS_{k}"),
+                    format!("SMALL_PAIRED_{k}"),
+                    format!("SMALL_FACING_{k}_0"),
+                    format!("SMALL_FACING_{k}_1"),
+                    format!("SMALL_FACING_{k}_2"),
+                    format!("SMALL_PARTNER_{k}"),
+                    format!("SMALL_PARTNER_CORNER_{k}_0"),
+                    format!("SMALL_PARTNER_CORNER_{k}_1"),
+                    format!("SMALL_PARTNER_CORNER_{k}_2"),
+                ]
+            })
+            .collect()
+    });
+    &NAMES
+}
+
 /// The `override` constants of a small scene's shared vertices (`accel::SharedVertices`):
 /// `NUM_SMALL_VERTICES`, and per test its triangle, its corners, their first uses, and whether
 /// and where shadow rays run it.
@@ -329,6 +355,14 @@ pub fn small_vertex_constants(shared: &crate::accel::SharedVertices) -> Vec<(&'s
         let [tests, first_uses] = &small_shadow_names()[k];
         constants.push((tests.as_str(), (shared.shadow_tests >> k & 1) as f64));
         constants.push((first_uses.as_str(), shared.shadow_first_uses[k] as f64));
+        let pair = &small_pair_names()[k];
+        constants.push((pair[0].as_str(), (shared.closest_tests >> k & 1) as f64));
+        if shared.paired >> k & 1 != 0 {
+            constants.push((pair[1].as_str(), 1.0));
+            constants.extend((0..3).map(|i| (pair[2 + i].as_str(), f32::from_bits(shared.facing[k][i]) as f64)));
+            constants.push((pair[5].as_str(), shared.partner[k] as f64));
+            constants.extend((0..3).map(|j| (pair[6 + j].as_str(), shared.partner_corners[k][j] as f64)));
+        }
     }
     constants
 }
@@ -357,11 +391,20 @@ pub fn small_triangle_tests(n: u32) -> String {
           // default every test, as the other rays (a face of the scene's hull, or of a closed\n\
           // convex mesh turned away from every light, need not be tested:\n\
           // `Scene::shadow_tests_of`).\n";
+    s += "// For rays that look for the nearest hit: whether they run test k, and where it is the first\n\
+          // of a pair of opposite faces of a closed convex solid, its triangle's outward normal and\n\
+          // its partner's triangle and corners (`Scene::front_face_pairs`).\n";
     for (k, ((names, first), [shadow, shadow_first])) in small_corner_names().iter().zip(small_first_use_names()).zip(small_shadow_names()).enumerate() {
         s += &format!(
             "override {}: u32 = 0u;\noverride {}: u32 = 0u;\noverride {}: u32 = 0u;\noverride {first}: u32 = 0u;\n\
              override {shadow}: u32 = 1u;\noverride {shadow_first}: u32 = {first};\noverride {}: u32 = {k}u;\n",
             names[0], names[1], names[2], small_triangle_names()[k]
+        );
+        let p = &small_pair_names()[k];
+        s += &format!(
+            "override {}: u32 = 1u;\noverride {}: u32 = 0u;\noverride {}: f32 = 0.0;\noverride {}: f32 = 0.0;\noverride {}: f32 = 0.0;\n\
+             override {}: u32 = {k}u;\noverride {}: u32 = 0u;\noverride {}: u32 = 0u;\noverride {}: u32 = 0u;\n",
+            p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8]
         );
     }
     s += &format!(
@@ -390,20 +433,28 @@ pub fn small_triangle_tests(n: u32) -> String {
     s += &format!("    let ray = sheared_ray(o, d);\n    var sheared: array<vec3f, {}>;\n    var bary: vec2f;\n", 3 * n);
     for (k, names) in small_corner_names().iter().enumerate().take(n as usize) {
         let [shadow_tests, shadow_first] = &small_shadow_names()[k];
-        s += &format!("    if ({k}u < NUM_TRIANGLES && (!shadow || {shadow_tests} != 0u)) {{\n");
+        let p = &small_pair_names()[k];
+        s += &format!("    if ({k}u < NUM_TRIANGLES && select({} != 0u, {shadow_tests} != 0u, shadow)) {{\n", p[0]);
         s += &format!("        let first_uses = select({}, {shadow_first}, shadow);\n", small_first_use_names()[k]);
-        // Each position sheared at its first use (SMALL_FIRST_USES_<k>, bit j; among the
-        // triangles shadow rays test, SMALL_SHADOW_FIRST_USES_<k>), just before the first test
-        // that reads it.
-        for (j, name) in names.iter().enumerate() {
+        // Each position sheared at its first use (SMALL_FIRST_USES_<k>, bit j, and 3 + j for
+        // the partner's corner j; among the triangles shadow rays test,
+        // SMALL_SHADOW_FIRST_USES_<k>), just before the first test that reads it.
+        for (j, name) in names.iter().chain(&p[6..9]).enumerate() {
             s += &format!("        if ((first_uses & {}u) != 0u) {{ sheared[{name}] = shear_vertex(ray, small_vertex_cache[{name}]); }}\n", 1 << j);
         }
+        // The first of a pair of opposite faces tests the one turned towards the ray (d . n <= 0
+        // for its own, n its outward normal; else its partner's).
         s += &format!(
             "        \
-             let t = intersect_sheared(sheared[{}], sheared[{}], sheared[{}], best.t, &bary);\n        \
-             if (t > 0.0) {{ best = TriangleHit(t, {}, bary); }}\n    \
+             var a = sheared[{}];\n        var b = sheared[{}];\n        var c = sheared[{}];\n        var tri = {};\n        \
+             if (!shadow && {} != 0u) {{\n            \
+             let flip = dot(d, vec3f({}, {}, {})) > 0.0;\n            \
+             a = select(a, sheared[{}], flip);\n            b = select(b, sheared[{}], flip);\n            c = select(c, sheared[{}], flip);\n            \
+             tri = select(tri, {}, flip);\n        }}\n        \
+             let t = intersect_sheared(a, b, c, best.t, &bary);\n        \
+             if (t > 0.0) {{ best = TriangleHit(t, tri, bary); }}\n    \
              }}\n",
-            names[0], names[1], names[2], small_triangle_names()[k]
+            names[0], names[1], names[2], small_triangle_names()[k], p[1], p[2], p[3], p[4], p[6], p[7], p[8], p[5]
         );
     }
     s + "    return best;\n}\n"
