@@ -332,8 +332,9 @@ fn traversal_step() -> bool {
     return true;
 }
 
-// The small scenes' tests, `load_small_triangles()` and `triangles_brute_force(o, d, t_max, shadow)`,
-// are generated after this file (src/shaders/generated.rs): one step per triangle at constant
+// The small scenes' tests, `load_small_triangles()`, `triangles_brute_force_nearest(o, d, t_max)`
+// and `triangles_brute_force_shadow(o, d, t_max)` (and `triangles_brute_force(o, d, t_max,
+// shadow)`, either, for tests), are generated after this file (src/shaders/generated.rs): one step per triangle at constant
 // indices, SMALL_TRIANGLE_TESTS of them (the module is assembled per triangle count; steps
 // past NUM_TRIANGLES fold away). Every entry point that traces rays calls
 // `load_small_triangles()` first, outside any branch or loop (through `load_scene_registers()`,
@@ -347,14 +348,22 @@ fn traversal_step() -> bool {
 // copy; see the README's "How the kernel is made fast".
 
 // The nearest triangle along (o, d) closer than t_max (brute force for small scenes, else the
-// BVH); with `any`, the first one found (shadow rays towards lights, which in small scenes skip
-// the faces of the scene's hull and of closed convex meshes turned away from every light:
-// `Scene::shadow_tests_of`).
-fn triangles_closest(o: vec3f, d: vec3f, t_max: f32, any: bool) -> TriangleHit {
+// BVH).
+fn triangles_closest(o: vec3f, d: vec3f, t_max: f32) -> TriangleHit {
     if (NUM_TRIANGLES <= SMALL_TRIANGLE_TESTS) {
-        return triangles_brute_force(o, d, t_max, any);
+        return triangles_brute_force_nearest(o, d, t_max);
     }
-    return bvh_traverse(o, d, t_max, any);
+    return bvh_traverse(o, d, t_max, false);
+}
+
+// The first triangle found along (o, d) closer than t_max: shadow rays towards lights, which in
+// small scenes skip the faces of the scene's hull and of closed convex meshes turned away from
+// every light (`Scene::shadow_tests_of`).
+fn triangles_any(o: vec3f, d: vec3f, t_max: f32) -> TriangleHit {
+    if (NUM_TRIANGLES <= SMALL_TRIANGLE_TESTS) {
+        return triangles_brute_force_shadow(o, d, t_max);
+    }
+    return bvh_traverse(o, d, t_max, true);
 }
 
 // The parent of node x >= 1. Children come in adjacent pairs (2p + 1, 2p + 2); entry p of

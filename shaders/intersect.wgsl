@@ -369,7 +369,7 @@ fn intersect_scene(o: vec3f, d: vec3f) -> Hit {
         }
     }
     if (NUM_TRIANGLES > 0u) {
-        let th = triangles_closest(o, d, hit.t, false);
+        let th = triangles_closest(o, d, hit.t);
         if (th.index != INVALID) {
             let tri = triangle_at(th.index);
             let n = normalize(cross(tri.p1 - tri.p0, tri.p2 - tri.p0));
@@ -431,7 +431,7 @@ fn occluded(o: vec3f, d: vec3f, t_max: f32, skip: u32) -> bool {
         }
     }
     if (NUM_TRIANGLES > 0u && !blocked) {
-        blocked = triangles_closest(o, d, t_max, true).index != INVALID;
+        blocked = triangles_any(o, d, t_max).index != INVALID;
     }
     return blocked;
 }

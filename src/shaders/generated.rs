@@ -357,12 +357,10 @@ pub fn small_vertex_constants(shared: &crate::accel::SharedVertices) -> Vec<(&'s
         constants.push((first_uses.as_str(), shared.shadow_first_uses[k] as f64));
         let pair = &small_pair_names()[k];
         constants.push((pair[0].as_str(), (shared.closest_tests >> k & 1) as f64));
-        if shared.paired >> k & 1 != 0 {
-            constants.push((pair[1].as_str(), 1.0));
-            constants.extend((0..3).map(|i| (pair[2 + i].as_str(), f32::from_bits(shared.facing[k][i]) as f64)));
-            constants.push((pair[5].as_str(), shared.partner[k] as f64));
-            constants.extend((0..3).map(|j| (pair[6 + j].as_str(), shared.partner_corners[k][j] as f64)));
-        }
+        constants.push((pair[1].as_str(), (shared.paired >> k & 1) as f64));
+        constants.extend((0..3).map(|i| (pair[2 + i].as_str(), f32::from_bits(shared.facing[k][i]) as f64)));
+        constants.push((pair[5].as_str(), shared.partner[k] as f64));
+        constants.extend((0..3).map(|j| (pair[6 + j].as_str(), shared.partner_corners[k][j] as f64)));
     }
     constants
 }
@@ -423,10 +421,25 @@ pub fn small_triangle_tests(n: u32) -> String {
     }
     s += "}\n\n\
           // The nearest triangle along (o, d) closer than t_max, every triangle tested in turn on\n\
-          // its corners sheared once per ray; for a shadow ray towards a light (`shadow`, a\n\
-          // constant at each call), only those SMALL_SHADOW_TESTS_<k> keeps.\n\
+          // its corners sheared once per ray; for a shadow ray towards a light (`shadow`), only\n\
+          // those SMALL_SHADOW_TESTS_<k> keeps. The path tracer calls the two cases' own functions\n\
+          // (each test's conditions then are overrides alone, which the host's specialisation\n\
+          // decides: the driver gets only the tests and pair code a scene runs).\n\
           fn triangles_brute_force(o: vec3f, d: vec3f, t_max: f32, shadow: bool) -> TriangleHit {\n    \
-          var best = TriangleHit(t_max, INVALID, vec2f(0.0));\n";
+          if (shadow) {\n        return triangles_brute_force_shadow(o, d, t_max);\n    }\n    \
+          return triangles_brute_force_nearest(o, d, t_max);\n}\n";
+    s + &brute_force_function(n, false) + &brute_force_function(n, true)
+}
+
+/// `triangles_brute_force_nearest` (`shadow` false: every test SMALL_CLOSEST_TESTS_<k> keeps,
+/// the first of a pair of opposite faces testing the one turned towards the ray) or
+/// `triangles_brute_force_shadow` (the tests SMALL_SHADOW_TESTS_<k> keeps, on their own
+/// triangles), unrolled to `n` tests.
+fn brute_force_function(n: u32, shadow: bool) -> String {
+    let mut s = format!(
+        "\nfn triangles_brute_force_{}(o: vec3f, d: vec3f, t_max: f32) -> TriangleHit {{\n    var best = TriangleHit(t_max, INVALID, vec2f(0.0));\n",
+        if shadow { "shadow" } else { "nearest" }
+    );
     if n == 0 {
         return s + "    return best;\n}\n";
     }
@@ -434,27 +447,42 @@ pub fn small_triangle_tests(n: u32) -> String {
     for (k, names) in small_corner_names().iter().enumerate().take(n as usize) {
         let [shadow_tests, shadow_first] = &small_shadow_names()[k];
         let p = &small_pair_names()[k];
-        s += &format!("    if ({k}u < NUM_TRIANGLES && select({} != 0u, {shadow_tests} != 0u, shadow)) {{\n", p[0]);
-        s += &format!("        let first_uses = select({}, {shadow_first}, shadow);\n", small_first_use_names()[k]);
-        // Each position sheared at its first use (SMALL_FIRST_USES_<k>, bit j, and 3 + j for
+        let (runs, first_uses) = if shadow { (shadow_tests, shadow_first) } else { (&p[0], &small_first_use_names()[k]) };
+        s += &format!("    if ({k}u < NUM_TRIANGLES && {runs} != 0u) {{\n");
+        // Each position sheared at its first use (bit j of SMALL_FIRST_USES_<k>, and 3 + j for
         // the partner's corner j; among the triangles shadow rays test,
         // SMALL_SHADOW_FIRST_USES_<k>), just before the first test that reads it.
-        for (j, name) in names.iter().chain(&p[6..9]).enumerate() {
-            s += &format!("        if ((first_uses & {}u) != 0u) {{ sheared[{name}] = shear_vertex(ray, small_vertex_cache[{name}]); }}\n", 1 << j);
+        for (j, name) in names.iter().enumerate() {
+            s += &format!("        if (({first_uses} & {}u) != 0u) {{ sheared[{name}] = shear_vertex(ray, small_vertex_cache[{name}]); }}\n", 1 << j);
+        }
+        if shadow {
+            s += &format!(
+                "        let t = intersect_sheared(sheared[{}], sheared[{}], sheared[{}], best.t, &bary);\n        \
+                 if (t > 0.0) {{ best = TriangleHit(t, {}, bary); }}\n    }}\n",
+                names[0], names[1], names[2], small_triangle_names()[k]
+            );
+            continue;
         }
         // The first of a pair of opposite faces tests the one turned towards the ray (d . n <= 0
         // for its own, n its outward normal; else its partner's).
         s += &format!(
             "        \
              var a = sheared[{}];\n        var b = sheared[{}];\n        var c = sheared[{}];\n        var tri = {};\n        \
-             if (!shadow && {} != 0u) {{\n            \
+             if ({} != 0u) {{\n",
+            names[0], names[1], names[2], small_triangle_names()[k], p[1]
+        );
+        for (j, name) in p[6..9].iter().enumerate() {
+            s += &format!("            if (({first_uses} & {}u) != 0u) {{ sheared[{name}] = shear_vertex(ray, small_vertex_cache[{name}]); }}\n", 8 << j);
+        }
+        s += &format!(
+            "            \
              let flip = dot(d, vec3f({}, {}, {})) > 0.0;\n            \
              a = select(a, sheared[{}], flip);\n            b = select(b, sheared[{}], flip);\n            c = select(c, sheared[{}], flip);\n            \
              tri = select(tri, {}, flip);\n        }}\n        \
              let t = intersect_sheared(a, b, c, best.t, &bary);\n        \
              if (t > 0.0) {{ best = TriangleHit(t, tri, bary); }}\n    \
              }}\n",
-            names[0], names[1], names[2], small_triangle_names()[k], p[1], p[2], p[3], p[4], p[6], p[7], p[8], p[5]
+            p[2], p[3], p[4], p[6], p[7], p[8], p[5]
         );
     }
     s + "    return best;\n}\n"
