@@ -178,6 +178,9 @@ pub struct GpuDeltaLight {
     pub _pad: [u32; 2],
 }
 
+// A material is `MATERIAL_TEXELS` texels of the materials' table (`material_record`, scene.wgsl).
+const _: () = assert!(std::mem::size_of::<GpuMaterial>() == 16 * bindings::MATERIAL_TEXELS as usize);
+
 /// One entry of the light table (`LightEntry`, light_table.wgsl).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]

@@ -21,6 +21,10 @@ pub enum Kind {
 /// limit: WebGPU's default is 8192).
 pub const TEXEL_TABLE_WIDTH: u32 = 4096;
 
+/// Texels of one material in the materials' texel table (`MATERIALS`): `gpu::GpuMaterial`'s
+/// 112 bytes, which it asserts.
+pub const MATERIAL_TEXELS: u32 = 7;
+
 /// A table's bytes (a multiple of 16) padded with zeros to whole rows, and its number of rows
 /// (at least one: a binding cannot be empty).
 pub fn texel_table_bytes(bytes: &[u8]) -> (Vec<u8>, u32) {

@@ -80,7 +80,7 @@ pub fn generated_constants() -> String {
         crate::accel::BRUTE_FORCE_TRIANGLES,
         crate::accel::MAX_SHARED_VERTICES,
         bindings::TEXEL_TABLE_WIDTH,
-        std::mem::size_of::<crate::gpu::GpuMaterial>() / 16,
+        bindings::MATERIAL_TEXELS,
         crate::scene::technique::TECHNIQUE_MAX_ITERATIONS,
         crate::scene::media::MAX_SHADOW_CROSSINGS,
         crate::scene::media::EXTRA_NULL_SEGMENTS,
