@@ -112,16 +112,14 @@ fn bvh_leaf_right(r: BvhRecord) -> BvhLeaf {
     return BvhLeaf(r.first_right, (r.counts >> BVH_COUNT_BITS) & ((1u << BVH_COUNT_BITS) - 1u));
 }
 // Scenes of at most BRUTE_FORCE_TRIANGLES triangles (generated from src/accel/mod.rs) also
-// have them in a uniform buffer. Where the module unrolls their tests (SMALL_TRIANGLE_TESTS,
-// generated: on CPU adapters only, `gpu::AdapterTuning`), the kernel tests every
-// one in turn at lane-uniform indices instead of traversing the BVH: on SIMD CPU drivers a
-// divergent traversal of a small BVH through storage loads (lane by lane on lavapipe) costs
-// more than testing every triangle from a buffer served as one broadcast load (the Cornell
-// box: 36 triangles). On a GPU the copy of them each invocation keeps lives in local memory,
-// and the BVH is far faster.
-@group(0) @binding(BINDING_SMALL_TRIANGLES) var<uniform> small_triangles: array<Triangle, BRUTE_FORCE_TRIANGLES>;
-// Their distinct vertex positions (`accel::SharedVertices`), each sheared once per ray by the
-// unrolled tests.
+// have their distinct vertex positions (`accel::SharedVertices`) in a uniform buffer. Where the
+// module unrolls their tests (SMALL_TRIANGLE_TESTS, generated: on CPU adapters only,
+// `gpu::AdapterTuning`), the kernel tests every triangle in turn at lane-uniform indices, each
+// position sheared once per ray, instead of traversing the BVH: on SIMD CPU drivers a
+// divergent traversal of a small BVH through per-lane loads costs more than testing every
+// triangle from a buffer served as one broadcast load (the Cornell box: 36 triangles). On a
+// GPU the copy each invocation keeps lives in local memory, and the BVH is far faster. A hit's
+// own triangle is read from the texel table (`triangle_at`).
 @group(0) @binding(BINDING_SMALL_VERTICES) var<uniform> small_vertices: array<vec4f, MAX_SHARED_VERTICES>;
 
 // Triangle i (a hit's, a light's: an index that differs per lane), from the texel table, also

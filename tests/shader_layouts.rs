@@ -177,7 +177,6 @@ fn generated_values_and_bindings_are_the_rust_ones() {
         ("bvh_nodes", bindings::BVH_NODES),
         ("bvh_parents", bindings::BVH_PARENTS),
         ("light_texels", bindings::LIGHTS),
-        ("small_triangles", bindings::SMALL_TRIANGLES),
         ("triangle_uvs", bindings::TRIANGLE_UVS),
         ("sphere_axes", bindings::SPHERE_AXES),
     ] {

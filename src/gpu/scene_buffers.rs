@@ -357,13 +357,13 @@ impl SceneBuffers {
     }
 
     /// Every buffer of the scene, its bytes and its binding: a new buffer of the scene is
-    /// listed here and nowhere else. Spheres, planes, materials and the small scene's triangles
+    /// listed here and nowhere else. Spheres, planes and the small scene's vertex positions
     /// are uniform arrays at their full capacity (the WGSL arrays are fixed-size; the kernel
     /// reads only the first elements, as many as its pipeline constants say); the storage
-    /// buffers (triangles, their normals and uvs, the BVH, the light table, the spheres' axes)
-    /// hold one zero element where the scene has none, as bindings cannot be empty.
+    /// buffers and texel tables (triangles, their normals and uvs, the BVH, the materials, the
+    /// light table, the spheres' axes) hold one zero element where the scene has none, as
+    /// bindings cannot be empty.
     pub fn contents(scene: &Scene, packed: &PackedTriangles) -> Vec<SceneBufferContents> {
-        let small = packed.triangles.len().min(crate::accel::BRUTE_FORCE_TRIANGLES as usize);
         let contents = |binding: Binding, label: &'static str, bytes: Vec<u8>| SceneBufferContents { binding, label, bytes };
         let (materials, mut bsdf_data) = Self::pack_materials(scene);
         let delta_lights = Self::pack_delta_lights(scene, &mut bsdf_data);
@@ -383,11 +383,6 @@ impl SceneBuffers {
             contents(bindings::BVH_PARENTS, "bvh parents", storage_array(&packed.bvh.pair_parents())),
             contents(bindings::LIGHTS, "lights", storage_array(&packed.lights)),
             contents(bindings::SPHERE_AXES, "sphere axes", storage_array(&Self::pack_sphere_axes(scene))),
-            contents(
-                bindings::SMALL_TRIANGLES,
-                "small triangles",
-                uniform_array(&packed.triangles[..small], crate::accel::BRUTE_FORCE_TRIANGLES as usize),
-            ),
             contents(
                 bindings::SMALL_VERTICES,
                 "small vertices",

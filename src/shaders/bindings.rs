@@ -70,8 +70,6 @@ pub const BVH_PARENTS: Binding = Binding { number: 17, name: "BVH_PARENTS", kind
 /// per light.
 pub const LIGHTS: Binding = Binding { number: 10, name: "LIGHTS", kind: Kind::TexelTable };
 
-/// The triangles of a small scene again, in a uniform buffer (`small_triangles`, bvh.wgsl).
-pub const SMALL_TRIANGLES: Binding = Binding { number: 11, name: "SMALL_TRIANGLES", kind: Kind::Uniform };
 /// Their distinct vertex positions (`accel::SharedVertices`), in a uniform buffer
 /// (`small_vertices`, bvh.wgsl): the unrolled tests shear each once per ray.
 pub const SMALL_VERTICES: Binding = Binding { number: 18, name: "SMALL_VERTICES", kind: Kind::Uniform };
@@ -96,7 +94,7 @@ pub const ENVIRONMENT_MAP: Binding = Binding { number: 15, name: "ENVIRONMENT_MA
 pub const DELTA_LIGHTS: Binding = Binding { number: 16, name: "DELTA_LIGHTS", kind: Kind::Uniform };
 
 /// The path tracer's bind group.
-pub const PATH_TRACER: [Binding; 19] = [
+pub const PATH_TRACER: [Binding; 18] = [
     FRAME,
     SPHERES,
     SURFACES,
@@ -108,7 +106,6 @@ pub const PATH_TRACER: [Binding; 19] = [
     BVH_NODES,
     BVH_PARENTS,
     LIGHTS,
-    SMALL_TRIANGLES,
     SMALL_VERTICES,
     TRIANGLE_UVS,
     MESH_ATTRIBUTES,
