@@ -330,12 +330,13 @@ fn traversal_step() -> bool {
     return true;
 }
 
-// The small scenes' tests, `load_small_triangles()`, `triangles_brute_force_nearest(o, d, t_max)`
-// and `triangles_brute_force_shadow(o, d, t_max)` (and `triangles_brute_force(o, d, t_max,
-// shadow)`, either, for tests), are generated after this file (src/shaders/generated.rs): one step per triangle at constant
-// indices, SMALL_TRIANGLE_TESTS of them (the module is assembled per triangle count; steps
-// past NUM_TRIANGLES fold away). Every entry point that traces rays calls
-// `load_small_triangles()` first, outside any branch or loop (through `load_scene_registers()`,
+// The small scenes' tests, `load_small_triangles()`, `triangles_brute_force_nearest(o, d,
+// t_max)` and `triangles_brute_force_shadow(o, d, t_max)` (and, for test kernels,
+// `triangles_brute_force(o, d, t_max, shadow)`, either), are generated after this file
+// (src/shaders/generated.rs): one step per triangle at constant indices, SMALL_TRIANGLE_TESTS
+// of them (the module is assembled per triangle count; steps past NUM_TRIANGLES fold away).
+// Every entry point that traces rays calls `load_small_triangles()` first, outside any branch
+// or loop (through `load_scene_registers()`,
 // which copies the spheres, planes and quadrics the same way). Why, on lavapipe (Mesa 22.3,
 // gallivm): inside a branch or loop even a constant-index uniform read is compiled as 8
 // lane-by-lane loads (LLVM could not merge them here), and at a loop counter's index always
