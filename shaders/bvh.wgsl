@@ -85,7 +85,10 @@ struct BvhLeaf {
 @group(0) @binding(BINDING_BVH_NODES) var bvh_nodes: texture_storage_2d<rgba32uint, read>;
 @group(0) @binding(BINDING_BVH_PARENTS) var bvh_parents: texture_storage_2d<rgba32uint, read>;
 
-// Triangle i of the table, its bits as the host wrote them (texels 3i, 3i + 1, 3i + 2).
+// Triangle i of the table, its bits as the host wrote them (texels 3i, 3i + 1, 3i + 2): a hit's
+// or a light's, at an index that differs per lane, also in small scenes (lavapipe reads the
+// three texels as three 16-byte loads per lane, where a uniform copy cost a load per lane and
+// component).
 fn triangle_record(i: u32) -> Triangle {
     let a = textureLoad(triangles, texel_coords(3u * i));
     let b = textureLoad(triangles, texel_coords(3u * i + 1u));
@@ -119,15 +122,8 @@ fn bvh_leaf_right(r: BvhRecord) -> BvhLeaf {
 // divergent traversal of a small BVH through per-lane loads costs more than testing every
 // triangle from a buffer served as one broadcast load (the Cornell box: 36 triangles). On a
 // GPU the copy each invocation keeps lives in local memory, and the BVH is far faster. A hit's
-// own triangle is read from the texel table (`triangle_at`).
+// own triangle is read from the texel table (`triangle_record`).
 @group(0) @binding(BINDING_SMALL_VERTICES) var<uniform> small_vertices: array<vec4f, MAX_SHARED_VERTICES>;
-
-// Triangle i (a hit's, a light's: an index that differs per lane), from the texel table, also
-// where the scene is small: lavapipe reads its three texels as three 16-byte loads per lane,
-// where the uniform copy cost a load per lane and component.
-fn triangle_at(i: u32) -> Triangle {
-    return triangle_record(i);
-}
 
 // The shading normal of triangle i at barycentrics `bary` (of p1 and p2): its vertex normals
 // interpolated where it has them, else n, its unit winding normal.

@@ -269,7 +269,7 @@ fn light_of(object: u32) -> u32 {
         return object;
     }
     if (NUM_TRIANGLES > 0u && object != INVALID && object >= first_triangle_object()) {
-        return triangle_at(object - first_triangle_object()).light;
+        return triangle_record(object - first_triangle_object()).light;
     }
     if (is_quadric(object)) {
         return quadric_of(object - first_quadric_object()).light;

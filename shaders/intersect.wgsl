@@ -253,7 +253,7 @@ fn surface_partials(hit: Hit, x: vec3f) -> Partials {
         return quadric_partials(k, quadric_of(k), x);
     }
     let i = hit.object - first_triangle_object();
-    return triangle_partials(i, triangle_at(i), hit.normal);
+    return triangle_partials(i, triangle_record(i), hit.normal);
 }
 
 // Closest hit along (o, d). The candidate's normal data and material are carried along by
@@ -371,7 +371,7 @@ fn intersect_scene(o: vec3f, d: vec3f) -> Hit {
     if (NUM_TRIANGLES > 0u) {
         let th = triangles_closest(o, d, hit.t);
         if (th.index != INVALID) {
-            let tri = triangle_at(th.index);
+            let tri = triangle_record(th.index);
             let n = normalize(cross(tri.p1 - tri.p0, tri.p2 - tri.p0));
             let shading_normal = triangle_shading_normal(th.index, tri, n, th.bary);
             var tri_uv = vec2f(0.0);

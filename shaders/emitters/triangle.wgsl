@@ -8,7 +8,7 @@
 // side of the sampled point (in its shading frame), or it is two-sided.
 fn sample_triangle_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> EmitterSample {
     let i = light_entry(l).object;
-    let tri = triangle_at(i);
+    let tri = triangle_record(i);
     var ls: LightSample;
     if (LIGHT_TECHNIQUE && LIGHT_TECHNIQUE_TRIANGLES) {
         // A researcher's technique (technique.wgsl).
@@ -33,7 +33,7 @@ fn sample_triangle_emitter(l: u32, ctx: LightSampleContext, u: vec2f) -> Emitter
 
 // Solid-angle density with which sample_triangle_emitter gives wi from ctx.
 fn pdf_triangle_emitter(l: u32, ctx: LightSampleContext, wi: vec3f) -> f32 {
-    let tri = triangle_at(light_entry(l).object);
+    let tri = triangle_record(light_entry(l).object);
     if (LIGHT_TECHNIQUE && LIGHT_TECHNIQUE_TRIANGLES) {
         return pdf_triangle_light_with_technique(TriangleLight(tri.p0, tri.p1, tri.p2), ctx.x, ctx.n, wi);
     }
@@ -43,7 +43,7 @@ fn pdf_triangle_emitter(l: u32, ctx: LightSampleContext, wi: vec3f) -> f32 {
 // Radiance a ray along ray_d receives from the triangle it hit: the emission on its emitting
 // side(s), else none.
 fn eval_triangle_emitter(hit: Hit, ray_d: vec3f) -> vec3f {
-    let tri = triangle_at(hit.object - first_triangle_object());
+    let tri = triangle_record(hit.object - first_triangle_object());
     var radiance = material_record(hit.material).emission;
     if (HAS_EMISSION_TEXTURES) {
         radiance = triangle_emission(hit.material, texture_context(hit, vec3f(0.0)));

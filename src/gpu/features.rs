@@ -190,9 +190,9 @@ impl SceneFeatures {
                 // nearest hit test one of each pair of opposite faces of closed convex solids
                 // (`Scene::front_face_pairs`).
                 let packed = super::PackedTriangles::new(scene, false);
-                let materials: Vec<u32> = packed.triangles.iter().map(|t| t.material).collect();
+                let corners = packed.corners();
                 packed.shared_vertices().map_or(SharedVertices::default(), |(s, _)| {
-                    s.with_shadow_tests(scene.shadow_tests_of(&packed.corners())).with_pairs(&scene.front_face_pairs(&packed.corners(), &materials))
+                    s.with_shadow_tests(scene.shadow_tests_of(&corners)).with_pairs(&scene.front_face_pairs(&corners, &packed.materials()))
                 })
             } else {
                 SharedVertices::default()

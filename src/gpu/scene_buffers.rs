@@ -244,6 +244,11 @@ impl PackedTriangles {
         self.triangles.iter().map(|t| [t.p0, t.p1, t.p2]).collect()
     }
 
+    /// Each triangle's material (kernel order).
+    pub fn materials(&self) -> Vec<u32> {
+        self.triangles.iter().map(|t| t.material).collect()
+    }
+
     /// Builds the BVH over every mesh triangle and lays the triangles out in its leaf order,
     /// with the light table of `Scene::sampled_lights(sample_environment)`.
     pub fn new(scene: &Scene, sample_environment: bool) -> PackedTriangles {
@@ -682,7 +687,7 @@ mod tests {
     /// The most materials a scene may have fill less than one row of their texel table.
     #[test]
     fn the_material_limit_fits_one_texel_row() {
-        assert!(crate::scene::MAX_MATERIALS * std::mem::size_of::<GpuMaterial>() / 16 <= crate::shaders::bindings::TEXEL_TABLE_WIDTH as usize);
+        assert!(crate::scene::MAX_MATERIALS * bindings::MATERIAL_TEXELS as usize <= bindings::TEXEL_TABLE_WIDTH as usize);
     }
 
     /// The refusal bound holds every table of the largest scene it admits: the normals in one
