@@ -13,6 +13,9 @@ override HAS_SHADING_NORMALS: bool = false;
 override BVH_STACKLESS: bool = true;
 // Edge functions in one order for both triangles of an edge (edge_function).
 override ORDERED_EDGES: bool = true;
+// The BVH has a leaf deeper than 32 levels: the stackless traversal's trail of bits takes two
+// words, else one (set by the host from `Bvh::depth`; true where it is not known).
+override BVH_DEEP: bool = true;
 // Most traversal steps (nodes visited, leaves entered twice, triangles tested) one invocation
 // may take in all:
 // where the host cannot bound traversal within llvmpipe's loop limit, the kernel counts them
@@ -292,15 +295,31 @@ fn intersect_triangle(r: ShearedRay, p0: vec3f, p1: vec3f, p2: vec3f, t_max: f32
     return intersect_sheared(shear_vertex(r, p0), shear_vertex(r, p1), shear_vertex(r, p2), t_max, bary);
 }
 
+// A ray as the box tests read it: its origin, the reciprocal of its direction, and the axes it
+// is parallel to (1/d infinite). Made once per traversal, outside its loops: lavapipe's LLVM
+// passes hoist nothing out of a loop (Mesa 22.3 gallivm runs no LICM), so what a box test
+// derives from the ray alone would be derived again in every pass.
+struct NodeRay {
+    o: vec3f,
+    inv_d: vec3f,
+    parallel: vec3<bool>,
+}
+
+fn node_ray(o: vec3f, d: vec3f) -> NodeRay {
+    let inv_d = 1.0 / d;
+    return NodeRay(o, inv_d, abs(inv_d) >= vec3f(INFINITY));
+}
+
 // Entry distance of the ray into a node's box if it enters before t_max, else -1. The exit
 // distance is widened by 1 + 2 gamma(3) (Ize 2013), so rounding never culls a box whose
 // triangle the watertight test hits. On an axis the ray is parallel to (1/d infinite) the slab
 // distances would be 0 * inf = NaN where the origin lies on a slab plane: that axis instead
 // holds the ray when the origin is within the slab, all along or never, as on the CPU.
-fn intersect_node(lo: vec3f, hi: vec3f, o: vec3f, inv_d: vec3f, t_max: f32) -> f32 {
-    let parallel = abs(inv_d) >= vec3f(INFINITY);
-    let t0 = select((lo - o) * inv_d, vec3f(-INFINITY), parallel);
-    let t1 = select((hi - o) * inv_d, vec3f(INFINITY), parallel);
+fn intersect_node(lo: vec3f, hi: vec3f, ray: NodeRay, t_max: f32) -> f32 {
+    let o = ray.o;
+    let parallel = ray.parallel;
+    let t0 = select((lo - o) * ray.inv_d, vec3f(-INFINITY), parallel);
+    let t1 = select((hi - o) * ray.inv_d, vec3f(INFINITY), parallel);
     let within = all(!parallel | ((o >= lo) & (o <= hi)));
     let near = min(t0, t1);
     let far = max(t0, t1) * 1.0000004;
@@ -394,8 +413,8 @@ fn bvh_test_leaf(ray: ShearedRay, leaf: BvhLeaf, best: ptr<function, TriangleHit
 
 // The entry distances of the ray into the children of the interior node of record r (-1:
 // missed, or entered beyond t_max).
-fn bvh_enter_children(r: BvhRecord, o: vec3f, inv_d: vec3f, t_max: f32) -> vec2f {
-    return vec2f(intersect_node(r.lo_left, r.hi_left, o, inv_d, t_max), intersect_node(r.lo_right, r.hi_right, o, inv_d, t_max));
+fn bvh_enter_children(r: BvhRecord, ray: NodeRay, t_max: f32) -> vec2f {
+    return vec2f(intersect_node(r.lo_left, r.hi_left, ray, t_max), intersect_node(r.lo_right, r.hi_right, ray, t_max));
 }
 
 // The nearest triangle along (o, d) closer than t_max through the BVH; with `any`, the first
@@ -416,7 +435,7 @@ fn bvh_traverse(o: vec3f, d: vec3f, t_max: f32, any: bool) -> TriangleHit {
 fn bvh_traverse_stack(o: vec3f, d: vec3f, t_max: f32, any: bool) -> TriangleHit {
     var best = TriangleHit(t_max, INVALID, vec2f(0.0));
     let ray = sheared_ray(o, d);
-    let inv_d = 1.0 / d;
+    let boxes = node_ray(o, d);
     var stack: array<u32, BVH_MAX_DEPTH>;
     var top = 0u;
     var node = 0u;
@@ -434,7 +453,7 @@ fn bvh_traverse_stack(o: vec3f, d: vec3f, t_max: f32, any: bool) -> TriangleHit 
             // stack.
             let l = r.left;
             let rr = r.left + 1u;
-            let entry = bvh_enter_children(r, o, inv_d, best.t);
+            let entry = bvh_enter_children(r, boxes, best.t);
             let tl = entry.x;
             let tr = entry.y;
             var near_left = false;
@@ -481,8 +500,48 @@ fn bvh_traverse_stack(o: vec3f, d: vec3f, t_max: f32, any: bool) -> TriangleHit 
     return best;
 }
 
-// The trail (x: its lower word) shifted down by z < 64 levels.
+// The trail of bits (x: its lower word; y: the levels past 32, always 0 unless BVH_DEEP), with
+// the functions that move it. Where the BVH is at most 32 levels deep they work on one word:
+// lavapipe runs the second word's shifts and selects under the lanes' mask in every pass
+// otherwise.
+
+// One level down, the new level's bit `bit`.
+fn trail_down(trail: vec2u, bit: u32) -> vec2u {
+    if (BVH_DEEP) {
+        return vec2u((trail.x << 1u) | bit, (trail.y << 1u) | (trail.x >> 31u));
+    }
+    return vec2u((trail.x << 1u) | bit, 0u);
+}
+
+// One level up.
+fn trail_up(trail: vec2u) -> vec2u {
+    if (BVH_DEEP) {
+        return vec2u((trail.x >> 1u) | (trail.y << 31u), trail.y >> 1u);
+    }
+    return vec2u(trail.x >> 1u, 0u);
+}
+
+// Whether no level's farther child waits.
+fn trail_empty(trail: vec2u) -> bool {
+    if (BVH_DEEP) {
+        return all(trail == vec2u(0u));
+    }
+    return trail.x == 0u;
+}
+
+// The levels up to the deepest one whose farther child waits (the trail is not empty).
+fn trail_trailing_zeros(trail: vec2u) -> u32 {
+    if (BVH_DEEP) {
+        return select(32u + countTrailingZeros(trail.y), countTrailingZeros(trail.x), trail.x != 0u);
+    }
+    return countTrailingZeros(trail.x);
+}
+
+// The trail shifted up by z < 64 levels (z < 32 unless BVH_DEEP).
 fn trail_shifted(trail: vec2u, z: u32) -> vec2u {
+    if (!BVH_DEEP) {
+        return vec2u(trail.x >> z, 0u);
+    }
     if (z >= 32u) {
         return vec2u(trail.y >> (z - 32u), 0u);
     }
@@ -521,7 +580,7 @@ fn trail_shifted(trail: vec2u, z: u32) -> vec2u {
 fn bvh_traverse_stackless(o: vec3f, d: vec3f, t_max: f32, any: bool) -> TriangleHit {
     var best = TriangleHit(t_max, INVALID, vec2f(0.0));
     let ray = sheared_ray(o, d);
-    let inv_d = 1.0 / d;
+    let boxes = node_ray(o, d);
     var trail = vec2u(0u);
     var node = 0u;
     // Whether the traversal leaves `node` before its next step (a leaf tested, or a node whose
@@ -538,7 +597,7 @@ fn bvh_traverse_stackless(o: vec3f, d: vec3f, t_max: f32, any: bool) -> Triangle
             traversal_steps += 2u;
             while ((trail.x & 1u) == 0u) {
                 traversal_steps += 1u;
-                trail = vec2u((trail.x >> 1u) | (trail.y << 31u), trail.y >> 1u);
+                trail = trail_up(trail);
                 node = bvh_parent(node);
             }
             node = bvh_sibling(node);
@@ -554,7 +613,7 @@ fn bvh_traverse_stackless(o: vec3f, d: vec3f, t_max: f32, any: bool) -> Triangle
                 break;
             }
             if (leave) {
-                if (all(trail == vec2u(0u))) {
+                if (trail_empty(trail)) {
                     break;
                 }
                 if (recent_a.x == 0u) {
@@ -564,8 +623,7 @@ fn bvh_traverse_stackless(o: vec3f, d: vec3f, t_max: f32, any: bool) -> Triangle
                 }
                 // Over to the newest farther child kept: up as many levels as the trail's
                 // trailing zeros, then that level's bit cleared (its farther child taken).
-                let z = select(32u + countTrailingZeros(trail.y), countTrailingZeros(trail.x), trail.x != 0u);
-                trail = trail_shifted(trail, z);
+                trail = trail_shifted(trail, trail_trailing_zeros(trail));
                 trail.x ^= 1u;
                 node = recent_a.x;
                 recent_a = vec4u(recent_a.yzw, recent_b.x);
@@ -582,14 +640,14 @@ fn bvh_traverse_stackless(o: vec3f, d: vec3f, t_max: f32, any: bool) -> Triangle
             // child kept.
             let l = rec.left;
             let r = rec.left + 1u;
-            let entry = bvh_enter_children(rec, o, inv_d, best.t);
+            let entry = bvh_enter_children(rec, boxes, best.t);
             let tl = entry.x;
             let tr = entry.y;
             leave = tl < 0.0 && tr < 0.0;
             if (!leave) {
                 let both = tl >= 0.0 && tr >= 0.0;
                 let near_left = tl >= 0.0 && (tr < 0.0 || tl <= tr);
-                trail = vec2u((trail.x << 1u) | select(0u, 1u, both), (trail.y << 1u) | (trail.x >> 31u));
+                trail = trail_down(trail, select(0u, 1u, both));
                 node = select(r, l, near_left);
                 if (both) {
                     recent_b = vec4u(recent_a.w, recent_b.xyz);

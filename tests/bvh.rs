@@ -233,24 +233,36 @@ fn small_main(@builtin(global_invocation_id) gid: vec3u) {
 }
 "#;
 
+/// The kernel's traversals: stackless (a CPU adapter's tuning) with its trail of bits in one
+/// word (the BVH is at most 32 levels deep, as every one of these tests' is) or in two (as for
+/// a deeper one, `BVH_DEEP`), or with a stack and ordered edge functions (a GPU's).
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Traversal {
+    Stackless,
+    StacklessTwoWords,
+    Stack,
+}
+
+const TRAVERSALS: [Traversal; 3] = [Traversal::Stackless, Traversal::StacklessTwoWords, Traversal::Stack];
+
 /// Runs the kernel's closest and any queries for `rays` (origin, direction, closest t_max,
-/// any t_max) over `tris` with traversal budget `budget`, through the stackless traversal or
-/// the one with a stack and ordered edge functions (a CPU adapter's tuning or a GPU's):
-/// (closest t or -1, triangle index in `tris`, any hit, guard tripped) per ray.
-fn gpu_queries_with(tris: &[Triangle], rays: &[(Vec3, Vec3, f32, f32)], budget: u32, stackless: bool) -> Vec<(f32, u32, bool, bool)> {
-    gpu_kernel(tris, rays, budget, "bvh_main", stackless)
+/// any t_max) over `tris` with traversal budget `budget`, through `traversal`: (closest t or
+/// -1, triangle index in `tris`, any hit, guard tripped) per ray.
+fn gpu_queries_with(tris: &[Triangle], rays: &[(Vec3, Vec3, f32, f32)], budget: u32, traversal: Traversal) -> Vec<(f32, u32, bool, bool)> {
+    gpu_kernel(tris, rays, budget, "bvh_main", traversal)
 }
 
 /// The kernel's brute force (`brute_main`) for `rays` over `tris`, with the edge functions of
 /// the traversal it is compared with: (closest t or -1, triangle index in `tris`, false,
 /// false) per ray.
-fn gpu_brute_force(tris: &[Triangle], rays: &[(Vec3, Vec3, f32, f32)], stackless: bool) -> Vec<(f32, u32, bool, bool)> {
-    gpu_kernel(tris, rays, u32::MAX, "brute_main", stackless)
+fn gpu_brute_force(tris: &[Triangle], rays: &[(Vec3, Vec3, f32, f32)], traversal: Traversal) -> Vec<(f32, u32, bool, bool)> {
+    gpu_kernel(tris, rays, u32::MAX, "brute_main", traversal)
 }
 
 /// Runs `entry` of the test kernel over `rays` and `tris` (in the BVH's order, indices mapped
 /// back to `tris`).
-fn gpu_kernel(tris: &[Triangle], rays: &[(Vec3, Vec3, f32, f32)], budget: u32, entry: &str, stackless: bool) -> Vec<(f32, u32, bool, bool)> {
+fn gpu_kernel(tris: &[Triangle], rays: &[(Vec3, Vec3, f32, f32)], budget: u32, entry: &str, traversal: Traversal) -> Vec<(f32, u32, bool, bool)> {
+    let stackless = traversal != Traversal::Stack;
     use pathlab::gpu::{GpuTriangle, KernelRun};
     use pathlab::shaders::{self, bindings, files};
     let bvh = Bvh::build(tris);
@@ -271,6 +283,7 @@ fn gpu_kernel(tris: &[Triangle], rays: &[(Vec3, Vec3, f32, f32)], budget: u32, e
         ("NUM_TRIANGLES", tris.len() as f64),
         ("TRAVERSAL_BUDGET", budget as f64),
         ("BVH_STACKLESS", stackless as u32 as f64),
+        ("BVH_DEEP", (traversal == Traversal::StacklessTwoWords || bvh.depth > pathlab::gpu::ONE_WORD_TRAIL_DEPTH) as u32 as f64),
         ("ORDERED_EDGES", ordered as u32 as f64),
     ];
     let run = KernelRun {
@@ -318,11 +331,11 @@ fn the_kernels_traversal_agrees_with_brute_force_and_is_watertight() {
     // in the last bits.
     let cpu_arithmetic = common::gpu().info.device_type == wgpu::DeviceType::Cpu;
     let mut hits = 0;
-    for stackless in [true, false] {
-        let traversal = if stackless { "stackless" } else { "with a stack and ordered edge functions" };
-        let kernel_brute = gpu_brute_force(&tris, &rays, stackless);
+    assert!(Bvh::build(&tris).depth <= pathlab::gpu::ONE_WORD_TRAIL_DEPTH, "the one-word trail is not tested");
+    for traversal in TRAVERSALS {
+        let kernel_brute = gpu_brute_force(&tris, &rays, traversal);
         hits = kernel_brute.iter().filter(|r| r.0 > 0.0).count();
-        let got = gpu_queries_with(&tris, &rays, u32::MAX, stackless);
+        let got = gpu_queries_with(&tris, &rays, u32::MAX, traversal);
         let mut mismatches = Vec::new();
         for (k, ((&(o, d, _, any_max), &(t, index, any, exhausted)), &(tb, _, _, _))) in rays.iter().zip(&got).zip(&kernel_brute).enumerate() {
             assert!(!exhausted);
@@ -335,7 +348,7 @@ fn the_kernels_traversal_agrees_with_brute_force_and_is_watertight() {
                 mismatches.push(format!("ray {k}: traversal t {t} (triangle {index}) any {any}, the kernel's brute force t {tb}, the CPU's {expected:?}"));
             }
         }
-        assert!(mismatches.is_empty(), "{} of {} rays disagree ({}): {:?}", mismatches.len(), rays.len(), traversal, &mismatches[..mismatches.len().min(5)]);
+        assert!(mismatches.is_empty(), "{} of {} rays disagree ({traversal:?}): {:?}", mismatches.len(), rays.len(), &mismatches[..mismatches.len().min(5)]);
     }
     assert!(hits > 20_000, "only {hits} rays hit");
 
@@ -349,10 +362,10 @@ fn the_kernels_traversal_agrees_with_brute_force_and_is_watertight() {
             }
         }
     }
-    for stackless in [true, false] {
-        let got = gpu_queries_with(&mesh, &aimed, u32::MAX, stackless);
+    for traversal in TRAVERSALS {
+        let got = gpu_queries_with(&mesh, &aimed, u32::MAX, traversal);
         let escaped: Vec<_> = got.iter().zip(&aimed).filter(|((t, _, any, _), _)| *t < 0.0 || !any).map(|(_, r)| *r).collect();
-        assert!(escaped.is_empty(), "{} of {} rays through shared edges and vertices escaped (stackless {stackless}): {:?}", escaped.len(), aimed.len(), &escaped[..escaped.len().min(3)]);
+        assert!(escaped.is_empty(), "{} of {} rays through shared edges and vertices escaped ({traversal:?}): {:?}", escaped.len(), aimed.len(), &escaped[..escaped.len().min(3)]);
     }
 }
 
@@ -379,10 +392,10 @@ fn a_worst_case_traversal_trips_the_guard_and_only_then() {
     let bvh = Bvh::build(&tris);
     let steps = (4 * bvh.nodes.len() + 3 * bvh.nodes.iter().filter(|n| n.count > 0).count()) as u32 + 3000;
     let deep = slivers(100_000);
-    for stackless in [true, false] {
-        let (t, _, any, exhausted) = gpu_queries_with(&tris, &ray, 2 * steps + 10, stackless)[0];
-        assert!(t < 0.0 && !any && !exhausted, "with room for both traversals the guard must stay quiet (stackless {stackless})");
-        let (_, _, _, exhausted) = gpu_queries_with(&tris, &ray, steps / 2, stackless)[0];
+    for traversal in TRAVERSALS {
+        let (t, _, any, exhausted) = gpu_queries_with(&tris, &ray, 2 * steps + 10, traversal)[0];
+        assert!(t < 0.0 && !any && !exhausted, "with room for both traversals the guard must stay quiet ({traversal:?})");
+        let (_, _, _, exhausted) = gpu_queries_with(&tris, &ray, steps / 2, traversal)[0];
         assert!(exhausted, "a traversal of {steps} steps ran within a budget of {}", steps / 2);
         // The kernel's count stays at or above llvmpipe's own count of loop back-edges, which ends
         // every loop of an invocation at 65535: a traversal far past that, guarded at 60000,
@@ -390,8 +403,8 @@ fn a_worst_case_traversal_trips_the_guard_and_only_then() {
         // the ray would silently miss). On a hardware GPU the guard trips as well. (Measured with
         // this scene, 2026-12-04: counting two per leaf and one per climb start, a guard of 55000
         // was already too late; with three and two, a guard of 66000 still trips first.)
-        let (t, _, _, exhausted) = gpu_queries_with(&deep, &ray, 60_000, stackless)[0];
-        assert!(t < 0.0 && exhausted, "llvmpipe ended the traversal before the guard's count reached 60000 (stackless {stackless})");
+        let (t, _, _, exhausted) = gpu_queries_with(&deep, &ray, 60_000, traversal)[0];
+        assert!(t < 0.0 && exhausted, "llvmpipe ended the traversal before the guard's count reached 60000 ({traversal:?})");
     }
 }
 

@@ -138,8 +138,9 @@ fn every_override_permutation_validates() {
                                     // Heterogeneous media's tracking on and off.
                                     max_null_collisions: if (checked / 43) % 2 == 0 { 64 } else { 0 },
                                 };
-                                // The B-spline segments' searches looped and unrolled.
-                                let key = PipelineKey { method, features, traversal_budget: budget, bspline_unrolled: (checked / 47) % 2 == 0 };
+                                // The B-spline segments' searches looped and unrolled; the
+                                // stackless traversal's trail in one word and in two.
+                                let key = PipelineKey { method, features, traversal_budget: budget, bspline_unrolled: (checked / 47) % 2 == 0, deep_bvh: (checked / 53) % 2 == 0 };
                                 let (source, parsed) = if on { (&with_techniques, &parsed_with_techniques) } else { (&source, &parsed) };
                                 // Both adapters' tunings (the traversal with and without a stack).
                                 let device = if (checked / 16) % 2 == 0 { wgpu::DeviceType::Cpu } else { wgpu::DeviceType::DiscreteGpu };

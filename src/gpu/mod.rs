@@ -15,7 +15,7 @@ mod scene_buffers;
 pub use device::{adapter_summary, list_adapters, quiet_device_select, wait_for_submission, Gpu, GpuError, ADAPTER_ENV};
 pub use features::SceneFeatures;
 pub use kernel::{Kernel, KernelData, KernelLayout, KernelRun};
-pub use pipeline::{loop_iterations_per_sample, AdapterTuning, pipeline_constants, LoopBound, PathTracerPipelines, PipelineKey, PipelineStats, NO_TRAVERSAL_GUARD};
+pub use pipeline::{loop_iterations_per_sample, AdapterTuning, pipeline_constants, LoopBound, PathTracerPipelines, PipelineKey, PipelineStats, NO_TRAVERSAL_GUARD, ONE_WORD_TRAIL_DEPTH};
 pub use frame_params::FrameParams;
 pub use scene_buffers::{
     max_triangles, GpuDeltaLight, GpuLight, GpuMaterial, GpuPlane, GpuQuadric, GpuSphere, GpuSphereAxes, GpuTriangle, GpuTriangleNormals, GpuTriangleUvs, PackedTriangles,

@@ -29,7 +29,14 @@ pub struct PipelineKey {
     /// quadrics/bspline_curve.wgsl): no loop back-edges, for scenes whose looped searches
     /// would pass llvmpipe's loop budget; half the speed on lavapipe.
     pub bspline_unrolled: bool,
+    /// The BVH has a leaf deeper than 32 levels (`Bvh::depth`): the stackless traversal keeps
+    /// its trail of bits in two words (`BVH_DEEP`, bvh.wgsl), else in one. True where the BVH is
+    /// not known, which is correct for any depth.
+    pub deep_bvh: bool,
 }
+
+/// The deepest BVH whose stackless traversal keeps its trail of bits in one word.
+pub const ONE_WORD_TRAIL_DEPTH: usize = 32;
 
 impl PipelineKey {
     /// The key of `method` on a scene with `features`: `default_select` (the scene's,
@@ -46,7 +53,7 @@ impl PipelineKey {
             features.num_occluding_planes = features.num_planes;
             features.small_vertices = features.small_vertices.with_shadow_tests(u64::MAX);
         }
-        PipelineKey { method: Method { select, ..method }, features, traversal_budget: NO_TRAVERSAL_GUARD, bspline_unrolled: false }
+        PipelineKey { method: Method { select, ..method }, features, traversal_budget: NO_TRAVERSAL_GUARD, bspline_unrolled: false, deep_bvh: true }
     }
 
     /// Whether the light table holds the environment (`Scene::sampled_lights`).
@@ -107,6 +114,7 @@ pub fn pipeline_constants(key: &PipelineKey) -> Vec<(&'static str, f64)> {
         ("RR_DEPTH", f.rr_depth as f64),
         ("TRAVERSAL_BUDGET", key.traversal_budget as f64),
         ("BSPLINE_UNROLLED", key.bspline_unrolled as u32 as f64),
+        ("BVH_DEEP", key.deep_bvh as u32 as f64),
         ("NUM_OCCLUDING_PLANES", f.num_occluding_planes as f64),
         ("HAS_SPECULAR", f.has_specular as u32 as f64),
         ("HAS_ENVIRONMENT", f.has_environment as u32 as f64),

@@ -204,6 +204,7 @@ impl Renderer {
             return Err(RenderError::TexturesTooLarge { bytes: texture_bytes, limit: binding, largest });
         }
         let packed = PackedTriangles::new(scene, key.samples_environment());
+        key.deep_bvh = packed.bvh.depth > crate::gpu::ONE_WORD_TRAIL_DEPTH;
         let (width, height) = (scene.render.width, scene.render.height);
         let limit = gpu.limits.max_storage_buffer_binding_size.min(gpu.limits.max_buffer_size);
         let row_bytes = width as u64 * std::mem::size_of::<AccumPixel>() as u64;
