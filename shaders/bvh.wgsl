@@ -99,12 +99,15 @@ fn triangle_record(i: u32) -> Triangle {
     return Triangle(bitcast<vec3f>(a.xyz), a.w, bitcast<vec3f>(b.xyz), b.w, bitcast<vec3f>(c.xyz), c.w);
 }
 
-// The record of node i of the BVH (texels 4i to 4i + 3).
+// The record of node i of the BVH (texels 4i to 4i + 3: BVH_RECORD_TEXELS, generated).
 fn bvh_record(i: u32) -> BvhRecord {
-    let a = textureLoad(bvh_nodes, texel_coords(4u * i));
-    let b = textureLoad(bvh_nodes, texel_coords(4u * i + 1u));
-    let c = textureLoad(bvh_nodes, texel_coords(4u * i + 2u));
-    let e = textureLoad(bvh_nodes, texel_coords(4u * i + 3u));
+    // The four texels lie in one row (the host asserts that TEXEL_TABLE_WIDTH is a multiple of
+    // BVH_RECORD_TEXELS), so their coordinates are computed once.
+    let at = texel_coords(BVH_RECORD_TEXELS * i);
+    let a = textureLoad(bvh_nodes, at);
+    let b = textureLoad(bvh_nodes, at + vec2u(1u, 0u));
+    let c = textureLoad(bvh_nodes, at + vec2u(2u, 0u));
+    let e = textureLoad(bvh_nodes, at + vec2u(3u, 0u));
     return BvhRecord(bitcast<vec3f>(a.xyz), a.w, bitcast<vec3f>(b.xyz), b.w, bitcast<vec3f>(c.xyz), c.w, bitcast<vec3f>(e.xyz), e.w);
 }
 
@@ -395,7 +398,8 @@ fn bvh_sibling(x: u32) -> u32 {
 // Tests the triangles of a leaf in turn, keeping the nearest hit in `best`; with `any`, stops
 // at the first. Each triangle is one step of the traversal guard.
 fn bvh_test_leaf(ray: ShearedRay, leaf: BvhLeaf, best: ptr<function, TriangleHit>, any: bool) {
-    for (var i = leaf.first; i < leaf.first + leaf.count; i++) {
+    let end = leaf.first + leaf.count;
+    for (var i = leaf.first; i < end; i++) {
         if (!traversal_step()) {
             break;
         }

@@ -26,6 +26,8 @@ pub fn generated_constants() -> String {
          // A node record's leaf counts: bits per count, and the flag of a leaf's own record.\n\
          const BVH_COUNT_BITS: u32 = {}u;\n\
          const BVH_SELF_LEAF: u32 = {}u;\n\
+         // Texels of one node record, all in one row of the nodes' texel table.\n\
+         const BVH_RECORD_TEXELS: u32 = {}u;\n\
          // Scenes of at most this many triangles test them all from a uniform buffer (src/accel/mod.rs),\n\
          // sheared once per distinct vertex position, of which there are at most MAX_SHARED_VERTICES.\n\
          const BRUTE_FORCE_TRIANGLES: u32 = {}u;\n\
@@ -77,6 +79,7 @@ pub fn generated_constants() -> String {
         crate::accel::bvh::MAX_DEPTH,
         crate::accel::bvh::COUNT_BITS,
         crate::accel::bvh::SELF_LEAF,
+        crate::accel::bvh::RECORD_TEXELS,
         crate::accel::BRUTE_FORCE_TRIANGLES,
         crate::accel::MAX_SHARED_VERTICES,
         bindings::TEXEL_TABLE_WIDTH,
