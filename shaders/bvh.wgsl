@@ -13,7 +13,8 @@ override HAS_SHADING_NORMALS: bool = false;
 override BVH_STACKLESS: bool = true;
 // Edge functions in one order for both triangles of an edge (edge_function).
 override ORDERED_EDGES: bool = true;
-// The BVH has a leaf deeper than 32 levels: the stackless traversal's trail of bits takes two
+// The BVH has a leaf deeper than 32 levels (`gpu::ONE_WORD_TRAIL_DEPTH`): the stackless
+// traversal's trail of bits, one bit per level from the root to the current node, takes two
 // words, else one (set by the host from `Bvh::depth`; true where it is not known).
 override BVH_DEEP: bool = true;
 // Most traversal steps (nodes visited, leaves entered twice, triangles tested) one invocation

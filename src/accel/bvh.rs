@@ -26,10 +26,10 @@ pub const MAX_LEAF_TRIANGLES: usize = (1 << COUNT_BITS) - 1;
 /// from its parent's record).
 pub const SELF_LEAF: u32 = 1 << 31;
 /// Texels (16 bytes each) of one `BvhRecord` in the kernel's texel table; bvh.wgsl's
-/// `bvh_record` reads them from one row, so the table's width is a multiple of it.
+/// `bvh_record` reads them from one row, so the table's width is a multiple of it (asserted
+/// beside `shaders::bindings::TEXEL_TABLE_WIDTH`).
 pub const RECORD_TEXELS: u32 = 4;
 const _: () = assert!(std::mem::size_of::<BvhRecord>() == 16 * RECORD_TEXELS as usize);
-const _: () = assert!(crate::shaders::bindings::TEXEL_TABLE_WIDTH % RECORD_TEXELS == 0);
 /// Cost of visiting a node, relative to one triangle test, in the SAH. Measured on lavapipe
 /// (2026-12-05, `scripts/triangle_scaling.sh`, M rays/s against leaves of at most 4 at a node
 /// cost of 1): a node step of the stackless traversal (its bounds, the climb, the trail of bits,

@@ -20,6 +20,8 @@ pub enum Kind {
 /// Texels per row of a texel table (a power of two, far below every adapter's 2D texture
 /// limit: WebGPU's default is 8192).
 pub const TEXEL_TABLE_WIDTH: u32 = 4096;
+// A BVH node record's texels lie in one row (bvh.wgsl's `bvh_record`).
+const _: () = assert!(TEXEL_TABLE_WIDTH % crate::accel::bvh::RECORD_TEXELS == 0);
 
 /// Texels of one material in the materials' texel table (`MATERIALS`): `gpu::GpuMaterial`'s
 /// 112 bytes, which it asserts.
