@@ -325,11 +325,33 @@ fn intersect_node(lo: vec3f, hi: vec3f, ray: NodeRay, t_max: f32) -> f32 {
     let t0 = select((lo - o) * ray.inv_d, vec3f(-INFINITY), parallel);
     let t1 = select((hi - o) * ray.inv_d, vec3f(INFINITY), parallel);
     let within = all(!parallel | ((o >= lo) & (o <= hi)));
-    let near = min(t0, t1);
-    let far = max(t0, t1) * 1.0000004;
-    let enter = max(max(near.x, near.y), max(near.z, 0.0));
-    let exit = min(min(far.x, far.y), min(far.z, t_max));
+    // Minima and maxima by selects (`ordered_min`, `ordered_max`): no value here is NaN (the
+    // slab distances of a finite box and origin are finite or infinite, t_max is a distance),
+    // and WGSL's min and max would add NaN handling, a compare and a blend per component.
+    let near = ordered_min3(t0, t1);
+    let far = ordered_max3(t0, t1) * 1.0000004;
+    let enter = ordered_max(ordered_max(near.x, near.y), ordered_max(near.z, 0.0));
+    let exit = ordered_min(ordered_min(far.x, far.y), ordered_min(far.z, t_max));
     return select(-1.0, enter, within && enter <= exit);
+}
+
+// min(a, b) and max(a, b) for operands that are not NaN, as lavapipe computes them (b where
+// they are equal, so also the same zero's sign), without the NaN handling WGSL's min and max
+// require.
+fn ordered_min(a: f32, b: f32) -> f32 {
+    return select(b, a, a < b);
+}
+
+fn ordered_max(a: f32, b: f32) -> f32 {
+    return select(b, a, a > b);
+}
+
+fn ordered_min3(a: vec3f, b: vec3f) -> vec3f {
+    return select(b, a, a < b);
+}
+
+fn ordered_max3(a: vec3f, b: vec3f) -> vec3f {
+    return select(b, a, a > b);
 }
 
 struct TriangleHit {
