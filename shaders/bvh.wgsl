@@ -281,10 +281,10 @@ fn intersect_sheared(a: vec3f, b: vec3f, c: vec3f, t_max: f32, bary: ptr<functio
     let sign = bitcast<u32>(det) & 0x80000000u;
     let uvw = bitcast<vec3f>(bitcast<vec3u>(vec3f(u, v, w)) ^ vec3u(sign));
     let t_signed = bitcast<f32>(bitcast<u32>(t) ^ sign);
-    // The smallest edge function by selects, which compile to the SIMD minimum (WGSL's min may
-    // add NaN handling: none is needed, a NaN failing every comparison either way).
-    let uv_min = select(uvw.y, uvw.x, uvw.x < uvw.y);
-    let uvw_min = select(uvw.z, uv_min, uv_min < uvw.z);
+    // The smallest edge function by selects (`ordered_min`), which compile to the SIMD minimum
+    // (WGSL's min may add NaN handling: none is needed, a NaN failing every comparison either
+    // way).
+    let uvw_min = ordered_min(ordered_min(uvw.x, uvw.y), uvw.z);
     if (!(uvw_min >= 0.0 && t_signed > 0.0 && t_signed < t_max * abs(det))) {
         return -1.0;
     }
@@ -325,33 +325,15 @@ fn intersect_node(lo: vec3f, hi: vec3f, ray: NodeRay, t_max: f32) -> f32 {
     let t0 = select((lo - o) * ray.inv_d, vec3f(-INFINITY), parallel);
     let t1 = select((hi - o) * ray.inv_d, vec3f(INFINITY), parallel);
     let within = all(!parallel | ((o >= lo) & (o <= hi)));
-    // Minima and maxima by selects (`ordered_min`, `ordered_max`): no value here is NaN (the
-    // slab distances of a finite box and origin are finite or infinite, t_max is a distance),
-    // and WGSL's min and max would add NaN handling, a compare and a blend per component.
-    let near = ordered_min3(t0, t1);
-    let far = ordered_max3(t0, t1) * 1.0000004;
+    // Minima and maxima by selects (common.wgsl's `ordered_min`, `ordered_max`): no value here
+    // is NaN (the slab distances of a finite box and origin are finite or infinite, t_max is a
+    // distance), and WGSL's min and max would add NaN handling, a compare and a blend per
+    // component, for both children in every pass of the node loop.
+    let near = ordered_min_vec(t0, t1);
+    let far = ordered_max_vec(t0, t1) * 1.0000004;
     let enter = ordered_max(ordered_max(near.x, near.y), ordered_max(near.z, 0.0));
     let exit = ordered_min(ordered_min(far.x, far.y), ordered_min(far.z, t_max));
     return select(-1.0, enter, within && enter <= exit);
-}
-
-// min(a, b) and max(a, b) for operands that are not NaN, as lavapipe computes them (b where
-// they are equal, so also the same zero's sign), without the NaN handling WGSL's min and max
-// require.
-fn ordered_min(a: f32, b: f32) -> f32 {
-    return select(b, a, a < b);
-}
-
-fn ordered_max(a: f32, b: f32) -> f32 {
-    return select(b, a, a > b);
-}
-
-fn ordered_min3(a: vec3f, b: vec3f) -> vec3f {
-    return select(b, a, a < b);
-}
-
-fn ordered_max3(a: vec3f, b: vec3f) -> vec3f {
-    return select(b, a, a > b);
 }
 
 struct TriangleHit {

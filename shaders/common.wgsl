@@ -27,6 +27,27 @@ fn min3(v: vec3f) -> f32 {
     return min(min(v.x, v.y), v.z);
 }
 
+// min(a, b) and max(a, b) for operands that are not NaN, as lavapipe computes them (b where
+// they are equal, so also the same zero's sign), without the NaN handling WGSL's min and max
+// require: a compare and a blend per component more on lavapipe. Where a NaN may occur, the
+// caller says why the result does not matter.
+fn ordered_min(a: f32, b: f32) -> f32 {
+    return select(b, a, a < b);
+}
+
+fn ordered_max(a: f32, b: f32) -> f32 {
+    return select(b, a, a > b);
+}
+
+// The same per component.
+fn ordered_min_vec(a: vec3f, b: vec3f) -> vec3f {
+    return select(b, a, a < b);
+}
+
+fn ordered_max_vec(a: vec3f, b: vec3f) -> vec3f {
+    return select(b, a, a > b);
+}
+
 // exp(x) - 1 without cancellation near 0 (Taylor series to x^5 where |x| < 1e-2).
 fn expm1_stable(x: f32) -> f32 {
     if (abs(x) < 1e-2) {

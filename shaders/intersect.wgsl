@@ -157,13 +157,13 @@ fn intersect_sphere(o: vec3f, d: vec3f, center: vec3f, radius: f32, t_min: f32, 
     let disc = r2 - dot(perp, perp);
     let c = dot(f, f) - r2;
     let q = -b - select(-1.0, 1.0, b >= 0.0) * safe_sqrt(disc);
-    // The two roots ordered by selects, not min and max: WGSL's min and max must return the
-    // number where one operand is NaN, which lavapipe compiles to a compare and two blends more
-    // per sphere. Where c / q is NaN (0 / 0) both forms give q; where q is NaN so is disc, and
-    // the ranges below fail either way.
+    // The two roots ordered by selects (`ordered_min`, `ordered_max`), not min and max: WGSL's
+    // min and max must return the number where one operand is NaN, which lavapipe compiles to
+    // a compare and two blends more per sphere. Where c / q is NaN (0 / 0) both forms give q;
+    // where q is NaN so is disc, and the ranges below fail either way.
     let cq = c / q;
-    let t_near = select(q, cq, cq < q);
-    let t_far = select(q, cq, cq > q);
+    let t_near = ordered_min(cq, q);
+    let t_far = ordered_max(cq, q);
     let far_ok = (disc >= 0.0) & (t_far > t_min) & (t_far < t_max);
     let near_ok = (disc >= 0.0) & (t_near > t_min) & (t_near < t_max);
     return select(select(-1.0, t_far, far_ok), t_near, near_ok);

@@ -455,8 +455,11 @@ fn brute_force_function(n: u32, shadow: bool) -> String {
         // Each position sheared at its first use (bit j of SMALL_FIRST_USES_<k>, and 3 + j for
         // the partner's corner j; among the triangles shadow rays test,
         // SMALL_SHADOW_FIRST_USES_<k>), just before the first test that reads it.
+        let shear_at_first_use = |indent: &str, bit: u32, name: &str| {
+            format!("{indent}if (({first_uses} & {bit}u) != 0u) {{ sheared[{name}] = shear_vertex(ray, small_vertex_cache[{name}]); }}\n")
+        };
         for (j, name) in names.iter().enumerate() {
-            s += &format!("        if (({first_uses} & {}u) != 0u) {{ sheared[{name}] = shear_vertex(ray, small_vertex_cache[{name}]); }}\n", 1 << j);
+            s += &shear_at_first_use("        ", 1 << j, name);
         }
         if shadow {
             s += &format!(
@@ -475,7 +478,7 @@ fn brute_force_function(n: u32, shadow: bool) -> String {
             names[0], names[1], names[2], small_triangle_names()[k], p[1]
         );
         for (j, name) in p[6..9].iter().enumerate() {
-            s += &format!("            if (({first_uses} & {}u) != 0u) {{ sheared[{name}] = shear_vertex(ray, small_vertex_cache[{name}]); }}\n", 8 << j);
+            s += &shear_at_first_use("            ", 8 << j, name);
         }
         s += &format!(
             "            \
