@@ -225,6 +225,13 @@ fn same_side_of_both(wi: vec3f, n_s: vec3f, n_g: vec3f, m: Bsdf) -> bool {
     return dot(wi, n_g) > 0.0;
 }
 
+// Light l's sample at vertex x, for next event estimation towards every light: its two sample
+// dimensions are l's pair after the vertex's first four.
+fn surface_light(id: SampleId, dim_base: u32, l: u32, ctx: LightSampleContext, p_error: f32, origin: vec3f, n_s: vec3f, n_g: vec3f, wo: vec3f, m: Bsdf, media: ShadowMedia) -> vec3f {
+    let u = sample_2d(id.pixel, id.index, dim_base + 4u + 2u * l, id.seed);
+    return direct_light(sample_emitter(l, ctx, u), 1.0, ctx.x, p_error, origin, n_s, n_g, wo, m, media);
+}
+
 // Next event estimation at vertex x: one shadow ray to each light (LIGHT_SELECT all), or to one
 // light picked by uniform or power selection. Each light is sampled by its kind
 // (sample_emitter, generated).
@@ -233,13 +240,10 @@ fn estimate_direct(id: SampleId, dim_base: u32, ctx: LightSampleContext, p_error
     let x = ctx.x;
     let origin = offset_ray_origin(x, n_g, p_error);
     if (LIGHT_SELECT == LIGHT_SELECT_ALL) {
-        // With the loop unrolled over a scene's few lights, their kinds and the shadow ray's
-        // test of a sphere light itself fold away. No `continue`: the loop stays a simple
-        // counted one.
-        for (var l = 0u; l < NUM_LIGHTS; l++) {
-            let u = sample_2d(id.pixel, id.index, dim_base + 4u + 2u * l, id.seed);
-            radiance += direct_light(sample_emitter(l, ctx, u), 1.0, x, p_error, origin, n_s, n_g, wo, m, media);
-        }
+        // Each light at a constant index where the host unrolls the visits (generated:
+        // src/shaders/generated.rs, `lights_unrolled`): their kinds and the shadow ray's test of
+        // a sphere light itself then fold away.
+        radiance = each_light_at_surface(id, dim_base, ctx, p_error, origin, n_s, n_g, wo, m, media);
     } else {
         let chosen = select_light(sample_1d(id.pixel, id.index, dim_base + 4u, id.seed));
         let u = sample_2d(id.pixel, id.index, dim_base + 5u, id.seed);

@@ -127,16 +127,21 @@ fn medium_direct_light(es: EmitterSample, prob: f32, x: vec3f, d: vec3f, g: f32,
     return es.emission * tr * (phase / pdf) * mis_weight(pdf, select(phase, 0.0, es.delta));
 }
 
+// Light l's sample at a point in a medium (ctx.x), for next event estimation towards every
+// light, in surface_light's sample dimensions.
+fn medium_light(id: SampleId, dim_base: u32, l: u32, ctx: LightSampleContext, d: vec3f, g: f32, medium: u32) -> vec3f {
+    let u = sample_2d(id.pixel, id.index, dim_base + 4u + 2u * l, id.seed);
+    return medium_direct_light(sample_emitter(l, ctx, u), 1.0, ctx.x, d, g, medium);
+}
+
 // Next event estimation at a point x in a medium: the lights as estimate_direct picks them, in
 // the same sample dimensions.
 fn estimate_direct_medium(id: SampleId, dim_base: u32, x: vec3f, d: vec3f, g: f32, medium: u32) -> vec3f {
     let ctx = LightSampleContext(x, INVALID, false, vec3f(0.0));
     var radiance = vec3f(0.0);
     if (LIGHT_SELECT == LIGHT_SELECT_ALL) {
-        for (var l = 0u; l < NUM_LIGHTS; l++) {
-            let u = sample_2d(id.pixel, id.index, dim_base + 4u + 2u * l, id.seed);
-            radiance += medium_direct_light(sample_emitter(l, ctx, u), 1.0, x, d, g, medium);
-        }
+        // Each light at a constant index where the host unrolls the visits (as estimate_direct).
+        radiance = each_light_in_medium(id, dim_base, ctx, d, g, medium);
     } else {
         let chosen = select_light(sample_1d(id.pixel, id.index, dim_base + 4u, id.seed));
         let u = sample_2d(id.pixel, id.index, dim_base + 5u, id.seed);

@@ -276,11 +276,13 @@ fn cornell_box_shards_merge_to_the_single_run_and_light_options_must_agree() {
 
 /// The two tunings of the kernel render the same images (`gpu::AdapterTuning`): a CPU
 /// adapter's (small scenes triangle by triangle, the stackless traversal, plain edge
-/// functions, spheres, planes and quadrics read from registers) and a GPU's (every scene through
-/// the BVH, with a stack, ordered edge functions, the shapes read from their uniform buffers),
-/// both run here, bit for bit. The study scene (4 spheres, 4 planes), Veach's scene (4
+/// functions, spheres, planes and quadrics read from registers, each light of next event
+/// estimation at a constant index) and a GPU's (every scene through the BVH, with a stack,
+/// ordered edge functions, the shapes read from their uniform buffers, the lights in a loop),
+/// both run here, bit for bit. The study scene (4 spheres, 2 planes), Veach's scene (3
 /// spherical lights) and the quadrics fixture (disks and cylinders, lights among them) hold the
-/// registers' copies to the uniform buffers. The Cornell box (36
+/// registers' copies to the uniform buffers, and the unrolled visits of their lights to the
+/// loop (`mis` and `best` visit every light there). The Cornell box (36
 /// triangles) and Veach's scene (52) are the only CI coverage of small scenes through the BVH
 /// and of the traversal with a stack in a render; the lamps (404 triangles) hold the stackless
 /// traversal to it. Both ways find the nearest triangle with the same watertight test (the
@@ -294,8 +296,8 @@ fn the_cpu_and_gpu_tunings_render_the_same_images() {
     use pathlab::render::Renderer;
     let gpu_tuning = AdapterTuning::for_device(wgpu::DeviceType::DiscreteGpu);
     let mut cpu_tuning = AdapterTuning::for_device(wgpu::DeviceType::Cpu);
-    assert!(gpu_tuning.brute_force_limit == 0 && !gpu_tuning.stackless_traversal && gpu_tuning.ordered_edges && !gpu_tuning.scene_in_registers);
-    assert!(cpu_tuning.stackless_traversal && !cpu_tuning.ordered_edges && cpu_tuning.scene_in_registers);
+    assert!(gpu_tuning.brute_force_limit == 0 && !gpu_tuning.stackless_traversal && gpu_tuning.ordered_edges && !gpu_tuning.scene_in_registers && !gpu_tuning.lights_unrolled);
+    assert!(cpu_tuning.stackless_traversal && !cpu_tuning.ordered_edges && cpu_tuning.scene_in_registers && cpu_tuning.lights_unrolled);
     // Where the adapter fuses multiply-adds (a GPU), the CPU tuning's plain edge functions let
     // rays through shared edges (what ORDERED_EDGES is for): there both tunings run with the
     // edge functions this adapter needs, so that what differs is the traversal alone (the small

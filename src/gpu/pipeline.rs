@@ -281,6 +281,10 @@ pub struct AdapterTuning {
     /// The scene's spheres, planes and quadrics are copied into registers at kernel entry
     /// where each table is small (`SCENE_IN_REGISTERS`, src/shaders/generated.rs).
     pub scene_in_registers: bool,
+    /// Next event estimation towards every light visits each at a constant index, not in a
+    /// loop, where a scene has at most `shaders::UNROLLED_LIGHTS` (`LIGHTS_UNROLLED`,
+    /// src/shaders/generated.rs).
+    pub lights_unrolled: bool,
 }
 
 impl AdapterTuning {
@@ -304,6 +308,13 @@ impl AdapterTuning {
     /// broadcast uniform reads from their constant caches, where the copies would only take
     /// registers.
     ///
+    /// Each light at a constant index on CPU adapters only (`LIGHTS_UNROLLED`, 2026-12-07):
+    /// lavapipe's NIR left the loop over the lights rolled, so every light's data and kind were
+    /// chosen at run time; the study scene's kernel took 84.1 M instructions looped and 73.8 M
+    /// unrolled, Veach's 326.1 M and 270.3 M (`scripts/kernel_instructions.sh`), and the study
+    /// scene ran 89-91 M rays/s looped, 109-112 unrolled (`scripts/compare_builds.sh`, 1024x512,
+    /// 4 rounds). GPUs keep the loop (no GPU was lent to measure the copies' code size there).
+    ///
     /// Ordered edge functions on GPUs only: there the plain ones let rays through shared edges
     /// (the H200 fuses multiply-adds); lavapipe does not fuse, and ordering would cost its
     /// Cornell box 14% more kernel instructions.
@@ -314,6 +325,7 @@ impl AdapterTuning {
             stackless_traversal: cpu,
             ordered_edges: !cpu,
             scene_in_registers: cpu,
+            lights_unrolled: cpu,
         }
     }
 
@@ -323,6 +335,7 @@ impl AdapterTuning {
             ("BVH_STACKLESS", self.stackless_traversal as u32 as f64),
             ("ORDERED_EDGES", self.ordered_edges as u32 as f64),
             ("SCENE_IN_REGISTERS", self.scene_in_registers as u32 as f64),
+            ("LIGHTS_UNROLLED", self.lights_unrolled as u32 as f64),
         ]
     }
 }

@@ -284,6 +284,72 @@ pub fn light_counts() -> String {
     s
 }
 
+/// Lights that next event estimation towards every light (`LIGHT_SELECT` all) visits one by one
+/// at constant indices, where `LIGHTS_UNROLLED` (CPU adapters, `gpu::AdapterTuning`); a scene
+/// with more runs the loop.
+pub const UNROLLED_LIGHTS: u32 = 4;
+
+/// The two visits of every light: at a surface vertex (integrator.wgsl's `surface_light`) and
+/// at a point in a medium (volpath.wgsl's `medium_light`): each generated function's name, its
+/// parameters, the per-light call (`{l}`: the light's index) and the part it follows.
+const EACH_LIGHT: [(&str, &str, &str, (&str, &str)); 2] = [
+    (
+        "each_light_at_surface",
+        "id: SampleId, dim_base: u32, ctx: LightSampleContext, p_error: f32, origin: vec3f, n_s: vec3f, n_g: vec3f, wo: vec3f, m: Bsdf, media: ShadowMedia",
+        "surface_light(id, dim_base, {l}, ctx, p_error, origin, n_s, n_g, wo, m, media)",
+        super::files::INTEGRATOR,
+    ),
+    (
+        "each_light_in_medium",
+        "id: SampleId, dim_base: u32, ctx: LightSampleContext, d: vec3f, g: f32, medium: u32",
+        "medium_light(id, dim_base, {l}, ctx, d, g, medium)",
+        super::files::VOLPATH,
+    ),
+];
+
+/// The sum over every light of one visit, generated after `part` (empty for other parts): with
+/// `LIGHTS_UNROLLED` and at most `UNROLLED_LIGHTS` lights, one call per light at a constant
+/// index, else a loop. The sum runs in the loop's order, so both give the same value to the bit.
+///
+/// Why, on lavapipe (Mesa 22.3): NIR does not unroll the loop, whose body (a light sample, a
+/// BSDF evaluation, a shadow ray) is beyond its unrolling size, and gallivm, which has no
+/// divergence analysis, then treats the light's index as differing per lane: the light's record
+/// is selected among copies or read lane by lane, its kind dispatched at run time, and the
+/// shadow ray's test of the light itself is not folded. Unrolled, all of that folds: the study
+/// scene's kernel took 84.1 M instructions looped, 73.8 M unrolled (callgrind,
+/// `scripts/kernel_instructions.sh`). GPUs keep the loop (the copies would cost code size and
+/// registers; no GPU was lent to measure it).
+pub fn lights_unrolled(part: (&str, &str)) -> String {
+    let mut s = String::new();
+    if part == super::files::LIGHT_TABLE {
+        s += &format!(
+            "// Next event estimation visits each light at a constant index (each_light_*, generated\n\
+             // after the files that define the visits), not in a loop (set by the host on CPU adapters).\n\
+             override LIGHTS_UNROLLED: bool = false;\n\
+             const UNROLLED_LIGHTS: u32 = {UNROLLED_LIGHTS}u;\n"
+        );
+    }
+    for (name, params, call, after) in EACH_LIGHT {
+        if part != after {
+            continue;
+        }
+        s += &format!(
+            "\n// The sum of {} over every light: unrolled (LIGHTS_UNROLLED) or in a loop, in the same order.\n\
+             fn {name}({params}) -> vec3f {{\n    var radiance = vec3f(0.0);\n    \
+             if (LIGHTS_UNROLLED && NUM_LIGHTS <= UNROLLED_LIGHTS) {{\n",
+            call.split('(').next().unwrap_or(call)
+        );
+        for k in 0..UNROLLED_LIGHTS {
+            s += &format!("        if ({k}u < NUM_LIGHTS) {{\n            radiance += {};\n        }}\n", call.replace("{l}", &format!("{k}u")));
+        }
+        s += &format!(
+            "        return radiance;\n    }}\n    for (var l = 0u; l < NUM_LIGHTS; l++) {{\n        radiance += {};\n    }}\n    return radiance;\n}}\n",
+            call.replace("{l}", "l")
+        );
+    }
+    s
+}
+
 /// The names of the `override` constants that give test k's corner j among the small scene's
 /// distinct vertex positions (`accel::SharedVertices`: test k tests triangle
 /// `SMALL_TRIANGLE_<k>`), for k below
