@@ -28,14 +28,27 @@ trap 'kill $pid 2>/dev/null || true' EXIT
 # Past pipeline creation and the first dispatch (where lavapipe compiles).
 sleep "${WARMUP:-5}"
 perf record -o "$out/perf.data" -F 1999 -p $pid -- sleep "${SECONDS_SAMPLED:-5}" >/dev/null 2>&1
-# The kernel's code: the anonymous executable mapping (not the vdso).
-region=$(grep -E ' r-xp 00000000 00:00 0 +$' /proc/$pid/maps | head -1 | cut -d' ' -f1)
+perf report -i "$out/perf.data" --no-children --sort sym 2>/dev/null | grep '%' | awk '{print $1, $3}' > "$out/hot.txt"
+# The kernel's code: of the anonymous executable mappings (lavapipe's JIT code; not the vdso),
+# the one holding the most samples (a large kernel's module has several: Veach's scene).
+region=$(grep -E ' r-xp 00000000 00:00 0 +$' /proc/$pid/maps | cut -d' ' -f1 | python3 -c '
+import sys
+hot = []
+for line in open(sys.argv[1]):
+    share, addr = line.split()
+    try:
+        hot.append((int(addr, 16), float(share.rstrip("%"))))
+    except ValueError:
+        pass
+def weight(region):
+    lo, hi = (int(x, 16) for x in region.split("-"))
+    return sum(v for a, v in hot if lo <= a < hi)
+print(max(sys.stdin.read().split(), key=weight))' "$out/hot.txt")
 lo=0x${region%-*}
 hi=0x${region#*-}
 gdb -p $pid -batch -ex "dump memory $out/jit.bin $lo $hi" >/dev/null 2>&1
 kill $pid
 objdump -D -b binary -mi386:x86-64 --adjust-vma=$lo "$out/jit.bin" > "$out/jit.asm"
-perf report -i "$out/perf.data" --no-children --sort sym 2>/dev/null | grep '%' | awk '{print $1, $3}' > "$out/hot.txt"
 echo "kernel code: $lo-$hi ($(( hi - lo )) bytes); files in $out"
 python3 - "$out" "$block" <<'PY'
 import collections, re, sys
