@@ -2,7 +2,7 @@
 //! the accumulators (one dispatch per band). Several frames are in flight; the host only writes
 //! the frames' uniforms and submits, and waits on the device only when the queue is full, at the
 //! end, or to read back. `k` follows the measured rate so that a dispatch takes about
-//! `TARGET_DISPATCH` (`controller::SampleCount`).
+//! `TARGET_DISPATCH` (`TARGET_DISPATCH_CPU` on CPU adapters; `controller::SampleCount`).
 
 use std::collections::VecDeque;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -19,6 +19,14 @@ use super::{Budget, Progress, RenderError, RenderStats, Renderer, MAX_SPP};
 const TARGET_DISPATCH: Duration = Duration::from_millis(150);
 /// Frames submitted but not yet finished, at most.
 const MAX_IN_FLIGHT: usize = 3;
+/// On CPU adapters, longer dispatches and fewer in flight (Ctrl-C then waits up to 0.8 s, where
+/// a GPU's 3 x 150 ms is 0.45 s): lavapipe (Mesa 22.3) compiles the kernel again at every
+/// dispatch, with the uniforms it inlines (`lvp_inline_uniforms`; from Mesa's shader cache where
+/// it has them), which shorter dispatches pay more often. `pathlab bench SCENE --methods mis
+/// --seconds 4` at 150 / 300 / 600 ms, M samples/s: Veach's scene (512x256) 3.39 / 4.03 / 4.29,
+/// the study scene (1024x512) 28.1 / 30.4 / 31.5, the Cornell box (256x256) 4.88 / 4.85 / 4.89.
+const TARGET_DISPATCH_CPU: Duration = Duration::from_millis(400);
+const MAX_IN_FLIGHT_CPU: usize = 2;
 
 impl Renderer {
     /// Adds samples until `budget` is met or `cancel` is set, then waits for the device.
@@ -49,6 +57,8 @@ impl Renderer {
         // then), and the latest (time, samples). Completion callbacks fire in batches during
         // polls, so intervals between single callbacks mean nothing; the long-run rate does.
         let timing: Arc<Mutex<Option<((Instant, u64), (Instant, u64))>>> = Arc::new(Mutex::new(None));
+        let cpu = self.gpu.info.device_type == wgpu::DeviceType::Cpu;
+        let (target_dispatch, max_in_flight) = if cpu { (TARGET_DISPATCH_CPU, MAX_IN_FLIGHT_CPU) } else { (TARGET_DISPATCH, MAX_IN_FLIGHT) };
         let mut in_flight: VecDeque<wgpu::SubmissionIndex> = VecDeque::new();
         let mut submitted = self.spp_done;
         let mut frames = 0;
@@ -83,7 +93,7 @@ impl Renderer {
             submitted += count as u64;
             frames += 1;
 
-            if in_flight.len() >= MAX_IN_FLIGHT {
+            if in_flight.len() >= max_in_flight {
                 let oldest = in_flight.pop_front();
                 wait_for_submission(&device, oldest)?;
             } else {
@@ -98,7 +108,7 @@ impl Renderer {
             });
             let mut size = SampleCount::new(self.samples_per_dispatch as f64, 1.0, self.max_samples_per_dispatch as f64);
             match per_sample {
-                Some(per_sample) => size.fill(TARGET_DISPATCH.as_secs_f64(), per_sample),
+                Some(per_sample) => size.fill(target_dispatch.as_secs_f64(), per_sample),
                 None if frames >= 2 => size.grow(),
                 None => size.get(),
             };
