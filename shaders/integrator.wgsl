@@ -225,11 +225,15 @@ fn same_side_of_both(wi: vec3f, n_s: vec3f, n_g: vec3f, m: Bsdf) -> bool {
     return dot(wi, n_g) > 0.0;
 }
 
-// Light l's sample at vertex x, for next event estimation towards every light: its two sample
-// dimensions are l's pair after the vertex's first four.
+// The point that samples light l in next event estimation towards every light, at a surface
+// vertex or in a medium: l's pair of sample dimensions after the vertex's first four.
+fn each_light_u(id: SampleId, dim_base: u32, l: u32) -> vec2f {
+    return sample_2d(id.pixel, id.index, dim_base + 4u + 2u * l, id.seed);
+}
+
+// Light l's sample at vertex x, for next event estimation towards every light.
 fn surface_light(id: SampleId, dim_base: u32, l: u32, ctx: LightSampleContext, p_error: f32, origin: vec3f, n_s: vec3f, n_g: vec3f, wo: vec3f, m: Bsdf, media: ShadowMedia) -> vec3f {
-    let u = sample_2d(id.pixel, id.index, dim_base + 4u + 2u * l, id.seed);
-    return direct_light(sample_emitter(l, ctx, u), 1.0, ctx.x, p_error, origin, n_s, n_g, wo, m, media);
+    return direct_light(sample_emitter(l, ctx, each_light_u(id, dim_base, l)), 1.0, ctx.x, p_error, origin, n_s, n_g, wo, m, media);
 }
 
 // Next event estimation at vertex x: one shadow ray to each light (LIGHT_SELECT all), or to one

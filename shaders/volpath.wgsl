@@ -128,10 +128,9 @@ fn medium_direct_light(es: EmitterSample, prob: f32, x: vec3f, d: vec3f, g: f32,
 }
 
 // Light l's sample at a point in a medium (ctx.x), for next event estimation towards every
-// light, in surface_light's sample dimensions.
+// light, in surface_light's sample dimensions (each_light_u).
 fn medium_light(id: SampleId, dim_base: u32, l: u32, ctx: LightSampleContext, d: vec3f, g: f32, medium: u32) -> vec3f {
-    let u = sample_2d(id.pixel, id.index, dim_base + 4u + 2u * l, id.seed);
-    return medium_direct_light(sample_emitter(l, ctx, u), 1.0, ctx.x, d, g, medium);
+    return medium_direct_light(sample_emitter(l, ctx, each_light_u(id, dim_base, l)), 1.0, ctx.x, d, g, medium);
 }
 
 // Next event estimation at a point x in a medium: the lights as estimate_direct picks them, in

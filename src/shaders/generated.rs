@@ -315,10 +315,8 @@ const EACH_LIGHT: [(&str, &str, &str, (&str, &str)); 2] = [
 /// BSDF evaluation, a shadow ray) is beyond its unrolling size, and gallivm, which has no
 /// divergence analysis, then treats the light's index as differing per lane: the light's record
 /// is selected among copies or read lane by lane, its kind dispatched at run time, and the
-/// shadow ray's test of the light itself is not folded. Unrolled, all of that folds: the study
-/// scene's kernel took 84.1 M instructions looped, 73.8 M unrolled (callgrind,
-/// `scripts/kernel_instructions.sh`). GPUs keep the loop (the copies would cost code size and
-/// registers; no GPU was lent to measure it).
+/// shadow ray's test of the light itself is not folded. Unrolled, all of that folds (what it
+/// gained: `gpu::AdapterTuning::for_device`). GPUs keep the loop.
 pub fn lights_unrolled(part: (&str, &str)) -> String {
     let mut s = String::new();
     if part == super::files::LIGHT_TABLE {
