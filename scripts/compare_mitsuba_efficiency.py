@@ -23,7 +23,8 @@ Rounds alternate the renderers; only ratios within a round mean anything (this m
 swings with load).
 
     /tmp/mitsuba-venv/bin/python scripts/compare_mitsuba_efficiency.py [--rounds 3] \
-        [--target 1e-3] [--scenes cornell,veach] [--methods mis,mis+uniform,best] [--first-seed 1]
+        [--target 1e-3] [--scenes cornell,veach] [--methods mis,mis+uniform,best] [--first-seed 1] \
+        [--spp-scale 1]
 
 Output: CSV lines round, scene, renderer, method, spp, seconds, whole-process seconds, relMSE,
 seconds to the target, Mitsuba's seconds to it / this one's (above 1: faster than Mitsuba).
@@ -123,6 +124,10 @@ def main():
     ap.add_argument("--target", type=float, default=1e-3, help="the relMSE both renderers are timed to")
     ap.add_argument("--scenes", default="cornell,veach")
     ap.add_argument("--methods", default="mis,mis+uniform,best")
+    ap.add_argument("--spp-scale", type=int, default=1,
+                    help="multiply both renderers' samples per pass: at the default, Veach's passes of 8 spp "
+                         "take pathlab under half a second each, of which its first dispatch's compilation "
+                         "by lavapipe is a share that Mitsuba's excluded JIT warm-up does not pay")
     ap.add_argument("--first-seed", type=int, default=1, help="round r's passes use seeds first + 1000 (r - 1), + 1, ...")
     args = ap.parse_args()
     if not os.access(PATHLAB, os.X_OK):
@@ -136,6 +141,7 @@ def main():
         for r in range(1, args.rounds + 1):
             for s in scenes:
                 _, _, spp, passes = SCENES[s]
+                spp *= args.spp_scale
                 # Each round a fresh set of seeds: a relMSE estimated from one set swings by 10-20%
                 # on Veach's scene (its glossy highlights of small lights are heavy-tailed).
                 seed = args.first_seed + 1000 * (r - 1)
