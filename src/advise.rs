@@ -96,7 +96,7 @@ pub fn advise(
         // About 12 checks per pilot (their time is not counted as rendering time).
         let every = pilot.div_f64(PILOT_CHECKS);
         let mut job = RenderJob::new(scene.clone(), scene.path.clone(), *method, 1, Budget::Time(pilot));
-        job.error = Some(ErrorPlan { target: None, every: Some(every), display: *display });
+        job.error = Some(ErrorPlan { target: None, every: Some(every), display: *display, check_pixels: None });
         let outcome = job.run(gpu, pipelines, cancel, |_| {})?;
         let run = outcome.error.as_ref().expect("a job with an error plan tracks its error");
         let seconds = outcome.stats.seconds - run.check_seconds;

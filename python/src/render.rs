@@ -96,7 +96,7 @@ pub(crate) fn render<'py>(
     };
     let mut job = RenderJob::new(s.clone(), s.path.clone(), method, seed, budget);
     if let Some(e) = target_rel_error {
-        job.error = Some(ErrorPlan { target: Some(Target::RelMse(e)), every: None, display: s.display });
+        job.error = Some(ErrorPlan { target: Some(Target::RelMse(e)), every: None, display: s.display, check_pixels: None });
     }
     let device = device(py)?;
     // A researcher's technique renders only once proven (README: "Your own technique").

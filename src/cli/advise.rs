@@ -147,7 +147,7 @@ pub fn run(args: AdviseArgs) -> anyhow::Result<i32> {
         if let Some(winner) = advice.first().filter(|a| a.predicted_seconds.is_some()) {
             eprintln!("verifying: rendering {} to the target", winner.method.name());
             let mut job = RenderJob::new(scene.clone(), args.scene.clone(), winner.method, 2, Budget::Samples(MAX_SPP));
-            job.error = Some(ErrorPlan { target: Some(target), every: None, display });
+            job.error = Some(ErrorPlan { target: Some(target), every: None, display, check_pixels: None });
             let outcome = job.run(&gpu, &pipelines, &cancel, |_| {})?;
             let out = outcome.error.as_ref().expect("a job with an error plan tracks its error");
             verify = Some(Verification {

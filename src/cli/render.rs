@@ -287,7 +287,7 @@ pub fn run(args: RenderArgs) -> anyhow::Result<i32> {
             Some(t) => Budget::Time(Duration::from_secs_f64(t)),
             None => Budget::Samples(args.spp.unwrap_or(MAX_SPP)),
         };
-        job.error = Some(ErrorPlan { target: Some(target), every: None, display: files.display });
+        job.error = Some(ErrorPlan { target: Some(target), every: None, display: files.display, check_pixels: None });
         return render_target(&args, &mut job, target, &files);
     }
     let budget = job.budget;

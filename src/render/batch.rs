@@ -28,6 +28,15 @@ const MAX_IN_FLIGHT: usize = 3;
 const TARGET_DISPATCH_CPU: Duration = Duration::from_millis(400);
 const MAX_IN_FLIGHT_CPU: usize = 2;
 
+/// The dispatch length aimed for on `gpu`, and the frames in flight at most.
+pub(super) fn dispatch_aim(gpu: &crate::gpu::Gpu) -> (Duration, usize) {
+    if gpu.info.device_type == wgpu::DeviceType::Cpu {
+        (TARGET_DISPATCH_CPU, MAX_IN_FLIGHT_CPU)
+    } else {
+        (TARGET_DISPATCH, MAX_IN_FLIGHT)
+    }
+}
+
 impl Renderer {
     /// Adds samples until `budget` is met or `cancel` is set, then waits for the device.
     pub fn render(&mut self, budget: Budget, cancel: &AtomicBool, progress: impl FnMut(Progress)) -> Result<RenderStats, RenderError> {
@@ -57,8 +66,7 @@ impl Renderer {
         // then), and the latest (time, samples). Completion callbacks fire in batches during
         // polls, so intervals between single callbacks mean nothing; the long-run rate does.
         let timing: Arc<Mutex<Option<((Instant, u64), (Instant, u64))>>> = Arc::new(Mutex::new(None));
-        let cpu = self.gpu.info.device_type == wgpu::DeviceType::Cpu;
-        let (target_dispatch, max_in_flight) = if cpu { (TARGET_DISPATCH_CPU, MAX_IN_FLIGHT_CPU) } else { (TARGET_DISPATCH, MAX_IN_FLIGHT) };
+        let (target_dispatch, max_in_flight) = dispatch_aim(&self.gpu);
         let mut in_flight: VecDeque<wgpu::SubmissionIndex> = VecDeque::new();
         let mut submitted = self.spp_done;
         let mut frames = 0;

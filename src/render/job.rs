@@ -32,6 +32,8 @@ pub struct ErrorPlan {
     pub every: Option<Duration>,
     /// The display transform of a PSNR estimate.
     pub display: DisplayTransform,
+    /// Pixels a check estimates from (evenly spaced rows); `None`: `to_target::CHECK_PIXELS`.
+    pub check_pixels: Option<u32>,
 }
 
 /// What to render: the scene (with any size or depth overrides applied), where it came from,
@@ -203,6 +205,7 @@ impl RenderJob {
             max_spp,
             max_time,
             plan.every,
+            plan.check_pixels.unwrap_or(super::to_target::CHECK_PIXELS),
             cancel,
             progress,
         )?;

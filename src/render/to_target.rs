@@ -3,7 +3,8 @@
 //! pilot that records its estimates (`advise`).
 //!
 //! The render advances in rounds (every randomisation gets the same samples per round, about a
-//! quarter of a second in all, sized by `controller::SampleCount`); the estimate needs a
+//! quarter of a second in all on GPUs, a dispatch's length each on CPU adapters, sized by
+//! `controller::SampleCount`); the estimate needs a
 //! readback of every accumulator, so it is checked only once `CHECK_COST_FACTOR` times its own
 //! measured cost has passed since the last check (at least `MIN_CHECK_INTERVAL`): checking
 //! costs at most about 2% of the render.
@@ -29,7 +30,12 @@ pub const CHECK_COST_FACTOR: f64 = 50.0;
 /// estimate uses every pixel.
 pub const CHECK_PIXELS: u32 = 32_768;
 pub const MIN_CHECK_INTERVAL: Duration = Duration::from_millis(250);
-/// Aimed-for wall time of one round (all randomisations).
+/// Aimed-for wall time of one round (all randomisations), at least: on CPU adapters each
+/// randomisation's share of a round is one dispatch of `batch::dispatch_aim` (400 ms), since
+/// lavapipe (Mesa 22.3) prepares the kernel again at every dispatch (it inlines the uniforms
+/// and optimises a copy of the kernel: `batch.rs`). With 250 ms rounds of `best`'s 4
+/// randomisations, `pathlab advise assets/scenes/veach_mis.xml --size 256x128` spent 53% of its
+/// samples in the driver and piloted `best` at 0.91 M samples/s where `bench` runs it at 3.7.
 const ROUND: Duration = Duration::from_millis(250);
 
 /// The result.
@@ -59,7 +65,8 @@ pub fn randomisation_seed(seed: u32, r: u32) -> u32 {
 /// Renders `scene` with `method` until `target` is met (never, for `None`: a pilot that only
 /// records its estimates), `max_spp` samples per pixel (all randomisations together) or
 /// `max_time` is spent, or `cancel` is set. Checks come every `check_every`, or (`None`) as the
-/// check cost allows (see `CHECK_COST_FACTOR`).
+/// check cost allows (see `CHECK_COST_FACTOR`), each from about `check_pixels` pixels in evenly
+/// spaced rows, and the target is confirmed on every pixel before the render stops.
 #[allow(clippy::too_many_arguments)]
 pub fn render_to_target(
     gpu: &Gpu,
@@ -72,6 +79,7 @@ pub fn render_to_target(
     max_spp: Option<u64>,
     max_time: Option<Duration>,
     check_every: Option<Duration>,
+    check_pixels: u32,
     cancel: &AtomicBool,
     mut progress: impl FnMut(Progress),
 ) -> Result<TargetOutcome, RenderError> {
@@ -90,6 +98,13 @@ pub fn render_to_target(
     let rendering = |now: Instant, check_seconds: f64| (now - start).as_secs_f64() - check_seconds;
     let mut k = 1u64;
     let mut interrupted = false;
+    // The within-pixel variance needs two samples a pixel: from one it reads 0, an error of 0
+    // that would meet any target (a large image's first round, when it outlasts the first check
+    // interval, stopped at 1 spp "reached"). The spread of randomisations is defined from 1.
+    let defined = |renderers: &[Renderer]| estimator.renders() > 1 || renderers[0].spp() >= 2;
+    // The image and its whole estimate, once a check has confirmed the target on every pixel.
+    let mut confirmed = None;
+    let round_aim = if gpu.info.device_type == wgpu::DeviceType::Cpu { ROUND.max(super::batch::dispatch_aim(gpu).0 * r as u32) } else { ROUND };
     let read = |renderers: &[Renderer]| -> Result<(Vec<Film>, u64, u64), RenderError> {
         let mut films = Vec::new();
         let (mut rays, mut faults) = (0, 0);
@@ -116,19 +131,39 @@ pub fn render_to_target(
             rd.render(Budget::Samples(per), &never, |_| {})?;
         }
         let took = round.elapsed().as_secs_f64().max(1e-6);
-        k = SampleCount::new(per as f64, 1.0, f64::MAX).fill(ROUND.as_secs_f64(), took / per as f64) as u64;
-        if last_check.elapsed() >= interval {
+        // The next round's size: a round's aim, or what is left of a time budget if less.
+        let aim = max_time.map_or(round_aim, |t| round_aim.min(t.saturating_sub(start.elapsed())));
+        k = SampleCount::new(per as f64, 1.0, f64::MAX).fill(aim.as_secs_f64().max(1e-3), took / per as f64) as u64;
+        if last_check.elapsed() >= interval && defined(&renderers) {
             let t0 = Instant::now();
-            let e = sampled_estimate(&renderers, estimator, display)?;
+            let mut e = sampled_estimate(&renderers, estimator, display, check_pixels)?;
+            // What a sampled check costs sets the interval between checks.
             let cost = t0.elapsed();
+            if target.is_some_and(|t| t.reached(&e)) {
+                // The sampled rows say reached: confirm on every pixel, the estimate the image
+                // is reported with, so that a render never stops short of its target on the
+                // rows' sampling error.
+                let (films, rays, faults) = read(&renderers)?;
+                let (film, whole) = estimate_films(estimator, &films, Some(display));
+                e = whole;
+                if target.is_some_and(|t| t.reached(&whole)) {
+                    confirmed = Some((film, whole, rays, faults));
+                }
+            }
             history.push((rendering(t0, check_seconds), renderers[0].spp() * r, e));
             checks += 1;
-            check_seconds += cost.as_secs_f64();
+            check_seconds += t0.elapsed().as_secs_f64();
             interval = check_every.unwrap_or_else(|| MIN_CHECK_INTERVAL.max(cost.mul_f64(CHECK_COST_FACTOR)));
             last_check = Instant::now();
             latest = Some(e);
-            if target.is_some_and(|t| t.reached(&e)) {
+            if confirmed.is_some() {
                 break;
+            }
+            // No more than the samples the target still needs if the error falls as 1 / spp
+            // (randomised QMC falls faster): a round of the full aim would overshoot the target
+            // by up to a round, and CPU adapters' rounds are long.
+            if let Some(f) = target.map(|t| t.remaining_factor(&e)).filter(|f| f.is_finite() && *f > 1.0) {
+                k = k.min(((renderers[0].spp() as f64 * (f - 1.0)).ceil() as u64).max(1));
             }
         }
         let elapsed = start.elapsed();
@@ -136,14 +171,20 @@ pub fn render_to_target(
         progress(Progress { spp_done: renderers[0].spp() * r, elapsed, estimate: latest, eta });
     }
     let seconds = start.elapsed().as_secs_f64();
-    let (films, rays, faults) = read(&renderers)?;
-    let (film, estimate) = estimate_films(estimator, &films, Some(display));
+    let (film, estimate, rays, faults) = match confirmed {
+        Some(done) => done,
+        None => {
+            let (films, rays, faults) = read(&renderers)?;
+            let (film, estimate) = estimate_films(estimator, &films, Some(display));
+            (film, estimate, rays, faults)
+        }
+    };
     Ok(TargetOutcome {
         film,
         rays,
         faults,
         seconds,
-        reached: target.is_some_and(|t| t.reached(&estimate)),
+        reached: defined(&renderers) && target.is_some_and(|t| t.reached(&estimate)),
         estimate,
         estimator,
         interrupted,
@@ -153,10 +194,10 @@ pub fn render_to_target(
     })
 }
 
-/// The estimate from evenly spaced rows of every randomisation (see `CHECK_PIXELS`).
-fn sampled_estimate(renderers: &[Renderer], estimator: Estimator, display: &DisplayTransform) -> Result<ErrorEstimate, RenderError> {
+/// The estimate from evenly spaced rows of every randomisation, about `pixels` in all.
+fn sampled_estimate(renderers: &[Renderer], estimator: Estimator, display: &DisplayTransform, pixels: u32) -> Result<ErrorEstimate, RenderError> {
     let (width, height) = renderers[0].size();
-    let rows_wanted = (CHECK_PIXELS / width.max(1)).clamp(1, height);
+    let rows_wanted = (pixels / width.max(1)).clamp(1, height);
     let stride = height.div_ceil(rows_wanted);
     let mut films = Vec::new();
     for rd in renderers {
