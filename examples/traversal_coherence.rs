@@ -18,75 +18,23 @@
 //! (the scene's camera position and direction, with the scaling scenes' 45-degree field of view, and meshes; the light defaults to the scaling scenes' sphere at
 //! (1.5, 1.5, 1.5), radius 0.3, of `scripts/triangle_scaling.sh`).
 use glam::Vec3;
-use pathlab::accel::triangle::ShearedRay;
-use pathlab::accel::{Bvh, Triangle};
+use pathlab::accel::{Bvh, Triangle, Visit};
 use std::collections::HashSet;
 
-#[derive(Default)]
-struct Visit {
+/// What one ray's traversal visited.
+struct Visits {
     nodes: Vec<u32>,
     triangles: Vec<u32>,
     hit: Option<(f32, u32)>,
 }
 
-fn slab(lo: [f32; 3], hi: [f32; 3], o: Vec3, inv: Vec3, t_max: f32) -> Option<f32> {
-    let (mut enter, mut exit) = (0.0f32, t_max);
-    for k in 0..3 {
-        let (t0, t1) = ((lo[k] - o[k]) * inv[k], (hi[k] - o[k]) * inv[k]);
-        enter = enter.max(t0.min(t1));
-        exit = exit.min(t0.max(t1) * (1.0 + 1e-6));
-    }
-    (enter <= exit).then_some(enter)
-}
-
-fn traverse(bvh: &Bvh, tris: &[Triangle], o: Vec3, d: Vec3, t_max: f32, any: bool) -> Visit {
-    let ray = ShearedRay::new(o, d);
-    let inv = d.recip();
-    let mut v = Visit::default();
-    let mut t_far = t_max;
-    let mut stack = Vec::new();
-    let mut node = 0u32;
-    loop {
-        let n = &bvh.nodes[node as usize];
-        if n.count > 0 {
-            for &i in &bvh.order[n.first as usize..(n.first + n.count) as usize] {
-                v.triangles.push(i);
-                let [a, b, c] = tris[i as usize];
-                if let Some((t, _, _)) = ray.hit(a, b, c, t_far) {
-                    v.hit = Some((t, i));
-                    t_far = t;
-                    if any {
-                        return v;
-                    }
-                }
-            }
-        } else {
-            v.nodes.push(node);
-            let (l, r) = (n.first, n.first + 1);
-            let (nl, nr) = (&bvh.nodes[l as usize], &bvh.nodes[r as usize]);
-            match (slab(nl.lo, nl.hi, o, inv, t_far), slab(nr.lo, nr.hi, o, inv, t_far)) {
-                (Some(a), Some(b)) => {
-                    let (near, far) = if a <= b { (l, r) } else { (r, l) };
-                    stack.push(far);
-                    node = near;
-                    continue;
-                }
-                (Some(_), None) => {
-                    node = l;
-                    continue;
-                }
-                (None, Some(_)) => {
-                    node = r;
-                    continue;
-                }
-                (None, None) => {}
-            }
-        }
-        match stack.pop() {
-            Some(n) => node = n,
-            None => return v,
-        }
-    }
+fn traverse(bvh: &Bvh, tris: &[Triangle], o: Vec3, d: Vec3, t_max: f32, any: bool) -> Visits {
+    let (mut nodes, mut triangles) = (Vec::new(), Vec::new());
+    let hit = bvh.traverse_visiting(tris, o, d, t_max, any, |step| match step {
+        Visit::Node(n) => nodes.push(n),
+        Visit::Triangle(t) => triangles.push(t),
+    });
+    Visits { nodes, triangles, hit }
 }
 
 /// A 32-bit hash to uniform [0, 1) (PCG), for the light points and bounces.
@@ -108,7 +56,7 @@ struct Tally {
 }
 
 impl Tally {
-    fn add_group(&mut self, group: &[Visit]) {
+    fn add_group(&mut self, group: &[Visits]) {
         if group.is_empty() {
             return;
         }

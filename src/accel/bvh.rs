@@ -72,6 +72,15 @@ pub struct BvhRecord {
     pub counts: u32,
 }
 
+/// One step of a traversal (`Bvh::traverse_visiting`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Visit {
+    /// An interior node whose two children's boxes are tested: a pass of the kernel's node loop.
+    Node(u32),
+    /// A triangle tested, by its index in the triangles the BVH was built over.
+    Triangle(u32),
+}
+
 /// The hierarchy: nodes (the root is node 0) and the triangle order the leaves index.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Bvh {
@@ -200,15 +209,26 @@ impl Bvh {
 
     /// The nearest hit of the ray (origin, direction) closer than `t_max`: (t, triangle).
     pub fn closest(&self, triangles: &[Triangle], origin: Vec3, direction: Vec3, t_max: f32) -> Option<(f32, u32)> {
-        self.traverse(triangles, origin, direction, t_max, false)
+        self.traverse_visiting(triangles, origin, direction, t_max, false, |_| {})
     }
 
     /// Whether anything lies on the ray closer than `t_max` (shadow rays stop at the first hit).
     pub fn any(&self, triangles: &[Triangle], origin: Vec3, direction: Vec3, t_max: f32) -> bool {
-        self.traverse(triangles, origin, direction, t_max, true).is_some()
+        self.traverse_visiting(triangles, origin, direction, t_max, true, |_| {}).is_some()
     }
 
-    fn traverse(&self, triangles: &[Triangle], origin: Vec3, direction: Vec3, t_max: f32, any: bool) -> Option<(f32, u32)> {
+    /// The traversal of `closest` (`any`: of `any`, returning the first hit found), in the
+    /// kernel's order (the nearer child first), reporting each interior node whose children it
+    /// tests and each triangle it tests: what a ray costs (`examples/traversal_coherence.rs`).
+    pub fn traverse_visiting(
+        &self,
+        triangles: &[Triangle],
+        origin: Vec3,
+        direction: Vec3,
+        t_max: f32,
+        any: bool,
+        mut visit: impl FnMut(Visit),
+    ) -> Option<(f32, u32)> {
         let ray = ShearedRay::new(origin, direction);
         let inv = direction.recip();
         let mut best: Option<(f32, u32)> = None;
@@ -220,6 +240,7 @@ impl Bvh {
             let n = &self.nodes[node as usize];
             if n.count > 0 {
                 for &i in &self.order[n.first as usize..(n.first + n.count) as usize] {
+                    visit(Visit::Triangle(i));
                     let [a, b, c] = triangles[i as usize];
                     if let Some((t, _, _)) = ray.hit(a, b, c, t_far) {
                         best = Some((t, i));
@@ -230,6 +251,7 @@ impl Bvh {
                     }
                 }
             } else {
+                visit(Visit::Node(node));
                 // The nearer child next, the farther one on the stack.
                 let (l, r) = (n.first, n.first + 1);
                 let tl = slab(&self.nodes[l as usize], origin, inv, t_far);

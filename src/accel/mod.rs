@@ -7,7 +7,7 @@ pub mod bvh;
 pub mod shared_vertices;
 pub mod triangle;
 
-pub use bvh::{Bvh, BvhNode, BvhRecord, Triangle};
+pub use bvh::{Bvh, BvhNode, BvhRecord, Triangle, Visit};
 
 /// Scenes of at most this many triangles test them all in turn from a uniform buffer instead of
 /// traversing the BVH (generated into the WGSL; see bvh.wgsl), each distinct vertex sheared
