@@ -69,8 +69,30 @@ for line in open(f"{out}/hot.txt"):
         continue
     if a in asm:
         hot[a] += float(share.rstrip("%"))
-total = sum(hot.values()) or 1.0
 lo = order[0]
+# lavapipe compiles the kernel again at dispatches (its uniform inlining), and a large kernel's
+# copies then lie side by side in one mapping, byte for byte the same: fold them onto one copy.
+code = open(f"{out}/jit.bin", "rb").read()
+if hot:
+    h = max(hot, key=hot.get) - lo
+    window = code[h:h + 256]
+    starts = [m.start() for m in re.finditer(re.escape(window), code)] if len(window) == 256 else []
+    if len(starts) > 1:
+        period = starts[1] - starts[0]
+        phase = starts[0] % period
+        if all(code[o:o + 4096] == code[o + period:o + period + 4096] for o in starts[:-1]):
+            folded = collections.Counter()
+            for a, v in hot.items():
+                off = a - lo
+                if off >= phase:
+                    c = lo + phase + (off - phase) % period
+                    if c in asm:
+                        folded[c] += v
+            hot = folded
+            order = [a for a in order if phase <= a - lo < phase + period]
+            lo = order[0]
+            print(f"{len(starts)} copies of the kernel ({period} bytes apart) folded onto one")
+total = sum(hot.values()) or 1.0
 blocks, count, divs = collections.Counter(), collections.Counter(), collections.Counter()
 for a in order:
     count[(a - lo) // block] += 1
