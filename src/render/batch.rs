@@ -37,6 +37,23 @@ pub(super) fn dispatch_aim(gpu: &crate::gpu::Gpu) -> (Duration, usize) {
     }
 }
 
+/// Aimed-for wall time of one round of a render to a target error (`to_target`), all its
+/// `randomisations` together, on GPUs.
+const ROUND: Duration = Duration::from_millis(250);
+
+/// The wall time aimed for by one round of `randomisations` renders to a target error: on GPUs
+/// `ROUND` in all; on CPU adapters at least one dispatch of `dispatch_aim` each, since lavapipe
+/// prepares the kernel again at every dispatch (above). With 250 ms rounds of `best`'s 4
+/// randomisations, `pathlab advise assets/scenes/veach_mis.xml --size 256x128` spent 53% of its
+/// samples in the driver and piloted `best` at 0.91 M samples/s where `bench` runs it at 3.7.
+pub(super) fn round_aim(gpu: &crate::gpu::Gpu, randomisations: u32) -> Duration {
+    if gpu.info.device_type == wgpu::DeviceType::Cpu {
+        ROUND.max(TARGET_DISPATCH_CPU * randomisations)
+    } else {
+        ROUND
+    }
+}
+
 impl Renderer {
     /// Adds samples until `budget` is met or `cancel` is set, then waits for the device.
     pub fn render(&mut self, budget: Budget, cancel: &AtomicBool, progress: impl FnMut(Progress)) -> Result<RenderStats, RenderError> {

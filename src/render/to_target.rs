@@ -3,8 +3,8 @@
 //! pilot that records its estimates (`advise`).
 //!
 //! The render advances in rounds (every randomisation gets the same samples per round, about a
-//! quarter of a second in all on GPUs, a dispatch's length each on CPU adapters, sized by
-//! `controller::SampleCount`); the estimate needs a
+//! quarter of a second in all on GPUs, a dispatch's length each on CPU adapters: `batch::round_aim`;
+//! sized by `controller::SampleCount`); the estimate needs a
 //! readback of every accumulator, so it is checked only once `CHECK_COST_FACTOR` times its own
 //! measured cost has passed since the last check (at least `MIN_CHECK_INTERVAL`): checking
 //! costs at most about 2% of the render.
@@ -30,13 +30,6 @@ pub const CHECK_COST_FACTOR: f64 = 50.0;
 /// estimate uses every pixel.
 pub const CHECK_PIXELS: u32 = 32_768;
 pub const MIN_CHECK_INTERVAL: Duration = Duration::from_millis(250);
-/// Aimed-for wall time of one round (all randomisations), at least: on CPU adapters each
-/// randomisation's share of a round is one dispatch of `batch::dispatch_aim` (400 ms), since
-/// lavapipe (Mesa 22.3) prepares the kernel again at every dispatch (it inlines the uniforms
-/// and optimises a copy of the kernel: `batch.rs`). With 250 ms rounds of `best`'s 4
-/// randomisations, `pathlab advise assets/scenes/veach_mis.xml --size 256x128` spent 53% of its
-/// samples in the driver and piloted `best` at 0.91 M samples/s where `bench` runs it at 3.7.
-const ROUND: Duration = Duration::from_millis(250);
 
 /// The result.
 #[derive(Debug, Clone)]
@@ -104,7 +97,7 @@ pub fn render_to_target(
     let defined = |renderers: &[Renderer]| estimator.renders() > 1 || renderers[0].spp() >= 2;
     // The image and its whole estimate, once a check has confirmed the target on every pixel.
     let mut confirmed = None;
-    let round_aim = if gpu.info.device_type == wgpu::DeviceType::Cpu { ROUND.max(super::batch::dispatch_aim(gpu).0 * r as u32) } else { ROUND };
+    let round_aim = super::batch::round_aim(gpu, r as u32);
     let read = |renderers: &[Renderer]| -> Result<(Vec<Film>, u64, u64), RenderError> {
         let mut films = Vec::new();
         let (mut rays, mut faults) = (0, 0);
